@@ -1,0 +1,64 @@
+#include "cli_support.hpp"
+
+#include <priormap/core/json_io.hpp>
+#include <priormap/render/figure.hpp>
+
+#include <charconv>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace priormap::app {
+
+std::string DescribeDiagnostics(const std::vector<Diagnostic>& diagnostics) {
+  std::string out;
+  for (const Diagnostic& d : diagnostics) {
+    if (!out.empty()) out += '\n';
+    const std::string where = d.Location();
+    out += where.empty() ? d.message : where + ": " + d.message;
+  }
+  return out;
+}
+
+Se2 ParsePose(const std::string& text) {
+  double values[3];
+  std::size_t start = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t end = k < 2 ? text.find(',', start) : text.size();
+    if (end == std::string::npos) break;
+    const char* first = text.data() + start;
+    const char* last = text.data() + end;
+    const auto [ptr, ec] = std::from_chars(first, last, values[k]);
+    if (ec != std::errc() || ptr != last || !std::isfinite(values[k])) {
+      throw UserError(fmt::format("--pose: expected x,y,theta (three numbers), got '{}'", text));
+    }
+    if (k == 2) return {values[0], values[1], values[2]};
+    start = end + 1;
+  }
+  throw UserError(fmt::format("--pose: expected x,y,theta (three numbers), got '{}'", text));
+}
+
+Scene LoadScene(const std::string& name_or_path) {
+  if (std::optional<Scene> builtin = BuiltinScene(name_or_path)) return *std::move(builtin);
+  if (std::filesystem::exists(name_or_path)) return ValueOrThrow(ReadJsonScene(name_or_path));
+  throw UserError(fmt::format("unknown scene '{}': expected one of {} or a scene JSON file",
+                              name_or_path, fmt::join(BuiltinSceneNames(), ", ")));
+}
+
+void RequireFigurePath(const std::filesystem::path& path, const std::string& option) {
+  if (!render::IsSupportedFigurePath(path)) {
+    throw UserError(fmt::format("{}: '{}' must end in .png, .svg or .pdf", option, path.string()));
+  }
+}
+
+void EnsureDirectory(const std::filesystem::path& directory) {
+  std::error_code ec;
+  std::filesystem::create_directories(directory, ec);
+  if (ec) throw UserError(fmt::format("cannot create directory {}: {}", directory.string(), ec.message()));
+}
+
+std::string Plural(std::size_t n, const std::string& word) {
+  return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
+}
+
+}  // namespace priormap::app

@@ -1,0 +1,48 @@
+#pragma once
+// Shared pieces of the subcommands: user-facing errors, option parsing, output checks.
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/core/scene.hpp>
+#include <priormap/core/se2.hpp>
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace priormap::app {
+
+/// An error the user can fix; main prints each line of it as "priormap: error: <line>" and
+/// exits with status 1.
+class UserError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// "file:line:col: message", one diagnostic per line.
+[[nodiscard]] std::string DescribeDiagnostics(const std::vector<Diagnostic>& diagnostics);
+
+/// The value of a successful result; otherwise throws UserError with every diagnostic.
+template <typename T>
+T ValueOrThrow(Result<T> result) {
+  if (!result) throw UserError(DescribeDiagnostics(result.diagnostics()));
+  return std::move(result).value();
+}
+
+/// "x,y,theta" (theta in radians).
+[[nodiscard]] Se2 ParsePose(const std::string& text);
+
+/// A built-in scene name, or a priormap.scene JSON file.
+[[nodiscard]] Scene LoadScene(const std::string& name_or_path);
+
+/// Throws UserError unless `path` names a PNG, SVG or PDF file.
+void RequireFigurePath(const std::filesystem::path& path, const std::string& option);
+
+/// Creates `directory` (and parents) when missing; throws UserError when that fails.
+void EnsureDirectory(const std::filesystem::path& directory);
+
+/// "1 scan" / "3 scans".
+[[nodiscard]] std::string Plural(std::size_t n, const std::string& word);
+
+}  // namespace priormap::app

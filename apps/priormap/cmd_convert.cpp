@@ -1,0 +1,92 @@
+// priormap convert: between CARMEN logs (plain or .gz) and priormap JSON.
+#include <priormap/core/angles.hpp>
+#include <priormap/core/file_io.hpp>
+#include <priormap/core/log_io.hpp>
+
+#include <fmt/format.h>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+
+namespace priormap::app {
+namespace {
+
+struct ConvertOptions {
+  std::string input;
+  std::string out;
+  std::optional<std::string> from, to;
+  std::optional<double> max_range, min_range, fov_deg, sigma;
+  std::optional<std::string> poses;
+};
+
+void Run(const ConvertOptions& o) {
+  CarmenReadOptions carmen;
+  carmen.max_range = o.max_range;
+  if (o.min_range) carmen.min_range = *o.min_range;
+  if (o.fov_deg) carmen.fov = DegToRad(*o.fov_deg);
+  if (o.sigma) carmen.sigma = *o.sigma;
+  if (o.poses) carmen.pose_source = *PoseSourceFromString(*o.poses);
+
+  const std::string text = ValueOrThrow(ReadFileText(o.input));
+  const LogFormat from = o.from ? *LogFormatFromString(*o.from) : SniffLogFormat(text);
+  CarmenReadStats stats;
+  Log log = ValueOrThrow(from == LogFormat::kJson ? ParseJsonLog(text, o.input)
+                                                  : ParseCarmenLog(text, o.input, carmen, &stats));
+  if (from == LogFormat::kJson && o.poses) log.pose_source = carmen.pose_source;
+
+  const LogFormat to = o.to ? *LogFormatFromString(*o.to) : LogFormatFromPath(o.out);
+  WriteLog(log, o.out, to);
+
+  std::size_t valid = 0, max_range = 0, invalid = 0;
+  for (const Scan& scan : log.scans) {
+    for (BeamStatus s : scan.status) {
+      valid += s == BeamStatus::kValid;
+      max_range += s == BeamStatus::kMaxRange;
+      invalid += s == BeamStatus::kInvalid;
+    }
+  }
+  fmt::print("read {} ({}): {}, {} odometry, {} true poses, {} params\n", o.input, ToString(from),
+             Plural(log.scans.size(), "scan"), log.odometry.size(), log.true_poses.size(), log.params.size());
+  fmt::print("readings: {} valid, {} max-range, {} invalid\n", valid, max_range, invalid);
+  if (from == LogFormat::kCarmen) {
+    if (o.max_range) {
+      fmt::print("max range: {} m (given)\n", *o.max_range);
+    } else if (stats.detected_max_range) {
+      fmt::print("max range: {} m (detected from the log's no-return readings)\n", *stats.detected_max_range);
+    } else {
+      fmt::print("max range: none detected; no reading is treated as max-range (use --max-range)\n");
+    }
+    std::vector<std::string> skipped;
+    for (const auto& [type, count] : stats.records) {
+      if (type != "FLASER" && type != "RLASER" && type != "ROBOTLASER1" && type != "ODOM" &&
+          type != "TRUEPOS" && type != "PARAM") {
+        skipped.push_back(fmt::format("{} {}", count, type));
+      }
+    }
+    if (!skipped.empty()) fmt::print("skipped records: {}\n", fmt::join(skipped, ", "));
+  }
+  fmt::print("wrote {} ({})\n", o.out, ToString(to));
+}
+
+}  // namespace
+
+void AddConvertCommand(CLI::App& app) {
+  auto o = std::make_shared<ConvertOptions>();
+  CLI::App* cmd = app.add_subcommand("convert", "Convert a log between CARMEN (plain or .gz) and priormap JSON");
+  cmd->add_option("input", o->input, "Input log")->required();
+  cmd->add_option("-o,--out", o->out, "Output file: .json / .json.gz (JSON) or anything else (CARMEN); .gz compresses")->required();
+  cmd->add_option("--from", o->from, "Input format (default: from the content)")->check(CLI::IsMember({"carmen", "json"}));
+  cmd->add_option("--to", o->to, "Output format (default: from the extension)")->check(CLI::IsMember({"carmen", "json"}));
+  cmd->add_option("--max-range", o->max_range, "CARMEN: readings at or above this are max-range (default: detected)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--min-range", o->min_range, "CARMEN: readings below this are invalid")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--fov", o->fov_deg, "CARMEN: field of view of FLASER/RLASER lines, degrees (default 180)")
+      ->check(CLI::Range(0.0, 360.0));
+  cmd->add_option("--sigma", o->sigma, "CARMEN: range noise standard deviation given to every reading, m")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--poses", o->poses, "What the scan poses are: unknown, odometry, corrected, ground_truth")
+      ->check(CLI::IsMember({"unknown", "odometry", "corrected", "ground_truth"}));
+  cmd->callback([o] { Run(*o); });
+}
+
+}  // namespace priormap::app

@@ -1,0 +1,14 @@
+#pragma once
+// Each subcommand registers its options and callback on the root app; see main.cpp.
+
+#include <CLI/CLI.hpp>
+
+namespace priormap::app {
+
+void AddSimulateCommand(CLI::App& app);
+void AddConvertCommand(CLI::App& app);
+void AddPlotCommand(CLI::App& app);
+void AddDemoCommand(CLI::App& app);
+void AddVersionCommand(CLI::App& app);
+
+}  // namespace priormap::app

@@ -1,0 +1,63 @@
+// priormap: 2D mapping with structural prior knowledge. A thin shell: each subcommand parses
+// its options, calls the library and reports; errors go to stderr as "priormap: error: ...".
+#include <priormap/core/check.hpp>
+#include <priormap/core/file_io.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+
+namespace {
+
+// One "priormap: error: " prefix per line, so multi-line diagnostics stay greppable.
+void PrintError(std::string_view message) {
+  std::size_t start = 0;
+  while (start <= message.size()) {
+    const std::size_t end = std::min(message.find('\n', start), message.size());
+    fmt::print(stderr, "priormap: error: {}\n", message.substr(start, end - start));
+    start = end + 1;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"priormap: 2D robotic mapping with structural prior knowledge", "priormap"};
+  app.require_subcommand(1);
+  app.fallthrough(false);
+  priormap::app::AddSimulateCommand(app);
+  priormap::app::AddConvertCommand(app);
+  priormap::app::AddPlotCommand(app);
+  priormap::app::AddDemoCommand(app);
+  priormap::app::AddVersionCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    fmt::print(stderr, "priormap: error: {}\nRun 'priormap --help' or 'priormap <command> --help'.\n", e.what());
+    return e.get_exit_code() != 0 ? e.get_exit_code() : 2;
+  } catch (const priormap::app::UserError& e) {
+    PrintError(e.what());
+    return 1;
+  } catch (const priormap::IoError& e) {
+    fmt::print(stderr, "priormap: error: {}\n", e.what());
+    return 1;
+  } catch (const priormap::ContractError& e) {
+    fmt::print(stderr, "priormap: internal error (please report): {}\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "priormap: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,68 @@
+#pragma once
+/// CARMEN logs (Radish / Freiburg datasets): FLASER, RLASER, ROBOTLASER1, ODOM, TRUEPOS and PARAM
+/// records, plain or gzip-compressed. Other record types are skipped and counted. The format and
+/// the choices made where it is ambiguous are in docs/formats.md.
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/core/log.hpp>
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace priormap {
+
+struct CarmenReadOptions {
+  /// Readings at or above this are max-range readings. When unset, it is detected from the log
+  /// (DetectMaxRangeSentinel), then taken from ROBOTLASER1's own field.
+  std::optional<double> max_range;
+  /// Readings below this are invalid.
+  double min_range = 0.0;
+  /// Field of view of FLASER/RLASER lines, which carry no angles: beam i of n is at
+  /// -fov/2 + i * fov / n for n = 180 or 360, and -fov/2 + i * fov / (n - 1) otherwise
+  /// (the SICK conventions of the Radish logs).
+  double fov = 3.141592653589793;
+  /// Noise standard deviation given to every reading, m.
+  double sigma = 0.01;
+  PoseSource pose_source = PoseSource::kUnknown;
+  /// Reading stops after this many diagnostics.
+  int max_diagnostics = 20;
+};
+
+struct CarmenReadStats {
+  std::map<std::string, int> records;          ///< per record type, including skipped ones
+  std::optional<double> detected_max_range;    ///< from DetectMaxRangeSentinel
+  int comment_lines = 0;
+};
+
+/// Reads a CARMEN log file. `stats` (optional) receives what was found.
+[[nodiscard]] Result<Log> ReadCarmenLog(const std::filesystem::path& path,
+                                        const CarmenReadOptions& options = {},
+                                        CarmenReadStats* stats = nullptr);
+
+/// Parses CARMEN text; `name` is used in diagnostics.
+[[nodiscard]] Result<Log> ParseCarmenLog(std::string_view text, const std::string& name,
+                                         const CarmenReadOptions& options = {},
+                                         CarmenReadStats* stats = nullptr);
+
+/// Writes `log` as CARMEN text. Scans whose angles follow the FLASER convention above are
+/// written as their channel (FLASER/RLASER); any other scan as ROBOTLASER1. Non-finite
+/// readings are written as "nan".
+[[nodiscard]] std::string FormatCarmenLog(const Log& log);
+
+/// FormatCarmenLog, written atomically (gzip-compressed when `path` ends in .gz).
+void WriteCarmenLog(const Log& log, const std::filesystem::path& path);
+
+/// The beam angles of a FLASER/RLASER line of n readings (see CarmenReadOptions::fov).
+[[nodiscard]] std::vector<double> FlaserBeamAngles(std::size_t n, double fov);
+
+/// The "no return" threshold of a log, if its readings show one: the largest value (to the cm)
+/// read at least 10 times is the sentinel s when the readings within 0.5 m below s
+/// outnumber those in [s - 2.5, s - 0.5) m at least ten to one; the threshold is then s - 0.5 m.
+/// Covers the SICK codes (81.83, 81.91), ACES (50.0), Oerebro (32.77) and the ~51 m clusters.
+[[nodiscard]] std::optional<double> DetectMaxRangeSentinel(const std::vector<double>& readings);
+
+}  // namespace priormap

@@ -1,0 +1,73 @@
+#pragma once
+/// Bad user input (logs, scans, scenes, prior files, options) is reported as a list of
+/// Diagnostics returned to the caller; the library never prints. See docs/ARCHITECTURE.md.
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace priormap {
+
+/// One problem found in user input, located as precisely as the input format allows.
+struct Diagnostic {
+  std::string file;  ///< path as given by the user ("" when the input is not a file)
+  int line = 0;      ///< 1-based; 0 when unknown
+  int col = 0;       ///< 1-based; 0 when unknown
+  std::string message;
+
+  /// `file:line:col` (parts that are unknown are left out; empty when nothing is known).
+  [[nodiscard]] std::string Location() const;
+  /// `file:line:col: error: message`.
+  [[nodiscard]] std::string ToString() const;
+};
+
+/// Joins diagnostics one per line, as the CLI prints them.
+[[nodiscard]] std::string FormatDiagnostics(const std::vector<Diagnostic>& diagnostics);
+
+/// A value, or the diagnostics explaining why there is none.
+template <typename T>
+class Result {
+ public:
+  Result(T value) : value_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  Result(std::vector<Diagnostic> diagnostics) : diagnostics_(std::move(diagnostics)) {}  // NOLINT
+  Result(Diagnostic diagnostic) : diagnostics_{std::move(diagnostic)} {}                 // NOLINT
+
+  [[nodiscard]] bool ok() const { return value_.has_value(); }
+  explicit operator bool() const { return ok(); }
+
+  /// The value; calling this on a failed result is a contract violation.
+  [[nodiscard]] T& value() & {
+    Checked();
+    return *value_;
+  }
+  [[nodiscard]] const T& value() const& {
+    Checked();
+    return *value_;
+  }
+  [[nodiscard]] T&& value() && {
+    Checked();
+    return std::move(*value_);
+  }
+
+  [[nodiscard]] const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
+  /// All diagnostics formatted one per line.
+  [[nodiscard]] std::string error() const { return FormatDiagnostics(diagnostics_); }
+
+ private:
+  void Checked() const;
+
+  std::optional<T> value_;
+  std::vector<Diagnostic> diagnostics_;
+};
+
+namespace detail {
+[[noreturn]] void FailResultAccess(const std::string& error);
+}  // namespace detail
+
+template <typename T>
+void Result<T>::Checked() const {
+  if (!value_) detail::FailResultAccess(error());
+}
+
+}  // namespace priormap

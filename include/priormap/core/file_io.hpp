@@ -1,0 +1,41 @@
+#pragma once
+/// Reading whole files (plain or gzip-compressed) and writing files atomically.
+
+#include <priormap/core/diagnostic.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace priormap {
+
+/// A file could not be written (disk full, no permission, ...).
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The bytes of `path`, decompressed when it is gzip data (recognised by its magic bytes, so
+/// the name need not end in .gz). Diagnostics for missing files and corrupt gzip streams.
+[[nodiscard]] Result<std::string> ReadFileText(const std::filesystem::path& path);
+
+/// Calls `write(temporary_path)`, which must create that file, then renames it to `path`, so
+/// readers never see a half-written file and a failure leaves any previous `path` untouched.
+/// The temporary file lives next to `path`. Throws IoError; exceptions from `write` propagate
+/// after the temporary file is removed.
+void WriteFileAtomically(const std::filesystem::path& path,
+                         const std::function<void(const std::filesystem::path&)>& write);
+
+/// WriteFileAtomically with `content` as the file's bytes; gzip-compressed when `path` ends in .gz.
+void WriteTextFileAtomically(const std::filesystem::path& path, std::string_view content);
+
+/// 1-based line and column of byte `offset` in `text`.
+struct TextPosition {
+  int line = 1;
+  int col = 1;
+};
+[[nodiscard]] TextPosition PositionOfOffset(std::string_view text, std::size_t offset);
+
+}  // namespace priormap

@@ -1,0 +1,30 @@
+#pragma once
+
+#include <priormap/core/segment.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace priormap {
+
+/// A simple polygon given by its vertices (either orientation; the last joins the first).
+struct Polygon {
+  std::vector<Vec2> vertices;
+
+  [[nodiscard]] std::size_t size() const { return vertices.size(); }
+  /// Edge i joins vertices i and i + 1 (mod size).
+  [[nodiscard]] Segment Edge(std::size_t i) const;
+  /// Positive for counter-clockwise vertices (shoelace formula).
+  [[nodiscard]] double SignedArea() const;
+  [[nodiscard]] double Area() const;
+  [[nodiscard]] double Perimeter() const;
+  /// Area centroid. Precondition: non-zero area.
+  [[nodiscard]] Vec2 Centroid() const;
+  /// Even-odd rule; points exactly on the boundary may go either way.
+  [[nodiscard]] bool Contains(const Vec2& p) const;
+  /// No two non-adjacent edges meet, and no edge is degenerate. O(n^2).
+  [[nodiscard]] bool IsSimple() const;
+  [[nodiscard]] Box2 Bounds() const;
+};
+
+}  // namespace priormap

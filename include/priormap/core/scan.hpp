@@ -1,0 +1,92 @@
+#pragma once
+/// One range scan: where the sensor was, where each beam pointed, what it measured, how noisy
+/// that is, and which readings are usable. Optionally the simulator's ground truth.
+
+#include <priormap/core/banded_matrix.hpp>
+#include <priormap/core/se2.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace priormap {
+
+/// What a reading is. Only kValid readings are distances to a surface.
+enum class BeamStatus : std::uint8_t {
+  kValid = 0,     ///< a return from a surface
+  kMaxRange = 1,  ///< no return within range (the sensor's sentinel, or reading >= max_range)
+  kInvalid = 2,   ///< not a measurement: NaN, infinite, <= 0, below min_range, or flagged
+};
+
+[[nodiscard]] const char* ToString(BeamStatus status);
+
+/// The status a reading gets from its value alone.
+[[nodiscard]] BeamStatus ClassifyReading(double range, double min_range, double max_range);
+
+/// Ground truth of a simulated scan, per beam (NaN / -1 where the beam hit nothing).
+struct ScanTruth {
+  std::vector<double> range;     ///< true distance, m
+  std::vector<double> alpha;     ///< normal angle in the sensor frame, towards the sensor, rad
+  std::vector<int> surface;      ///< Scene surface id
+  std::vector<int> region;       ///< Scene region (primitive) id
+  std::vector<std::uint8_t> outlier;  ///< 1 when the simulator replaced the reading (outlier)
+};
+
+/// Fields of a CARMEN laser record that priormap does not interpret, kept so that a log read
+/// from CARMEN is written back unchanged.
+struct CarmenLaserFields {
+  bool has_timestamps = true;  ///< some logs end right after the odometry pose
+  std::string host = "nohost";
+  double logger_timestamp = 0.0;
+  // ROBOTLASER1 only (the beam angles are start_angle + i * angular_resolution):
+  int laser_type = 0;
+  double start_angle = 0.0;
+  double fov = 0.0;
+  double angular_resolution = 0.0;
+  double accuracy = 0.0;
+  int remission_mode = 0;
+  std::vector<double> remissions;
+  double tv = 0.0, rv = 0.0, forward_safety_dist = 0.0, side_safety_dist = 0.0, turn_axis = 0.0;
+};
+
+struct Scan {
+  std::string channel = "FLASER";  ///< origin: FLASER, RLASER, ROBOTLASER1, SIM, ...
+  double timestamp = 0.0;          ///< s
+  Se2 pose;                        ///< T_world_sensor at the time of the scan
+  std::optional<Se2> robot_pose;   ///< T_world_robot, when the log gives it apart from `pose`
+  std::optional<Se2> odom_pose;    ///< the robot's odometry pose, when known
+
+  std::vector<double> angles;  ///< phi_i, rad, relative to the sensor x axis, increasing
+  std::vector<double> ranges;  ///< measured ranges, m (as read; check `status` before use)
+  std::vector<double> sigma;   ///< standard deviation of each reading's noise, m
+  std::vector<BeamStatus> status;
+  /// Information matrix of the range noise when neighbouring readings are correlated
+  /// (its inverse's diagonal equals sigma^2); nullopt for independent noise.
+  std::optional<SymmetricBandedMatrix> precision;
+  double min_range = 0.0;  ///< m
+  double max_range = std::numeric_limits<double>::infinity();  ///< m
+
+  std::optional<ScanTruth> truth;
+  std::optional<CarmenLaserFields> carmen;
+
+  [[nodiscard]] std::size_t size() const { return ranges.size(); }
+  [[nodiscard]] bool IsValid(std::size_t i) const { return status[i] == BeamStatus::kValid; }
+  [[nodiscard]] std::size_t NumValid() const;
+  /// Reading i as a point in the sensor frame (meaningful for valid readings).
+  [[nodiscard]] Vec2 PointInSensorFrame(std::size_t i) const;
+  /// Reading i as a point in the world frame.
+  [[nodiscard]] Vec2 PointInWorld(std::size_t i) const;
+  /// Sets every status from the reading's value (ClassifyReading).
+  void ClassifyAll();
+  /// Empty when consistent; otherwise what is wrong (sizes differ, angles not increasing,
+  /// sigma not positive, precision of the wrong size, non-finite pose, ...).
+  [[nodiscard]] std::vector<std::string> Problems() const;
+};
+
+/// `n` angles evenly spaced from `first` to `last` inclusive: first + i * (last - first) / (n - 1).
+[[nodiscard]] std::vector<double> EvenlySpacedAngles(std::size_t n, double first, double last);
+
+}  // namespace priormap

@@ -1,0 +1,59 @@
+#pragma once
+/// A simulated world: surfaces made of wall polylines and circles, some marked as clutter.
+/// Ground-truth ids follow the priorlets paper (Sec. II-A): the environment is partitioned into
+/// surfaces (connected objects) and each surface into regions (one straight wall, one circle).
+
+#include <priormap/core/circle.hpp>
+#include <priormap/core/polyline.hpp>
+#include <priormap/core/se2.hpp>
+
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace priormap {
+
+/// One connected object of a scene.
+struct SceneSurface {
+  std::variant<Polyline, Circle> shape;
+  bool clutter = false;  ///< not described by any structural prior (boxes, bins, people)
+  std::string label;     ///< free text for figures and documentation
+
+  /// Empty when usable; otherwise what is wrong (degenerate segments, radius <= 0, non-finite
+  /// coordinates, polylines with fewer than two points).
+  [[nodiscard]] std::vector<std::string> Problems() const;
+};
+
+/// The smallest piece a ray can hit: one segment of a polyline or one circle.
+struct ScenePrimitive {
+  std::variant<Segment, Circle> shape;
+  int surface = -1;  ///< index into Scene::surfaces
+  int region = -1;   ///< index into Scene::Primitives(); unique in the scene
+  bool clutter = false;
+};
+
+struct Scene {
+  std::string name;
+  std::vector<SceneSurface> surfaces;
+  /// A sensor pose that sees every wall of the scene (used when the user gives none).
+  std::optional<Se2> default_pose;
+  /// A path for simulated logs (visited in order, at constant speed).
+  std::vector<Vec2> waypoints;
+
+  /// Primitives in surface order; region ids are their positions in this list.
+  [[nodiscard]] std::vector<ScenePrimitive> Primitives() const;
+  /// Bounding box of all surfaces (empty box for an empty scene).
+  [[nodiscard]] Box2 Bounds() const;
+  /// Empty when the scene is usable; otherwise what is wrong, surface problems prefixed by
+  /// "surface K: ".
+  [[nodiscard]] std::vector<std::string> Problems() const;
+};
+
+/// Names of the built-in scenes: square, rectangle, circle, two-circles, l-room, corridor.
+[[nodiscard]] std::vector<std::string> BuiltinSceneNames();
+
+/// A built-in scene, centred on the origin; nullopt for an unknown name.
+[[nodiscard]] std::optional<Scene> BuiltinScene(std::string_view name);
+
+}  // namespace priormap

@@ -1,0 +1,85 @@
+#pragma once
+/// A figure in world coordinates (metres, y up, equal aspect): maps, scans, normals, covariance
+/// ellipses, heat-map grids. Drawn once, saved as PNG, SVG or PDF (chosen by the file extension).
+
+#include <priormap/core/circle.hpp>
+#include <priormap/core/polygon.hpp>
+#include <priormap/core/se2.hpp>
+#include <priormap/render/color.hpp>
+
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace priormap::render {
+
+struct LineStyle {
+  Color color = palette::kBlack;
+  double width_px = 1.5;
+  std::vector<double> dash_px{};  ///< empty: solid
+};
+
+struct FigureOptions {
+  int width_px = 800;       ///< total width, including margins
+  int max_height_px = 800;  ///< the height follows the world's aspect ratio, up to this
+  std::string title;
+  bool axes = true;          ///< metre ticks along the left and bottom edges
+  bool colorbar = false;     ///< reserve room on the right for a heat map's colour bar
+  double padding_m = 0.25;   ///< added around the world box
+};
+
+class Figure {
+ public:
+  /// A figure showing `world` (plus padding). Precondition: `world` is not empty.
+  Figure(const Box2& world, FigureOptions options = {});
+  ~Figure();
+  Figure(Figure&&) noexcept;
+  Figure& operator=(Figure&&) noexcept;
+
+  void Points(std::span<const Vec2> points, const Color& color, double radius_px = 1.5);
+  void Line(const Vec2& a, const Vec2& b, const LineStyle& style);
+  void Polyline(std::span<const Vec2> points, bool closed, const LineStyle& style);
+  /// Filled polygon with an optional outline (`stroke.width_px` 0 draws none).
+  void FilledPolygon(const Polygon& polygon, const Color& fill, const LineStyle& stroke = {{}, 0.0, {}});
+  void CircleOutline(const Circle& circle, const LineStyle& style);
+  void FilledCircle(const Circle& circle, const Color& fill);
+  /// The ellipse {x : (x - mean)^T cov^-1 (x - mean) = n_sigma^2}. Precondition: cov SPD.
+  void CovarianceEllipse(const Vec2& mean, const Mat2& covariance, double n_sigma,
+                         const LineStyle& style);
+  /// Short ticks of `length_px` from each point along the world angle `angles[i]` (normals).
+  void Ticks(std::span<const Vec2> points, std::span<const double> angles, double length_px,
+             const LineStyle& style);
+  /// A pose marker: a triangle pointing along theta.
+  void PoseMarker(const Se2& pose, const Color& color, double size_px = 10.0);
+  /// Text with its left baseline at `position`.
+  void Text(const Vec2& position, const std::string& text, double size_px = 12.0,
+            const Color& color = palette::kBlack);
+  /// A grid of cells over `extent`: values(iy, ix) covers the cell whose lower-left corner is
+  /// extent.min() + (ix, iy) * cell size, so row 0 is at the bottom. NaN cells are left blank.
+  /// With FigureOptions::colorbar, draws a colour bar labelled `label`.
+  void HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap colormap, double vmin,
+               double vmax, const std::string& label = "");
+  /// A legend entry (drawn in the top-left corner when saving).
+  void AddLegend(const std::string& label, const Color& color);
+
+  /// Writes PNG, SVG or PDF according to the extension, atomically. Throws IoError.
+  void Save(const std::filesystem::path& path) const;
+
+  [[nodiscard]] int width_px() const;
+  [[nodiscard]] int height_px() const;
+  /// Device coordinates (pixels, y down) of a world point.
+  [[nodiscard]] Vec2 ToDevice(const Vec2& world) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// ".png", ".svg", ".pdf".
+[[nodiscard]] bool IsSupportedFigurePath(const std::filesystem::path& path);
+
+}  // namespace priormap::render

@@ -1,0 +1,52 @@
+#pragma once
+/// x/y line plots with axes, ticks, labels and a legend (error over time, per-beam residuals).
+
+#include <priormap/render/color.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace priormap::render {
+
+struct Series {
+  std::vector<double> x{};
+  std::vector<double> y{};  ///< same size as x; NaN breaks the line
+  std::string label;      ///< empty: not in the legend
+  std::optional<Color> color{};  ///< default: the palette colour of the series' index
+  double width_px = 1.5;
+  bool markers = false;  ///< draw a dot at each point, no line
+  std::vector<double> dash_px{};
+};
+
+struct LinePlotOptions {
+  int width_px = 800;
+  int height_px = 450;
+  std::string title;
+  std::string x_label;
+  std::string y_label;
+  std::optional<std::pair<double, double>> x_range{};  ///< default: the data's
+  std::optional<std::pair<double, double>> y_range{};
+};
+
+class LinePlot {
+ public:
+  explicit LinePlot(LinePlotOptions options = {}) : options_(std::move(options)) {}
+
+  void Add(Series series) { series_.push_back(std::move(series)); }
+  /// A horizontal reference line (e.g. zero error, a 3-sigma bound).
+  void AddHorizontalLine(double y, const Color& color, std::string label = "");
+
+  /// Writes PNG, SVG or PDF according to the extension, atomically. Throws IoError, and
+  /// ContractError when a series has x and y of different sizes.
+  void Save(const std::filesystem::path& path) const;
+
+ private:
+  LinePlotOptions options_;
+  std::vector<Series> series_;
+  std::vector<Series> horizontal_lines_;  // y = {value, value}; x spans the axis when drawn
+};
+
+}  // namespace priormap::render

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Quick start 1/2: install dependencies, build the priormap app, run `priormap demo`.
+# Extra arguments are passed to `priormap demo` (try --help).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+cmake --preset release >/dev/null
+cmake --build --preset release --target priormap
+exec build/release/bin/priormap demo "$@"

@@ -1,0 +1,384 @@
+// Reader for CARMEN logs. Record layouts (fields after the record name):
+//   FLASER / RLASER  n r_1..r_n x y theta odom_x odom_y odom_theta [ipc_timestamp host logger_timestamp]
+//   ROBOTLASER1      laser_type start_angle fov angular_resolution max_range accuracy remission_mode
+//                    n r_1..r_n m e_1..e_m laser_x laser_y laser_theta robot_x robot_y robot_theta
+//                    tv rv forward_safety_dist side_safety_dist turn_axis [timestamps]
+//   ODOM             x y theta tv rv accel [timestamps]
+//   TRUEPOS          true_x true_y true_theta odom_x odom_y odom_theta [timestamps]
+//   PARAM            name value...
+#include <priormap/core/angles.hpp>
+#include <priormap/core/carmen_io.hpp>
+#include <priormap/core/file_io.hpp>
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+namespace priormap {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Token {
+  std::string_view text;
+  int col = 0;  // 1-based
+};
+
+std::vector<Token> Tokenize(std::string_view line) {
+  std::vector<Token> tokens;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+    if (i > start) tokens.push_back({line.substr(start, i - start), static_cast<int>(start) + 1});
+  }
+  return tokens;
+}
+
+std::optional<double> ParseDouble(std::string_view text) {
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  double value = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+std::optional<long long> ParseInteger(std::string_view text) {
+  long long value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+// A field that failed to parse: its diagnostic is already recorded.
+struct FieldError {};
+
+// Reads the fields of one record left to right, reporting the first problem precisely.
+class FieldReader {
+ public:
+  FieldReader(const std::vector<Token>& tokens, std::string_view record, int line_length)
+      : tokens_(tokens), record_(record), line_length_(line_length) {}
+
+  std::size_t remaining() const { return tokens_.size() - next_; }
+  int next_col() const { return next_ < tokens_.size() ? tokens_[next_].col : line_length_ + 1; }
+
+  double Number(std::string_view what) {
+    const Token& t = Take(what);
+    if (const auto v = ParseDouble(t.text)) return *v;
+    return Fail(t.col, fmt::format("expected {} (a number), got '{}'", what, t.text));
+  }
+
+  double FiniteNumber(std::string_view what) {
+    const std::size_t index = next_;
+    const double v = Number(what);
+    if (!std::isfinite(v)) {
+      Fail(tokens_[index].col, fmt::format("{} must be finite, got '{}'", what, tokens_[index].text));
+    }
+    return v;
+  }
+
+  // A count of fields that follow, which must leave room for `fields_after` more fields.
+  long long Count(std::string_view what, std::size_t fields_after, std::string_view after_what) {
+    const Token& t = Take(what);
+    const auto v = ParseInteger(t.text);
+    if (!v || *v < 0) {
+      Fail(t.col, fmt::format("expected {} (a non-negative integer), got '{}'", what, t.text));
+    }
+    const std::size_t available = remaining();
+    if (available < fields_after || static_cast<unsigned long long>(*v) > available - fields_after) {
+      Fail(t.col, fmt::format("{} is {}, but only {} fields follow it (expected {} values, then {})",
+                              what, *v, available, *v, after_what));
+    }
+    return *v;
+  }
+
+  int Integer(std::string_view what) {
+    const Token& t = Take(what);
+    const auto v = ParseInteger(t.text);
+    if (!v || *v < std::numeric_limits<int>::min() || *v > std::numeric_limits<int>::max()) {
+      Fail(t.col, fmt::format("expected {} (an integer), got '{}'", what, t.text));
+    }
+    return static_cast<int>(*v);
+  }
+
+  Se2 Pose(std::string_view what) {
+    const double x = FiniteNumber(fmt::format("{} x", what));
+    const double y = FiniteNumber(fmt::format("{} y", what));
+    const double theta = FiniteNumber(fmt::format("{} theta", what));
+    return {x, y, theta};
+  }
+
+  std::string_view Word(std::string_view what) { return Take(what).text; }
+
+  // The optional "ipc_timestamp host logger_timestamp" tail, then the end of the record.
+  CarmenRecordFields Timestamps(double* timestamp) {
+    CarmenRecordFields fields;
+    if (remaining() == 0) {
+      fields.has_timestamps = false;
+      *timestamp = 0.0;
+      return fields;
+    }
+    *timestamp = FiniteNumber("ipc_timestamp");
+    fields.host = std::string(Word("host"));
+    fields.logger_timestamp = FiniteNumber("logger_timestamp");
+    End();
+    return fields;
+  }
+
+  void End() {
+    if (remaining() > 0) {
+      Fail(tokens_[next_].col,
+           fmt::format("unexpected extra field '{}' at the end of the {} record",
+                       tokens_[next_].text, record_));
+    }
+  }
+
+  [[noreturn]] double Fail(int col, std::string message) {
+    error_col_ = col;
+    error_ = std::move(message);
+    throw FieldError{};
+  }
+
+  int error_col() const { return error_col_; }
+  const std::string& error() const { return error_; }
+
+ private:
+  const Token& Take(std::string_view what) {
+    if (next_ >= tokens_.size()) {
+      Fail(line_length_ + 1, fmt::format("{} record ends early: expected {}", record_, what));
+    }
+    return tokens_[next_++];
+  }
+
+  const std::vector<Token>& tokens_;
+  std::string_view record_;
+  int line_length_;
+  std::size_t next_ = 1;  // token 0 is the record name
+  int error_col_ = 0;
+  std::string error_;
+};
+
+CarmenLaserFields LaserFieldsFrom(const CarmenRecordFields& fields) {
+  CarmenLaserFields laser;
+  laser.has_timestamps = fields.has_timestamps;
+  laser.host = fields.host;
+  laser.logger_timestamp = fields.logger_timestamp;
+  return laser;
+}
+
+class CarmenParser {
+ public:
+  CarmenParser(const std::string& name, const CarmenReadOptions& options, CarmenReadStats& stats)
+      : name_(name), options_(options), stats_(stats) {}
+
+  Result<Log> Parse(std::string_view text) {
+    int line_number = 0;
+    std::size_t start = 0;
+    while (start < text.size() && !TooManyErrors()) {
+      std::size_t end = text.find('\n', start);
+      if (end == std::string_view::npos) end = text.size();
+      ParseLine(text.substr(start, end - start), ++line_number);
+      start = end + 1;
+    }
+    if (!diagnostics_.empty()) return diagnostics_;
+    if (log_.NumRecords() == 0) {
+      return Diagnostic{name_, 0, 0,
+                        "no CARMEN records found: expected lines starting with FLASER, RLASER, "
+                        "ROBOTLASER1, ODOM, TRUEPOS or PARAM"};
+    }
+    FinishScans();
+    return std::move(log_);
+  }
+
+ private:
+  bool TooManyErrors() const {
+    return static_cast<int>(diagnostics_.size()) >= options_.max_diagnostics;
+  }
+
+  void ParseLine(std::string_view line, int line_number) {
+    const std::vector<Token> tokens = Tokenize(line);
+    if (tokens.empty()) return;
+    const std::string_view type = tokens[0].text;
+    if (type.front() == '#') {
+      ++stats_.comment_lines;
+      return;
+    }
+    ++stats_.records[std::string(type)];
+    FieldReader fields(tokens, type, static_cast<int>(line.size()));
+    try {
+      if (type == "FLASER" || type == "RLASER") {
+        ParseOldLaser(fields, type);
+      } else if (type == "ROBOTLASER1") {
+        ParseRobotLaser(fields);
+      } else if (type == "ODOM") {
+        ParseOdometry(fields);
+      } else if (type == "TRUEPOS") {
+        ParseTruePose(fields);
+      } else if (type == "PARAM") {
+        ParseParam(tokens, line);
+      }
+    } catch (const FieldError&) {
+      diagnostics_.push_back({name_, line_number, fields.error_col(), fields.error()});
+      if (TooManyErrors()) {
+        diagnostics_.push_back({name_, line_number, 0, "too many errors; stopped reading"});
+      }
+    }
+  }
+
+  std::vector<double> Readings(FieldReader& fields, long long n) {
+    std::vector<double> ranges(static_cast<std::size_t>(n));
+    for (double& r : ranges) r = fields.Number("a range reading");
+    return ranges;
+  }
+
+  void ParseOldLaser(FieldReader& fields, std::string_view type) {
+    const long long n = fields.Count("the number of readings", 6, "6 pose values");
+    Scan scan;
+    scan.channel = std::string(type);
+    scan.ranges = Readings(fields, n);
+    scan.angles = FlaserBeamAngles(scan.ranges.size(), options_.fov);
+    scan.pose = fields.Pose("laser pose");
+    scan.odom_pose = fields.Pose("odometry pose");
+    scan.carmen = LaserFieldsFrom(fields.Timestamps(&scan.timestamp));
+    AddScan(std::move(scan), std::nullopt);
+  }
+
+  void ParseRobotLaser(FieldReader& fields) {
+    Scan scan;
+    scan.channel = "ROBOTLASER1";
+    CarmenLaserFields laser;
+    laser.laser_type = fields.Integer("laser_type");
+    const double start_angle = fields.FiniteNumber("start_angle");
+    const double fov = fields.FiniteNumber("field_of_view");
+    const int resolution_col = fields.next_col();
+    const double resolution = fields.FiniteNumber("angular_resolution");
+    const double max_range = fields.Number("maximum_range");
+    laser.accuracy = fields.Number("accuracy");
+    laser.remission_mode = fields.Integer("remission_mode");
+    const long long n = fields.Count("the number of readings", 12,
+                                     "the remission count, 6 pose values and 5 safety values");
+    if (n > 1 && !(resolution > 0.0)) {
+      fields.Fail(resolution_col, fmt::format("angular_resolution must be positive, got {}", resolution));
+    }
+    scan.ranges = Readings(fields, n);
+    scan.angles.resize(scan.ranges.size());
+    for (std::size_t i = 0; i < scan.angles.size(); ++i) {
+      scan.angles[i] = start_angle + static_cast<double>(i) * resolution;
+    }
+    const long long m =
+        fields.Count("the number of remissions", 11, "6 pose values and 5 safety values");
+    laser.remissions.resize(static_cast<std::size_t>(m));
+    for (double& e : laser.remissions) e = fields.Number("a remission value");
+    laser.start_angle = start_angle;
+    laser.fov = fov;
+    laser.angular_resolution = resolution;
+    scan.pose = fields.Pose("laser pose");
+    scan.robot_pose = fields.Pose("robot pose");
+    laser.tv = fields.Number("tv");
+    laser.rv = fields.Number("rv");
+    laser.forward_safety_dist = fields.Number("forward_safety_dist");
+    laser.side_safety_dist = fields.Number("side_safety_dist");
+    laser.turn_axis = fields.Number("turn_axis");
+    const CarmenRecordFields stamps = fields.Timestamps(&scan.timestamp);
+    laser.has_timestamps = stamps.has_timestamps;
+    laser.host = stamps.host;
+    laser.logger_timestamp = stamps.logger_timestamp;
+    scan.carmen = std::move(laser);
+    AddScan(std::move(scan), max_range > 0.0 ? std::optional<double>(max_range) : std::nullopt);
+  }
+
+  void ParseOdometry(FieldReader& fields) {
+    OdometryRecord odom;
+    odom.pose = fields.Pose("odometry pose");
+    odom.tv = fields.Number("tv");
+    odom.rv = fields.Number("rv");
+    odom.accel = fields.Number("accel");
+    odom.carmen = fields.Timestamps(&odom.timestamp);
+    log_.order.push_back({Log::RecordKind::kOdometry, log_.odometry.size()});
+    log_.odometry.push_back(std::move(odom));
+  }
+
+  void ParseTruePose(FieldReader& fields) {
+    TruePoseRecord record;
+    record.true_pose = fields.Pose("true pose");
+    record.odom_pose = fields.Pose("odometry pose");
+    record.carmen = fields.Timestamps(&record.timestamp);
+    log_.order.push_back({Log::RecordKind::kTruePose, log_.true_poses.size()});
+    log_.true_poses.push_back(std::move(record));
+  }
+
+  void ParseParam(const std::vector<Token>& tokens, std::string_view line) {
+    if (tokens.size() < 2) return;  // a PARAM without a name carries nothing
+    std::string value;
+    if (tokens.size() > 2) {
+      value = std::string(line.substr(static_cast<std::size_t>(tokens[2].col - 1)));
+      while (!value.empty() && (value.back() == '\r' || value.back() == ' ')) value.pop_back();
+    }
+    log_.order.push_back({Log::RecordKind::kParam, log_.params.size()});
+    log_.params.emplace_back(std::string(tokens[1].text), std::move(value));
+  }
+
+  void AddScan(Scan scan, std::optional<double> own_max_range) {
+    scan.sigma.assign(scan.ranges.size(), options_.sigma);
+    scan.min_range = options_.min_range;
+    own_max_ranges_.push_back(own_max_range);
+    log_.order.push_back({Log::RecordKind::kScan, log_.scans.size()});
+    log_.scans.push_back(std::move(scan));
+  }
+
+  // Max range needs every reading of the log (sentinel detection), so statuses come last.
+  void FinishScans() {
+    std::vector<double> all;
+    for (const Scan& scan : log_.scans) all.insert(all.end(), scan.ranges.begin(), scan.ranges.end());
+    stats_.detected_max_range = DetectMaxRangeSentinel(all);
+    const std::optional<double> log_max_range =
+        options_.max_range ? options_.max_range : stats_.detected_max_range;
+    for (std::size_t k = 0; k < log_.scans.size(); ++k) {
+      Scan& scan = log_.scans[k];
+      scan.max_range = log_max_range.value_or(own_max_ranges_[k].value_or(kInf));
+      if (!(scan.max_range > scan.min_range)) scan.max_range = kInf;
+      scan.ClassifyAll();
+    }
+    log_.pose_source = options_.pose_source;
+  }
+
+  const std::string& name_;
+  const CarmenReadOptions& options_;
+  CarmenReadStats& stats_;
+  Log log_;
+  std::vector<std::optional<double>> own_max_ranges_;
+  std::vector<Diagnostic> diagnostics_;
+};
+
+}  // namespace
+
+std::vector<double> FlaserBeamAngles(std::size_t n, double fov) {
+  if (n == 180 || n == 360) {
+    // Evaluated as first + i * step, like every evenly spaced angle set in priormap, so that
+    // writers can store (first, step) and readers rebuild the same doubles.
+    const double step = fov / static_cast<double>(n);
+    std::vector<double> angles(n);
+    for (std::size_t i = 0; i < n; ++i) angles[i] = -fov / 2 + static_cast<double>(i) * step;
+    return angles;
+  }
+  return EvenlySpacedAngles(n, -fov / 2, fov / 2);
+}
+
+Result<Log> ParseCarmenLog(std::string_view text, const std::string& name,
+                           const CarmenReadOptions& options, CarmenReadStats* stats) {
+  CarmenReadStats local_stats;
+  CarmenParser parser(name, options, stats ? *stats : local_stats);
+  return parser.Parse(text);
+}
+
+Result<Log> ReadCarmenLog(const std::filesystem::path& path, const CarmenReadOptions& options,
+                          CarmenReadStats* stats) {
+  Result<std::string> text = ReadFileText(path);
+  if (!text) return text.diagnostics();
+  return ParseCarmenLog(text.value(), path.string(), options, stats);
+}
+
+}  // namespace priormap

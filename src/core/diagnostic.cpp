@@ -1,0 +1,36 @@
+#include <priormap/core/check.hpp>
+#include <priormap/core/diagnostic.hpp>
+
+#include <fmt/format.h>
+
+namespace priormap {
+
+std::string Diagnostic::Location() const {
+  std::string where = file;
+  if (line > 0) where += fmt::format(":{}", line);
+  if (line > 0 && col > 0) where += fmt::format(":{}", col);
+  return where;
+}
+
+std::string Diagnostic::ToString() const {
+  const std::string where = Location();
+  if (where.empty()) return fmt::format("error: {}", message);
+  return fmt::format("{}: error: {}", where, message);
+}
+
+std::string FormatDiagnostics(const std::vector<Diagnostic>& diagnostics) {
+  std::string out;
+  for (const Diagnostic& d : diagnostics) {
+    if (!out.empty()) out += '\n';
+    out += d.ToString();
+  }
+  return out;
+}
+
+namespace detail {
+void FailResultAccess(const std::string& error) {
+  throw ContractError("value() of a failed Result: " + error);
+}
+}  // namespace detail
+
+}  // namespace priormap

@@ -1,0 +1,108 @@
+#include <priormap/core/file_io.hpp>
+
+#include <atomic>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <unistd.h>
+#include <zlib.h>
+
+namespace priormap {
+namespace fs = std::filesystem;
+namespace {
+
+bool EndsWithGz(const fs::path& path) { return path.extension() == ".gz"; }
+
+fs::path TemporarySibling(const fs::path& path) {
+  static std::atomic<unsigned> counter{0};
+  const std::string name =
+      fmt::format(".{}.tmp-{}-{}", path.filename().string(), ::getpid(), counter++);
+  return path.parent_path() / name;
+}
+
+}  // namespace
+
+Result<std::string> ReadFileText(const fs::path& path) {
+  const std::string name = path.string();
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return Diagnostic{name, 0, 0, "no such file"};
+  if (fs::is_directory(path, ec)) return Diagnostic{name, 0, 0, "is a directory, expected a file"};
+  // gzread reads plain files unchanged, so one code path serves both.
+  gzFile file = gzopen(name.c_str(), "rb");
+  if (file == nullptr) return Diagnostic{name, 0, 0, "cannot open file for reading"};
+  gzbuffer(file, 1 << 17);
+  std::string text;
+  std::string chunk(1 << 20, '\0');
+  for (;;) {
+    const int n = gzread(file, chunk.data(), static_cast<unsigned>(chunk.size()));
+    if (n < 0) break;
+    text.append(chunk.data(), static_cast<std::size_t>(n));
+    if (n == 0) break;
+  }
+  int error = Z_OK;
+  const char* message = gzerror(file, &error);
+  const std::string error_text = message ? message : "";
+  gzclose(file);
+  if (error != Z_OK && error != Z_STREAM_END) {
+    return Diagnostic{name, 0, 0, fmt::format("corrupt or truncated gzip data ({})", error_text)};
+  }
+  return text;
+}
+
+void WriteFileAtomically(const fs::path& path,
+                         const std::function<void(const fs::path&)>& write) {
+  const fs::path directory = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::error_code ec;
+  if (!fs::is_directory(directory, ec)) {
+    throw IoError(fmt::format("{}: cannot write: directory {} does not exist", path.string(),
+                              directory.string()));
+  }
+  const fs::path temporary = TemporarySibling(path);
+  try {
+    write(temporary);
+    fs::rename(temporary, path);
+  } catch (const fs::filesystem_error& e) {
+    fs::remove(temporary, ec);
+    throw IoError(fmt::format("{}: cannot write: {}", path.string(), e.code().message()));
+  } catch (...) {
+    fs::remove(temporary, ec);
+    throw;
+  }
+}
+
+void WriteTextFileAtomically(const fs::path& path, std::string_view content) {
+  WriteFileAtomically(path, [&](const fs::path& temporary) {
+    if (EndsWithGz(path)) {
+      gzFile file = gzopen(temporary.string().c_str(), "wb");
+      if (file == nullptr) throw IoError(fmt::format("{}: cannot open for writing", path.string()));
+      const bool ok = content.empty() ||
+                      gzwrite(file, content.data(), static_cast<unsigned>(content.size())) ==
+                          static_cast<int>(content.size());
+      if (gzclose(file) != Z_OK || !ok) {
+        throw IoError(fmt::format("{}: write failed", path.string()));
+      }
+      return;
+    }
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) throw IoError(fmt::format("{}: cannot open for writing", path.string()));
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    out.close();
+    if (!out) throw IoError(fmt::format("{}: write failed (disk full?)", path.string()));
+  });
+}
+
+TextPosition PositionOfOffset(std::string_view text, std::size_t offset) {
+  TextPosition position;
+  offset = std::min(offset, text.size());
+  for (std::size_t i = 0; i < offset; ++i) {
+    if (text[i] == '\n') {
+      ++position.line;
+      position.col = 1;
+    } else {
+      ++position.col;
+    }
+  }
+  return position;
+}
+
+}  // namespace priormap

@@ -1,0 +1,311 @@
+#include "json_document.hpp"
+
+#include <priormap/core/file_io.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+namespace priormap::detail {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A minimal scanner over text already known to be valid JSON, used only to find where a value
+// is (nlohmann::json does not keep positions).
+class JsonScanner {
+ public:
+  explicit JsonScanner(std::string_view text) : text_(text) {}
+
+  std::optional<std::size_t> Locate(const JsonPointer& pointer) {
+    pos_ = 0;
+    SkipSpace();
+    std::vector<std::string> tokens;
+    for (JsonPointer p = pointer; !p.empty(); p = p.parent_pointer()) tokens.push_back(p.back());
+    for (auto it = tokens.rbegin(); it != tokens.rend(); ++it) {
+      if (!Descend(*it)) return std::nullopt;
+    }
+    return pos_;
+  }
+
+ private:
+  bool Descend(const std::string& token) {
+    if (At('{')) {
+      ++pos_;
+      for (;;) {
+        SkipSpace();
+        if (!At('"')) return false;
+        const std::string key = ReadString();
+        SkipSpace();
+        if (!At(':')) return false;
+        ++pos_;
+        SkipSpace();
+        if (key == token) return true;
+        SkipValue();
+        SkipSpace();
+        if (!At(',')) return false;
+        ++pos_;
+      }
+    }
+    if (At('[')) {
+      ++pos_;
+      std::size_t index = 0;
+      for (char c : token) {
+        if (c < '0' || c > '9') return false;
+        index = index * 10 + static_cast<std::size_t>(c - '0');
+      }
+      for (std::size_t i = 0;; ++i) {
+        SkipSpace();
+        if (At(']')) return false;
+        if (i == index) return true;
+        SkipValue();
+        SkipSpace();
+        if (!At(',')) return false;
+        ++pos_;
+      }
+    }
+    return false;
+  }
+
+  bool At(char c) const { return pos_ < text_.size() && text_[pos_] == c; }
+
+  void SkipSpace() {
+    while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\n' ||
+                                   text_[pos_] == '\r' || text_[pos_] == '\t')) {
+      ++pos_;
+    }
+  }
+
+  // Reads a string starting at '"'; escapes other than \" and \\ are kept verbatim, which is
+  // enough to match the plain keys of priormap documents.
+  std::string ReadString() {
+    std::string out;
+    ++pos_;
+    while (pos_ < text_.size() && text_[pos_] != '"') {
+      if (text_[pos_] == '\\' && pos_ + 1 < text_.size()) {
+        const char next = text_[pos_ + 1];
+        if (next == '"' || next == '\\' || next == '/') {
+          out += next;
+          pos_ += 2;
+          continue;
+        }
+        out += text_[pos_++];
+      }
+      out += text_[pos_++];
+    }
+    ++pos_;
+    return out;
+  }
+
+  void SkipValue() {
+    if (At('"')) {
+      ReadString();
+      return;
+    }
+    if (At('{') || At('[')) {
+      int depth = 0;
+      while (pos_ < text_.size()) {
+        const char c = text_[pos_];
+        if (c == '"') {
+          ReadString();
+          continue;
+        }
+        if (c == '{' || c == '[') ++depth;
+        if (c == '}' || c == ']') --depth;
+        ++pos_;
+        if (depth == 0) return;
+      }
+      return;
+    }
+    while (pos_ < text_.size() && text_[pos_] != ',' && text_[pos_] != '}' && text_[pos_] != ']' &&
+           text_[pos_] != ' ' && text_[pos_] != '\n' && text_[pos_] != '\r' && text_[pos_] != '\t') {
+      ++pos_;
+    }
+  }
+
+  std::string_view text_;
+  std::size_t pos_ = 0;
+};
+
+std::string Describe(const Json& value) {
+  switch (value.type()) {
+    case Json::value_t::null: return "null";
+    case Json::value_t::boolean: return "a boolean";
+    case Json::value_t::string: return fmt::format("the string \"{}\"", value.get_ref<const std::string&>());
+    case Json::value_t::number_integer:
+    case Json::value_t::number_unsigned:
+    case Json::value_t::number_float: return fmt::format("the number {}", value.dump());
+    case Json::value_t::object: return "an object";
+    case Json::value_t::array: return "an array";
+    default: return "something else";
+  }
+}
+
+}  // namespace
+
+std::optional<std::size_t> LocateJsonPointer(std::string_view text, const JsonPointer& pointer) {
+  return JsonScanner(text).Locate(pointer);
+}
+
+Result<JsonDocument> JsonDocument::Parse(std::string_view text, std::string name) {
+  try {
+    Json json = Json::parse(text.begin(), text.end());
+    return JsonDocument(text, std::move(name), std::move(json));
+  } catch (const Json::parse_error& e) {
+    // e.byte is 1-based and points just past the offending character.
+    const std::size_t offset = e.byte > 0 ? e.byte - 1 : 0;
+    const TextPosition where = PositionOfOffset(text, offset);
+    std::string message = e.what();
+    if (const auto colon = message.rfind(": "); colon != std::string::npos) {
+      message = message.substr(colon + 2);  // drop nlohmann's "[json.exception...] parse error at line..."
+    }
+    return Diagnostic{name, where.line, where.col, "invalid JSON: " + message};
+  }
+}
+
+Diagnostic JsonDocument::Diagnose(const JsonSchemaError& error) const {
+  const std::optional<std::size_t> offset = LocateJsonPointer(text_, error.pointer);
+  const TextPosition where = PositionOfOffset(text_, offset.value_or(0));
+  std::string message = error.message;
+  if (!error.pointer.empty()) message += fmt::format(" (at {})", error.pointer.to_string());
+  return {name_, offset ? where.line : 0, offset ? where.col : 0, std::move(message)};
+}
+
+void Fail(const JsonNode& node, std::string message) {
+  throw JsonSchemaError{node.pointer, std::move(message)};
+}
+
+void RequireObject(const JsonNode& node, std::string_view what) {
+  if (!node.value.is_object()) Fail(node, fmt::format("expected {} (an object), got {}", what, Describe(node.value)));
+}
+
+JsonNode Member(const JsonNode& object, const char* key) {
+  RequireObject(object, "an object");
+  const auto it = object.value.find(key);
+  if (it == object.value.end()) Fail(object, fmt::format("missing key \"{}\"", key));
+  return {*it, object.pointer / key};
+}
+
+std::optional<JsonNode> OptionalMember(const JsonNode& object, const char* key) {
+  RequireObject(object, "an object");
+  const auto it = object.value.find(key);
+  if (it == object.value.end()) return std::nullopt;
+  return JsonNode{*it, object.pointer / key};
+}
+
+JsonNode Element(const JsonNode& array, std::size_t index) {
+  return {array.value[index], array.pointer / index};
+}
+
+std::size_t ArraySize(const JsonNode& node, std::string_view what) {
+  if (!node.value.is_array()) Fail(node, fmt::format("expected {} (an array), got {}", what, Describe(node.value)));
+  return node.value.size();
+}
+
+double Number(const JsonNode& node, std::string_view what) {
+  const Json& v = node.value;
+  if (v.is_number()) return v.get<double>();
+  if (v.is_null()) return kNaN;
+  if (v.is_string()) {
+    const auto& s = v.get_ref<const std::string&>();
+    if (s == "nan") return kNaN;
+    if (s == "inf") return kInf;
+    if (s == "-inf") return -kInf;
+  }
+  Fail(node, fmt::format("expected {} (a number), got {}", what, Describe(v)));
+}
+
+double FiniteNumber(const JsonNode& node, std::string_view what) {
+  const double v = Number(node, what);
+  if (!std::isfinite(v)) Fail(node, fmt::format("expected {} (a finite number), got {}", what, Describe(node.value)));
+  return v;
+}
+
+long long Integer(const JsonNode& node, std::string_view what) {
+  const Json& v = node.value;
+  if (v.is_number_integer()) return v.get<long long>();
+  if (v.is_number_float()) {
+    const double d = v.get<double>();
+    if (std::floor(d) == d && std::abs(d) < 9e15) return static_cast<long long>(d);
+  }
+  Fail(node, fmt::format("expected {} (an integer), got {}", what, Describe(v)));
+}
+
+bool Boolean(const JsonNode& node, std::string_view what) {
+  if (!node.value.is_boolean()) Fail(node, fmt::format("expected {} (true or false), got {}", what, Describe(node.value)));
+  return node.value.get<bool>();
+}
+
+std::string String(const JsonNode& node, std::string_view what) {
+  if (!node.value.is_string()) Fail(node, fmt::format("expected {} (a string), got {}", what, Describe(node.value)));
+  return node.value.get<std::string>();
+}
+
+std::vector<double> Numbers(const JsonNode& node, std::string_view what) {
+  const std::size_t n = ArraySize(node, what);
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = Number(Element(node, i), fmt::format("an element of {}", what));
+  return out;
+}
+
+std::vector<long long> Integers(const JsonNode& node, std::string_view what) {
+  const std::size_t n = ArraySize(node, what);
+  std::vector<long long> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = Integer(Element(node, i), fmt::format("an element of {}", what));
+  return out;
+}
+
+Vec2 Point(const JsonNode& node, std::string_view what) {
+  if (ArraySize(node, what) != 2) Fail(node, fmt::format("expected {} as [x, y]", what));
+  return {FiniteNumber(Element(node, 0), "x"), FiniteNumber(Element(node, 1), "y")};
+}
+
+Se2 Pose(const JsonNode& node, std::string_view what) {
+  if (ArraySize(node, what) != 3) Fail(node, fmt::format("expected {} as [x, y, theta]", what));
+  return {FiniteNumber(Element(node, 0), "x"), FiniteNumber(Element(node, 1), "y"),
+          FiniteNumber(Element(node, 2), "theta")};
+}
+
+void RequireFormat(const JsonNode& root, std::string_view format, int version) {
+  RequireObject(root, fmt::format("a {} document", format));
+  const JsonNode format_node = Member(root, "format");
+  const std::string actual = String(format_node, "the document format");
+  if (actual != format) Fail(format_node, fmt::format("expected format \"{}\", got \"{}\"", format, actual));
+  const JsonNode version_node = Member(root, "version");
+  const long long v = Integer(version_node, "the format version");
+  if (v != version) {
+    Fail(version_node, fmt::format("unsupported {} version {} (this priormap reads version {})", format, v, version));
+  }
+}
+
+OrderedJson NumberToJson(double value) {
+  if (std::isnan(value)) return nullptr;
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  return value;
+}
+
+OrderedJson NumbersToJson(const std::vector<double>& values) {
+  OrderedJson array = OrderedJson::array();
+  for (double v : values) array.push_back(NumberToJson(v));
+  return array;
+}
+
+OrderedJson PoseToJson(const Se2& pose) { return {pose.x(), pose.y(), pose.theta()}; }
+
+std::string DumpOneMemberPerLine(const OrderedJson& object) {
+  std::string out = "{";
+  bool first = true;
+  for (const auto& [key, value] : object.items()) {
+    out += first ? "\n  " : ",\n  ";
+    out += OrderedJson(key).dump();
+    out += ": ";
+    out += value.dump();
+    first = false;
+  }
+  out += "\n}\n";
+  return out;
+}
+
+}  // namespace priormap::detail

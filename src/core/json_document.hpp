@@ -1,0 +1,83 @@
+#pragma once
+// Reading priormap's JSON documents with precise diagnostics: every accessor names what it
+// expected, and a failure is reported at the file:line:col of the offending value.
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/core/se2.hpp>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace priormap::detail {
+
+using Json = nlohmann::json;
+using OrderedJson = nlohmann::ordered_json;  // for writing: keys in a readable order
+using JsonPointer = nlohmann::json::json_pointer;
+
+/// Byte offset of the value at `pointer` in the JSON `text` (which must be valid JSON).
+std::optional<std::size_t> LocateJsonPointer(std::string_view text, const JsonPointer& pointer);
+
+/// A value of a parsed document together with where it is.
+struct JsonNode {
+  const Json& value;
+  JsonPointer pointer;
+};
+
+/// Thrown by the accessors; turned into a Diagnostic by JsonDocument::Diagnose.
+struct JsonSchemaError {
+  JsonPointer pointer;
+  std::string message;
+};
+
+class JsonDocument {
+ public:
+  /// Parses `text`; syntax errors become diagnostics located at the failing character.
+  static Result<JsonDocument> Parse(std::string_view text, std::string name);
+
+  [[nodiscard]] JsonNode root() const { return {json_, JsonPointer()}; }
+  /// The diagnostic for a schema error, with its line and column.
+  [[nodiscard]] Diagnostic Diagnose(const JsonSchemaError& error) const;
+
+ private:
+  JsonDocument(std::string_view text, std::string name, Json json)
+      : text_(text), name_(std::move(name)), json_(std::move(json)) {}
+  std::string_view text_;
+  std::string name_;
+  Json json_;
+};
+
+// Accessors; each throws JsonSchemaError naming what was expected.
+[[noreturn]] void Fail(const JsonNode& node, std::string message);
+JsonNode Member(const JsonNode& object, const char* key);
+std::optional<JsonNode> OptionalMember(const JsonNode& object, const char* key);
+JsonNode Element(const JsonNode& array, std::size_t index);
+void RequireObject(const JsonNode& node, std::string_view what);
+std::size_t ArraySize(const JsonNode& node, std::string_view what);
+/// A number; null is NaN and the strings "nan", "inf", "-inf" are what they say.
+double Number(const JsonNode& node, std::string_view what);
+double FiniteNumber(const JsonNode& node, std::string_view what);
+long long Integer(const JsonNode& node, std::string_view what);
+bool Boolean(const JsonNode& node, std::string_view what);
+std::string String(const JsonNode& node, std::string_view what);
+std::vector<double> Numbers(const JsonNode& node, std::string_view what);
+std::vector<long long> Integers(const JsonNode& node, std::string_view what);
+/// [x, y], finite.
+Vec2 Point(const JsonNode& node, std::string_view what);
+/// [x, y, theta], finite.
+Se2 Pose(const JsonNode& node, std::string_view what);
+/// Checks "format" and "version" of a document.
+void RequireFormat(const JsonNode& root, std::string_view format, int version);
+
+/// The JSON form of a number, using null for NaN and strings for infinities.
+OrderedJson NumberToJson(double value);
+OrderedJson NumbersToJson(const std::vector<double>& values);
+OrderedJson PoseToJson(const Se2& pose);
+
+/// An object with one top-level member per line (arrays stay on one line): readable, diffable.
+std::string DumpOneMemberPerLine(const OrderedJson& object);
+
+}  // namespace priormap::detail

@@ -1,0 +1,410 @@
+// priormap.scan / priormap.log JSON documents (docs/formats.md).
+#include <priormap/core/file_io.hpp>
+#include <priormap/core/json_io.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "json_document.hpp"
+
+namespace priormap {
+namespace {
+
+using detail::JsonNode;
+using detail::OrderedJson;
+
+constexpr int kVersion = 1;
+constexpr double kDefaultSigma = 0.01;
+
+// The step s with angles[i] == angles[0] + i * s exactly for all i, if there is one. The
+// readers build evenly spaced angles with that very expression, so such scans are stored as
+// (angle_min, angle_increment) and read back bit for bit.
+std::optional<double> ExactAngleStep(const std::vector<double>& angles) {
+  const std::size_t n = angles.size();
+  if (n < 2) return std::nullopt;
+  const auto reproduces = [&](double step) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (angles[0] + static_cast<double>(i) * step != angles[i]) return false;
+    }
+    return true;
+  };
+  const double estimate = (angles[n - 1] - angles[0]) / static_cast<double>(n - 1);
+  double up = estimate, down = estimate;
+  for (int ulps = 0; ulps < 4; ++ulps) {  // round-off leaves the estimate a few ulps away
+    if (reproduces(up)) return up;
+    if (reproduces(down)) return down;
+    up = std::nextafter(up, std::numeric_limits<double>::infinity());
+    down = std::nextafter(down, -std::numeric_limits<double>::infinity());
+  }
+  return std::nullopt;
+}
+
+OrderedJson CarmenLaserToJson(const CarmenLaserFields& c) {
+  OrderedJson j;
+  j["has_timestamps"] = c.has_timestamps;
+  j["host"] = c.host;
+  j["logger_timestamp"] = c.logger_timestamp;
+  j["laser_type"] = c.laser_type;
+  j["start_angle"] = c.start_angle;
+  j["fov"] = c.fov;
+  j["angular_resolution"] = c.angular_resolution;
+  j["accuracy"] = c.accuracy;
+  j["remission_mode"] = c.remission_mode;
+  j["remissions"] = detail::NumbersToJson(c.remissions);
+  j["tv"] = c.tv;
+  j["rv"] = c.rv;
+  j["forward_safety_dist"] = c.forward_safety_dist;
+  j["side_safety_dist"] = c.side_safety_dist;
+  j["turn_axis"] = c.turn_axis;
+  return j;
+}
+
+OrderedJson CarmenRecordToJson(const CarmenRecordFields& c) {
+  return {{"has_timestamps", c.has_timestamps}, {"host", c.host}, {"logger_timestamp", c.logger_timestamp}};
+}
+
+bool StatusesAreDerivable(const Scan& scan) {
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.status[i] != ClassifyReading(scan.ranges[i], scan.min_range, scan.max_range)) return false;
+  }
+  return true;
+}
+
+OrderedJson ScanToJson(const Scan& scan, OrderedJson j) {
+  j["channel"] = scan.channel;
+  j["timestamp"] = scan.timestamp;
+  j["pose"] = detail::PoseToJson(scan.pose);
+  if (scan.robot_pose) j["robot_pose"] = detail::PoseToJson(*scan.robot_pose);
+  if (scan.odom_pose) j["odom_pose"] = detail::PoseToJson(*scan.odom_pose);
+  j["min_range"] = scan.min_range;
+  j["max_range"] = detail::NumberToJson(scan.max_range);
+  if (const auto step = ExactAngleStep(scan.angles)) {
+    j["angle_min"] = scan.angles.front();
+    j["angle_increment"] = *step;
+  } else {
+    j["angles"] = detail::NumbersToJson(scan.angles);
+  }
+  j["ranges"] = detail::NumbersToJson(scan.ranges);
+  const bool uniform_sigma = !scan.sigma.empty() &&
+      std::all_of(scan.sigma.begin(), scan.sigma.end(), [&](double s) { return s == scan.sigma[0]; });
+  j["sigma"] = uniform_sigma ? OrderedJson(scan.sigma[0]) : detail::NumbersToJson(scan.sigma);
+  if (!StatusesAreDerivable(scan)) {
+    OrderedJson status = OrderedJson::array();
+    for (BeamStatus s : scan.status) status.push_back(ToString(s));
+    j["status"] = std::move(status);
+  }
+  if (scan.precision) {
+    OrderedJson bands = OrderedJson::array();
+    const Eigen::MatrixXd& band = scan.precision->band();
+    for (Eigen::Index k = 0; k < band.rows(); ++k) {
+      bands.push_back(detail::NumbersToJson(std::vector<double>(band.row(k).begin(), band.row(k).end())));
+    }
+    j["precision"] = {{"bandwidth", scan.precision->bandwidth()}, {"bands", std::move(bands)}};
+  }
+  if (scan.truth) {
+    j["true_range"] = detail::NumbersToJson(scan.truth->range);
+    j["true_alpha"] = detail::NumbersToJson(scan.truth->alpha);
+    j["true_surface"] = scan.truth->surface;
+    j["true_region"] = scan.truth->region;
+    j["true_outlier"] = scan.truth->outlier;
+  }
+  if (scan.carmen) j["carmen"] = CarmenLaserToJson(*scan.carmen);
+  return j;
+}
+
+// ---- reading ----
+
+std::optional<double> OptionalNumber(const JsonNode& object, const char* key, std::string_view what) {
+  if (const auto node = detail::OptionalMember(object, key)) return detail::Number(*node, what);
+  return std::nullopt;
+}
+
+std::optional<Se2> OptionalPose(const JsonNode& object, const char* key) {
+  if (const auto node = detail::OptionalMember(object, key)) return detail::Pose(*node, key);
+  return std::nullopt;
+}
+
+std::vector<double> SizedNumbers(const JsonNode& object, const char* key, std::size_t n) {
+  const JsonNode node = detail::Member(object, key);
+  std::vector<double> values = detail::Numbers(node, fmt::format("\"{}\"", key));
+  if (values.size() != n) detail::Fail(node, fmt::format("expected {} values in \"{}\", got {}", n, key, values.size()));
+  return values;
+}
+
+std::vector<int> SizedInts(const JsonNode& object, const char* key, std::size_t n) {
+  const JsonNode node = detail::Member(object, key);
+  const std::vector<long long> values = detail::Integers(node, fmt::format("\"{}\"", key));
+  if (values.size() != n) detail::Fail(node, fmt::format("expected {} values in \"{}\", got {}", n, key, values.size()));
+  return {values.begin(), values.end()};
+}
+
+std::vector<double> ReadAngles(const JsonNode& object, std::size_t n) {
+  if (detail::OptionalMember(object, "angles")) return SizedNumbers(object, "angles", n);
+  const auto min = detail::OptionalMember(object, "angle_min");
+  const auto step = detail::OptionalMember(object, "angle_increment");
+  if (!min || !step) detail::Fail(object, "expected \"angles\", or \"angle_min\" and \"angle_increment\"");
+  const double first = detail::FiniteNumber(*min, "angle_min");
+  const double increment = detail::FiniteNumber(*step, "angle_increment");
+  std::vector<double> angles(n);
+  for (std::size_t i = 0; i < n; ++i) angles[i] = first + static_cast<double>(i) * increment;
+  return angles;
+}
+
+std::vector<BeamStatus> ReadStatus(const JsonNode& node, std::size_t n) {
+  if (detail::ArraySize(node, "\"status\"") != n) detail::Fail(node, fmt::format("expected {} entries in \"status\"", n));
+  std::vector<BeamStatus> status(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const JsonNode e = detail::Element(node, i);
+    const std::string s = detail::String(e, "a beam status");
+    if (s == "valid") status[i] = BeamStatus::kValid;
+    else if (s == "max_range") status[i] = BeamStatus::kMaxRange;
+    else if (s == "invalid") status[i] = BeamStatus::kInvalid;
+    else detail::Fail(e, fmt::format("expected a beam status (\"valid\", \"max_range\" or \"invalid\"), got \"{}\"", s));
+  }
+  return status;
+}
+
+SymmetricBandedMatrix ReadPrecision(const JsonNode& node, std::size_t n) {
+  const long long bandwidth = detail::Integer(detail::Member(node, "bandwidth"), "the precision bandwidth");
+  if (bandwidth < 0 || static_cast<std::size_t>(bandwidth) >= std::max<std::size_t>(n, 1)) {
+    detail::Fail(node, fmt::format("precision bandwidth must be in [0, {}), got {}", n, bandwidth));
+  }
+  const JsonNode bands = detail::Member(node, "bands");
+  if (detail::ArraySize(bands, "precision bands") != static_cast<std::size_t>(bandwidth) + 1) {
+    detail::Fail(bands, fmt::format("expected bandwidth + 1 = {} bands", bandwidth + 1));
+  }
+  SymmetricBandedMatrix w(n, static_cast<std::size_t>(bandwidth));
+  for (std::size_t k = 0; k <= static_cast<std::size_t>(bandwidth); ++k) {
+    const JsonNode row = detail::Element(bands, k);
+    const std::vector<double> values = detail::Numbers(row, "a precision band");
+    if (values.size() != n) detail::Fail(row, fmt::format("expected {} values in each precision band", n));
+    for (std::size_t j = 0; j + k < n; ++j) w.Set(j + k, j, values[j]);
+  }
+  return w;
+}
+
+CarmenLaserFields ReadCarmenLaser(const JsonNode& node) {
+  detail::RequireObject(node, "\"carmen\" fields");
+  CarmenLaserFields c;
+  const auto number = [&](const char* key, double fallback) {
+    return OptionalNumber(node, key, key).value_or(fallback);
+  };
+  if (const auto n = detail::OptionalMember(node, "has_timestamps")) c.has_timestamps = detail::Boolean(*n, "has_timestamps");
+  if (const auto n = detail::OptionalMember(node, "host")) c.host = detail::String(*n, "host");
+  c.logger_timestamp = number("logger_timestamp", 0.0);
+  if (const auto n = detail::OptionalMember(node, "laser_type")) c.laser_type = static_cast<int>(detail::Integer(*n, "laser_type"));
+  c.start_angle = number("start_angle", 0.0);
+  c.fov = number("fov", 0.0);
+  c.angular_resolution = number("angular_resolution", 0.0);
+  c.accuracy = number("accuracy", 0.0);
+  if (const auto n = detail::OptionalMember(node, "remission_mode")) c.remission_mode = static_cast<int>(detail::Integer(*n, "remission_mode"));
+  if (const auto n = detail::OptionalMember(node, "remissions")) c.remissions = detail::Numbers(*n, "remissions");
+  c.tv = number("tv", 0.0);
+  c.rv = number("rv", 0.0);
+  c.forward_safety_dist = number("forward_safety_dist", 0.0);
+  c.side_safety_dist = number("side_safety_dist", 0.0);
+  c.turn_axis = number("turn_axis", 0.0);
+  return c;
+}
+
+std::optional<CarmenRecordFields> ReadCarmenRecord(const JsonNode& record) {
+  const auto node = detail::OptionalMember(record, "carmen");
+  if (!node) return std::nullopt;
+  detail::RequireObject(*node, "\"carmen\" fields");
+  CarmenRecordFields c;
+  if (const auto n = detail::OptionalMember(*node, "has_timestamps")) c.has_timestamps = detail::Boolean(*n, "has_timestamps");
+  if (const auto n = detail::OptionalMember(*node, "host")) c.host = detail::String(*n, "host");
+  c.logger_timestamp = OptionalNumber(*node, "logger_timestamp", "logger_timestamp").value_or(0.0);
+  return c;
+}
+
+Scan ReadScan(const JsonNode& node) {
+  detail::RequireObject(node, "a scan");
+  Scan scan;
+  if (const auto n = detail::OptionalMember(node, "channel")) scan.channel = detail::String(*n, "the channel");
+  scan.timestamp = OptionalNumber(node, "timestamp", "the timestamp").value_or(0.0);
+  scan.pose = detail::Pose(detail::Member(node, "pose"), "the sensor pose");
+  scan.robot_pose = OptionalPose(node, "robot_pose");
+  scan.odom_pose = OptionalPose(node, "odom_pose");
+  scan.min_range = OptionalNumber(node, "min_range", "min_range").value_or(0.0);
+  scan.max_range = OptionalNumber(node, "max_range", "max_range").value_or(std::numeric_limits<double>::infinity());
+  if (std::isnan(scan.max_range)) scan.max_range = std::numeric_limits<double>::infinity();
+  const JsonNode ranges = detail::Member(node, "ranges");
+  scan.ranges = detail::Numbers(ranges, "\"ranges\"");
+  const std::size_t n = scan.ranges.size();
+  scan.angles = ReadAngles(node, n);
+  if (const auto sigma = detail::OptionalMember(node, "sigma")) {
+    if (sigma->value.is_array()) {
+      scan.sigma = SizedNumbers(node, "sigma", n);
+    } else {
+      scan.sigma.assign(n, detail::Number(*sigma, "sigma"));
+    }
+  } else {
+    scan.sigma.assign(n, kDefaultSigma);
+  }
+  if (const auto status = detail::OptionalMember(node, "status")) {
+    scan.status = ReadStatus(*status, n);
+  } else {
+    scan.ClassifyAll();
+  }
+  if (const auto precision = detail::OptionalMember(node, "precision")) scan.precision = ReadPrecision(*precision, n);
+  if (detail::OptionalMember(node, "true_range")) {
+    ScanTruth& truth = scan.truth.emplace();
+    truth.range = SizedNumbers(node, "true_range", n);
+    truth.alpha = SizedNumbers(node, "true_alpha", n);
+    truth.surface = SizedInts(node, "true_surface", n);
+    truth.region = SizedInts(node, "true_region", n);
+    if (detail::OptionalMember(node, "true_outlier")) {
+      const std::vector<int> outlier = SizedInts(node, "true_outlier", n);
+      truth.outlier.assign(outlier.begin(), outlier.end());
+    } else {
+      truth.outlier.assign(n, 0);
+    }
+  }
+  if (const auto carmen = detail::OptionalMember(node, "carmen")) scan.carmen = ReadCarmenLaser(*carmen);
+  if (const std::vector<std::string> problems = scan.Problems(); !problems.empty()) {
+    detail::Fail(node, "inconsistent scan: " + problems.front());
+  }
+  return scan;
+}
+
+void ReadRecord(const JsonNode& record, Log& log) {
+  detail::RequireObject(record, "a log record");
+  const JsonNode type_node = detail::Member(record, "type");
+  const std::string type = detail::String(type_node, "the record type");
+  if (type == "scan") {
+    log.order.push_back({Log::RecordKind::kScan, log.scans.size()});
+    log.scans.push_back(ReadScan(record));
+  } else if (type == "odometry") {
+    OdometryRecord r;
+    r.timestamp = OptionalNumber(record, "timestamp", "the timestamp").value_or(0.0);
+    r.pose = detail::Pose(detail::Member(record, "pose"), "the odometry pose");
+    r.tv = OptionalNumber(record, "tv", "tv").value_or(0.0);
+    r.rv = OptionalNumber(record, "rv", "rv").value_or(0.0);
+    r.accel = OptionalNumber(record, "accel", "accel").value_or(0.0);
+    r.carmen = ReadCarmenRecord(record);
+    log.order.push_back({Log::RecordKind::kOdometry, log.odometry.size()});
+    log.odometry.push_back(std::move(r));
+  } else if (type == "true_pose") {
+    TruePoseRecord r;
+    r.timestamp = OptionalNumber(record, "timestamp", "the timestamp").value_or(0.0);
+    r.true_pose = detail::Pose(detail::Member(record, "true_pose"), "the true pose");
+    r.odom_pose = detail::Pose(detail::Member(record, "odom_pose"), "the odometry pose");
+    r.carmen = ReadCarmenRecord(record);
+    log.order.push_back({Log::RecordKind::kTruePose, log.true_poses.size()});
+    log.true_poses.push_back(std::move(r));
+  } else if (type == "param") {
+    log.order.push_back({Log::RecordKind::kParam, log.params.size()});
+    log.params.emplace_back(detail::String(detail::Member(record, "name"), "the parameter name"),
+                            detail::String(detail::Member(record, "value"), "the parameter value"));
+  } else {
+    detail::Fail(type_node, fmt::format(
+        "expected a record type (\"scan\", \"odometry\", \"true_pose\" or \"param\"), got \"{}\"", type));
+  }
+}
+
+Log ReadLogDocument(const JsonNode& root) {
+  detail::RequireObject(root, "a priormap.log or priormap.scan document");
+  const JsonNode format_node = detail::Member(root, "format");
+  const std::string format = detail::String(format_node, "the document format");
+  Log log;
+  if (format == "priormap.scan") {
+    detail::RequireFormat(root, "priormap.scan", kVersion);
+    log.scans.push_back(ReadScan(root));
+    return log;
+  }
+  if (format != "priormap.log") {
+    detail::Fail(format_node, fmt::format("expected format \"priormap.log\" or \"priormap.scan\", got \"{}\"", format));
+  }
+  detail::RequireFormat(root, "priormap.log", kVersion);
+  if (const auto source = detail::OptionalMember(root, "pose_source")) {
+    const std::string name = detail::String(*source, "the pose source");
+    const auto parsed = PoseSourceFromString(name);
+    if (!parsed) detail::Fail(*source, fmt::format("expected a pose source (unknown, odometry, corrected, ground_truth), got \"{}\"", name));
+    log.pose_source = *parsed;
+  }
+  const JsonNode records = detail::Member(root, "records");
+  const std::size_t n = detail::ArraySize(records, "\"records\"");
+  for (std::size_t i = 0; i < n; ++i) ReadRecord(detail::Element(records, i), log);
+  return log;
+}
+
+OrderedJson DocumentHeader(const char* format) {
+  OrderedJson j;
+  j["format"] = format;
+  j["version"] = kVersion;
+  return j;
+}
+
+}  // namespace
+
+std::string FormatJsonScan(const Scan& scan) {
+  return detail::DumpOneMemberPerLine(ScanToJson(scan, DocumentHeader("priormap.scan")));
+}
+
+std::string FormatJsonLog(const Log& log) {
+  OrderedJson header = DocumentHeader("priormap.log");
+  header["pose_source"] = ToString(log.pose_source);
+  std::string out = header.dump();
+  out.pop_back();  // reopen the object to stream the records one per line
+  out += ",\"records\":[";
+  bool first = true;
+  for (const Log::RecordRef& ref : log.RecordOrder()) {
+    OrderedJson record;
+    switch (ref.kind) {
+      case Log::RecordKind::kScan:
+        record = ScanToJson(log.scans[ref.index], OrderedJson{{"type", "scan"}});
+        break;
+      case Log::RecordKind::kOdometry: {
+        const OdometryRecord& r = log.odometry[ref.index];
+        record = {{"type", "odometry"}, {"timestamp", r.timestamp}, {"pose", detail::PoseToJson(r.pose)},
+                  {"tv", r.tv}, {"rv", r.rv}, {"accel", r.accel}};
+        if (r.carmen) record["carmen"] = CarmenRecordToJson(*r.carmen);
+        break;
+      }
+      case Log::RecordKind::kTruePose: {
+        const TruePoseRecord& r = log.true_poses[ref.index];
+        record = {{"type", "true_pose"}, {"timestamp", r.timestamp},
+                  {"true_pose", detail::PoseToJson(r.true_pose)}, {"odom_pose", detail::PoseToJson(r.odom_pose)}};
+        if (r.carmen) record["carmen"] = CarmenRecordToJson(*r.carmen);
+        break;
+      }
+      case Log::RecordKind::kParam:
+        record = {{"type", "param"}, {"name", log.params[ref.index].first}, {"value", log.params[ref.index].second}};
+        break;
+    }
+    out += first ? "\n" : ",\n";
+    out += record.dump();
+    first = false;
+  }
+  out += "\n]}\n";
+  return out;
+}
+
+Result<Log> ParseJsonLog(std::string_view text, const std::string& name) {
+  Result<detail::JsonDocument> document = detail::JsonDocument::Parse(text, name);
+  if (!document) return document.diagnostics();
+  try {
+    return ReadLogDocument(document.value().root());
+  } catch (const detail::JsonSchemaError& error) {
+    return document.value().Diagnose(error);
+  }
+}
+
+Result<Log> ReadJsonLog(const std::filesystem::path& path) {
+  Result<std::string> text = ReadFileText(path);
+  if (!text) return text.diagnostics();
+  return ParseJsonLog(text.value(), path.string());
+}
+
+void WriteJsonScan(const Scan& scan, const std::filesystem::path& path) {
+  WriteTextFileAtomically(path, FormatJsonScan(scan));
+}
+
+void WriteJsonLog(const Log& log, const std::filesystem::path& path) {
+  WriteTextFileAtomically(path, FormatJsonLog(log));
+}
+
+}  // namespace priormap

@@ -1,0 +1,44 @@
+#include <priormap/core/carmen_io.hpp>
+
+#include <cmath>
+#include <map>
+
+namespace priormap {
+namespace {
+
+constexpr int kMinSentinelCount = 10;
+constexpr double kSentinelBand = 0.5;     // m below the sentinel that still count as "no return"
+constexpr double kComparisonBand = 2.0;   // m below that band, where real returns would be
+constexpr double kMinIsolation = 10.0;    // sentinel cluster / comparison band
+
+}  // namespace
+
+std::optional<double> DetectMaxRangeSentinel(const std::vector<double>& readings) {
+  std::map<long long, int> centimetre_counts;
+  for (double r : readings) {
+    if (std::isfinite(r) && r > 0.0) ++centimetre_counts[std::llround(r * 100.0)];
+  }
+  std::optional<long long> sentinel_cm;
+  for (auto it = centimetre_counts.rbegin(); it != centimetre_counts.rend(); ++it) {
+    if (it->second >= kMinSentinelCount) {
+      sentinel_cm = it->first;
+      break;
+    }
+  }
+  if (!sentinel_cm) return std::nullopt;
+  const double threshold = static_cast<double>(*sentinel_cm) / 100.0 - kSentinelBand;
+  long long cluster = 0, below = 0;
+  for (double r : readings) {
+    if (!std::isfinite(r)) continue;
+    if (r >= threshold) {
+      ++cluster;
+    } else if (r >= threshold - kComparisonBand) {
+      ++below;
+    }
+  }
+  const double isolation = static_cast<double>(cluster) / static_cast<double>(std::max(below, 1LL));
+  if (isolation < kMinIsolation) return std::nullopt;
+  return threshold;
+}
+
+}  // namespace priormap

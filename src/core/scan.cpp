@@ -1,0 +1,93 @@
+#include <priormap/core/check.hpp>
+#include <priormap/core/scan.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace priormap {
+
+const char* ToString(BeamStatus status) {
+  switch (status) {
+    case BeamStatus::kValid: return "valid";
+    case BeamStatus::kMaxRange: return "max_range";
+    case BeamStatus::kInvalid: return "invalid";
+  }
+  return "?";
+}
+
+BeamStatus ClassifyReading(double range, double min_range, double max_range) {
+  if (std::isnan(range) || range <= 0.0 || range < min_range) return BeamStatus::kInvalid;
+  // +inf is how some drivers say "no echo"; it is as uninformative as NaN about where the
+  // surface is, but not about free space, so it is not a max-range reading either.
+  if (std::isinf(range)) return BeamStatus::kInvalid;
+  if (range >= max_range) return BeamStatus::kMaxRange;
+  return BeamStatus::kValid;
+}
+
+std::size_t Scan::NumValid() const {
+  return static_cast<std::size_t>(std::count(status.begin(), status.end(), BeamStatus::kValid));
+}
+
+Vec2 Scan::PointInSensorFrame(std::size_t i) const {
+  PRIORMAP_DCHECK(i < size(), "beam index out of range");
+  return ranges[i] * UnitVector(angles[i]);
+}
+
+Vec2 Scan::PointInWorld(std::size_t i) const { return pose.Transform(PointInSensorFrame(i)); }
+
+void Scan::ClassifyAll() {
+  status.resize(ranges.size());
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    status[i] = ClassifyReading(ranges[i], min_range, max_range);
+  }
+}
+
+std::vector<std::string> Scan::Problems() const {
+  std::vector<std::string> problems;
+  const std::size_t n = ranges.size();
+  const auto require_size = [&](std::size_t size, const char* what) {
+    if (size != n) problems.push_back(fmt::format("{} has {} entries for {} readings", what, size, n));
+  };
+  require_size(angles.size(), "angles");
+  require_size(sigma.size(), "sigma");
+  require_size(status.size(), "status");
+  for (std::size_t i = 0; i + 1 < angles.size(); ++i) {
+    if (!(angles[i + 1] > angles[i])) {
+      problems.push_back(fmt::format("angles must increase (beam {} to {})", i, i + 1));
+      break;
+    }
+  }
+  if (std::any_of(angles.begin(), angles.end(), [](double a) { return !std::isfinite(a); })) {
+    problems.push_back("angles must be finite");
+  }
+  if (std::any_of(sigma.begin(), sigma.end(), [](double s) { return !(s > 0.0 && std::isfinite(s)); })) {
+    problems.push_back("sigma must be positive and finite");
+  }
+  if (precision && precision->size() != n) {
+    problems.push_back(fmt::format("precision is {0}x{0} for {1} readings", precision->size(), n));
+  }
+  if (!pose.IsFinite()) problems.push_back("pose must be finite");
+  if (!(min_range >= 0.0) || !(max_range > min_range)) {
+    problems.push_back(fmt::format("need 0 <= min_range < max_range (got {} and {})", min_range, max_range));
+  }
+  if (truth) {
+    require_size(truth->range.size(), "true_range");
+    require_size(truth->alpha.size(), "true_alpha");
+    require_size(truth->surface.size(), "true_surface");
+    require_size(truth->region.size(), "true_region");
+    require_size(truth->outlier.size(), "true_outlier");
+  }
+  return problems;
+}
+
+std::vector<double> EvenlySpacedAngles(std::size_t n, double first, double last) {
+  std::vector<double> angles(n);
+  if (n == 1) angles[0] = first;
+  const double step = n > 1 ? (last - first) / static_cast<double>(n - 1) : 0.0;
+  for (std::size_t i = 0; i < n; ++i) angles[i] = first + static_cast<double>(i) * step;
+  return angles;
+}
+
+}  // namespace priormap

@@ -1,0 +1,119 @@
+#include "canvas.hpp"
+
+#include <priormap/core/file_io.hpp>
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace priormap::render::detail {
+namespace {
+
+constexpr const char* kFont = "DejaVu Sans";
+
+void CheckStatus(cairo_status_t status, const std::filesystem::path& path) {
+  if (status != CAIRO_STATUS_SUCCESS) {
+    throw IoError(fmt::format("{}: cannot write figure: {}", path.string(), cairo_status_to_string(status)));
+  }
+}
+
+}  // namespace
+
+Canvas::Canvas(double width, double height) : width_(width), height_(height) {
+  const cairo_rectangle_t extents{0.0, 0.0, width, height};
+  recording_.reset(cairo_recording_surface_create(CAIRO_CONTENT_COLOR_ALPHA, &extents));
+  cr_.reset(cairo_create(recording_.get()));
+  cairo_set_source_rgb(cr(), 1.0, 1.0, 1.0);
+  cairo_paint(cr());
+}
+
+void Canvas::Save(const std::filesystem::path& path,
+                  const std::function<void(cairo_t*)>& overlay) const {
+  const std::string extension = path.extension().string();
+  cairo_surface_flush(recording_.get());
+  WriteFileAtomically(path, [&](const std::filesystem::path& temporary) {
+    const std::string file = temporary.string();
+    std::unique_ptr<cairo_surface_t, SurfaceDeleter> target;
+    if (extension == ".png") {
+      target.reset(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, static_cast<int>(width_),
+                                              static_cast<int>(height_)));
+    } else if (extension == ".svg") {
+      target.reset(cairo_svg_surface_create(file.c_str(), width_, height_));
+    } else if (extension == ".pdf") {
+      target.reset(cairo_pdf_surface_create(file.c_str(), width_, height_));
+    } else {
+      throw IoError(fmt::format("{}: unsupported figure format '{}' (use .png, .svg or .pdf)",
+                                path.string(), extension));
+    }
+    CheckStatus(cairo_surface_status(target.get()), path);
+    {
+      std::unique_ptr<cairo_t, ContextDeleter> context(cairo_create(target.get()));
+      cairo_set_source_surface(context.get(), recording_.get(), 0.0, 0.0);
+      cairo_paint(context.get());
+      if (overlay) overlay(context.get());
+      CheckStatus(cairo_status(context.get()), path);
+    }
+    if (extension == ".png") {
+      CheckStatus(cairo_surface_write_to_png(target.get(), file.c_str()), path);
+    }
+    cairo_surface_finish(target.get());
+    CheckStatus(cairo_surface_status(target.get()), path);
+  });
+}
+
+void SetColor(cairo_t* cr, const Color& color) {
+  cairo_set_source_rgba(cr, color.r, color.g, color.b, color.a);
+}
+
+void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size,
+              double align_x, double align_y, bool bold) {
+  cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL,
+                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t extents;
+  cairo_text_extents(cr, text.c_str(), &extents);
+  // Align on the font's cap height rather than the string's own ink, so labels line up.
+  const double cap_height = 0.72 * size;
+  cairo_move_to(cr, x - align_x * extents.x_advance, y + (1.0 - align_y) * cap_height);
+  cairo_show_text(cr, text.c_str());
+}
+
+void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& entries, double x,
+                double y, bool anchor_right) {
+  if (entries.empty()) return;
+  constexpr double kLegendFont = 11.0, kRow = 18.0;
+  cairo_save(cr);
+  cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, kLegendFont);
+  double text_width = 0.0;
+  for (const auto& entry : entries) {
+    cairo_text_extents_t extents;
+    cairo_text_extents(cr, entry.first.c_str(), &extents);
+    text_width = std::max(text_width, extents.x_advance);
+  }
+  const double width = text_width + 44, height = kRow * static_cast<double>(entries.size()) + 8;
+  const double x0 = anchor_right ? x - width : x;
+  cairo_set_source_rgba(cr, 1, 1, 1, 0.9);
+  cairo_rectangle(cr, x0, y, width, height);
+  cairo_fill_preserve(cr);
+  SetColor(cr, palette::kGray);
+  cairo_set_line_width(cr, 1.0);
+  cairo_set_dash(cr, nullptr, 0, 0.0);
+  cairo_stroke(cr);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const double row_y = y + 4 + kRow * (static_cast<double>(i) + 0.5);
+    SetColor(cr, entries[i].second);
+    cairo_set_line_width(cr, 4.0);
+    cairo_move_to(cr, x0 + 8, row_y);
+    cairo_line_to(cr, x0 + 30, row_y);
+    cairo_stroke(cr);
+    SetColor(cr, palette::kBlack);
+    DrawText(cr, entries[i].first, x0 + 36, row_y, kLegendFont, 0.0, 0.5);
+  }
+  cairo_restore(cr);
+}
+
+}  // namespace priormap::render::detail

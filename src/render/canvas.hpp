@@ -1,0 +1,55 @@
+#pragma once
+// A drawing recorded once (Cairo recording surface) and replayed into PNG, SVG or PDF files.
+
+#include <cairo.h>
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <priormap/render/color.hpp>
+
+namespace priormap::render::detail {
+
+class Canvas {
+ public:
+  /// A white canvas of width x height pixels (points in SVG/PDF).
+  Canvas(double width, double height);
+
+  [[nodiscard]] cairo_t* cr() const { return cr_.get(); }
+  [[nodiscard]] double width() const { return width_; }
+  [[nodiscard]] double height() const { return height_; }
+
+  /// Writes the drawing, then `overlay` on top of it (legends, frames); the format follows
+  /// the extension. Throws IoError.
+  void Save(const std::filesystem::path& path,
+            const std::function<void(cairo_t*)>& overlay = nullptr) const;
+
+ private:
+  struct SurfaceDeleter {
+    void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
+  };
+  struct ContextDeleter {
+    void operator()(cairo_t* c) const { cairo_destroy(c); }
+  };
+  double width_;
+  double height_;
+  std::unique_ptr<cairo_surface_t, SurfaceDeleter> recording_;
+  std::unique_ptr<cairo_t, ContextDeleter> cr_;
+};
+
+void SetColor(cairo_t* cr, const Color& color);
+/// Text at (x, y): `align_x` 0 puts x at the left end, 0.5 at the centre, 1 at the right end;
+/// `align_y` 0 puts y at the top of capital letters, 0.5 at their middle, 1 on the baseline.
+void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size,
+              double align_x, double align_y, bool bold = false);
+
+/// A legend box: one coloured swatch and label per entry. (x, y) is its top-left corner, or its
+/// top-right corner with `anchor_right`.
+void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& entries, double x,
+                double y, bool anchor_right);
+
+}  // namespace priormap::render::detail

@@ -1,0 +1,338 @@
+#include <priormap/core/check.hpp>
+#include <priormap/core/file_io.hpp>
+#include <priormap/render/figure.hpp>
+#include <priormap/render/ticks.hpp>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+#include "canvas.hpp"
+
+namespace priormap::render {
+namespace {
+
+constexpr double kAxisFont = 11.0;
+constexpr double kTitleFont = 14.0;
+
+struct Margins {
+  double left, right, top, bottom;
+};
+
+void StrokePath(cairo_t* cr, std::span<const Vec2> device, bool closed, const LineStyle& style) {
+  if (device.empty() || style.width_px <= 0.0) return;
+  cairo_new_path(cr);
+  cairo_move_to(cr, device[0].x(), device[0].y());
+  for (std::size_t i = 1; i < device.size(); ++i) cairo_line_to(cr, device[i].x(), device[i].y());
+  if (closed) cairo_close_path(cr);
+  detail::SetColor(cr, style.color);
+  cairo_set_line_width(cr, style.width_px);
+  cairo_set_dash(cr, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+  cairo_stroke(cr);
+}
+
+}  // namespace
+
+struct Figure::Impl {
+  FigureOptions options;
+  Box2 world;  // padded
+  Margins margins{};
+  double scale = 1.0;  // pixels per metre
+  double plot_width = 0.0, plot_height = 0.0;
+  std::unique_ptr<detail::Canvas> canvas;
+  std::vector<std::pair<std::string, Color>> legend;
+
+  Vec2 ToDevice(const Vec2& p) const {
+    return {margins.left + (p.x() - world.min().x()) * scale,
+            margins.top + (world.max().y() - p.y()) * scale};
+  }
+  std::vector<Vec2> ToDevice(std::span<const Vec2> points) const {
+    std::vector<Vec2> device(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) device[i] = ToDevice(points[i]);
+    return device;
+  }
+  cairo_t* cr() const { return canvas->cr(); }
+
+  void ClipToPlot() const {
+    cairo_reset_clip(cr());
+    cairo_rectangle(cr(), margins.left, margins.top, plot_width, plot_height);
+    cairo_clip(cr());
+  }
+
+  void DrawTitleAndAxes() const {
+    cairo_t* c = cr();
+    detail::SetColor(c, palette::kBlack);
+    if (!options.title.empty()) {
+      detail::DrawText(c, options.title, margins.left + plot_width / 2, 10.0, kTitleFont, 0.5, 0.0, true);
+    }
+    if (!options.axes) return;
+    detail::SetColor(c, palette::kBlack);
+    cairo_set_line_width(c, 1.0);
+    const std::vector<double> xs = NiceTicks(world.min().x(), world.max().x(), 8);
+    const std::vector<double> ys = NiceTicks(world.min().y(), world.max().y(), 8);
+    const double x_step = xs.size() > 1 ? xs[1] - xs[0] : 1.0;
+    const double y_step = ys.size() > 1 ? ys[1] - ys[0] : 1.0;
+    const double bottom = margins.top + plot_height;
+    for (double x : xs) {
+      const double dx = ToDevice({x, 0.0}).x();
+      cairo_move_to(c, dx, bottom);
+      cairo_line_to(c, dx, bottom + 5);
+      cairo_stroke(c);
+      detail::DrawText(c, TickLabel(x, x_step), dx, bottom + 8, kAxisFont, 0.5, 0.0);
+    }
+    for (double y : ys) {
+      const double dy = ToDevice({0.0, y}).y();
+      cairo_move_to(c, margins.left - 5, dy);
+      cairo_line_to(c, margins.left, dy);
+      cairo_stroke(c);
+      detail::DrawText(c, TickLabel(y, y_step), margins.left - 8, dy, kAxisFont, 1.0, 0.5);
+    }
+    detail::DrawText(c, "x (m)", margins.left + plot_width / 2, bottom + 24, kAxisFont, 0.5, 0.0);
+    cairo_save(c);
+    cairo_translate(c, 12.0, margins.top + plot_height / 2);
+    cairo_rotate(c, -M_PI / 2);
+    detail::DrawText(c, "y (m)", 0.0, 0.0, kAxisFont, 0.5, 0.5);
+    cairo_restore(c);
+  }
+
+  void DrawColorbar(Colormap colormap, double vmin, double vmax, const std::string& label) const {
+    cairo_t* c = cr();
+    cairo_save(c);
+    cairo_reset_clip(c);
+    const double x = margins.left + plot_width + 18, width = 16, top = margins.top, height = plot_height;
+    constexpr int kSteps = 96;
+    for (int i = 0; i < kSteps; ++i) {
+      const double t = (i + 0.5) / kSteps;
+      detail::SetColor(c, MapColor(colormap, t));
+      cairo_rectangle(c, x, top + height * (1.0 - static_cast<double>(i + 1) / kSteps), width,
+                      height / kSteps + 0.5);
+      cairo_fill(c);
+    }
+    detail::SetColor(c, palette::kBlack);
+    cairo_set_line_width(c, 1.0);
+    cairo_rectangle(c, x, top, width, height);
+    cairo_stroke(c);
+    if (vmax > vmin) {
+      const std::vector<double> ticks = NiceTicks(vmin, vmax, 5);
+      const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1.0;
+      for (double v : ticks) {
+        const double y = top + height * (1.0 - (v - vmin) / (vmax - vmin));
+        cairo_move_to(c, x + width, y);
+        cairo_line_to(c, x + width + 4, y);
+        cairo_stroke(c);
+        detail::DrawText(c, TickLabel(v, step), x + width + 6, y, kAxisFont, 0.0, 0.5);
+      }
+    }
+    if (!label.empty()) {
+      cairo_translate(c, x + width + 52, top + height / 2);
+      cairo_rotate(c, -M_PI / 2);
+      detail::DrawText(c, label, 0.0, 0.0, kAxisFont, 0.5, 0.5);
+    }
+    cairo_restore(c);
+  }
+
+  void DrawOverlay(cairo_t* c) const {
+    if (options.axes) {
+      detail::SetColor(c, palette::kBlack);
+      cairo_set_line_width(c, 1.0);
+      cairo_rectangle(c, margins.left, margins.top, plot_width, plot_height);
+      cairo_stroke(c);
+    }
+    detail::DrawLegend(c, legend, margins.left + 10, margins.top + 10, false);
+  }
+};
+
+Figure::Figure(const Box2& world, FigureOptions options) : impl_(std::make_unique<Impl>()) {
+  PRIORMAP_CHECK(!world.isEmpty() && world.min().allFinite() && world.max().allFinite(),
+                 "a figure needs a non-empty, finite world box");
+  Impl& f = *impl_;
+  f.options = std::move(options);
+  const Vec2 pad = Vec2::Constant(std::max(f.options.padding_m, 1e-6));
+  f.world = Box2(world.min() - pad, world.max() + pad);
+  f.margins = {f.options.axes ? 60.0 : 10.0, f.options.colorbar ? 100.0 : 16.0,
+               f.options.title.empty() ? 12.0 : 36.0, f.options.axes ? 44.0 : 10.0};
+  const Vec2 size = f.world.sizes();
+  const double width = std::max(f.options.width_px, 100);
+  const double max_plot_height = std::max(f.options.max_height_px, 100) - f.margins.top - f.margins.bottom;
+  f.scale = (width - f.margins.left - f.margins.right) / size.x();
+  if (size.y() * f.scale > max_plot_height) f.scale = max_plot_height / size.y();
+  f.plot_width = size.x() * f.scale;
+  f.plot_height = size.y() * f.scale;
+  const double height = std::ceil(f.margins.top + f.plot_height + f.margins.bottom);
+  // Centre the plot horizontally when the height limit made it narrower than the figure.
+  f.margins.left += (width - f.margins.left - f.margins.right - f.plot_width) / 2;
+  f.canvas = std::make_unique<detail::Canvas>(width, height);
+  f.DrawTitleAndAxes();
+  f.ClipToPlot();
+}
+
+Figure::~Figure() = default;
+Figure::Figure(Figure&&) noexcept = default;
+Figure& Figure::operator=(Figure&&) noexcept = default;
+
+int Figure::width_px() const { return static_cast<int>(impl_->canvas->width()); }
+int Figure::height_px() const { return static_cast<int>(impl_->canvas->height()); }
+Vec2 Figure::ToDevice(const Vec2& world) const { return impl_->ToDevice(world); }
+
+void Figure::Points(std::span<const Vec2> points, const Color& color, double radius_px) {
+  cairo_t* c = impl_->cr();
+  detail::SetColor(c, color);
+  for (const Vec2& p : points) {
+    const Vec2 d = impl_->ToDevice(p);
+    cairo_new_sub_path(c);
+    cairo_arc(c, d.x(), d.y(), radius_px, 0.0, 2 * M_PI);
+  }
+  cairo_fill(c);
+}
+
+void Figure::Line(const Vec2& a, const Vec2& b, const LineStyle& style) {
+  const Vec2 device[2] = {impl_->ToDevice(a), impl_->ToDevice(b)};
+  StrokePath(impl_->cr(), device, false, style);
+}
+
+void Figure::Polyline(std::span<const Vec2> points, bool closed, const LineStyle& style) {
+  StrokePath(impl_->cr(), impl_->ToDevice(points), closed, style);
+}
+
+void Figure::FilledPolygon(const Polygon& polygon, const Color& fill, const LineStyle& stroke) {
+  const std::vector<Vec2> device = impl_->ToDevice(polygon.vertices);
+  if (device.empty()) return;
+  cairo_t* c = impl_->cr();
+  cairo_new_path(c);
+  cairo_move_to(c, device[0].x(), device[0].y());
+  for (std::size_t i = 1; i < device.size(); ++i) cairo_line_to(c, device[i].x(), device[i].y());
+  cairo_close_path(c);
+  detail::SetColor(c, fill);
+  cairo_fill(c);
+  StrokePath(c, device, true, stroke);
+}
+
+void Figure::CircleOutline(const Circle& circle, const LineStyle& style) {
+  cairo_t* c = impl_->cr();
+  const Vec2 d = impl_->ToDevice(circle.center);
+  cairo_new_path(c);
+  cairo_arc(c, d.x(), d.y(), circle.radius * impl_->scale, 0.0, 2 * M_PI);
+  detail::SetColor(c, style.color);
+  cairo_set_line_width(c, style.width_px);
+  cairo_set_dash(c, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
+  cairo_stroke(c);
+}
+
+void Figure::FilledCircle(const Circle& circle, const Color& fill) {
+  cairo_t* c = impl_->cr();
+  const Vec2 d = impl_->ToDevice(circle.center);
+  cairo_new_path(c);
+  cairo_arc(c, d.x(), d.y(), circle.radius * impl_->scale, 0.0, 2 * M_PI);
+  detail::SetColor(c, fill);
+  cairo_fill(c);
+}
+
+void Figure::CovarianceEllipse(const Vec2& mean, const Mat2& covariance, double n_sigma,
+                               const LineStyle& style) {
+  const Eigen::SelfAdjointEigenSolver<Mat2> eigen(covariance);
+  PRIORMAP_CHECK(eigen.info() == Eigen::Success && eigen.eigenvalues().minCoeff() >= 0.0,
+                 "covariance ellipse needs a positive semi-definite matrix");
+  const Mat2 axes = eigen.eigenvectors() * eigen.eigenvalues().cwiseSqrt().asDiagonal() * n_sigma;
+  constexpr int kPoints = 72;
+  std::vector<Vec2> points(kPoints);
+  for (int i = 0; i < kPoints; ++i) {
+    const double t = 2 * M_PI * i / kPoints;
+    points[static_cast<std::size_t>(i)] = mean + axes * Vec2(std::cos(t), std::sin(t));
+  }
+  Polyline(points, true, style);
+}
+
+void Figure::Ticks(std::span<const Vec2> points, std::span<const double> angles, double length_px,
+                   const LineStyle& style) {
+  PRIORMAP_CHECK(points.size() == angles.size(), "one angle per tick");
+  cairo_t* c = impl_->cr();
+  cairo_new_path(c);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!std::isfinite(angles[i])) continue;
+    const Vec2 d = impl_->ToDevice(points[i]);
+    cairo_move_to(c, d.x(), d.y());
+    cairo_line_to(c, d.x() + length_px * std::cos(angles[i]), d.y() - length_px * std::sin(angles[i]));
+  }
+  detail::SetColor(c, style.color);
+  cairo_set_line_width(c, style.width_px);
+  cairo_set_dash(c, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
+  cairo_stroke(c);
+}
+
+void Figure::PoseMarker(const Se2& pose, const Color& color, double size_px) {
+  cairo_t* c = impl_->cr();
+  const Vec2 d = impl_->ToDevice(pose.translation());
+  const Vec2 forward(std::cos(pose.theta()), -std::sin(pose.theta()));  // device y points down
+  const Vec2 left(forward.y(), -forward.x());
+  const Vec2 tip = d + size_px * forward;
+  const Vec2 back_left = d - 0.5 * size_px * forward + 0.5 * size_px * left;
+  const Vec2 back_right = d - 0.5 * size_px * forward - 0.5 * size_px * left;
+  cairo_new_path(c);
+  cairo_move_to(c, tip.x(), tip.y());
+  cairo_line_to(c, back_left.x(), back_left.y());
+  cairo_line_to(c, back_right.x(), back_right.y());
+  cairo_close_path(c);
+  detail::SetColor(c, color);
+  cairo_fill_preserve(c);
+  detail::SetColor(c, palette::kBlack);
+  cairo_set_line_width(c, 1.0);
+  cairo_set_dash(c, nullptr, 0, 0.0);
+  cairo_stroke(c);
+}
+
+void Figure::Text(const Vec2& position, const std::string& text, double size_px, const Color& color) {
+  const Vec2 d = impl_->ToDevice(position);
+  detail::SetColor(impl_->cr(), color);
+  detail::DrawText(impl_->cr(), text, d.x(), d.y(), size_px, 0.0, 1.0);
+}
+
+void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap colormap,
+                     double vmin, double vmax, const std::string& label) {
+  PRIORMAP_CHECK(values.rows() > 0 && values.cols() > 0, "empty heat map");
+  PRIORMAP_CHECK(vmax > vmin, "heat map needs vmin < vmax");
+  const int cols = static_cast<int>(values.cols()), rows = static_cast<int>(values.rows());
+  std::unique_ptr<cairo_surface_t, void (*)(cairo_surface_t*)> image(
+      cairo_image_surface_create(CAIRO_FORMAT_ARGB32, cols, rows), cairo_surface_destroy);
+  const int stride = cairo_image_surface_get_stride(image.get());
+  unsigned char* data = cairo_image_surface_get_data(image.get());
+  for (int iy = 0; iy < rows; ++iy) {
+    auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(rows - 1 - iy) * stride);
+    for (int ix = 0; ix < cols; ++ix) {
+      const Color col = MapColor(colormap, (values(iy, ix) - vmin) / (vmax - vmin));
+      // ARGB32 is premultiplied alpha in native byte order.
+      const auto channel = [&](double v) { return static_cast<std::uint32_t>(std::lround(v * col.a * 255.0)); };
+      row[ix] = (static_cast<std::uint32_t>(std::lround(col.a * 255.0)) << 24) | (channel(col.r) << 16) |
+                (channel(col.g) << 8) | channel(col.b);
+    }
+  }
+  cairo_surface_mark_dirty(image.get());
+  cairo_t* c = impl_->cr();
+  const Vec2 top_left = impl_->ToDevice({extent.min().x(), extent.max().y()});
+  const Vec2 bottom_right = impl_->ToDevice({extent.max().x(), extent.min().y()});
+  cairo_save(c);
+  cairo_translate(c, top_left.x(), top_left.y());
+  cairo_scale(c, (bottom_right.x() - top_left.x()) / cols, (bottom_right.y() - top_left.y()) / rows);
+  cairo_set_source_surface(c, image.get(), 0.0, 0.0);
+  cairo_pattern_set_filter(cairo_get_source(c), CAIRO_FILTER_NEAREST);
+  cairo_paint(c);
+  cairo_restore(c);
+  if (impl_->options.colorbar) impl_->DrawColorbar(colormap, vmin, vmax, label);
+}
+
+void Figure::AddLegend(const std::string& label, const Color& color) {
+  impl_->legend.emplace_back(label, color);
+}
+
+void Figure::Save(const std::filesystem::path& path) const {
+  impl_->canvas->Save(path, [this](cairo_t* c) { impl_->DrawOverlay(c); });
+}
+
+bool IsSupportedFigurePath(const std::filesystem::path& path) {
+  const std::string e = path.extension().string();
+  return e == ".png" || e == ".svg" || e == ".pdf";
+}
+
+}  // namespace priormap::render
