@@ -1,5 +1,6 @@
 // priormap simulate: scene + sensor -> a scan (or a localized log) with ground truth.
 #include <priormap/core/angles.hpp>
+#include <priormap/core/json_io.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/core/simulate.hpp>
 #include <priormap/render/scene_drawing.hpp>
@@ -25,6 +26,7 @@ struct SimulateOptions {
   std::string out;
   std::optional<std::string> format;
   std::optional<std::string> figure;
+  std::optional<std::string> write_scene;
 };
 
 RangeSensor MakeSensor(const SimulateOptions& o) {
@@ -48,19 +50,26 @@ RangeSensor MakeSensor(const SimulateOptions& o) {
 }
 
 void Run(const SimulateOptions& o) {
+  // Every check before the first write, so that a failure leaves nothing behind.
   const Scene scene = LoadScene(o.scene);
   const RangeSensor sensor = MakeSensor(o);
+  if (o.out.empty() && !o.write_scene) throw UserError("--out is required (or --write-scene alone to export the scene)");
   const LogFormat format = o.format ? *LogFormatFromString(*o.format) : LogFormatFromPath(o.out);
   if (o.figure) RequireFigurePath(*o.figure, "--png");
+  const Se2 pose = o.pose ? ParsePose(*o.pose) : scene.default_pose.value_or(Se2());
+  if (o.log && scene.waypoints.size() < 2) {
+    throw UserError(fmt::format("--log: scene '{}' has no waypoints to follow", scene.name));
+  }
+  if (o.write_scene) {
+    WriteJsonScene(scene, *o.write_scene);
+    fmt::print("wrote {} (scene {})\n", *o.write_scene, scene.name);
+    if (o.out.empty()) return;
+  }
 
   Log log;
   if (o.log) {
-    if (scene.waypoints.size() < 2) {
-      throw UserError(fmt::format("--log: scene '{}' has no waypoints to follow", scene.name));
-    }
     log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, o.speed, o.rate), o.seed);
   } else {
-    const Se2 pose = o.pose ? ParsePose(*o.pose) : scene.default_pose.value_or(Se2());
     Rng rng(o.seed);
     log.pose_source = PoseSource::kGroundTruth;
     log.scans.push_back(SimulateScan(SceneRayCaster(scene), sensor, pose, rng));
@@ -118,9 +127,10 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_option("--speed", o->speed, "Log: robot speed, m/s")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--rate", o->rate, "Log: scans per second")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same output")->capture_default_str();
-  cmd->add_option("-o,--out", o->out, "Output file: .json (priormap JSON) or .log / .log.gz (CARMEN)")->required();
+  cmd->add_option("-o,--out", o->out, "Output file: .json (priormap JSON) or .log / .log.gz (CARMEN)");
   cmd->add_option("--format", o->format, "Output format, overriding the extension")->check(CLI::IsMember({"json", "carmen"}));
   cmd->add_option("--png,--figure", o->figure, "Also draw the result (.png, .svg or .pdf)");
+  cmd->add_option("--write-scene", o->write_scene, "Also write the scene as priormap JSON (a starting point for your own)");
   cmd->callback([o] { Run(*o); });
 }
 

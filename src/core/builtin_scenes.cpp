@@ -49,8 +49,8 @@ Scene CircularRoom() {
 Scene TwoCircles() {
   Scene scene;
   scene.name = "two-circles";
-  scene.surfaces.push_back(Pillar({-1.0, 0.8}, 0.6, false, "large pillar"));
-  scene.surfaces.push_back(Pillar({1.2, 0.4}, 0.35, false, "small pillar"));
+  scene.surfaces.push_back(Pillar({-0.95, 0.25}, 0.6, false, "large pillar"));
+  scene.surfaces.push_back(Pillar({1.2, -0.5}, 0.35, false, "small pillar"));
   scene.default_pose = Se2(0.0, -2.5, kPi / 2);
   scene.waypoints = {{-2.5, -2.5}, {2.5, -2.5}, {2.5, 2.5}, {-2.5, 2.5}, {-2.5, -2.5}};
   return scene;

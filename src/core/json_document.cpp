@@ -246,14 +246,21 @@ std::string String(const JsonNode& node, std::string_view what) {
 std::vector<double> Numbers(const JsonNode& node, std::string_view what) {
   const std::size_t n = ArraySize(node, what);
   std::vector<double> out(n);
-  for (std::size_t i = 0; i < n; ++i) out[i] = Number(Element(node, i), fmt::format("an element of {}", what));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Json& v = node.value[i];
+    // The common case without building a description; Number() explains anything else.
+    out[i] = v.is_number() ? v.get<double>() : Number(Element(node, i), fmt::format("an element of {}", what));
+  }
   return out;
 }
 
 std::vector<long long> Integers(const JsonNode& node, std::string_view what) {
   const std::size_t n = ArraySize(node, what);
   std::vector<long long> out(n);
-  for (std::size_t i = 0; i < n; ++i) out[i] = Integer(Element(node, i), fmt::format("an element of {}", what));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Json& v = node.value[i];
+    out[i] = v.is_number_integer() ? v.get<long long>() : Integer(Element(node, i), fmt::format("an element of {}", what));
+  }
   return out;
 }
 

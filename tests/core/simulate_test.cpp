@@ -1,1 +1,229 @@
-// placeholder
+#include <priormap/core/angles.hpp>
+#include <priormap/core/simulate.hpp>
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <set>
+
+namespace priormap {
+namespace {
+
+Scan Simulate(const std::string& scene_name, const RangeSensor& sensor, std::uint64_t seed) {
+  const Scene scene = *BuiltinScene(scene_name);
+  Rng rng(seed);
+  return SimulateScan(SceneRayCaster(scene), sensor, *scene.default_pose, rng);
+}
+
+RangeSensor Utm30() { return *RangeSensor::Preset("utm30"); }
+
+TEST(RangeSensor, PresetsAreAsSpecified) {
+  const RangeSensor utm = Utm30();
+  EXPECT_EQ(utm.num_beams, 1081);
+  EXPECT_NEAR(utm.fov, DegToRad(270), 1e-12);
+  EXPECT_DOUBLE_EQ(utm.sigma, 0.01);
+  EXPECT_DOUBLE_EQ(utm.max_range, 30.0);
+  const RangeSensor lms = *RangeSensor::Preset("lms200");
+  EXPECT_EQ(lms.num_beams, 181);
+  EXPECT_NEAR(lms.fov, kPi, 1e-12);
+  EXPECT_DOUBLE_EQ(lms.max_range, 8.0);
+  const std::vector<double> angles = lms.BeamAngles();
+  EXPECT_DOUBLE_EQ(angles.front(), -kPi / 2);
+  EXPECT_NEAR(angles.back(), kPi / 2, 1e-12);
+  EXPECT_NEAR(angles[1] - angles[0], DegToRad(1.0), 1e-12);
+  EXPECT_FALSE(RangeSensor::Preset("sonar-9000"));
+}
+
+TEST(RangeSensor, InvalidParametersAreExplained) {
+  RangeSensor s = Utm30();
+  std::string why;
+  s.correlation = 1.0;
+  EXPECT_FALSE(s.IsValid(&why));
+  EXPECT_NE(why.find("correlation"), std::string::npos);
+  s = Utm30();
+  s.max_range = s.min_range;
+  EXPECT_FALSE(s.IsValid(&why));
+  EXPECT_NE(why.find("max_range"), std::string::npos);
+}
+
+TEST(SimulateScan, TruthMatchesTheRayCaster) {
+  const Scene scene = *BuiltinScene("l-room");
+  const SceneRayCaster caster(scene);
+  const Scan scan = Simulate("l-room", Utm30(), 1);
+  ASSERT_TRUE(scan.truth);
+  EXPECT_TRUE(scan.Problems().empty());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const auto hit = caster.Cast(Ray{scan.pose.translation(), scan.pose.theta() + scan.angles[i]}, 1e9);
+    ASSERT_TRUE(hit);
+    EXPECT_EQ(scan.truth->range[i], hit->range);
+    EXPECT_NEAR(AngleDifference(scan.truth->alpha[i] + scan.pose.theta(), hit->normal_angle), 0.0, 1e-12);
+    EXPECT_EQ(scan.truth->region[i], hit->region);
+    EXPECT_EQ(scan.truth->surface[i], hit->surface);
+  }
+}
+
+// The residuals over several scans are N(0, sigma^2): mean within 4 standard errors, variance
+// within 4 standard deviations of its sampling distribution (chi-square, normal approximation).
+TEST(SimulateScan, NoiseHasTheStatedSigma) {
+  for (double sigma : {0.01, 0.05}) {
+    RangeSensor sensor = Utm30();
+    sensor.sigma = sigma;
+    double sum = 0.0, sum_sq = 0.0;
+    std::size_t n = 0;
+    for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+      const Scan scan = Simulate("l-room", sensor, seed);
+      for (std::size_t i = 0; i < scan.size(); ++i) {
+        if (!scan.IsValid(i)) continue;
+        const double e = scan.ranges[i] - scan.truth->range[i];
+        sum += e;
+        sum_sq += e * e;
+        ++n;
+      }
+    }
+    ASSERT_GT(n, 10000u);
+    const double mean = sum / static_cast<double>(n);
+    const double variance = (sum_sq - n * mean * mean) / static_cast<double>(n - 1);
+    EXPECT_NEAR(mean, 0.0, 4 * sigma / std::sqrt(static_cast<double>(n)));
+    EXPECT_NEAR(variance / (sigma * sigma), 1.0, 4 * std::sqrt(2.0 / static_cast<double>(n - 1)));
+  }
+}
+
+TEST(SimulateScan, CorrelatedNoiseHasTheStatedNeighbourCorrelation) {
+  RangeSensor sensor = Utm30();
+  sensor.correlation = 0.6;
+  double sum_xy = 0.0, sum_xx = 0.0;
+  std::size_t n = 0;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    const Scan scan = Simulate("square", sensor, seed);
+    ASSERT_TRUE(scan.precision);
+    EXPECT_EQ(scan.precision->bandwidth(), 1u);
+    for (std::size_t i = 0; i + 1 < scan.size(); ++i) {
+      const double a = scan.ranges[i] - scan.truth->range[i], b = scan.ranges[i + 1] - scan.truth->range[i + 1];
+      sum_xy += a * b;
+      sum_xx += a * a;
+      ++n;
+    }
+  }
+  const double rho = sum_xy / sum_xx;
+  // Standard error of a lag-1 autocorrelation estimate of an AR(1) series: sqrt((1 - c^2) / n);
+  // the series are 10 independent scans, so this is conservative.
+  EXPECT_NEAR(rho, 0.6, 4 * std::sqrt((1 - 0.36) / static_cast<double>(n)));
+}
+
+TEST(SimulateScan, OutliersAreShortAndAsFrequentAsStated) {
+  RangeSensor sensor = Utm30();
+  sensor.outlier_probability = 0.1;
+  std::size_t outliers = 0, beams = 0;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    const Scan scan = Simulate("square", sensor, seed);
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      ++beams;
+      if (!scan.truth->outlier[i]) continue;
+      ++outliers;
+      EXPECT_LT(scan.ranges[i], scan.truth->range[i]);
+      EXPECT_GE(scan.ranges[i], sensor.min_range);
+    }
+  }
+  const double p = 0.1;
+  EXPECT_NEAR(static_cast<double>(outliers) / beams, p, 4 * std::sqrt(p * (1 - p) / beams));
+}
+
+TEST(SimulateScan, DropoutsAndFarSurfacesGiveMaxRangeReadings) {
+  RangeSensor sensor = Utm30();
+  sensor.dropout_probability = 0.2;
+  const Scan scan = Simulate("square", sensor, 3);
+  std::size_t max_range = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.status[i] != BeamStatus::kMaxRange) continue;
+    ++max_range;
+    EXPECT_EQ(scan.ranges[i], sensor.max_range);
+  }
+  EXPECT_NEAR(static_cast<double>(max_range) / scan.size(), 0.2, 4 * std::sqrt(0.2 * 0.8 / scan.size()));
+
+  // Through the corridor's doorway nothing is within range.
+  const Scan corridor = Simulate("corridor", Utm30(), 1);
+  std::size_t no_hit = 0;
+  for (std::size_t i = 0; i < corridor.size(); ++i) {
+    if (std::isnan(corridor.truth->range[i])) {
+      ++no_hit;
+      EXPECT_EQ(corridor.status[i], BeamStatus::kMaxRange);
+      EXPECT_EQ(corridor.truth->region[i], -1);
+    }
+  }
+  EXPECT_GT(no_hit, 0u);
+}
+
+TEST(SimulateScan, ReadingsBelowMinRangeAreInvalid) {
+  RangeSensor sensor = Utm30();
+  sensor.min_range = 2.5;  // the l-room default pose is closer than that to several walls
+  const Scan scan = Simulate("l-room", sensor, 1);
+  std::size_t invalid = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.ranges[i] < 2.5) {
+      EXPECT_EQ(scan.status[i], BeamStatus::kInvalid);
+      ++invalid;
+    }
+  }
+  EXPECT_GT(invalid, 0u);
+}
+
+TEST(SimulateScan, SameSeedSameScanOtherSeedOtherScan) {
+  EXPECT_EQ(Simulate("circle", Utm30(), 5).ranges, Simulate("circle", Utm30(), 5).ranges);
+  EXPECT_NE(Simulate("circle", Utm30(), 5).ranges, Simulate("circle", Utm30(), 6).ranges);
+}
+
+// "A pose that sees all of a room scene": every wall region is hit from the default pose (the
+// back faces of clutter cannot be).
+TEST(SimulateScan, DefaultPoseSeesEveryRegion) {
+  for (const std::string& name : BuiltinSceneNames()) {
+    const Scene scene = *BuiltinScene(name);
+    const Scan scan = Simulate(name, Utm30(), 1);
+    const std::set<int> seen(scan.truth->region.begin(), scan.truth->region.end());
+    for (const ScenePrimitive& p : scene.Primitives()) {
+      if (p.clutter) continue;
+      EXPECT_TRUE(seen.count(p.region)) << name << ": region " << p.region << " not seen";
+    }
+  }
+}
+
+TEST(Trajectory, FollowsWaypointsAtConstantSpeed) {
+  const std::vector<TimedPose> poses = TrajectoryFromWaypoints({{0, 0}, {2, 0}, {2, 1}}, 0.5, 5.0);
+  ASSERT_EQ(poses.size(), 31u);  // 3 m at 0.1 m per pose
+  EXPECT_DOUBLE_EQ(poses[1].time, 0.2);
+  EXPECT_TRUE(poses[10].pose.translation().isApprox(Vec2(1, 0)));
+  EXPECT_NEAR(poses[10].pose.theta(), 0.0, 1e-12);
+  EXPECT_TRUE(poses[25].pose.translation().isApprox(Vec2(2, 0.5)));
+  EXPECT_NEAR(poses[25].pose.theta(), kPi / 2, 1e-12);
+  EXPECT_TRUE(poses.back().pose.translation().isApprox(Vec2(2, 1)));
+}
+
+TEST(SimulateLog, IsLocalizedReproducibleAndIndependentOfThreads) {
+  const Scene scene = *BuiltinScene("l-room");
+  const RangeSensor sensor = *RangeSensor::Preset("lms200");
+  const std::vector<TimedPose> trajectory = TrajectoryFromWaypoints(scene.waypoints, 0.5, 5.0);
+  const Log log = SimulateLog(scene, sensor, trajectory, 7);
+  ASSERT_EQ(log.scans.size(), trajectory.size());
+  EXPECT_EQ(log.odometry.size(), trajectory.size());
+  EXPECT_EQ(log.true_poses.size(), trajectory.size());
+  EXPECT_EQ(log.pose_source, PoseSource::kGroundTruth);
+  EXPECT_TRUE(log.Problems().empty());
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    EXPECT_TRUE(IsApprox(log.scans[k].pose, trajectory[k].pose, 0.0));
+    EXPECT_EQ(log.scans[k].timestamp, trajectory[k].time);
+  }
+  // Odometry starts at the truth and drifts away from it.
+  EXPECT_TRUE(IsApprox(*log.scans.front().odom_pose, trajectory.front().pose, 0.0));
+  EXPECT_GT((log.scans.back().odom_pose->translation() - trajectory.back().pose.translation()).norm(), 1e-4);
+
+  Log single_threaded;
+  {
+    tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+    single_threaded = SimulateLog(scene, sensor, trajectory, 7);
+  }
+  for (std::size_t k = 0; k < log.scans.size(); ++k) EXPECT_EQ(log.scans[k].ranges, single_threaded.scans[k].ranges);
+  EXPECT_NE(SimulateLog(scene, sensor, trajectory, 8).scans[3].ranges, log.scans[3].ranges);
+}
+
+}  // namespace
+}  // namespace priormap

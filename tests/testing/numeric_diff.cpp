@@ -2,6 +2,8 @@
 
 #include <priormap/core/angles.hpp>
 
+#include <algorithm>
+
 namespace priormap::testing {
 
 Eigen::MatrixXd NumericJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
@@ -18,6 +20,19 @@ Eigen::MatrixXd NumericJacobian(const std::function<Eigen::VectorXd(const Eigen:
     jacobian.col(j) = difference / (2 * h);
   }
   return jacobian;
+}
+
+::testing::AssertionResult JacobiansMatch(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& numeric,
+                                          double tolerance) {
+  if (analytic.rows() != numeric.rows() || analytic.cols() != numeric.cols()) {
+    return ::testing::AssertionFailure() << "size " << analytic.rows() << "x" << analytic.cols() << " vs "
+                                         << numeric.rows() << "x" << numeric.cols();
+  }
+  const double scale = std::max(1.0, numeric.cwiseAbs().maxCoeff());
+  const double error = (analytic - numeric).cwiseAbs().maxCoeff();
+  if (error <= tolerance * scale) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "max error " << error << " > " << tolerance * scale << "\nanalytic:\n"
+                                       << analytic << "\nnumeric:\n" << numeric;
 }
 
 std::function<Eigen::VectorXd(Eigen::VectorXd)> WrapComponent(int index) {

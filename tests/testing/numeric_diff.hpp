@@ -3,6 +3,7 @@
 // (as Ceres' gradient_checker and manif's common_tester do).
 
 #include <Eigen/Core>
+#include <gtest/gtest.h>
 
 #include <functional>
 
@@ -14,6 +15,12 @@ namespace priormap::testing {
 Eigen::MatrixXd NumericJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
                                 const Eigen::VectorXd& x, double h = 1e-6,
                                 const std::function<Eigen::VectorXd(Eigen::VectorXd)>& wrap = nullptr);
+
+/// Success when every entry of `analytic` is within `tolerance * max(1, largest |numeric| entry)`
+/// of `numeric`: relative for large Jacobians, absolute near zero (where finite differences
+/// only reach ~1e-10). The failure message shows both matrices.
+::testing::AssertionResult JacobiansMatch(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& numeric,
+                                          double tolerance = 1e-6);
 
 /// Wraps component `index` of a difference vector to (-pi, pi].
 std::function<Eigen::VectorXd(Eigen::VectorXd)> WrapComponent(int index);

@@ -1,0 +1,32 @@
+// Read a CARMEN log (plain or .gz), report what is in it, and save it as priormap JSON.
+//   example_02_read_carmen_log ../shared/data/laser-corrected/intel-corrected.log.gz intel.json
+#include <priormap/core/carmen_io.hpp>
+#include <priormap/core/json_io.hpp>
+
+#include <cstdio>
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s LOG [OUT.json]\n", argv[0]);
+    return 2;
+  }
+  priormap::CarmenReadStats stats;
+  const priormap::Result<priormap::Log> log = priormap::ReadCarmenLog(argv[1], {}, &stats);
+  if (!log) {
+    // Every problem comes with file:line:col and what was expected.
+    std::fprintf(stderr, "%s\n", log.error().c_str());
+    return 1;
+  }
+  std::size_t valid = 0, beams = 0;
+  for (const priormap::Scan& scan : log.value().scans) {
+    valid += scan.NumValid();
+    beams += scan.size();
+  }
+  std::printf("%zu scans, %zu readings of which %zu valid; max range %s\n", log.value().scans.size(), beams,
+              valid, stats.detected_max_range ? std::to_string(*stats.detected_max_range).c_str() : "not detected");
+  if (argc > 2) {
+    priormap::WriteJsonLog(log.value(), argv[2]);
+    std::printf("wrote %s\n", argv[2]);
+  }
+  return 0;
+}
