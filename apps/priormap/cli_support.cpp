@@ -51,6 +51,15 @@ void RequireFigurePath(const std::filesystem::path& path, const std::string& opt
   }
 }
 
+void RequireOutputDirectory(const std::filesystem::path& path, const std::string& option) {
+  const std::filesystem::path directory = path.parent_path().empty() ? "." : path.parent_path();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(directory, ec)) {
+    throw UserError(fmt::format("{}: cannot write '{}': directory {} does not exist", option,
+                                path.string(), directory.string()));
+  }
+}
+
 void EnsureDirectory(const std::filesystem::path& directory) {
   std::error_code ec;
   std::filesystem::create_directories(directory, ec);

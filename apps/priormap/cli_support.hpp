@@ -39,6 +39,10 @@ T ValueOrThrow(Result<T> result) {
 /// Throws UserError unless `path` names a PNG, SVG or PDF file.
 void RequireFigurePath(const std::filesystem::path& path, const std::string& option);
 
+/// Throws UserError when the directory `path` would be written to does not exist. For commands
+/// with several outputs, so that a typo in one output's directory fails before any is written.
+void RequireOutputDirectory(const std::filesystem::path& path, const std::string& option);
+
 /// Creates `directory` (and parents) when missing; throws UserError when that fails.
 void EnsureDirectory(const std::filesystem::path& directory);
 

@@ -78,11 +78,11 @@ GalleryItem Residuals(const std::filesystem::path& dir, std::uint64_t seed) {
                          .y_label = "range error (m)",
                          .y_range = std::pair{-0.1, 0.05}});
   plot.Add(std::move(errors));
-  plot.AddHorizontalLine(3 * sensor.sigma, render::palette::kGray, "+-3 sigma");
+  plot.AddHorizontalLine(3 * sensor.sigma, render::palette::kGray, "±3σ");
   plot.AddHorizontalLine(-3 * sensor.sigma, render::palette::kGray);
   const std::string file = "residuals-l-room.png";
   plot.Save(dir / file);
-  return {file, "Per-beam range error: Gaussian noise inside +-3 sigma, outliers below (short readings)",
+  return {file, "Per-beam range error: Gaussian noise inside ±3σ, outliers below (short readings)",
           fmt::format("priormap simulate --scene l-room --outliers 0.02 --seed {} -o s.json && "
                       "priormap plot s.json --kind residuals -o {}", seed, file)};
 }

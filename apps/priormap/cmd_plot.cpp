@@ -71,7 +71,7 @@ void PlotRanges(const Log& log, const PlotOptions& o, bool residuals) {
   plot.Add(std::move(measured));
   if (!truth.x.empty()) plot.Add(std::move(truth));
   if (residuals && !scan.sigma.empty()) {
-    plot.AddHorizontalLine(3 * scan.sigma[0], render::palette::kGray, "+-3 sigma");
+    plot.AddHorizontalLine(3 * scan.sigma[0], render::palette::kGray, "±3σ");
     plot.AddHorizontalLine(-3 * scan.sigma[0], render::palette::kGray);
   }
   plot.Save(o.out);

@@ -56,6 +56,9 @@ void Run(const SimulateOptions& o) {
   if (o.out.empty() && !o.write_scene) throw UserError("--out is required (or --write-scene alone to export the scene)");
   const LogFormat format = o.format ? *LogFormatFromString(*o.format) : LogFormatFromPath(o.out);
   if (o.figure) RequireFigurePath(*o.figure, "--png");
+  if (!o.out.empty()) RequireOutputDirectory(o.out, "--out");
+  if (o.figure) RequireOutputDirectory(*o.figure, "--png");
+  if (o.write_scene) RequireOutputDirectory(*o.write_scene, "--write-scene");
   const Se2 pose = o.pose ? ParsePose(*o.pose) : scene.default_pose.value_or(Se2());
   if (o.log && scene.waypoints.size() < 2) {
     throw UserError(fmt::format("--log: scene '{}' has no waypoints to follow", scene.name));

@@ -3,11 +3,15 @@
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <string>
+#include <vector>
 #include <exception>
 #include <string_view>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -35,6 +39,16 @@ int main(int argc, char** argv) {
   priormap::app::AddPlotCommand(app);
   priormap::app::AddDemoCommand(app);
   priormap::app::AddVersionCommand(app);
+  // CLI11 would only say "a subcommand is required"; name the word it did not know.
+  if (argc > 1 && argv[1][0] != '-') {
+    std::vector<std::string> names;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) names.push_back(sub->get_name());
+    if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      PrintError(fmt::format("unknown command '{}' (expected one of: {}); run 'priormap --help'", argv[1],
+                             fmt::join(names, ", ")));
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -81,10 +81,15 @@ void DrawText(cairo_t* cr, const std::string& text, double x, double y, double s
   cairo_show_text(cr, text.c_str());
 }
 
+namespace {
+constexpr double kLegendFont = 11.0, kLegendRow = 18.0;
+}  // namespace
+
+double LegendHeight(std::size_t entries) { return kLegendRow * static_cast<double>(entries) + 8; }
+
 void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& entries, double x,
                 double y, bool anchor_right) {
   if (entries.empty()) return;
-  constexpr double kLegendFont = 11.0, kRow = 18.0;
   cairo_save(cr);
   cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, kLegendFont);
@@ -94,7 +99,7 @@ void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& e
     cairo_text_extents(cr, entry.first.c_str(), &extents);
     text_width = std::max(text_width, extents.x_advance);
   }
-  const double width = text_width + 44, height = kRow * static_cast<double>(entries.size()) + 8;
+  const double width = text_width + 44, height = LegendHeight(entries.size());
   const double x0 = anchor_right ? x - width : x;
   cairo_set_source_rgba(cr, 1, 1, 1, 0.9);
   cairo_rectangle(cr, x0, y, width, height);
@@ -104,7 +109,7 @@ void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& e
   cairo_set_dash(cr, nullptr, 0, 0.0);
   cairo_stroke(cr);
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    const double row_y = y + 4 + kRow * (static_cast<double>(i) + 0.5);
+    const double row_y = y + 4 + kLegendRow * (static_cast<double>(i) + 0.5);
     SetColor(cr, entries[i].second);
     cairo_set_line_width(cr, 4.0);
     cairo_move_to(cr, x0 + 8, row_y);
@@ -112,6 +117,35 @@ void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& e
     cairo_stroke(cr);
     SetColor(cr, palette::kBlack);
     DrawText(cr, entries[i].first, x0 + 36, row_y, kLegendFont, 0.0, 0.5);
+  }
+  cairo_restore(cr);
+}
+
+void DrawLegendRow(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& entries,
+                   double center_x, double y) {
+  constexpr double kSwatch = 22.0, kGap = 6.0, kSpacing = 18.0;
+  cairo_save(cr);
+  cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, kLegendFont);
+  std::vector<double> widths;
+  double total = 0.0;
+  for (const auto& entry : entries) {
+    cairo_text_extents_t extents;
+    cairo_text_extents(cr, entry.first.c_str(), &extents);
+    widths.push_back(kSwatch + kGap + extents.x_advance);
+    total += widths.back() + (widths.size() > 1 ? kSpacing : 0.0);
+  }
+  double x = center_x - total / 2;
+  cairo_set_dash(cr, nullptr, 0, 0.0);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    SetColor(cr, entries[i].second);
+    cairo_set_line_width(cr, 4.0);
+    cairo_move_to(cr, x, y);
+    cairo_line_to(cr, x + kSwatch, y);
+    cairo_stroke(cr);
+    SetColor(cr, palette::kBlack);
+    DrawText(cr, entries[i].first, x + kSwatch + kGap, y, kLegendFont, 0.0, 0.5);
+    x += widths[i] + kSpacing;
   }
   cairo_restore(cr);
 }

@@ -47,9 +47,16 @@ void SetColor(cairo_t* cr, const Color& color);
 void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size,
               double align_x, double align_y, bool bold = false);
 
+/// Height in pixels of a legend box with `entries` rows.
+[[nodiscard]] double LegendHeight(std::size_t entries);
+
 /// A legend box: one coloured swatch and label per entry. (x, y) is its top-left corner, or its
 /// top-right corner with `anchor_right`.
 void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& entries, double x,
                 double y, bool anchor_right);
+
+/// A legend as one row of swatches and labels, centred on `center_x`, with `y` the middle of the row.
+void DrawLegendRow(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& entries,
+                   double center_x, double y);
 
 }  // namespace priormap::render::detail

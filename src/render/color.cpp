@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -29,6 +30,10 @@ Color Lerp(const Color& a, const Color& b, double t) {
 Color Color::FromHex(std::string_view hex) {
   if (hex.size() != 7 && hex.size() != 9) return palette::kBlack;
   if (hex[0] != '#') return palette::kBlack;
+  const auto is_hex_digit = [](char c) {
+    return std::isxdigit(static_cast<unsigned char>(c)) != 0;
+  };
+  if (!std::all_of(hex.begin() + 1, hex.end(), is_hex_digit)) return palette::kBlack;
   const auto byte = [&](std::size_t i) {
     return static_cast<double>(std::strtol(std::string(hex.substr(i, 2)).c_str(), nullptr, 16)) / 255.0;
   };

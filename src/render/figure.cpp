@@ -141,7 +141,17 @@ struct Figure::Impl {
       cairo_rectangle(c, margins.left, margins.top, plot_width, plot_height);
       cairo_stroke(c);
     }
-    detail::DrawLegend(c, legend, margins.left + 10, margins.top + 10, false);
+    if (legend.empty()) return;
+    if (options.legend == LegendPlace::kBelow) {
+      detail::DrawLegendRow(c, legend, margins.left + plot_width / 2, margins.top + plot_height + margins.bottom - 14);
+      return;
+    }
+    const bool right = options.legend == LegendPlace::kTopRight || options.legend == LegendPlace::kBottomRight;
+    const bool bottom = options.legend == LegendPlace::kBottomLeft || options.legend == LegendPlace::kBottomRight;
+    const double x = right ? margins.left + plot_width - 10 : margins.left + 10;
+    const double y = bottom ? margins.top + plot_height - 10 - detail::LegendHeight(legend.size())
+                            : margins.top + 10;
+    detail::DrawLegend(c, legend, x, y, right);
   }
 };
 
@@ -152,8 +162,10 @@ Figure::Figure(const Box2& world, FigureOptions options) : impl_(std::make_uniqu
   f.options = std::move(options);
   const Vec2 pad = Vec2::Constant(std::max(f.options.padding_m, 1e-6));
   f.world = Box2(world.min() - pad, world.max() + pad);
+  // The bottom margin always has room for a legend row: entries arrive after the layout is fixed.
   f.margins = {f.options.axes ? 60.0 : 10.0, f.options.colorbar ? 100.0 : 16.0,
-               f.options.title.empty() ? 12.0 : 36.0, f.options.axes ? 44.0 : 10.0};
+               f.options.title.empty() ? 12.0 : 36.0,
+               (f.options.axes ? 44.0 : 10.0) + (f.options.legend == LegendPlace::kBelow ? 24.0 : 0.0)};
   const Vec2 size = f.world.sizes();
   const double width = std::max(f.options.width_px, 100);
   const double max_plot_height = std::max(f.options.max_height_px, 100) - f.margins.top - f.margins.bottom;

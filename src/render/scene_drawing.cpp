@@ -33,7 +33,7 @@ void DrawScan(Figure& figure, const Scan& scan, const ScanStyle& style) {
   for (std::size_t i = 0; i < scan.size(); ++i) {
     if (scan.status[i] == BeamStatus::kMaxRange && style.max_range_rays && std::isfinite(scan.max_range)) {
       const Vec2 end = scan.pose.Transform(scan.max_range * UnitVector(scan.angles[i]));
-      figure.Line(scan.pose.translation(), end, {palette::kLightGray, 0.5, {}});
+      figure.Line(scan.pose.translation(), end, {palette::kLightGray.WithAlpha(0.35), 0.5, {}});
     }
     if (!scan.IsValid(i)) continue;
     const Vec2 p = scan.PointInWorld(i);

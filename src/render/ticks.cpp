@@ -10,17 +10,30 @@ namespace priormap::render {
 
 std::vector<double> NiceTicks(double lo, double hi, int target_count) {
   PRIORMAP_CHECK(std::isfinite(lo) && std::isfinite(hi) && lo < hi, "NiceTicks needs lo < hi");
-  const double raw_step = (hi - lo) / std::max(target_count, 1);
+  const double count = std::max(target_count, 1);
+  // Not (hi - lo) / count: hi - lo overflows when the range is wider than the largest double.
+  const double raw_step = hi / count - lo / count;
   const double magnitude = std::pow(10.0, std::floor(std::log10(raw_step)));
   double step = magnitude;
   for (double factor : {1.0, 2.0, 5.0, 10.0}) {
     step = factor * magnitude;
     if (step >= raw_step) break;
   }
+  // Each tick is computed from its index: adding up steps drifts, and never gets past lo when
+  // the step is below the spacing of doubles there (a range only a few doubles wide).
+  const double tolerance = step * 1e-9;
+  const double first = std::ceil(lo / step - 1e-9);
+  const double last = std::floor(hi / step + 1e-9);
   std::vector<double> ticks;
-  const double first = std::ceil(lo / step - 1e-9) * step;
-  for (double t = first; t <= hi + step * 1e-9; t += step) {
-    ticks.push_back(std::abs(t) < step * 1e-9 ? 0.0 : t);  // no "-0"
+  // step >= raw_step, so last - first <= count; the cap only matters when a denormal range
+  // gives a zero step and infinite indices.
+  for (int i = 0; i <= last - first && i <= count + 1; ++i) {
+    const double t = (first + i) * step;
+    // Skip ticks that rounding put outside the range (or NaN), and repeats where the step is
+    // below the resolution of doubles; write 0 rather than "-0".
+    if (!(t >= lo - tolerance && t <= hi + tolerance)) continue;
+    if (!ticks.empty() && t <= ticks.back()) continue;
+    ticks.push_back(std::abs(t) < tolerance ? 0.0 : t);
   }
   return ticks;
 }

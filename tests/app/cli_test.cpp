@@ -1,1 +1,598 @@
-// placeholder
+// End-to-end tests of the priormap executable: each test runs it in a fresh directory and checks
+// the exit status, what it printed and the files it wrote.
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <regex>
+#include <set>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/carmen_io.hpp>
+#include <priormap/core/json_io.hpp>
+#include <priormap/core/log_io.hpp>
+#include <priormap/core/scene.hpp>
+#include <priormap/core/scene_ray_caster.hpp>
+#include <priormap/core/simulate.hpp>
+
+#include "testing/temp_dir.hpp"
+
+namespace priormap {
+namespace {
+
+namespace fs = std::filesystem;
+using priormap::testing::ReadAll;
+using priormap::testing::TempDir;
+using priormap::testing::WriteAll;
+using ::testing::HasSubstr;
+using ::testing::Not;
+using ::testing::StartsWith;
+
+struct RunResult {
+  int status = -1;  ///< exit status; -1 when the process did not exit normally
+  std::string out;
+  std::string err;
+};
+
+std::string Quote(const std::string& s) {
+  std::string quoted = "'";
+  for (char c : s) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// Runs the binary in `work` (its current directory), capturing stdout and stderr in files
+// of a separate directory, so that `work` holds only what priormap wrote.
+class Cli : public ::testing::Test {
+ protected:
+  RunResult Run(const std::vector<std::string>& args) const {
+    // (Appending piecewise: GCC 12 gives a false -Wrestrict for "literal" + std::string&&.)
+    std::string command = "cd ";
+    command += Quote(work_.path().string());
+    command += " && ";
+    command += Quote(PRIORMAP_BINARY);
+    for (const std::string& arg : args) command.append(" ").append(Quote(arg));
+    command.append(" >").append(Quote((io_ / "stdout").string()));
+    command.append(" 2>").append(Quote((io_ / "stderr").string()));
+    const int raw = std::system(command.c_str());
+    RunResult result;
+    result.status = raw != -1 && WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    result.out = ReadAll(io_ / "stdout");
+    result.err = ReadAll(io_ / "stderr");
+    return result;
+  }
+
+  /// Runs and expects success with nothing on stderr.
+  RunResult Ok(const std::vector<std::string>& args) const {
+    RunResult r = Run(args);
+    EXPECT_EQ(r.status, 0) << "stdout:\n" << r.out << "stderr:\n" << r.err;
+    EXPECT_EQ(r.err, "");
+    return r;
+  }
+
+  /// Runs, expects a failure reported on stderr, and that the working directory is unchanged
+  /// (no output file, no temporary file).
+  RunResult Fails(const std::vector<std::string>& args) const {
+    const std::set<std::string> before = WorkFiles();
+    RunResult r = Run(args);
+    EXPECT_NE(r.status, 0) << "stdout:\n" << r.out;
+    EXPECT_NE(r.status, -1);
+    EXPECT_THAT(r.err, HasSubstr("priormap: error:"));
+    EXPECT_THAT(r.err, Not(HasSubstr("internal error")));
+    EXPECT_EQ(WorkFiles(), before) << "stderr:\n" << r.err;
+    return r;
+  }
+
+  /// Every file and directory under the working directory, relative to it.
+  [[nodiscard]] std::set<std::string> WorkFiles() const {
+    std::set<std::string> files;
+    for (const auto& entry : fs::recursive_directory_iterator(work_.path())) {
+      files.insert(fs::relative(entry.path(), work_.path()).string());
+    }
+    return files;
+  }
+
+  [[nodiscard]] fs::path Work(const std::string& name) const { return work_ / name; }
+
+  [[nodiscard]] Log ReadLogFile(const std::string& name) const {
+    Result<Log> log = ReadLog(Work(name));
+    EXPECT_TRUE(log.ok()) << log.error();
+    return log.ok() ? std::move(log).value() : Log{};
+  }
+
+ private:
+  TempDir work_;
+  TempDir io_;
+};
+
+bool IsPng(const std::string& bytes) {
+  return bytes.starts_with("\x89PNG\r\n\x1a\n");
+}
+
+// Width and height from the PNG's IHDR chunk (big-endian, right after the signature).
+std::pair<int, int> PngSize(const std::string& bytes) {
+  const auto be32 = [&](std::size_t at) {
+    int v = 0;
+    for (std::size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(bytes.at(at + i));
+    return v;
+  };
+  return {be32(16), be32(20)};
+}
+
+// --- simulate ----------------------------------------------------------------------------------
+
+TEST_F(Cli, SimulateAcceptanceCommandWritesTheScanAndItsFigure) {
+  const RunResult r = Ok({"simulate", "--scene", "l-room", "--sensor", "utm30", "--seed", "1", "-o",
+                          "s.json", "--png", "s.png"});
+  EXPECT_THAT(r.out, HasSubstr("wrote s.json"));
+  EXPECT_THAT(r.out, HasSubstr("wrote s.png"));
+  EXPECT_EQ(WorkFiles(), (std::set<std::string>{"s.json", "s.png"}));
+
+  const std::string png = ReadAll(Work("s.png"));
+  EXPECT_TRUE(IsPng(png));
+  EXPECT_EQ(PngSize(png).first, 800);  // FigureOptions' default width
+  EXPECT_LE(PngSize(png).second, 800);
+
+  Result<Log> read = ReadJsonLog(Work("s.json"));
+  ASSERT_TRUE(read.ok()) << read.error();
+  const Log& log = read.value();
+  ASSERT_EQ(log.scans.size(), 1u);
+  const Scan& scan = log.scans.front();
+  EXPECT_THAT(scan.Problems(), ::testing::IsEmpty());
+  ASSERT_EQ(scan.size(), 1081u);
+  EXPECT_NEAR(scan.angles.front(), -DegToRad(135.0), 1e-12);
+  EXPECT_NEAR(scan.angles.back(), DegToRad(135.0), 1e-12);
+  EXPECT_NEAR(scan.angles[1] - scan.angles[0], DegToRad(0.25), 1e-12);
+  EXPECT_EQ(scan.min_range, 0.1);
+  EXPECT_EQ(scan.max_range, 30.0);
+
+  // The scene's default pose.
+  const Scene scene = *BuiltinScene("l-room");
+  EXPECT_NEAR(scan.pose.x(), scene.default_pose->x(), 1e-12);
+  EXPECT_NEAR(scan.pose.y(), scene.default_pose->y(), 1e-12);
+  EXPECT_NEAR(scan.pose.theta(), scene.default_pose->theta(), 1e-12);
+
+  // The ground truth is what an independent ray cast from the scan pose finds.
+  ASSERT_TRUE(scan.truth.has_value());
+  const SceneRayCaster caster(scene);
+  int hits = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const Ray ray{scan.pose.translation(), scan.pose.theta() + scan.angles[i]};
+    const std::optional<SceneHit> hit = caster.Cast(ray, std::numeric_limits<double>::infinity());
+    if (!hit) {
+      EXPECT_TRUE(std::isnan(scan.truth->range[i])) << "beam " << i;
+      continue;
+    }
+    ++hits;
+    EXPECT_NEAR(scan.truth->range[i], hit->range, 1e-9) << "beam " << i;
+    EXPECT_NEAR(AngleDifference(scan.truth->alpha[i], hit->normal_angle - scan.pose.theta()), 0.0,
+                1e-9)
+        << "beam " << i;
+    EXPECT_EQ(scan.truth->surface[i], hit->surface) << "beam " << i;
+    EXPECT_EQ(scan.truth->region[i], hit->region) << "beam " << i;
+  }
+  EXPECT_EQ(hits, 1081);  // a closed room: every beam hits a wall
+}
+
+// The range noise of valid, non-outlier readings is N(0, sigma^2), pooled over several seeds.
+// With n readings, the mean must be within 4 standard errors (sigma / sqrt(n)) of 0 and
+// (n - 1) s^2 / sigma^2 inside the central 99.9% interval of chi-square(n - 1).
+void ExpectNoiseHasSigma(const std::vector<Scan>& scans, double sigma) {
+  std::vector<double> noise;
+  for (const Scan& scan : scans) {
+    ASSERT_TRUE(scan.truth.has_value());
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      EXPECT_DOUBLE_EQ(scan.sigma[i], sigma);
+      if (scan.IsValid(i) && scan.truth->outlier[i] == 0)
+        noise.push_back(scan.ranges[i] - scan.truth->range[i]);
+    }
+  }
+  const auto n = static_cast<double>(noise.size());
+  ASSERT_GT(n, 3000);
+  double mean = 0.0;
+  for (double e : noise) mean += e;
+  mean /= n;
+  double ss = 0.0;
+  for (double e : noise) ss += (e - mean) * (e - mean);
+  const double statistic = ss / (sigma * sigma);  // (n - 1) s^2 / sigma^2
+  EXPECT_LT(std::abs(mean), 4.0 * sigma / std::sqrt(n)) << "mean " << mean;
+  // Wilson-Hilferty: chi2_p(k) ~ k (1 - 2/(9k) + z_p sqrt(2/(9k)))^3; z = 3.2905 for 0.05%
+  // / 99.95%.
+  const double k = n - 1.0, z = 3.2905;
+  const auto quantile = [&](double zp) {
+    return k * std::pow(1.0 - 2.0 / (9.0 * k) + zp * std::sqrt(2.0 / (9.0 * k)), 3);
+  };
+  EXPECT_GT(statistic, quantile(-z)) << "sample sigma " << std::sqrt(ss / k);
+  EXPECT_LT(statistic, quantile(z)) << "sample sigma " << std::sqrt(ss / k);
+}
+
+TEST_F(Cli, SimulatedNoiseHasThePresetSigma) {
+  std::vector<Scan> scans;
+  for (int seed = 1; seed <= 4; ++seed) {
+    const std::string out = std::to_string(seed) + ".json";
+    Ok({"simulate", "--scene", "l-room", "--sensor", "utm30", "--seed", std::to_string(seed), "-o",
+        out});
+    Log log = ReadLogFile(out);
+    ASSERT_EQ(log.scans.size(), 1u);
+    scans.push_back(log.scans.front());
+  }
+  ExpectNoiseHasSigma(scans, 0.01);
+}
+
+TEST_F(Cli, SigmaOptionSetsTheNoise) {
+  std::vector<Scan> scans;
+  for (int seed = 11; seed <= 14; ++seed) {
+    const std::string out = std::to_string(seed) + ".json";
+    Ok({"simulate", "--scene", "l-room", "--sigma", "0.05", "--seed", std::to_string(seed), "-o",
+        out});
+    scans.push_back(ReadLogFile(out).scans.at(0));
+  }
+  ExpectNoiseHasSigma(scans, 0.05);
+}
+
+TEST_F(Cli, SameSeedGivesIdenticalFilesAndAnotherSeedDiffers) {
+  Ok({"simulate", "--seed", "5", "-o", "a.json", "--png", "a.png"});
+  Ok({"simulate", "--seed", "5", "-o", "b.json", "--png", "b.png"});
+  Ok({"simulate", "--seed", "6", "-o", "c.json", "--png", "c.png"});
+  EXPECT_EQ(ReadAll(Work("a.json")), ReadAll(Work("b.json")));
+  EXPECT_EQ(ReadAll(Work("a.png")), ReadAll(Work("b.png")));
+  EXPECT_NE(ReadAll(Work("a.json")), ReadAll(Work("c.json")));
+  // Only the noise differs: same beams, same truth, different ranges.
+  const Scan a = ReadLogFile("a.json").scans.at(0), c = ReadLogFile("c.json").scans.at(0);
+  EXPECT_EQ(a.angles, c.angles);
+  EXPECT_EQ(a.truth->range, c.truth->range);
+  EXPECT_NE(a.ranges, c.ranges);
+}
+
+TEST_F(Cli, SameSeedGivesIdenticalLogs) {
+  Ok({"simulate", "--log", "--sensor", "lms200", "--seed", "3", "-o", "a.json"});
+  Ok({"simulate", "--log", "--sensor", "lms200", "--seed", "3", "-o", "b.json"});
+  Ok({"simulate", "--log", "--sensor", "lms200", "--seed", "4", "-o", "c.json"});
+  EXPECT_EQ(ReadAll(Work("a.json")), ReadAll(Work("b.json")));
+  EXPECT_NE(ReadAll(Work("a.json")), ReadAll(Work("c.json")));
+}
+
+TEST_F(Cli, PoseOptionSetsThePose) {
+  Ok({"simulate", "--scene", "square", "--pose", "0.5,-1.25,1.2", "-o", "s.json"});
+  const Scan scan = ReadLogFile("s.json").scans.at(0);
+  EXPECT_DOUBLE_EQ(scan.pose.x(), 0.5);
+  EXPECT_DOUBLE_EQ(scan.pose.y(), -1.25);
+  EXPECT_DOUBLE_EQ(scan.pose.theta(), 1.2);
+  // ...and the scan is taken from there.
+  const SceneRayCaster caster(*BuiltinScene("square"));
+  for (std::size_t i = 0; i < scan.size(); i += 10) {
+    const auto hit = caster.Cast({Vec2(0.5, -1.25), 1.2 + scan.angles[i]}, 1e9);
+    ASSERT_TRUE(hit.has_value());
+    EXPECT_NEAR(scan.truth->range[i], hit->range, 1e-9);
+  }
+}
+
+TEST_F(Cli, PoseOptionAcceptsNegativeCoordinates) {
+  // Both as --pose=VALUE and as a separate argument that starts with '-'.
+  Ok({"simulate", "--scene", "square", "--pose=-1,-0.5,-3", "-o", "a.json"});
+  Ok({"simulate", "--scene", "square", "--pose", "-1,-0.5,-3", "-o", "b.json"});
+  for (const char* name : {"a.json", "b.json"}) {
+    const Scan scan = ReadLogFile(name).scans.at(0);
+    EXPECT_DOUBLE_EQ(scan.pose.x(), -1.0) << name;
+    EXPECT_DOUBLE_EQ(scan.pose.y(), -0.5) << name;
+    EXPECT_DOUBLE_EQ(scan.pose.theta(), -3.0) << name;
+  }
+}
+
+TEST_F(Cli, LogOptionWritesALocalizedLogAlongTheWaypoints) {
+  const RunResult r =
+      Ok({"simulate", "--scene", "l-room", "--sensor", "lms200", "--log", "--seed", "2", "--speed",
+          "1", "--rate", "2", "-o", "log.json", "--png", "log.svg"});
+  EXPECT_THAT(r.out, HasSubstr("wrote log.json"));
+  EXPECT_THAT(ReadAll(Work("log.svg")), HasSubstr("<svg"));
+  const Log log = ReadLogFile("log.json");
+  const Scene scene = *BuiltinScene("l-room");
+  const std::vector<TimedPose> trajectory = TrajectoryFromWaypoints(scene.waypoints, 1.0, 2.0);
+  ASSERT_EQ(log.scans.size(), trajectory.size());
+  EXPECT_EQ(log.odometry.size(), trajectory.size());
+  EXPECT_EQ(log.true_poses.size(), trajectory.size());
+  EXPECT_EQ(log.pose_source, PoseSource::kGroundTruth);
+  EXPECT_THAT(log.Problems(), ::testing::IsEmpty());
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    EXPECT_EQ(log.scans[k].size(), 181u);
+    EXPECT_NEAR(log.scans[k].timestamp, trajectory[k].time, 1e-12);
+    EXPECT_NEAR((log.scans[k].pose.translation() - trajectory[k].pose.translation()).norm(), 0.0,
+                1e-12);
+    EXPECT_NEAR(AngleDifference(log.scans[k].pose.theta(), trajectory[k].pose.theta()), 0.0, 1e-12);
+  }
+}
+
+TEST_F(Cli, CarmenOutputHoldsTheSameScanAsJson) {
+  Ok({"simulate", "--seed", "9", "-o", "s.json"});
+  Ok({"simulate", "--seed", "9", "-o", "s.log"});
+  EXPECT_THAT(ReadAll(Work("s.log")), Not(StartsWith("{")));
+  const Scan json = ReadLogFile("s.json").scans.at(0);
+  Result<Log> carmen = ReadCarmenLog(Work("s.log"));
+  ASSERT_TRUE(carmen.ok()) << carmen.error();
+  ASSERT_EQ(carmen.value().scans.size(), 1u);
+  const Scan& scan = carmen.value().scans[0];
+  ASSERT_EQ(scan.size(), json.size());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    EXPECT_DOUBLE_EQ(scan.ranges[i], json.ranges[i]) << i;
+    EXPECT_NEAR(scan.angles[i], json.angles[i], 1e-12) << i;
+  }
+  EXPECT_DOUBLE_EQ(scan.pose.x(), json.pose.x());
+  EXPECT_DOUBLE_EQ(scan.pose.theta(), json.pose.theta());
+}
+
+TEST_F(Cli, SimulatedLogCanBeWrittenAsCompressedCarmen) {
+  Ok({"simulate", "--log", "--sensor", "lms200", "--speed", "2", "-o", "log.log.gz"});
+  EXPECT_THAT(ReadAll(Work("log.log.gz")), StartsWith("\x1f\x8b"));
+  const Log log = ReadLogFile("log.log.gz");
+  EXPECT_GT(log.scans.size(), 5u);
+  EXPECT_EQ(log.odometry.size(), log.scans.size());
+}
+
+// --- convert -----------------------------------------------------------------------------------
+
+constexpr const char* kCarmenLog =
+    "# a hand-written log\n"
+    "PARAM robot_front_laser_max 81.9\n"
+    "ODOM 0.0 0.0 0.0 0.1 0.0 0.0 1.0 host 1.0\n"
+    "FLASER 5 1.5 2.25 3.0 81.9 0.75 0.0 0.0 0.0 0.0 0.0 0.0 1.05 host 1.05\n"
+    "ODOM 0.5 0.1 0.05 0.1 0.0 0.0 2.0 host 2.0\n"
+    "FLASER 5 1.25 2.0 2.5 3.5 0.5 0.5 0.1 0.05 0.5 0.1 0.05 2.05 host 2.05\n";
+
+TEST_F(Cli, ConvertCarmenToJsonAndBackKeepsTheLog) {
+  WriteAll(Work("in.log"), kCarmenLog);
+  const RunResult to_json = Ok({"convert", "in.log", "-o", "mid.json"});
+  EXPECT_THAT(to_json.out, HasSubstr("2 scans, 2 odometry"));
+  EXPECT_THAT(to_json.out, HasSubstr("wrote mid.json (json)"));
+  EXPECT_THAT(ReadAll(Work("mid.json")), StartsWith("{"));
+  Ok({"convert", "mid.json", "-o", "out.log"});
+  Ok({"convert", "in.log", "-o", "direct.log"});
+  // Through JSON or directly, CARMEN comes out the same.
+  EXPECT_EQ(ReadAll(Work("out.log")), ReadAll(Work("direct.log")));
+
+  const Log original = ReadLogFile("in.log");
+  const Log round_trip = ReadLogFile("out.log");
+  ASSERT_EQ(round_trip.scans.size(), 2u);
+  ASSERT_EQ(original.scans.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(round_trip.scans[k].ranges, original.scans[k].ranges);
+    EXPECT_EQ(round_trip.scans[k].status, original.scans[k].status);
+    EXPECT_EQ(round_trip.scans[k].angles, original.scans[k].angles);
+    EXPECT_EQ(round_trip.scans[k].timestamp, original.scans[k].timestamp);
+    EXPECT_EQ(round_trip.scans[k].pose.translation(), original.scans[k].pose.translation());
+  }
+  EXPECT_EQ(round_trip.odometry.size(), 2u);
+  EXPECT_EQ(round_trip.params, original.params);
+  // The FLASER records stay FLASER records with their fields.
+  const std::string text = ReadAll(Work("out.log"));
+  EXPECT_THAT(text, HasSubstr("FLASER 5 1.5 2.25 3 81.9 0.75"));
+  EXPECT_THAT(text, HasSubstr("PARAM robot_front_laser_max 81.9"));
+}
+
+TEST_F(Cli, ConvertSimulatedCarmenLogThroughJson) {
+  Ok({"simulate", "--log", "--sensor", "lms200", "--speed", "2", "--seed", "4", "-o", "sim.log"});
+  Ok({"convert", "sim.log", "-o", "sim.json"});
+  Ok({"convert", "sim.json", "-o", "back.log"});
+  EXPECT_EQ(ReadAll(Work("back.log")), ReadAll(Work("sim.log")));
+}
+
+// --- plot --------------------------------------------------------------------------------------
+
+TEST_F(Cli, PlotsAScanAsMapRangesAndResiduals) {
+  Ok({"simulate", "--seed", "1", "-o", "s.json"});
+  EXPECT_THAT(Ok({"plot", "s.json", "-o", "map.png"}).out, HasSubstr("wrote map.png"));
+  Ok({"plot", "s.json", "--kind", "ranges", "-o", "ranges.svg"});
+  Ok({"plot", "s.json", "--kind", "residuals", "--width", "640", "-o", "residuals.png"});
+  Ok({"plot", "s.json", "--scene", "l-room", "-o", "map.pdf"});
+  const std::string map = ReadAll(Work("map.png"));
+  EXPECT_TRUE(IsPng(map));
+  EXPECT_EQ(PngSize(map).first, 900);  // --width's default
+  EXPECT_THAT(ReadAll(Work("ranges.svg")), HasSubstr("<svg"));
+  const std::string residuals = ReadAll(Work("residuals.png"));
+  EXPECT_TRUE(IsPng(residuals));
+  EXPECT_EQ(PngSize(residuals), std::pair(640, 450));
+  EXPECT_THAT(ReadAll(Work("map.pdf")), StartsWith("%PDF"));
+}
+
+TEST_F(Cli, PlotsALogAsAMapAndOneOfItsScans) {
+  Ok({"simulate", "--log", "--sensor", "lms200", "--speed", "2", "-o", "log.json"});
+  Ok({"plot", "log.json", "-o", "log.png", "--stride", "2"});
+  Ok({"plot", "log.json", "--scan", "3", "-o", "scan3.png"});
+  Ok({"plot", "log.json", "--scan", "3", "--kind", "residuals", "-o", "residuals3.png"});
+  for (const char* name : {"log.png", "scan3.png", "residuals3.png"})
+    EXPECT_TRUE(IsPng(ReadAll(Work(name))));
+}
+
+TEST_F(Cli, PlotsACarmenLog) {
+  WriteAll(Work("in.log"), kCarmenLog);
+  Ok({"plot", "in.log", "-o", "carmen.png"});
+  Ok({"plot", "in.log", "--kind", "ranges", "--scan", "1", "-o", "ranges.png"});
+  EXPECT_TRUE(IsPng(ReadAll(Work("carmen.png"))));
+  EXPECT_TRUE(IsPng(ReadAll(Work("ranges.png"))));
+}
+
+// --- demo, version, help -----------------------------------------------------------------------
+
+TEST_F(Cli, DemoWritesAGalleryAndSaysWhereItIs) {
+  const RunResult r = Ok({"demo", "--out", "gallery"});
+  EXPECT_THAT(r.out, HasSubstr("gallery/index.html"));
+  const std::string index = ReadAll(Work("gallery/index.html"));
+  EXPECT_THAT(index, StartsWith("<!doctype html>"));
+  std::vector<std::string> expected;
+  for (const std::string& name : BuiltinSceneNames()) expected.push_back("scan-" + name + ".png");
+  expected.push_back("residuals-l-room.png");
+  expected.push_back("log-l-room.png");
+  for (const std::string& file : expected) {
+    EXPECT_THAT(index, HasSubstr("src=\"" + file + "\"")) << file;
+    EXPECT_TRUE(IsPng(ReadAll(Work("gallery/" + file)))) << file;
+    EXPECT_THAT(r.out, HasSubstr(file));
+  }
+  // Every image the page shows exists.
+  const std::regex image(R"re(src="([^"]+)")re");
+  int images = 0;
+  for (auto it = std::sregex_iterator(index.begin(), index.end(), image);
+       it != std::sregex_iterator(); ++it) {
+    EXPECT_TRUE(fs::exists(Work("gallery/" + (*it)[1].str()))) << (*it)[1].str();
+    ++images;
+  }
+  EXPECT_EQ(images, static_cast<int>(expected.size()));
+  EXPECT_TRUE(ReadLogFile("gallery/l-room.log.json").scans.size() > 10);
+  for (const std::string& file : WorkFiles()) EXPECT_THAT(file, Not(HasSubstr(".tmp-")));
+}
+
+TEST_F(Cli, VersionPrintsTheVersionAndLibraries) {
+  const RunResult r = Ok({"version"});
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(^priormap \d+\.\d+\.\d+\n)"))) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("Eigen"));
+  EXPECT_THAT(r.out, HasSubstr("cairo"));
+  EXPECT_TRUE(WorkFiles().empty());
+}
+
+TEST_F(Cli, HelpOnEverySubcommandExitsZero) {
+  for (const char* command : {"simulate", "convert", "plot", "demo", "version"}) {
+    const RunResult r = Ok({command, "--help"});
+    EXPECT_THAT(r.out, HasSubstr(command)) << command;
+    EXPECT_THAT(r.out, HasSubstr("--help")) << command;
+  }
+  const RunResult root = Ok({"--help"});
+  for (const char* command : {"simulate", "convert", "plot", "demo", "version"}) {
+    EXPECT_THAT(root.out, HasSubstr(command));
+  }
+  EXPECT_THAT(Ok({"simulate", "--help"}).out, HasSubstr("--pose"));
+  EXPECT_THAT(Ok({"plot", "-h"}).out, HasSubstr("--kind"));
+  EXPECT_TRUE(WorkFiles().empty());
+}
+
+// --- errors ------------------------------------------------------------------------------------
+
+TEST_F(Cli, UnknownSceneIsAnError) {
+  const RunResult r = Fails({"simulate", "--scene", "atlantis", "-o", "s.json", "--png", "s.png"});
+  EXPECT_THAT(r.err, HasSubstr("unknown scene 'atlantis'"));
+  EXPECT_EQ(r.status, 1);
+}
+
+TEST_F(Cli, BadPoseTextIsAnError) {
+  for (const char* pose : {"1,2", "1,2,x", "1,2,3,4", "1;2;3", "", "nan,0,0", "1,,3", " 1,2,3"}) {
+    const RunResult r = Fails({"simulate", "--scene", "square", "--pose", pose, "-o", "s.json"});
+    EXPECT_THAT(r.err, HasSubstr("--pose")) << "'" << pose << "'";
+  }
+}
+
+TEST_F(Cli, UnknownSensorIsAnError) {
+  EXPECT_THAT(Fails({"simulate", "--sensor", "kinect", "-o", "s.json"}).err, HasSubstr("kinect"));
+}
+
+TEST_F(Cli, InvalidSensorParametersAreAnError) {
+  EXPECT_THAT(Fails({"simulate", "--correlation", "1.5", "-o", "s.json"}).err,
+              HasSubstr("correlation"));
+  EXPECT_THAT(Fails({"simulate", "--max-range", "-1", "-o", "s.json"}).err, HasSubstr("range"));
+}
+
+TEST_F(Cli, MissingOutputOptionIsAnError) {
+  EXPECT_THAT(Fails({"simulate", "--scene", "l-room"}).err, HasSubstr("--out"));
+  WriteAll(Work("in.log"), kCarmenLog);
+  EXPECT_THAT(Fails({"convert", "in.log"}).err, HasSubstr("--out"));
+  EXPECT_THAT(Fails({"plot", "in.log"}).err, HasSubstr("--out"));
+}
+
+TEST_F(Cli, UnknownSubcommandIsAnError) {
+  Fails({"frobnicate"});
+  Fails({"simulate", "--no-such-option", "-o", "s.json"});
+  Fails({});  // a subcommand is required
+}
+
+TEST_F(Cli, UnsupportedFigureExtensionIsAnError) {
+  EXPECT_THAT(Fails({"simulate", "-o", "s.json", "--png", "s.bmp"}).err, HasSubstr("s.bmp"));
+  Ok({"simulate", "-o", "s.json"});
+  EXPECT_THAT(Fails({"plot", "s.json", "-o", "s.gif"}).err, HasSubstr(".png, .svg or .pdf"));
+  EXPECT_THAT(Fails({"plot", "s.json", "-o", "noextension"}).err, HasSubstr(".png, .svg or .pdf"));
+}
+
+TEST_F(Cli, UnreadableInputFileIsAnError) {
+  EXPECT_THAT(Fails({"plot", "missing.json", "-o", "p.png"}).err, HasSubstr("missing.json"));
+  EXPECT_THAT(Fails({"convert", "missing.log", "-o", "out.json"}).err, HasSubstr("missing.log"));
+  fs::create_directory(Work("adir"));
+  EXPECT_THAT(Fails({"convert", "adir", "-o", "out.json"}).err, HasSubstr("adir"));
+  EXPECT_THAT(Fails({"simulate", "--scene", "missing-scene.json", "-o", "s.json"}).err,
+              HasSubstr("missing-scene.json"));
+}
+
+TEST_F(Cli, MalformedCarmenInputIsLocated) {
+  WriteAll(Work("bad.log"),
+           "ODOM 0.0 0.0 0.0 0.1 0.0 0.0 1.0 host 1.0\n"
+           "FLASER 3 1.0 2.0 oops 0.0 0.0 0.0 0.0 0.0 0.0 1.05 host 1.05\n");
+  const std::regex located(R"(priormap: error: bad\.log:2:\d+: )");
+  const RunResult convert = Fails({"convert", "bad.log", "-o", "out.json"});
+  EXPECT_TRUE(std::regex_search(convert.err, located)) << convert.err;
+  EXPECT_THAT(convert.err, HasSubstr("oops"));
+  const RunResult plot = Fails({"plot", "bad.log", "-o", "out.png"});
+  EXPECT_TRUE(std::regex_search(plot.err, located)) << plot.err;
+}
+
+TEST_F(Cli, MalformedJsonInputIsLocated) {
+  WriteAll(Work("bad.json"), "{\"format\": \"priormap.scan\",\n \"version\": oops}\n");
+  const RunResult r = Fails({"convert", "bad.json", "-o", "out.log"});
+  EXPECT_TRUE(std::regex_search(r.err, std::regex(R"(priormap: error: bad\.json:2:\d+)"))) << r.err;
+}
+
+TEST_F(Cli, OutputIntoAMissingDirectoryIsAnError) {
+  EXPECT_THAT(Fails({"simulate", "-o", "nowhere/s.json"}).err, HasSubstr("nowhere"));
+  Ok({"simulate", "-o", "s.json"});
+  EXPECT_THAT(Fails({"plot", "s.json", "-o", "nowhere/p.png"}).err, HasSubstr("nowhere"));
+  EXPECT_THAT(Fails({"convert", "s.json", "-o", "nowhere/s.log"}).err, HasSubstr("nowhere"));
+}
+
+// A run that fails writes none of its outputs, even when the first one could have been written.
+TEST_F(Cli, FailedSimulateWritesNoOutputAtAll) {
+  EXPECT_THAT(Fails({"simulate", "-o", "s.json", "--png", "nowhere/s.png"}).err,
+              HasSubstr("nowhere"));
+  EXPECT_THAT(Fails({"simulate", "-o", "s.json", "--write-scene", "nowhere/scene.json"}).err,
+              HasSubstr("nowhere"));
+  EXPECT_THAT(Fails({"simulate", "--write-scene", "scene.json", "-o", "nowhere/s.json"}).err,
+              HasSubstr("nowhere"));
+  EXPECT_THAT(
+      Fails({"simulate", "--write-scene", "scene.json", "-o", "s.json", "--pose", "1,2"}).err,
+      HasSubstr("--pose"));
+}
+
+TEST_F(Cli, WrittenSceneCanBeSimulatedAgain) {
+  EXPECT_THAT(Ok({"simulate", "--scene", "l-room", "--write-scene", "room.json"}).out,
+              HasSubstr("wrote room.json"));
+  EXPECT_EQ(WorkFiles(), (std::set<std::string>{"room.json"}));
+  Result<Scene> scene = ReadJsonScene(Work("room.json"));
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  EXPECT_EQ(scene.value().surfaces.size(), BuiltinScene("l-room")->surfaces.size());
+  // The file gives the same scan as the built-in scene.
+  Ok({"simulate", "--scene", "l-room", "--seed", "3", "-o", "builtin.json"});
+  Ok({"simulate", "--scene", "room.json", "--seed", "3", "-o", "file.json"});
+  const Scan builtin = ReadLogFile("builtin.json").scans.at(0);
+  const Scan file = ReadLogFile("file.json").scans.at(0);
+  EXPECT_EQ(builtin.ranges, file.ranges);
+  EXPECT_EQ(builtin.truth->range, file.truth->range);
+}
+
+TEST_F(Cli, PlotErrorsNameTheProblem) {
+  Ok({"simulate", "-o", "s.json"});
+  WriteAll(Work("in.log"), kCarmenLog);
+  EXPECT_THAT(Fails({"plot", "s.json", "--scan", "1", "-o", "p.png"}).err, HasSubstr("--scan 1"));
+  EXPECT_THAT(Fails({"plot", "in.log", "--kind", "residuals", "-o", "p.png"}).err,
+              HasSubstr("no ground truth"));
+  Fails({"plot", "s.json", "--kind", "histogram", "-o", "p.png"});
+  WriteAll(Work("odometry.log"), "ODOM 0.0 0.0 0.0 0.1 0.0 0.0 1.0 host 1.0\n");
+  EXPECT_THAT(Fails({"plot", "odometry.log", "-o", "p.png"}).err, HasSubstr("no scans"));
+}
+
+TEST_F(Cli, FailedWriteKeepsThePreviousOutput) {
+  Ok({"simulate", "--seed", "1", "-o", "s.json"});
+  const std::string before = ReadAll(Work("s.json"));
+  Fails({"simulate", "--scene", "atlantis", "--seed", "2", "-o", "s.json"});
+  EXPECT_EQ(ReadAll(Work("s.json")), before);
+}
+
+}  // namespace
+}  // namespace priormap

@@ -1,1 +1,627 @@
-// placeholder
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <cairo.h>
+#include <gtest/gtest.h>
+
+#include <priormap/core/check.hpp>
+#include <priormap/core/file_io.hpp>
+#include <priormap/core/scene.hpp>
+#include <priormap/core/simulate.hpp>
+#include <priormap/render/color.hpp>
+#include <priormap/render/figure.hpp>
+#include <priormap/render/scene_drawing.hpp>
+
+#include "testing/temp_dir.hpp"
+
+namespace priormap::render {
+namespace {
+
+namespace fs = std::filesystem;
+using priormap::testing::ReadAll;
+using priormap::testing::TempDir;
+using priormap::testing::WriteAll;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// 8-bit colour, not premultiplied.
+struct Rgba {
+  int r = 0, g = 0, b = 0, a = 0;
+};
+
+Rgba ToRgba(const Color& c) {
+  const auto byte = [](double v) { return static_cast<int>(std::lround(v * 255.0)); };
+  return {byte(c.r), byte(c.g), byte(c.b), byte(c.a)};
+}
+
+bool Near(const Rgba& x, const Rgba& y, int tolerance = 1) {
+  return std::abs(x.r - y.r) <= tolerance && std::abs(x.g - y.g) <= tolerance &&
+         std::abs(x.b - y.b) <= tolerance && std::abs(x.a - y.a) <= tolerance;
+}
+
+std::string Describe(const Rgba& c) {
+  return "rgba(" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) +
+         ", " + std::to_string(c.a) + ")";
+}
+
+// A PNG file read back with Cairo.
+class PngImage {
+ public:
+  explicit PngImage(const fs::path& path)
+      : surface_(cairo_image_surface_create_from_png(path.string().c_str()),
+                 cairo_surface_destroy) {}
+
+  [[nodiscard]] bool ok() const {
+    return cairo_surface_status(surface_.get()) == CAIRO_STATUS_SUCCESS;
+  }
+  [[nodiscard]] int width() const { return cairo_image_surface_get_width(surface_.get()); }
+  [[nodiscard]] int height() const { return cairo_image_surface_get_height(surface_.get()); }
+
+  [[nodiscard]] Rgba At(int x, int y) const {
+    const unsigned char* data = cairo_image_surface_get_data(surface_.get());
+    const int stride = cairo_image_surface_get_stride(surface_.get());
+    const std::uint32_t p = reinterpret_cast<const std::uint32_t*>(data + y * stride)[x];
+    const bool has_alpha = cairo_image_surface_get_format(surface_.get()) == CAIRO_FORMAT_ARGB32;
+    const int a = has_alpha ? static_cast<int>(p >> 24) : 255;
+    const auto channel = [&](int shift) {
+      const int v = static_cast<int>((p >> shift) & 0xff);
+      return a == 0 ? 0 : (v * 255 + a / 2) / a;  // undo premultiplication
+    };
+    return {channel(16), channel(8), channel(0), a};
+  }
+  /// The pixel containing a device point.
+  [[nodiscard]] Rgba At(const Vec2& device) const {
+    return At(static_cast<int>(std::floor(device.x())), static_cast<int>(std::floor(device.y())));
+  }
+
+  [[nodiscard]] int Count(const std::function<bool(const Rgba&)>& predicate) const {
+    int n = 0;
+    for (int y = 0; y < height(); ++y) {
+      for (int x = 0; x < width(); ++x) n += predicate(At(x, y)) ? 1 : 0;
+    }
+    return n;
+  }
+  [[nodiscard]] int Count(const Rgba& color, int tolerance = 1) const {
+    return Count([&](const Rgba& c) { return Near(c, color, tolerance); });
+  }
+
+ private:
+  std::unique_ptr<cairo_surface_t, void (*)(cairo_surface_t*)> surface_;
+};
+
+::testing::AssertionResult ColorNear(const Rgba& actual, const Rgba& expected, int tolerance = 1) {
+  if (Near(actual, expected, tolerance)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure()
+         << "got " << Describe(actual) << ", expected " << Describe(expected);
+}
+
+std::vector<std::string> FilesIn(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  return names;
+}
+
+bool HasTemporaryFile(const fs::path& dir) {
+  for (const std::string& name : FilesIn(dir)) {
+    if (name.starts_with(".") && name.find(".tmp-") != std::string::npos) return true;
+  }
+  return false;
+}
+
+const Rgba kWhite{255, 255, 255, 255};
+
+Box2 World(double x0, double y0, double x1, double y1) {
+  return Box2(Vec2(x0, y0), Vec2(x1, y1));
+}
+
+FigureOptions Options(int width, int max_height = 800) {
+  FigureOptions options;
+  options.width_px = width;
+  options.max_height_px = max_height;
+  return options;
+}
+
+// No axes and no padding: the world fills the figure but for small margins.
+FigureOptions Plain(int width = 400) {
+  FigureOptions options = Options(width, 1000);
+  options.axes = false;
+  options.padding_m = 0.0;
+  return options;
+}
+
+// --- Files -------------------------------------------------------------------------------------
+
+TEST(Figure, SavesPngSvgAndPdfWithTheirSignatures) {
+  const TempDir dir;
+  FigureOptions options;
+  options.title = "formats";
+  Figure figure(World(0, 0, 4, 3), options);
+  figure.Line({0, 0}, {4, 3}, {});
+  figure.Save(dir / "f.png");
+  figure.Save(dir / "f.svg");
+  figure.Save(dir / "f.pdf");
+  const std::string png = ReadAll(dir / "f.png");
+  const std::string svg = ReadAll(dir / "f.svg");
+  const std::string pdf = ReadAll(dir / "f.pdf");
+  EXPECT_TRUE(png.starts_with("\x89PNG\r\n\x1a\n"));
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_TRUE(pdf.starts_with("%PDF"));
+  EXPECT_FALSE(HasTemporaryFile(dir.path()));
+}
+
+TEST(Figure, PngHasTheFiguresPixelSize) {
+  const TempDir dir;
+  for (const Box2& world : {World(0, 0, 10, 5), World(-1, -8, 1, 8), World(0, 0, 3, 3)}) {
+    Figure figure(world, Options(500, 420));
+    EXPECT_EQ(figure.width_px(), 500);
+    EXPECT_LE(figure.height_px(), 420);
+    figure.Save(dir / "size.png");
+    const PngImage image(dir / "size.png");
+    ASSERT_TRUE(image.ok());
+    EXPECT_EQ(image.width(), figure.width_px());
+    EXPECT_EQ(image.height(), figure.height_px());
+  }
+}
+
+TEST(Figure, HeightFollowsTheWorldsAspectRatio) {
+  const Figure wide(World(0, 0, 20, 2), Plain(600));
+  const Figure square(World(0, 0, 5, 5), Plain(600));
+  EXPECT_LT(wide.height_px(), square.height_px());
+  // Without axes the margins are small: a square world gives a nearly square figure.
+  EXPECT_NEAR(square.height_px(), square.width_px(), 40);
+}
+
+TEST(Figure, SavingOverAnExistingFileReplacesIt) {
+  const TempDir dir;
+  WriteAll(dir / "old.svg", "not a figure");
+  Figure figure(World(0, 0, 1, 1));
+  figure.Save(dir / "old.svg");
+  EXPECT_NE(ReadAll(dir / "old.svg").find("<svg"), std::string::npos);
+  EXPECT_EQ(FilesIn(dir.path()).size(), 1u);
+}
+
+TEST(Figure, UnsupportedExtensionThrowsIoErrorAndWritesNothing) {
+  const TempDir dir;
+  const Figure figure(World(0, 0, 1, 1));
+  EXPECT_THROW(figure.Save(dir / "figure.bmp"), IoError);
+  EXPECT_THROW(figure.Save(dir / "figure"), IoError);
+  EXPECT_THROW(figure.Save(dir / "figure.PNG.txt"), IoError);
+  EXPECT_TRUE(FilesIn(dir.path()).empty());
+}
+
+TEST(Figure, SavingIntoAMissingDirectoryThrowsIoError) {
+  const TempDir dir;
+  const Figure figure(World(0, 0, 1, 1));
+  for (const char* name : {"f.png", "f.svg", "f.pdf"}) {
+    EXPECT_THROW(figure.Save(dir / "missing" / name), IoError) << name;
+  }
+  EXPECT_TRUE(FilesIn(dir.path()).empty());
+}
+
+// The write succeeds into the temporary file, then renaming it over a directory fails.
+TEST(Figure, FailedSaveLeavesNoTemporaryFileAndKeepsTheTarget) {
+  const TempDir dir;
+  const Figure figure(World(0, 0, 1, 1));
+  for (const char* name : {"f.png", "f.svg", "f.pdf"}) {
+    fs::create_directory(dir / name);
+    WriteAll(dir / name / "keep.txt", "kept");
+    EXPECT_THROW(figure.Save(dir / name), IoError) << name;
+    EXPECT_FALSE(HasTemporaryFile(dir.path())) << name;
+    EXPECT_EQ(ReadAll(dir / name / "keep.txt"), "kept");
+  }
+  EXPECT_EQ(FilesIn(dir.path()).size(), 3u);
+}
+
+TEST(Figure, SupportedFigurePathsArePngSvgAndPdf) {
+  EXPECT_TRUE(IsSupportedFigurePath("a/b.png"));
+  EXPECT_TRUE(IsSupportedFigurePath("b.svg"));
+  EXPECT_TRUE(IsSupportedFigurePath("b.pdf"));
+  EXPECT_FALSE(IsSupportedFigurePath("b.jpg"));
+  EXPECT_FALSE(IsSupportedFigurePath("b"));
+  EXPECT_FALSE(IsSupportedFigurePath("png"));
+}
+
+// --- Geometry ----------------------------------------------------------------------------------
+
+TEST(Figure, WorldIsDrawnWithEqualAspectAndYUp) {
+  const Figure figure(World(-2, 1, 8, 6), Options(700, 700));
+  const Vec2 lower_left = figure.ToDevice({-2, 1});
+  const Vec2 lower_right = figure.ToDevice({8, 1});
+  const Vec2 upper_left = figure.ToDevice({-2, 6});
+  const Vec2 upper_right = figure.ToDevice({8, 6});
+  // x to the right, y up (device y grows downwards).
+  EXPECT_GT(lower_right.x(), lower_left.x());
+  EXPECT_LT(upper_left.y(), lower_left.y());
+  EXPECT_DOUBLE_EQ(lower_left.x(), upper_left.x());
+  EXPECT_DOUBLE_EQ(lower_left.y(), lower_right.y());
+  // The same number of pixels per metre along both axes.
+  const double x_scale = (lower_right.x() - lower_left.x()) / 10.0;
+  const double y_scale = (lower_left.y() - upper_left.y()) / 5.0;
+  EXPECT_GT(x_scale, 0.0);
+  EXPECT_NEAR(x_scale, y_scale, 1e-9 * x_scale);
+  // The world lies inside the figure.
+  for (const Vec2& corner : {lower_left, lower_right, upper_left, upper_right}) {
+    EXPECT_GE(corner.x(), 0.0);
+    EXPECT_LE(corner.x(), figure.width_px());
+    EXPECT_GE(corner.y(), 0.0);
+    EXPECT_LE(corner.y(), figure.height_px());
+  }
+}
+
+TEST(Figure, WorldUpIsImageUp) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 4, 4), Plain());
+  const Color red{1.0, 0.0, 0.0};
+  figure.FilledPolygon(Polygon{{{0.0, 2.0}, {4.0, 2.0}, {4.0, 4.0}, {0.0, 4.0}}}, red);  // y > 2
+  figure.Save(dir / "up.png");
+  const PngImage image(dir / "up.png");
+  ASSERT_TRUE(image.ok());
+  const Vec2 top = figure.ToDevice({2.0, 3.5});
+  const Vec2 bottom = figure.ToDevice({2.0, 0.5});
+  EXPECT_LT(top.y(), bottom.y());
+  EXPECT_TRUE(ColorNear(image.At(top), ToRgba(red)));
+  EXPECT_TRUE(ColorNear(image.At(bottom), kWhite));
+}
+
+// --- Pixels ------------------------------------------------------------------------------------
+
+TEST(Figure, FilledPolygonInteriorHasTheFillColour) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 10, 6), Options(500));
+  const Color fill{0.8, 0.1, 0.3};
+  figure.FilledPolygon(Polygon{{{2.0, 1.0}, {6.0, 1.0}, {4.0, 5.0}}}, fill,
+                       {palette::kBlack, 2.0, {}});
+  figure.Save(dir / "polygon.png");
+  const PngImage image(dir / "polygon.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({4.0, 2.5})), ToRgba(fill)));
+  // Outside the triangle (but inside the world) the background stays white.
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({8.0, 4.0})), kWhite));
+  // The outline is drawn on the edge.
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({4.0, 1.0})), (Rgba{0, 0, 0, 255})));
+}
+
+TEST(Figure, TranslucentFillIsBlendedOverWhite) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 2, 2), Plain(200));
+  figure.FilledPolygon(Polygon{{{0.0, 0.0}, {2.0, 0.0}, {2.0, 2.0}, {0.0, 2.0}}},
+                       Color{0.0, 0.0, 1.0, 0.5});
+  figure.Save(dir / "alpha.png");
+  const PngImage image(dir / "alpha.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.0, 1.0})), Rgba{128, 128, 255, 255}, 2));
+}
+
+TEST(Figure, HeatMapCellHasItsColormapColour) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 6, 4), Plain());
+  Eigen::MatrixXd values(2, 3);
+  values << 0.0, 1.0, 2.0,  //
+      3.0, 4.0, 5.0;
+  figure.HeatMap(values, World(0, 0, 6, 4), Colormap::kViridis, 0.0, 5.0);
+  figure.Save(dir / "heat.png");
+  const PngImage image(dir / "heat.png");
+  ASSERT_TRUE(image.ok());
+  for (int iy = 0; iy < 2; ++iy) {
+    for (int ix = 0; ix < 3; ++ix) {
+      const Vec2 centre(2.0 * ix + 1.0, 2.0 * iy + 1.0);
+      const Color expected = MapColor(Colormap::kViridis, values(iy, ix) / 5.0);
+      EXPECT_TRUE(ColorNear(image.At(figure.ToDevice(centre)), ToRgba(expected)))
+          << "cell (" << iy << ", " << ix << ")";
+    }
+  }
+}
+
+TEST(Figure, HeatMapRowZeroIsAtTheBottom) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 2, 2), Plain());
+  Eigen::MatrixXd values(2, 1);
+  values << 1.0,  // row 0: black in the occupancy map
+      0.0;        // row 1: white
+  figure.HeatMap(values, World(0, 0, 2, 2), Colormap::kOccupancy, 0.0, 1.0);
+  figure.Save(dir / "rows.png");
+  const PngImage image(dir / "rows.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.0, 0.5})), (Rgba{0, 0, 0, 255})));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.0, 1.5})), kWhite));
+}
+
+TEST(Figure, HeatMapCoversOnlyItsExtent) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 4, 4), Plain());
+  const Eigen::MatrixXd values = Eigen::MatrixXd::Ones(3, 3);
+  figure.HeatMap(values, World(1, 1, 3, 3), Colormap::kOccupancy, 0.0, 1.0);
+  figure.Save(dir / "extent.png");
+  const PngImage image(dir / "extent.png");
+  ASSERT_TRUE(image.ok());
+  const Rgba black{0, 0, 0, 255};
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.1, 1.1})), black));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2.9, 2.9})), black));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({0.9, 2.0})), kWhite));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2.0, 3.1})), kWhite));
+}
+
+TEST(Figure, HeatMapNanCellsAreLeftWhite) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 2, 2), Plain());
+  Eigen::MatrixXd values(2, 2);
+  values << kNaN, 1.0,  //
+      0.5, kNaN;
+  figure.HeatMap(values, World(0, 0, 2, 2), Colormap::kViridis, 0.0, 1.0);
+  figure.Save(dir / "nan.png");
+  const PngImage image(dir / "nan.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({0.5, 0.5})), kWhite));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.5, 1.5})), kWhite));
+  EXPECT_TRUE(
+      ColorNear(image.At(figure.ToDevice({1.5, 0.5})), ToRgba(MapColor(Colormap::kViridis, 1.0))));
+  EXPECT_TRUE(
+      ColorNear(image.At(figure.ToDevice({0.5, 1.5})), ToRgba(MapColor(Colormap::kViridis, 0.5))));
+}
+
+TEST(Figure, HeatMapPreconditions) {
+  Figure figure(World(0, 0, 1, 1));
+  EXPECT_THROW(figure.HeatMap(Eigen::MatrixXd(0, 0), World(0, 0, 1, 1), Colormap::kViridis, 0, 1),
+               ContractError);
+  EXPECT_THROW(
+      figure.HeatMap(Eigen::MatrixXd::Zero(2, 2), World(0, 0, 1, 1), Colormap::kViridis, 1, 1),
+      ContractError);
+}
+
+TEST(Figure, ColorbarIsDrawnRightOfThePlot) {
+  const TempDir dir;
+  FigureOptions options = Options(500);
+  options.axes = false;
+  options.colorbar = true;
+  Figure figure(World(0, 0, 4, 4), options);
+  const Eigen::MatrixXd values = Eigen::MatrixXd::Zero(1, 1);
+  figure.HeatMap(values, World(0, 0, 4, 4), Colormap::kViridis, 0.0, 1.0, "value");
+  figure.Save(dir / "colorbar.png");
+  const PngImage image(dir / "colorbar.png");
+  ASSERT_TRUE(image.ok());
+  // The top of the bar is the colormap's high end, which appears nowhere in the heat map.
+  const Rgba high = ToRgba(MapColor(Colormap::kViridis, 0.995));
+  int right_of_plot = 0;
+  const int plot_right = static_cast<int>(std::ceil(figure.ToDevice({4.0, 0.0}).x()));
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = plot_right + 1; x < image.width(); ++x)
+      right_of_plot += Near(image.At(x, y), high, 3);
+  }
+  EXPECT_GT(right_of_plot, 0);
+}
+
+TEST(Figure, PointsAndLinesUseTheirColours) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 4, 4), Plain());
+  const Color green{0.0, 0.8, 0.0}, magenta{1.0, 0.0, 1.0};
+  const std::vector<Vec2> points = {{1.0, 1.0}, {3.0, 3.0}};
+  figure.Points(points, green, 4.0);
+  figure.Line({0.0, 2.0}, {4.0, 2.0}, {magenta, 3.0, {}});
+  figure.Save(dir / "points.png");
+  const PngImage image(dir / "points.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.0, 1.0})), ToRgba(green)));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({3.0, 3.0})), ToRgba(green)));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2.0, 2.0}) + Vec2(0.5, 0.0)), ToRgba(magenta)));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2.0, 3.0})), kWhite));
+}
+
+// --- Contracts ---------------------------------------------------------------------------------
+
+TEST(Figure, CovarianceEllipseWithANonPsdMatrixIsAContractError) {
+  Figure figure(World(0, 0, 1, 1));
+  Mat2 indefinite;
+  indefinite << 1.0, 0.0, 0.0, -0.5;
+  EXPECT_THROW(figure.CovarianceEllipse({0.5, 0.5}, indefinite, 2.0, {}), ContractError);
+  Mat2 nan_matrix = Mat2::Constant(kNaN);
+  EXPECT_THROW(figure.CovarianceEllipse({0.5, 0.5}, nan_matrix, 2.0, {}), ContractError);
+  // Positive semi-definite (a degenerate ellipse) is accepted.
+  Mat2 singular;
+  singular << 0.04, 0.0, 0.0, 0.0;
+  EXPECT_NO_THROW(figure.CovarianceEllipse({0.5, 0.5}, singular, 2.0, {}));
+}
+
+TEST(Figure, CovarianceEllipsePassesThroughTheNSigmaPoints) {
+  const TempDir dir;
+  Figure figure(World(-2, -2, 2, 2), Plain());
+  Mat2 covariance;
+  covariance << 0.25, 0.0, 0.0, 1.0;  // sigma_x = 0.5, sigma_y = 1
+  const Color red{1.0, 0.0, 0.0};
+  figure.CovarianceEllipse({0.0, 0.0}, covariance, 1.5, {red, 3.0, {}});
+  figure.Save(dir / "ellipse.png");
+  const PngImage image(dir / "ellipse.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({0.75, 0.0})), ToRgba(red)));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({0.0, 1.5})), ToRgba(red)));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({0.0, 0.0})), kWhite));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.5, 0.0})), kWhite));
+}
+
+TEST(Figure, EmptyOrNonFiniteWorldIsAContractError) {
+  EXPECT_THROW(Figure{Box2()}, ContractError);
+  EXPECT_THROW(Figure{World(0, 0, kNaN, 1)}, ContractError);
+  EXPECT_THROW(Figure{World(0, 0, std::numeric_limits<double>::infinity(), 1)}, ContractError);
+}
+
+// --- Scene drawing -----------------------------------------------------------------------------
+
+Scan SimulatedScan(const Scene& scene, double outlier_probability = 0.0) {
+  RangeSensor sensor = *RangeSensor::Preset("utm30");
+  sensor.outlier_probability = outlier_probability;
+  Rng rng(7);
+  return SimulateScan(SceneRayCaster(scene), sensor, *scene.default_pose, rng);
+}
+
+TEST(SceneDrawing, ScanFigureHasTheRequestedSizeAndShowsTheReadings) {
+  const TempDir dir;
+  const Scene scene = *BuiltinScene("l-room");
+  const Scan scan = SimulatedScan(scene);
+  Box2 bounds = scene.Bounds();
+  bounds.extend(ScanBounds(scan));
+  FigureOptions options = Options(640, 640);
+  options.title = "l-room";
+  Figure figure(bounds, options);
+  DrawScene(figure, scene);
+  DrawScan(figure, scan);
+  EXPECT_EQ(figure.width_px(), 640);
+  EXPECT_LE(figure.height_px(), 640);
+  EXPECT_GE(figure.height_px(), 500);  // the l-room is square
+  figure.Save(dir / "scan.png");
+  const PngImage image(dir / "scan.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_EQ(image.width(), 640);
+  EXPECT_EQ(image.height(), figure.height_px());
+  EXPECT_GT(image.Count(ToRgba(ScanStyle{}.valid)), 100);
+  EXPECT_GT(image.Count(ToRgba(palette::kYellow)), 10);  // the pose marker
+}
+
+TEST(SceneDrawing, OutliersAreDrawnInTheOutlierColour) {
+  const TempDir dir;
+  const Scene scene = *BuiltinScene("square");
+  const Scan clean = SimulatedScan(scene);
+  const Scan noisy = SimulatedScan(scene, 0.3);
+  for (const auto* scan : {&clean, &noisy}) {
+    Figure figure(scene.Bounds(), Options(400, 400));
+    DrawScan(figure, *scan);
+    figure.Save(dir / "outliers.png");
+    const PngImage image(dir / "outliers.png");
+    ASSERT_TRUE(image.ok());
+    const int outlier_pixels = image.Count(ToRgba(ScanStyle{}.outlier));
+    if (scan == &clean) {
+      EXPECT_EQ(outlier_pixels, 0);
+    } else {
+      EXPECT_GT(outlier_pixels, 50);
+    }
+  }
+}
+
+TEST(SceneDrawing, LogFigureHasTheRequestedSize) {
+  const TempDir dir;
+  const Scene scene = *BuiltinScene("corridor");
+  const RangeSensor sensor = *RangeSensor::Preset("lms200");
+  const Log log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, 2.0, 2.0), 3);
+  ASSERT_GT(log.scans.size(), 10u);
+  const Box2 bounds = LogBounds(log);
+  for (const Scan& scan : log.scans) EXPECT_TRUE(bounds.contains(scan.pose.translation()));
+  Figure figure(bounds, Options(800, 800));
+  DrawScene(figure, scene);
+  DrawLog(figure, log, 2);
+  EXPECT_EQ(figure.width_px(), 800);
+  // The corridor is ten times longer than wide (plus padding): a short, wide figure.
+  EXPECT_LT(figure.height_px(), 300);
+  figure.Save(dir / "log.png");
+  const PngImage image(dir / "log.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_EQ(image.width(), figure.width_px());
+  EXPECT_EQ(image.height(), figure.height_px());
+  // The trajectory, a thin vermillion line (anti-aliased, so reddish rather than exact).
+  EXPECT_GT(image.Count([](const Rgba& c) { return c.r - c.b > 100 && c.g < c.r; }), 100);
+}
+
+TEST(SceneDrawing, ScanBoundsContainThePoseAndEveryValidReading) {
+  const Scene scene = *BuiltinScene("l-room");
+  const Scan scan = SimulatedScan(scene);
+  const Box2 bounds = ScanBounds(scan);
+  EXPECT_TRUE(bounds.contains(scan.pose.translation()));
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.IsValid(i)) {
+      EXPECT_TRUE(bounds.contains(scan.PointInWorld(i))) << i;
+    }
+  }
+  // ...and nothing much more: the l-room's walls span 6 m.
+  EXPECT_LT(bounds.sizes().maxCoeff(), 6.1);
+}
+
+// --- Colours -----------------------------------------------------------------------------------
+
+TEST(MapColor, ViridisEndpointsAreMatplotlibs) {
+  const Color low = MapColor(Colormap::kViridis, 0.0);
+  const Color high = MapColor(Colormap::kViridis, 1.0);
+  EXPECT_NEAR(low.r, 0.267004, 1e-6);
+  EXPECT_NEAR(low.g, 0.004874, 1e-6);
+  EXPECT_NEAR(low.b, 0.329415, 1e-6);
+  EXPECT_NEAR(high.r, 0.993248, 1e-6);
+  EXPECT_NEAR(high.g, 0.906157, 1e-6);
+  EXPECT_NEAR(high.b, 0.143936, 1e-6);
+  EXPECT_EQ(low.a, 1.0);
+  EXPECT_EQ(high.a, 1.0);
+}
+
+TEST(MapColor, OccupancyGoesFromWhiteToBlack) {
+  const Color free = MapColor(Colormap::kOccupancy, 0.0);
+  const Color occupied = MapColor(Colormap::kOccupancy, 1.0);
+  const Color half = MapColor(Colormap::kOccupancy, 0.5);
+  EXPECT_EQ(ToRgba(free).r + ToRgba(free).g + ToRgba(free).b, 3 * 255);
+  EXPECT_EQ(ToRgba(occupied).r + ToRgba(occupied).g + ToRgba(occupied).b, 0);
+  EXPECT_NEAR(half.r, 0.5, 1e-12);
+  EXPECT_EQ(free.a, 1.0);
+  EXPECT_EQ(occupied.a, 1.0);
+}
+
+TEST(MapColor, OutOfRangeValuesAreClampedAndNanIsTransparent) {
+  for (Colormap map : {Colormap::kViridis, Colormap::kOccupancy}) {
+    EXPECT_TRUE(ColorNear(ToRgba(MapColor(map, -3.0)), ToRgba(MapColor(map, 0.0))));
+    EXPECT_TRUE(ColorNear(ToRgba(MapColor(map, 7.0)), ToRgba(MapColor(map, 1.0))));
+    EXPECT_EQ(MapColor(map, kNaN).a, 0.0);
+  }
+}
+
+TEST(MapColor, ViridisGetsBrighterAlongTheMap) {
+  double previous = -1.0;
+  for (int i = 0; i <= 20; ++i) {
+    const Color c = MapColor(Colormap::kViridis, i / 20.0);
+    const double luminance = 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
+    EXPECT_GT(luminance, previous) << i;
+    previous = luminance;
+  }
+}
+
+TEST(Color, FromHexReadsRgbAndRgba) {
+  const Color orange = Color::FromHex("#ff8000");
+  EXPECT_DOUBLE_EQ(orange.r, 1.0);
+  EXPECT_DOUBLE_EQ(orange.g, 128.0 / 255.0);
+  EXPECT_DOUBLE_EQ(orange.b, 0.0);
+  EXPECT_DOUBLE_EQ(orange.a, 1.0);
+  const Color translucent = Color::FromHex("#0A0b0C80");
+  EXPECT_DOUBLE_EQ(translucent.r, 10.0 / 255.0);
+  EXPECT_DOUBLE_EQ(translucent.g, 11.0 / 255.0);
+  EXPECT_DOUBLE_EQ(translucent.b, 12.0 / 255.0);
+  EXPECT_DOUBLE_EQ(translucent.a, 128.0 / 255.0);
+}
+
+TEST(Color, FromHexGivesBlackForAnythingElse) {
+  for (const char* text : {"", "#", "ff8000", "#ff800", "#ff80000", "#ff8000801", "#ffgg00",
+                           "#12345z", "#+f0000", "#-10000", " #ff8000", "#ff 000", "#0x1000"}) {
+    const Color c = Color::FromHex(text);
+    EXPECT_TRUE(c.r == 0.0 && c.g == 0.0 && c.b == 0.0 && c.a == 1.0) << "'" << text << "'";
+  }
+}
+
+TEST(Color, WithAlphaKeepsTheColour) {
+  const Color c = palette::kBlue.WithAlpha(0.25);
+  EXPECT_EQ(c.r, palette::kBlue.r);
+  EXPECT_EQ(c.g, palette::kBlue.g);
+  EXPECT_EQ(c.b, palette::kBlue.b);
+  EXPECT_EQ(c.a, 0.25);
+}
+
+TEST(Palette, CategoricalCyclesThroughDistinctColours) {
+  for (int i = 0; i < 7; ++i) {
+    for (int j = i + 1; j < 7; ++j) {
+      EXPECT_FALSE(Near(ToRgba(palette::Categorical(i)), ToRgba(palette::Categorical(j)), 0))
+          << i << " " << j;
+    }
+    EXPECT_TRUE(ColorNear(ToRgba(palette::Categorical(i + 7)), ToRgba(palette::Categorical(i))));
+    EXPECT_TRUE(ColorNear(ToRgba(palette::Categorical(i - 7)), ToRgba(palette::Categorical(i))));
+  }
+}
+
+}  // namespace
+}  // namespace priormap::render

@@ -23,13 +23,17 @@ struct LineStyle {
   std::vector<double> dash_px{};  ///< empty: solid
 };
 
+/// Where the legend goes: in a row under the plot (covers nothing), or in a box inside a corner.
+enum class LegendPlace { kBelow, kTopLeft, kTopRight, kBottomLeft, kBottomRight };
+
 struct FigureOptions {
   int width_px = 800;       ///< total width, including margins
   int max_height_px = 800;  ///< the height follows the world's aspect ratio, up to this
-  std::string title;
+  std::string title{};
   bool axes = true;          ///< metre ticks along the left and bottom edges
   bool colorbar = false;     ///< reserve room on the right for a heat map's colour bar
   double padding_m = 0.25;   ///< added around the world box
+  LegendPlace legend = LegendPlace::kBelow;
 };
 
 class Figure {
@@ -63,7 +67,7 @@ class Figure {
   /// With FigureOptions::colorbar, draws a colour bar labelled `label`.
   void HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap colormap, double vmin,
                double vmax, const std::string& label = "");
-  /// A legend entry (drawn in the top-left corner when saving).
+  /// A legend entry (drawn where FigureOptions::legend says, when saving).
   void AddLegend(const std::string& label, const Color& color);
 
   /// Writes PNG, SVG or PDF according to the extension, atomically. Throws IoError.

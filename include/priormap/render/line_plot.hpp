@@ -14,7 +14,7 @@ namespace priormap::render {
 struct Series {
   std::vector<double> x{};
   std::vector<double> y{};  ///< same size as x; NaN breaks the line
-  std::string label;      ///< empty: not in the legend
+  std::string label{};    ///< empty: not in the legend
   std::optional<Color> color{};  ///< default: the palette colour of the series' index
   double width_px = 1.5;
   bool markers = false;  ///< draw a dot at each point, no line
@@ -24,9 +24,9 @@ struct Series {
 struct LinePlotOptions {
   int width_px = 800;
   int height_px = 450;
-  std::string title;
-  std::string x_label;
-  std::string y_label;
+  std::string title{};
+  std::string x_label{};
+  std::string y_label{};
   std::optional<std::pair<double, double>> x_range{};  ///< default: the data's
   std::optional<std::pair<double, double>> y_range{};
 };
