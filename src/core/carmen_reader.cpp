@@ -10,6 +10,7 @@
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/file_io.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -39,7 +40,8 @@ std::vector<Token> Tokenize(std::string_view line) {
 }
 
 std::optional<double> ParseDouble(std::string_view text) {
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  // from_chars takes no '+' sign; accept one, but not "+-1".
+  if (text.size() > 1 && text.front() == '+' && text[1] != '-' && text[1] != '+') text.remove_prefix(1);
   double value = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
@@ -68,14 +70,14 @@ class FieldReader {
   double Number(std::string_view what) {
     const Token& t = Take(what);
     if (const auto v = ParseDouble(t.text)) return *v;
-    return Fail(t.col, fmt::format("expected {} (a number), got '{}'", what, t.text));
+    return Fail(t.col, fmt::format("expected {} (a number), got {}", what, QuoteForMessage(t.text)));
   }
 
   double FiniteNumber(std::string_view what) {
     const std::size_t index = next_;
     const double v = Number(what);
     if (!std::isfinite(v)) {
-      Fail(tokens_[index].col, fmt::format("{} must be finite, got '{}'", what, tokens_[index].text));
+      Fail(tokens_[index].col, fmt::format("{} must be finite, got {}", what, QuoteForMessage(tokens_[index].text)));
     }
     return v;
   }
@@ -85,7 +87,7 @@ class FieldReader {
     const Token& t = Take(what);
     const auto v = ParseInteger(t.text);
     if (!v || *v < 0) {
-      Fail(t.col, fmt::format("expected {} (a non-negative integer), got '{}'", what, t.text));
+      Fail(t.col, fmt::format("expected {} (a non-negative integer), got {}", what, QuoteForMessage(t.text)));
     }
     const std::size_t available = remaining();
     if (available < fields_after || static_cast<unsigned long long>(*v) > available - fields_after) {
@@ -99,7 +101,7 @@ class FieldReader {
     const Token& t = Take(what);
     const auto v = ParseInteger(t.text);
     if (!v || *v < std::numeric_limits<int>::min() || *v > std::numeric_limits<int>::max()) {
-      Fail(t.col, fmt::format("expected {} (an integer), got '{}'", what, t.text));
+      Fail(t.col, fmt::format("expected {} (an integer), got {}", what, QuoteForMessage(t.text)));
     }
     return static_cast<int>(*v);
   }
@@ -131,8 +133,8 @@ class FieldReader {
   void End() {
     if (remaining() > 0) {
       Fail(tokens_[next_].col,
-           fmt::format("unexpected extra field '{}' at the end of the {} record",
-                       tokens_[next_].text, record_));
+           fmt::format("unexpected extra field {} at the end of the {} record",
+                       QuoteForMessage(tokens_[next_].text), record_));
     }
   }
 
@@ -180,7 +182,10 @@ class CarmenParser {
     while (start < text.size() && !TooManyErrors()) {
       std::size_t end = text.find('\n', start);
       if (end == std::string_view::npos) end = text.size();
-      ParseLine(text.substr(start, end - start), ++line_number);
+      std::string_view line = text.substr(start, end - start);
+      // CRLF files: without the '\r', columns past the end of a line match what editors show.
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      ParseLine(line, ++line_number);
       start = end + 1;
     }
     if (!diagnostics_.empty()) return diagnostics_;
@@ -194,8 +199,10 @@ class CarmenParser {
   }
 
  private:
+  // At least one diagnostic is always allowed: with max_diagnostics <= 0 nothing would be read
+  // and a valid log would be reported as having no records.
   bool TooManyErrors() const {
-    return static_cast<int>(diagnostics_.size()) >= options_.max_diagnostics;
+    return static_cast<int>(diagnostics_.size()) >= std::max(options_.max_diagnostics, 1);
   }
 
   void ParseLine(std::string_view line, int line_number) {
@@ -235,7 +242,21 @@ class CarmenParser {
   }
 
   void ParseOldLaser(FieldReader& fields, std::string_view type) {
+    const int count_col = fields.next_col();
     const long long n = fields.Count("the number of readings", 6, "6 pose values");
+    // The readings and the two poses are followed by all three timestamp fields or by none. Any
+    // other number of fields means the count disagrees with the line (a reading missing or
+    // extra, a truncated tail); parsing on would report that far from its cause, e.g. a host
+    // name where a timestamp was expected.
+    const std::size_t after = fields.remaining();
+    const std::size_t expected = static_cast<std::size_t>(n) + 6;
+    if (after != expected && after != expected + 3) {
+      fields.Fail(count_col,
+                  fmt::format("the number of readings is {}, but {} fields follow it (expected {} "
+                              "values, then 6 pose values and optionally ipc_timestamp host "
+                              "logger_timestamp: {} or {} fields)",
+                              n, after, n, expected, expected + 3));
+    }
     Scan scan;
     scan.channel = std::string(type);
     scan.ranges = Readings(fields, n);
@@ -263,11 +284,19 @@ class CarmenParser {
     if (n > 1 && !(resolution > 0.0)) {
       fields.Fail(resolution_col, fmt::format("angular_resolution must be positive, got {}", resolution));
     }
-    scan.ranges = Readings(fields, n);
-    scan.angles.resize(scan.ranges.size());
+    scan.angles.resize(static_cast<std::size_t>(n));
     for (std::size_t i = 0; i < scan.angles.size(); ++i) {
       scan.angles[i] = start_angle + static_cast<double>(i) * resolution;
+      // A resolution below the spacing of doubles near start_angle, or one so large that the
+      // angles overflow, would give a scan whose angles do not increase.
+      if (!std::isfinite(scan.angles[i]) || (i > 0 && !(scan.angles[i] > scan.angles[i - 1]))) {
+        fields.Fail(resolution_col,
+                    fmt::format("start_angle {} and angular_resolution {} do not give {} "
+                                "increasing, finite beam angles",
+                                start_angle, resolution, n));
+      }
     }
+    scan.ranges = Readings(fields, n);
     const long long m =
         fields.Count("the number of remissions", 11, "6 pose values and 5 safety values");
     laser.remissions.resize(static_cast<std::size_t>(m));
@@ -329,16 +358,20 @@ class CarmenParser {
     log_.scans.push_back(std::move(scan));
   }
 
-  // Max range needs every reading of the log (sentinel detection), so statuses come last.
+  // Max range, per scan: the caller's; else the record's own (ROBOTLASER1 carries one); else
+  // the no-return sentinel detected among the scans without their own (FLASER/RLASER carry
+  // none); else none (+inf). Detection needs every reading, so statuses are set last.
   void FinishScans() {
-    std::vector<double> all;
-    for (const Scan& scan : log_.scans) all.insert(all.end(), scan.ranges.begin(), scan.ranges.end());
-    stats_.detected_max_range = DetectMaxRangeSentinel(all);
-    const std::optional<double> log_max_range =
-        options_.max_range ? options_.max_range : stats_.detected_max_range;
+    std::vector<double> readings;
+    for (std::size_t k = 0; k < log_.scans.size(); ++k) {
+      if (own_max_ranges_[k]) continue;
+      readings.insert(readings.end(), log_.scans[k].ranges.begin(), log_.scans[k].ranges.end());
+    }
+    stats_.detected_max_range = DetectMaxRangeSentinel(readings);
     for (std::size_t k = 0; k < log_.scans.size(); ++k) {
       Scan& scan = log_.scans[k];
-      scan.max_range = log_max_range.value_or(own_max_ranges_[k].value_or(kInf));
+      scan.max_range = options_.max_range.value_or(
+          own_max_ranges_[k].value_or(stats_.detected_max_range.value_or(kInf)));
       if (!(scan.max_range > scan.min_range)) scan.max_range = kInf;
       scan.ClassifyAll();
     }

@@ -9,10 +9,57 @@
 namespace priormap {
 namespace {
 
+// Which record a value belongs to, for error messages ("scan 3", "param 0").
+struct RecordName {
+  const char* kind;
+  std::size_t index;
+};
 
-// FLASER lines carry no angles: only scans with the reader's default angles can be one.
+// Values that a CARMEN line cannot hold are refused rather than written into a file that the
+// reader would reject or, worse, misread (a blank in a PARAM name, a line break in its value).
+void RequireFinite(double value, const char* field, RecordName record) {
+  if (!std::isfinite(value)) {
+    throw IoError(fmt::format("{} {} has {} {}, which a CARMEN log cannot hold (it must be finite)",
+                              record.kind, record.index, field, value));
+  }
+}
+
+void RequireFinite(const Se2& pose, const char* field, RecordName record) {
+  if (!pose.IsFinite()) {
+    throw IoError(fmt::format("{} {} has a non-finite {} ({}), which a CARMEN log cannot hold",
+                              record.kind, record.index, field, pose.ToString()));
+  }
+}
+
+void RequireWord(const std::string& value, const char* field, RecordName record) {
+  if (value.empty() || value.find_first_of(" \t\r\n") != std::string::npos) {
+    throw IoError(fmt::format("{} {} has {} '{}', which a CARMEN log cannot hold (it must be one "
+                              "word)", record.kind, record.index, field, value));
+  }
+}
+
+void RequireTimestamps(double timestamp, bool has_timestamps, const std::string& host,
+                       double logger_timestamp, RecordName record) {
+  if (!has_timestamps) return;
+  RequireFinite(timestamp, "timestamp", record);
+  RequireWord(host, "host", record);
+  RequireFinite(logger_timestamp, "logger_timestamp", record);
+}
+
+void RequireRecordTimestamps(double timestamp, const std::optional<CarmenRecordFields>& carmen,
+                             RecordName record) {
+  if (carmen) {
+    RequireTimestamps(timestamp, carmen->has_timestamps, carmen->host, carmen->logger_timestamp,
+                      record);
+  } else {
+    RequireFinite(timestamp, "timestamp", record);
+  }
+}
+
+// FLASER lines carry no angles: only scans with the reader's default angles can be one (an
+// empty scan included: "FLASER 0 ..." is read back as it was written).
 bool HasFlaserAngles(const Scan& scan) {
-  return scan.size() > 0 && FlaserBeamAngles(scan.size(), CarmenReadOptions{}.fov) == scan.angles;
+  return FlaserBeamAngles(scan.size(), CarmenReadOptions{}.fov) == scan.angles;
 }
 
 // start_angle and angular_resolution that reproduce the scan's angles as start + i * resolution.
@@ -24,13 +71,19 @@ std::pair<double, double> RobotLaserAngles(const Scan& scan, std::size_t scan_in
     for (std::size_t i = 0; i < n && same; ++i) {
       same = c.start_angle + static_cast<double>(i) * c.angular_resolution == scan.angles[i];
     }
-    if (same) return {c.start_angle, c.angular_resolution};
+    if (same && std::isfinite(c.start_angle) && std::isfinite(c.angular_resolution)) {
+      return {c.start_angle, c.angular_resolution};
+    }
   }
   if (n < 2) return {n == 1 ? scan.angles[0] : 0.0, 0.0};
   const double resolution = (scan.angles[n - 1] - scan.angles[0]) / static_cast<double>(n - 1);
+  if (!(resolution > 0.0)) {
+    throw IoError(fmt::format("scan {} has beam angles that do not increase, which a CARMEN log "
+                              "cannot represent", scan_index));
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const double expected = scan.angles[0] + static_cast<double>(i) * resolution;
-    if (std::abs(expected - scan.angles[i]) > 1e-9) {
+    if (!(std::abs(expected - scan.angles[i]) <= 1e-9)) {  // NaN angles are not evenly spaced
       throw IoError(fmt::format(
           "scan {} has unevenly spaced beam angles, which a CARMEN log cannot represent; "
           "write JSON instead", scan_index));
@@ -62,9 +115,19 @@ void AppendRecordTimestamps(std::string& out, double timestamp,
 }
 
 void AppendScan(std::string& out, const Scan& scan, std::size_t index) {
+  const RecordName record{"scan", index};
   const CarmenLaserFields carmen = scan.carmen.value_or(CarmenLaserFields{});
   const bool old_style = (scan.channel == "FLASER" || scan.channel == "RLASER") &&
                          scan.odom_pose.has_value() && HasFlaserAngles(scan);
+  RequireFinite(scan.pose, "pose", record);
+  if (old_style) RequireFinite(*scan.odom_pose, "odometry pose", record);
+  if (!old_style) RequireFinite(scan.robot_pose.value_or(scan.pose), "robot pose", record);
+  if (scan.carmen) {
+    RequireTimestamps(scan.timestamp, carmen.has_timestamps, carmen.host, carmen.logger_timestamp,
+                      record);
+  } else {
+    RequireFinite(scan.timestamp, "timestamp", record);
+  }
   if (old_style) {
     fmt::format_to(std::back_inserter(out), "{} {}", scan.channel, scan.size());
     AppendNumbers(out, scan.ranges);
@@ -72,7 +135,13 @@ void AppendScan(std::string& out, const Scan& scan, std::size_t index) {
     AppendPose(out, *scan.odom_pose);
   } else {
     const auto [start, resolution] = RobotLaserAngles(scan, index);
-    const double fov = carmen.fov != 0.0 ? carmen.fov : resolution * static_cast<double>(scan.size() - 1);
+    // A ROBOTLASER1 record's own field of view is written back as read (0 included); other
+    // scans get the span of their angles.
+    const bool own_fov = scan.carmen && (scan.channel == "ROBOTLASER1" || carmen.fov != 0.0);
+    const double fov = own_fov       ? carmen.fov
+                       : scan.size() > 1 ? resolution * static_cast<double>(scan.size() - 1)
+                                         : 0.0;
+    RequireFinite(fov, "field of view", record);
     fmt::format_to(std::back_inserter(out), "ROBOTLASER1 {} {} {} {} {} {} {} {}", carmen.laser_type,
                    start, fov, resolution, scan.max_range, carmen.accuracy, carmen.remission_mode,
                    scan.size());
@@ -103,6 +172,8 @@ std::string FormatCarmenLog(const Log& log) {
         break;
       case Log::RecordKind::kOdometry: {
         const OdometryRecord& r = log.odometry[ref.index];
+        RequireFinite(r.pose, "pose", {"odometry record", ref.index});
+        RequireRecordTimestamps(r.timestamp, r.carmen, {"odometry record", ref.index});
         out += "ODOM";
         AppendPose(out, r.pose);
         fmt::format_to(std::back_inserter(out), " {} {} {}", r.tv, r.rv, r.accel);
@@ -112,6 +183,9 @@ std::string FormatCarmenLog(const Log& log) {
       }
       case Log::RecordKind::kTruePose: {
         const TruePoseRecord& r = log.true_poses[ref.index];
+        RequireFinite(r.true_pose, "true pose", {"true pose record", ref.index});
+        RequireFinite(r.odom_pose, "odometry pose", {"true pose record", ref.index});
+        RequireRecordTimestamps(r.timestamp, r.carmen, {"true pose record", ref.index});
         out += "TRUEPOS";
         AppendPose(out, r.true_pose);
         AppendPose(out, r.odom_pose);
@@ -121,6 +195,11 @@ std::string FormatCarmenLog(const Log& log) {
       }
       case Log::RecordKind::kParam: {
         const auto& [name, value] = log.params[ref.index];
+        RequireWord(name, "name", {"param", ref.index});
+        if (value.find('\n') != std::string::npos) {
+          throw IoError(fmt::format("param {} ({}) has a line break in its value, which a CARMEN "
+                                    "log cannot hold", ref.index, name));
+        }
         fmt::format_to(std::back_inserter(out), "PARAM {}{}{}\n", name, value.empty() ? "" : " ", value);
         break;
       }

@@ -18,6 +18,23 @@ std::string Diagnostic::ToString() const {
   return fmt::format("{}: error: {}", where, message);
 }
 
+std::string QuoteForMessage(std::string_view text, std::size_t max_length) {
+  std::string out = "'";
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (i == max_length) {
+      out += "...";
+      break;
+    }
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      out += fmt::format("\\x{:02x}", c);
+    }
+  }
+  return out + "'";
+}
+
 std::string FormatDiagnostics(const std::vector<Diagnostic>& diagnostics) {
   std::string out;
   for (const Diagnostic& d : diagnostics) {

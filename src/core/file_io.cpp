@@ -54,8 +54,10 @@ void WriteFileAtomically(const fs::path& path,
   const fs::path directory = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::error_code ec;
   if (!fs::is_directory(directory, ec)) {
-    throw IoError(fmt::format("{}: cannot write: directory {} does not exist", path.string(),
-                              directory.string()));
+    if (fs::exists(directory, ec)) {
+      throw IoError(fmt::format("{}: cannot write: {} is not a directory", path.string(), directory.string()));
+    }
+    throw IoError(fmt::format("{}: cannot write: directory {} does not exist", path.string(), directory.string()));
   }
   const fs::path temporary = TemporarySibling(path);
   try {

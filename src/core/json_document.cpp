@@ -34,20 +34,25 @@ class JsonScanner {
   bool Descend(const std::string& token) {
     if (At('{')) {
       ++pos_;
+      // Of duplicate keys, nlohmann keeps the last: so must the search.
+      std::optional<std::size_t> found;
       for (;;) {
         SkipSpace();
-        if (!At('"')) return false;
+        if (!At('"')) break;
         const std::string key = ReadString();
         SkipSpace();
-        if (!At(':')) return false;
+        if (!At(':')) break;
         ++pos_;
         SkipSpace();
-        if (key == token) return true;
+        if (key == token) found = pos_;
         SkipValue();
         SkipSpace();
-        if (!At(',')) return false;
+        if (!At(',')) break;
         ++pos_;
       }
+      if (!found) return false;
+      pos_ = *found;
+      return true;
     }
     if (At('[')) {
       ++pos_;
@@ -143,6 +148,51 @@ std::string Describe(const Json& value) {
   }
 }
 
+// Where nlohmann's parser fails, found with its SAX interface, which reports the position of
+// every error.
+class ParseErrorLocator : public nlohmann::json_sax<Json> {
+ public:
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string& last_token,
+                   const Json::exception&) override {
+    // `position` is just past the offending token: point at its first character.
+    offset = position > last_token.size() ? position - last_token.size() : 0;
+    return false;
+  }
+  std::size_t offset = 0;
+};
+
+std::size_t LocateParseError(std::string_view text) {
+  ParseErrorLocator locator;
+  Json::sax_parse(text.begin(), text.end(), &locator);
+  return locator.offset;
+}
+
+// nlohmann's what() is "[json.exception.<kind>.<id>] " then, for syntax errors, "parse error at
+// line L, column C: ", then what went wrong (which may itself contain ": ").
+std::string NlohmannMessage(std::string message) {
+  if (message.rfind("[json.exception.", 0) == 0) {
+    if (const auto end = message.find("] "); end != std::string::npos) message.erase(0, end + 2);
+  }
+  if (message.rfind("parse error", 0) == 0) {
+    if (const auto colon = message.find(": "); colon != std::string::npos) {
+      message.erase(0, colon + 2);
+    }
+  }
+  return message;
+}
+
 }  // namespace
 
 std::optional<std::size_t> LocateJsonPointer(std::string_view text, const JsonPointer& pointer) {
@@ -150,19 +200,22 @@ std::optional<std::size_t> LocateJsonPointer(std::string_view text, const JsonPo
 }
 
 Result<JsonDocument> JsonDocument::Parse(std::string_view text, std::string name) {
+  std::size_t offset = 0;
+  std::string message;
   try {
     Json json = Json::parse(text.begin(), text.end());
     return JsonDocument(text, std::move(name), std::move(json));
   } catch (const Json::parse_error& e) {
     // e.byte is 1-based and points just past the offending character.
-    const std::size_t offset = e.byte > 0 ? e.byte - 1 : 0;
-    const TextPosition where = PositionOfOffset(text, offset);
-    std::string message = e.what();
-    if (const auto colon = message.rfind(": "); colon != std::string::npos) {
-      message = message.substr(colon + 2);  // drop nlohmann's "[json.exception...] parse error at line..."
-    }
-    return Diagnostic{name, where.line, where.col, "invalid JSON: " + message};
+    offset = e.byte > 0 ? e.byte - 1 : 0;
+    message = e.what();
+  } catch (const Json::exception& e) {
+    // Other errors of the parser (a number beyond the range of double) carry no position.
+    offset = LocateParseError(text);
+    message = e.what();
   }
+  const TextPosition where = PositionOfOffset(text, offset);
+  return Diagnostic{name, where.line, where.col, "invalid JSON: " + NlohmannMessage(message)};
 }
 
 Diagnostic JsonDocument::Diagnose(const JsonSchemaError& error) const {
@@ -233,6 +286,12 @@ long long Integer(const JsonNode& node, std::string_view what) {
   Fail(node, fmt::format("expected {} (an integer), got {}", what, Describe(v)));
 }
 
+long long IntegerInRange(const JsonNode& node, std::string_view what, long long lo, long long hi) {
+  const long long v = Integer(node, what);
+  if (v < lo || v > hi) Fail(node, fmt::format("expected {} in [{}, {}], got {}", what, lo, hi, v));
+  return v;
+}
+
 bool Boolean(const JsonNode& node, std::string_view what) {
   if (!node.value.is_boolean()) Fail(node, fmt::format("expected {} (true or false), got {}", what, Describe(node.value)));
   return node.value.get<bool>();
@@ -301,14 +360,18 @@ OrderedJson NumbersToJson(const std::vector<double>& values) {
 
 OrderedJson PoseToJson(const Se2& pose) { return {pose.x(), pose.y(), pose.theta()}; }
 
+std::string Dump(const OrderedJson& value, int indent) {
+  return value.dump(indent, ' ', false, OrderedJson::error_handler_t::replace);
+}
+
 std::string DumpOneMemberPerLine(const OrderedJson& object) {
   std::string out = "{";
   bool first = true;
   for (const auto& [key, value] : object.items()) {
     out += first ? "\n  " : ",\n  ";
-    out += OrderedJson(key).dump();
+    out += Dump(OrderedJson(key));
     out += ": ";
-    out += value.dump();
+    out += Dump(value);
     first = false;
   }
   out += "\n}\n";

@@ -61,6 +61,8 @@ std::size_t ArraySize(const JsonNode& node, std::string_view what);
 double Number(const JsonNode& node, std::string_view what);
 double FiniteNumber(const JsonNode& node, std::string_view what);
 long long Integer(const JsonNode& node, std::string_view what);
+/// An integer in [lo, hi], so that narrowing it afterwards loses nothing.
+long long IntegerInRange(const JsonNode& node, std::string_view what, long long lo, long long hi);
 bool Boolean(const JsonNode& node, std::string_view what);
 std::string String(const JsonNode& node, std::string_view what);
 std::vector<double> Numbers(const JsonNode& node, std::string_view what);
@@ -76,6 +78,10 @@ void RequireFormat(const JsonNode& root, std::string_view format, int version);
 OrderedJson NumberToJson(double value);
 OrderedJson NumbersToJson(const std::vector<double>& values);
 OrderedJson PoseToJson(const Se2& pose);
+
+/// `value` as JSON text. Strings that are not UTF-8 (e.g. Latin-1 PARAM values of old CARMEN
+/// logs) get U+FFFD for each bad byte instead of making the writer throw; indent < 0: one line.
+std::string Dump(const OrderedJson& value, int indent = -1);
 
 /// An object with one top-level member per line (arrays stay on one line): readable, diffable.
 std::string DumpOneMemberPerLine(const OrderedJson& object);

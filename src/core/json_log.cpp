@@ -2,6 +2,7 @@
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/json_io.hpp>
 
+#include <climits>
 #include <cmath>
 #include <limits>
 
@@ -41,28 +42,33 @@ std::optional<double> ExactAngleStep(const std::vector<double>& angles) {
   return std::nullopt;
 }
 
+// Scalars go through NumberToJson like the arrays: nlohmann would write an infinity as null,
+// which reads back as NaN (the CARMEN reader accepts any number in the velocity, accuracy and
+// safety fields).
 OrderedJson CarmenLaserToJson(const CarmenLaserFields& c) {
   OrderedJson j;
   j["has_timestamps"] = c.has_timestamps;
   j["host"] = c.host;
-  j["logger_timestamp"] = c.logger_timestamp;
+  j["logger_timestamp"] = detail::NumberToJson(c.logger_timestamp);
   j["laser_type"] = c.laser_type;
-  j["start_angle"] = c.start_angle;
-  j["fov"] = c.fov;
-  j["angular_resolution"] = c.angular_resolution;
-  j["accuracy"] = c.accuracy;
+  j["start_angle"] = detail::NumberToJson(c.start_angle);
+  j["fov"] = detail::NumberToJson(c.fov);
+  j["angular_resolution"] = detail::NumberToJson(c.angular_resolution);
+  j["accuracy"] = detail::NumberToJson(c.accuracy);
   j["remission_mode"] = c.remission_mode;
   j["remissions"] = detail::NumbersToJson(c.remissions);
-  j["tv"] = c.tv;
-  j["rv"] = c.rv;
-  j["forward_safety_dist"] = c.forward_safety_dist;
-  j["side_safety_dist"] = c.side_safety_dist;
-  j["turn_axis"] = c.turn_axis;
+  j["tv"] = detail::NumberToJson(c.tv);
+  j["rv"] = detail::NumberToJson(c.rv);
+  j["forward_safety_dist"] = detail::NumberToJson(c.forward_safety_dist);
+  j["side_safety_dist"] = detail::NumberToJson(c.side_safety_dist);
+  j["turn_axis"] = detail::NumberToJson(c.turn_axis);
   return j;
 }
 
 OrderedJson CarmenRecordToJson(const CarmenRecordFields& c) {
-  return {{"has_timestamps", c.has_timestamps}, {"host", c.host}, {"logger_timestamp", c.logger_timestamp}};
+  return {{"has_timestamps", c.has_timestamps},
+          {"host", c.host},
+          {"logger_timestamp", detail::NumberToJson(c.logger_timestamp)}};
 }
 
 bool StatusesAreDerivable(const Scan& scan) {
@@ -74,11 +80,11 @@ bool StatusesAreDerivable(const Scan& scan) {
 
 OrderedJson ScanToJson(const Scan& scan, OrderedJson j) {
   j["channel"] = scan.channel;
-  j["timestamp"] = scan.timestamp;
+  j["timestamp"] = detail::NumberToJson(scan.timestamp);
   j["pose"] = detail::PoseToJson(scan.pose);
   if (scan.robot_pose) j["robot_pose"] = detail::PoseToJson(*scan.robot_pose);
   if (scan.odom_pose) j["odom_pose"] = detail::PoseToJson(*scan.odom_pose);
-  j["min_range"] = scan.min_range;
+  j["min_range"] = detail::NumberToJson(scan.min_range);
   j["max_range"] = detail::NumberToJson(scan.max_range);
   if (const auto step = ExactAngleStep(scan.angles)) {
     j["angle_min"] = scan.angles.front();
@@ -133,10 +139,15 @@ std::vector<double> SizedNumbers(const JsonNode& object, const char* key, std::s
   return values;
 }
 
-std::vector<int> SizedInts(const JsonNode& object, const char* key, std::size_t n) {
+std::vector<int> SizedInts(const JsonNode& object, const char* key, std::size_t n, long long lo, long long hi) {
   const JsonNode node = detail::Member(object, key);
   const std::vector<long long> values = detail::Integers(node, fmt::format("\"{}\"", key));
   if (values.size() != n) detail::Fail(node, fmt::format("expected {} values in \"{}\", got {}", n, key, values.size()));
+  for (std::size_t i = 0; i < n; ++i) {
+    if (values[i] < lo || values[i] > hi) {
+      detail::Fail(detail::Element(node, i), fmt::format("expected values of \"{}\" in [{}, {}], got {}", key, lo, hi, values[i]));
+    }
+  }
   return {values.begin(), values.end()};
 }
 
@@ -175,12 +186,18 @@ SymmetricBandedMatrix ReadPrecision(const JsonNode& node, std::size_t n) {
   if (detail::ArraySize(bands, "precision bands") != static_cast<std::size_t>(bandwidth) + 1) {
     detail::Fail(bands, fmt::format("expected bandwidth + 1 = {} bands", bandwidth + 1));
   }
-  SymmetricBandedMatrix w(n, static_cast<std::size_t>(bandwidth));
-  for (std::size_t k = 0; k <= static_cast<std::size_t>(bandwidth); ++k) {
+  // Every band is read and checked before the (bandwidth + 1) x n matrix is allocated, so that
+  // its size is bounded by the document's: a short document with a large bandwidth must not
+  // make the reader allocate gigabytes.
+  std::vector<std::vector<double>> values(static_cast<std::size_t>(bandwidth) + 1);
+  for (std::size_t k = 0; k < values.size(); ++k) {
     const JsonNode row = detail::Element(bands, k);
-    const std::vector<double> values = detail::Numbers(row, "a precision band");
-    if (values.size() != n) detail::Fail(row, fmt::format("expected {} values in each precision band", n));
-    for (std::size_t j = 0; j + k < n; ++j) w.Set(j + k, j, values[j]);
+    values[k] = detail::Numbers(row, "a precision band");
+    if (values[k].size() != n) detail::Fail(row, fmt::format("expected {} values in each precision band", n));
+  }
+  SymmetricBandedMatrix w(n, static_cast<std::size_t>(bandwidth));
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    for (std::size_t j = 0; j + k < n; ++j) w.Set(j + k, j, values[k][j]);
   }
   return w;
 }
@@ -194,12 +211,12 @@ CarmenLaserFields ReadCarmenLaser(const JsonNode& node) {
   if (const auto n = detail::OptionalMember(node, "has_timestamps")) c.has_timestamps = detail::Boolean(*n, "has_timestamps");
   if (const auto n = detail::OptionalMember(node, "host")) c.host = detail::String(*n, "host");
   c.logger_timestamp = number("logger_timestamp", 0.0);
-  if (const auto n = detail::OptionalMember(node, "laser_type")) c.laser_type = static_cast<int>(detail::Integer(*n, "laser_type"));
+  if (const auto n = detail::OptionalMember(node, "laser_type")) c.laser_type = static_cast<int>(detail::IntegerInRange(*n, "laser_type", INT_MIN, INT_MAX));
   c.start_angle = number("start_angle", 0.0);
   c.fov = number("fov", 0.0);
   c.angular_resolution = number("angular_resolution", 0.0);
   c.accuracy = number("accuracy", 0.0);
-  if (const auto n = detail::OptionalMember(node, "remission_mode")) c.remission_mode = static_cast<int>(detail::Integer(*n, "remission_mode"));
+  if (const auto n = detail::OptionalMember(node, "remission_mode")) c.remission_mode = static_cast<int>(detail::IntegerInRange(*n, "remission_mode", INT_MIN, INT_MAX));
   if (const auto n = detail::OptionalMember(node, "remissions")) c.remissions = detail::Numbers(*n, "remissions");
   c.tv = number("tv", 0.0);
   c.rv = number("rv", 0.0);
@@ -254,10 +271,11 @@ Scan ReadScan(const JsonNode& node) {
     ScanTruth& truth = scan.truth.emplace();
     truth.range = SizedNumbers(node, "true_range", n);
     truth.alpha = SizedNumbers(node, "true_alpha", n);
-    truth.surface = SizedInts(node, "true_surface", n);
-    truth.region = SizedInts(node, "true_region", n);
+    constexpr long long kMaxId = std::numeric_limits<int>::max();
+    truth.surface = SizedInts(node, "true_surface", n, -1, kMaxId);
+    truth.region = SizedInts(node, "true_region", n, -1, kMaxId);
     if (detail::OptionalMember(node, "true_outlier")) {
-      const std::vector<int> outlier = SizedInts(node, "true_outlier", n);
+      const std::vector<int> outlier = SizedInts(node, "true_outlier", n, 0, 1);
       truth.outlier.assign(outlier.begin(), outlier.end());
     } else {
       truth.outlier.assign(n, 0);
@@ -347,7 +365,7 @@ std::string FormatJsonScan(const Scan& scan) {
 std::string FormatJsonLog(const Log& log) {
   OrderedJson header = DocumentHeader("priormap.log");
   header["pose_source"] = ToString(log.pose_source);
-  std::string out = header.dump();
+  std::string out = detail::Dump(header);
   out.pop_back();  // reopen the object to stream the records one per line
   out += ",\"records\":[";
   bool first = true;
@@ -359,14 +377,18 @@ std::string FormatJsonLog(const Log& log) {
         break;
       case Log::RecordKind::kOdometry: {
         const OdometryRecord& r = log.odometry[ref.index];
-        record = {{"type", "odometry"}, {"timestamp", r.timestamp}, {"pose", detail::PoseToJson(r.pose)},
-                  {"tv", r.tv}, {"rv", r.rv}, {"accel", r.accel}};
+        record = {{"type", "odometry"},
+                  {"timestamp", detail::NumberToJson(r.timestamp)},
+                  {"pose", detail::PoseToJson(r.pose)},
+                  {"tv", detail::NumberToJson(r.tv)},
+                  {"rv", detail::NumberToJson(r.rv)},
+                  {"accel", detail::NumberToJson(r.accel)}};
         if (r.carmen) record["carmen"] = CarmenRecordToJson(*r.carmen);
         break;
       }
       case Log::RecordKind::kTruePose: {
         const TruePoseRecord& r = log.true_poses[ref.index];
-        record = {{"type", "true_pose"}, {"timestamp", r.timestamp},
+        record = {{"type", "true_pose"}, {"timestamp", detail::NumberToJson(r.timestamp)},
                   {"true_pose", detail::PoseToJson(r.true_pose)}, {"odom_pose", detail::PoseToJson(r.odom_pose)}};
         if (r.carmen) record["carmen"] = CarmenRecordToJson(*r.carmen);
         break;
@@ -376,7 +398,7 @@ std::string FormatJsonLog(const Log& log) {
         break;
     }
     out += first ? "\n" : ",\n";
-    out += record.dump();
+    out += detail::Dump(record);
     first = false;
   }
   out += "\n]}\n";

@@ -98,7 +98,7 @@ std::string FormatJsonScene(const Scene& scene) {
   j["surfaces"] = std::move(surfaces);
   if (scene.default_pose) j["default_pose"] = detail::PoseToJson(*scene.default_pose);
   if (!scene.waypoints.empty()) j["waypoints"] = PointsToJson(scene.waypoints);
-  return j.dump(2) + "\n";
+  return detail::Dump(j, 2) + "\n";
 }
 
 Result<Scene> ParseJsonScene(std::string_view text, const std::string& name) {

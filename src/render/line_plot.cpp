@@ -57,8 +57,10 @@ void LinePlot::Save(const std::filesystem::path& path) const {
   }
   std::vector<std::pair<double, Color>> lines;
   for (const Series& s : horizontal_lines_) lines.emplace_back(s.y[0], *s.color);
-  const auto [x_lo, x_hi] = options_.x_range.value_or(DataRange(series_, true, lines));
-  const auto [y_lo, y_hi] = options_.y_range.value_or(DataRange(series_, false, lines));
+  // Plain variables rather than structured bindings: lambdas below capture them (clang 14 cannot).
+  const std::pair<double, double> x_range = options_.x_range.value_or(DataRange(series_, true, lines));
+  const std::pair<double, double> y_range = options_.y_range.value_or(DataRange(series_, false, lines));
+  const double x_lo = x_range.first, x_hi = x_range.second, y_lo = y_range.first, y_hi = y_range.second;
   PRIORMAP_CHECK(x_lo < x_hi && y_lo < y_hi, "plot ranges must not be empty");
 
   const double width = std::max(options_.width_px, 200), height = std::max(options_.height_px, 150);

@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -21,6 +22,10 @@ struct Diagnostic {
   /// `file:line:col: error: message`.
   [[nodiscard]] std::string ToString() const;
 };
+
+/// `text` quoted for an error message: at most `max_length` characters (then "..."), bytes that
+/// are not printable ASCII shown as \xNN, so that a binary or huge token cannot flood a terminal.
+[[nodiscard]] std::string QuoteForMessage(std::string_view text, std::size_t max_length = 40);
 
 /// Joins diagnostics one per line, as the CLI prints them.
 [[nodiscard]] std::string FormatDiagnostics(const std::vector<Diagnostic>& diagnostics);
