@@ -1,13 +1,14 @@
-// Foundation throughput: ray casting, simulation, log I/O, rendering. Results in docs/benchmarks.md.
+// Foundation throughput: ray casting, simulation, log I/O, rendering. Results in
+// docs/benchmarks.md.
+#include <filesystem>
+
+#include <benchmark/benchmark.h>
+
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/json_io.hpp>
 #include <priormap/core/simulate.hpp>
 #include <priormap/render/scene_drawing.hpp>
-
-#include <benchmark/benchmark.h>
-
-#include <filesystem>
 
 namespace priormap {
 namespace {
@@ -21,10 +22,11 @@ void BM_SimulateScanUtm30(benchmark::State& state) {
   const SceneRayCaster caster(LRoom());
   const RangeSensor sensor = *RangeSensor::Preset("utm30");
   Rng rng(1);
-  for (auto _ : state) benchmark::DoNotOptimize(SimulateScan(caster, sensor, *LRoom().default_pose, rng));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(SimulateScan(caster, sensor, *LRoom().default_pose, rng));
   state.SetItemsProcessed(state.iterations() * sensor.num_beams);
-  state.counters["beams/s"] = benchmark::Counter(static_cast<double>(state.iterations() * sensor.num_beams),
-                                                 benchmark::Counter::kIsRate);
+  state.counters["beams/s"] = benchmark::Counter(
+      static_cast<double>(state.iterations() * sensor.num_beams), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_SimulateScanUtm30)->Unit(benchmark::kMicrosecond);
 
@@ -57,8 +59,8 @@ BENCHMARK(BM_JsonLogParse)->Unit(benchmark::kMillisecond);
 
 // The largest real log (Freiburg 079, 4791 scans x 360 beams), gzip: read + parse + classify.
 void BM_ReadRealCarmenLog(benchmark::State& state) {
-  const std::filesystem::path path =
-      std::filesystem::path(PRIORMAP_SHARED_DATA_DIR) / "laser-corrected/freiburg-079-corrected.log.gz";
+  const std::filesystem::path path = std::filesystem::path(PRIORMAP_SHARED_DATA_DIR) /
+                                     "laser-corrected/freiburg-079-corrected.log.gz";
   if (!std::filesystem::exists(path)) {
     state.SkipWithError("../shared/data is absent");
     return;
@@ -69,8 +71,10 @@ BENCHMARK(BM_ReadRealCarmenLog)->Unit(benchmark::kMillisecond);
 
 void BM_RenderScanPng(benchmark::State& state) {
   Rng rng(1);
-  const Scan scan = SimulateScan(SceneRayCaster(LRoom()), *RangeSensor::Preset("utm30"), *LRoom().default_pose, rng);
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / "priormap-bench-scan.png";
+  const Scan scan = SimulateScan(SceneRayCaster(LRoom()), *RangeSensor::Preset("utm30"),
+                                 *LRoom().default_pose, rng);
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "priormap-bench-scan.png";
   for (auto _ : state) {
     render::Figure figure(LRoom().Bounds());
     render::DrawScene(figure, LRoom());

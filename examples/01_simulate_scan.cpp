@@ -1,10 +1,10 @@
 // Simulate one laser scan of a built-in room, compare it with its ground truth, and draw it.
 //   example_01_simulate_scan [scene] [out.png]
-#include <priormap/core/simulate.hpp>
-#include <priormap/render/scene_drawing.hpp>
-
 #include <cmath>
 #include <cstdio>
+
+#include <priormap/core/simulate.hpp>
+#include <priormap/render/scene_drawing.hpp>
 
 int main(int argc, char** argv) {
   const std::string scene_name = argc > 1 ? argv[1] : "l-room";
@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
     if (scan.IsValid(i)) sum_sq += std::pow(scan.ranges[i] - scan.truth->range[i], 2);
   }
   std::printf("%zu beams, %zu valid, empirical sigma %.4f m (sensor sigma %.4f m)\n", scan.size(),
-              scan.NumValid(), std::sqrt(sum_sq / static_cast<double>(scan.NumValid())), sensor.sigma);
+              scan.NumValid(), std::sqrt(sum_sq / static_cast<double>(scan.NumValid())),
+              sensor.sigma);
 
   priormap::render::Figure figure(scene->Bounds(), {.title = scene_name});
   priormap::render::DrawScene(figure, *scene);

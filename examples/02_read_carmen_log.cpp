@@ -1,9 +1,9 @@
 // Read a CARMEN log (plain or .gz), report what is in it, and save it as priormap JSON.
 //   example_02_read_carmen_log ../shared/data/laser-corrected/intel-corrected.log.gz intel.json
+#include <cstdio>
+
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/json_io.hpp>
-
-#include <cstdio>
 
 int main(int argc, char** argv) {
   if (argc < 2) {
@@ -22,8 +22,10 @@ int main(int argc, char** argv) {
     valid += scan.NumValid();
     beams += scan.size();
   }
-  std::printf("%zu scans, %zu readings of which %zu valid; max range %s\n", log.value().scans.size(), beams,
-              valid, stats.detected_max_range ? std::to_string(*stats.detected_max_range).c_str() : "not detected");
+  std::printf("%zu scans, %zu readings of which %zu valid; max range %s\n",
+              log.value().scans.size(), beams, valid,
+              stats.detected_max_range ? std::to_string(*stats.detected_max_range).c_str()
+                                       : "not detected");
   if (argc > 2) {
     priormap::WriteJsonLog(log.value(), argv[2]);
     std::printf("wrote %s\n", argv[2]);

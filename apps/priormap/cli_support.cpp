@@ -1,12 +1,12 @@
 #include "cli_support.hpp"
 
-#include <priormap/core/json_io.hpp>
-#include <priormap/render/figure.hpp>
-
 #include <charconv>
 #include <cmath>
 
 #include <fmt/format.h>
+
+#include <priormap/core/json_io.hpp>
+#include <priormap/render/figure.hpp>
 
 namespace priormap::app {
 
@@ -63,7 +63,9 @@ void RequireOutputDirectory(const std::filesystem::path& path, const std::string
 void EnsureDirectory(const std::filesystem::path& directory) {
   std::error_code ec;
   std::filesystem::create_directories(directory, ec);
-  if (ec) throw UserError(fmt::format("cannot create directory {}: {}", directory.string(), ec.message()));
+  if (ec)
+    throw UserError(
+        fmt::format("cannot create directory {}: {}", directory.string(), ec.message()));
 }
 
 std::string Plural(std::size_t n, const std::string& word) {

@@ -1,15 +1,15 @@
 #pragma once
 // Shared pieces of the subcommands: user-facing errors, option parsing, output checks.
 
-#include <priormap/core/diagnostic.hpp>
-#include <priormap/core/scene.hpp>
-#include <priormap/core/se2.hpp>
-
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/core/scene.hpp>
+#include <priormap/core/se2.hpp>
 
 namespace priormap::app {
 

@@ -1,9 +1,9 @@
 // priormap convert: between CARMEN logs (plain or .gz) and priormap JSON.
+#include <fmt/format.h>
+
 #include <priormap/core/angles.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
-
-#include <fmt/format.h>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -46,15 +46,18 @@ void Run(const ConvertOptions& o) {
     }
   }
   fmt::print("read {} ({}): {}, {} odometry, {} true poses, {} params\n", o.input, ToString(from),
-             Plural(log.scans.size(), "scan"), log.odometry.size(), log.true_poses.size(), log.params.size());
+             Plural(log.scans.size(), "scan"), log.odometry.size(), log.true_poses.size(),
+             log.params.size());
   fmt::print("readings: {} valid, {} max-range, {} invalid\n", valid, max_range, invalid);
   if (from == LogFormat::kCarmen) {
     if (o.max_range) {
       fmt::print("max range: {} m (given)\n", *o.max_range);
     } else if (stats.detected_max_range) {
-      fmt::print("max range: {} m (detected from the log's no-return readings)\n", *stats.detected_max_range);
+      fmt::print("max range: {} m (detected from the log's no-return readings)\n",
+                 *stats.detected_max_range);
     } else {
-      fmt::print("max range: none detected; no reading is treated as max-range (use --max-range)\n");
+      fmt::print(
+          "max range: none detected; no reading is treated as max-range (use --max-range)\n");
     }
     std::vector<std::string> skipped;
     for (const auto& [type, count] : stats.records) {
@@ -72,19 +75,29 @@ void Run(const ConvertOptions& o) {
 
 void AddConvertCommand(CLI::App& app) {
   auto o = std::make_shared<ConvertOptions>();
-  CLI::App* cmd = app.add_subcommand("convert", "Convert a log between CARMEN (plain or .gz) and priormap JSON");
+  CLI::App* cmd = app.add_subcommand(
+      "convert", "Convert a log between CARMEN (plain or .gz) and priormap JSON");
   cmd->add_option("input", o->input, "Input log")->required();
-  cmd->add_option("-o,--out", o->out, "Output file: .json / .json.gz (JSON) or anything else (CARMEN); .gz compresses")->required();
-  cmd->add_option("--from", o->from, "Input format (default: from the content)")->check(CLI::IsMember({"carmen", "json"}));
-  cmd->add_option("--to", o->to, "Output format (default: from the extension)")->check(CLI::IsMember({"carmen", "json"}));
-  cmd->add_option("--max-range", o->max_range, "CARMEN: readings at or above this are max-range (default: detected)")
+  cmd->add_option("-o,--out", o->out,
+                  "Output file: .json / .json.gz (JSON) or anything else (CARMEN); .gz compresses")
+      ->required();
+  cmd->add_option("--from", o->from, "Input format (default: from the content)")
+      ->check(CLI::IsMember({"carmen", "json"}));
+  cmd->add_option("--to", o->to, "Output format (default: from the extension)")
+      ->check(CLI::IsMember({"carmen", "json"}));
+  cmd->add_option("--max-range", o->max_range,
+                  "CARMEN: readings at or above this are max-range (default: detected)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--min-range", o->min_range, "CARMEN: readings below this are invalid")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--fov", o->fov_deg, "CARMEN: field of view of FLASER/RLASER lines, degrees (default 180)")
+  cmd->add_option("--min-range", o->min_range, "CARMEN: readings below this are invalid")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--fov", o->fov_deg,
+                  "CARMEN: field of view of FLASER/RLASER lines, degrees (default 180)")
       ->check(CLI::Range(0.0, 360.0));
-  cmd->add_option("--sigma", o->sigma, "CARMEN: range noise standard deviation given to every reading, m")
+  cmd->add_option("--sigma", o->sigma,
+                  "CARMEN: range noise standard deviation given to every reading, m")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--poses", o->poses, "What the scan poses are: unknown, odometry, corrected, ground_truth")
+  cmd->add_option("--poses", o->poses,
+                  "What the scan poses are: unknown, odometry, corrected, ground_truth")
       ->check(CLI::IsMember({"unknown", "odometry", "corrected", "ground_truth"}));
   cmd->callback([o] { Run(*o); });
 }

@@ -1,12 +1,12 @@
 // priormap plot: draw any scan or log (JSON or CARMEN) as a map, or a scan's ranges per beam.
+#include <cmath>
+
+#include <fmt/format.h>
+
 #include <priormap/core/angles.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/render/line_plot.hpp>
 #include <priormap/render/scene_drawing.hpp>
-
-#include <cmath>
-
-#include <fmt/format.h>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -33,9 +33,9 @@ void PlotMap(const Log& log, const PlotOptions& o) {
   const std::size_t k = o.scan.value_or(0);
   Box2 bounds = one_scan ? render::ScanBounds(log.scans[k]) : render::LogBounds(log);
   if (scene) bounds.extend(scene->Bounds());
-  const std::string title = o.title.value_or(
-      one_scan ? fmt::format("{}: scan {} of {}", o.input, k, log.scans.size())
-               : fmt::format("{}: {}", o.input, Plural(log.scans.size(), "scan")));
+  const std::string title =
+      o.title.value_or(one_scan ? fmt::format("{}: scan {} of {}", o.input, k, log.scans.size())
+                                : fmt::format("{}: {}", o.input, Plural(log.scans.size(), "scan")));
   render::Figure figure(bounds, {.width_px = o.width, .max_height_px = o.width, .title = title});
   if (scene) render::DrawScene(figure, *scene);
   if (one_scan) {
@@ -84,7 +84,8 @@ void Run(const PlotOptions& o) {
   const Log log = ValueOrThrow(ReadLog(o.input, std::nullopt, carmen));
   if (log.scans.empty()) throw UserError(fmt::format("{}: the log has no scans to plot", o.input));
   if (o.scan && *o.scan >= log.scans.size()) {
-    throw UserError(fmt::format("--scan {}: {} has {}", *o.scan, o.input, Plural(log.scans.size(), "scan")));
+    throw UserError(
+        fmt::format("--scan {}: {} has {}", *o.scan, o.input, Plural(log.scans.size(), "scan")));
   }
   if (o.kind == "map") {
     PlotMap(log, o);
@@ -98,19 +99,26 @@ void Run(const PlotOptions& o) {
 
 void AddPlotCommand(CLI::App& app) {
   auto o = std::make_shared<PlotOptions>();
-  CLI::App* cmd = app.add_subcommand("plot", "Draw a scan or a log (JSON or CARMEN) as PNG, SVG or PDF");
+  CLI::App* cmd =
+      app.add_subcommand("plot", "Draw a scan or a log (JSON or CARMEN) as PNG, SVG or PDF");
   cmd->add_option("input", o->input, "Scan or log file")->required();
   cmd->add_option("-o,--out", o->out, "Figure file: .png, .svg or .pdf")->required();
-  cmd->add_option("--kind", o->kind,
-                  "map: points in the world; ranges: range per beam; residuals: measured - true range")
+  cmd->add_option(
+         "--kind", o->kind,
+         "map: points in the world; ranges: range per beam; residuals: measured - true range")
       ->check(CLI::IsMember({"map", "ranges", "residuals"}))
       ->capture_default_str();
   cmd->add_option("--scan", o->scan, "Draw only this scan (0-based)");
   cmd->add_option("--scene", o->scene, "Overlay a scene (built-in name or scene JSON)");
-  cmd->add_option("--stride", o->stride, "Log maps: draw every n-th scan")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--stride", o->stride, "Log maps: draw every n-th scan")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--title", o->title, "Figure title");
-  cmd->add_option("--width", o->width, "Figure width, pixels")->check(CLI::Range(200, 8000))->capture_default_str();
-  cmd->add_option("--max-range", o->max_range, "CARMEN input: readings at or above this are max-range")
+  cmd->add_option("--width", o->width, "Figure width, pixels")
+      ->check(CLI::Range(200, 8000))
+      ->capture_default_str();
+  cmd->add_option("--max-range", o->max_range,
+                  "CARMEN input: readings at or above this are max-range")
       ->check(CLI::PositiveNumber);
   cmd->callback([o] { Run(*o); });
 }

@@ -1,11 +1,11 @@
 // priormap simulate: scene + sensor -> a scan (or a localized log) with ground truth.
+#include <fmt/format.h>
+
 #include <priormap/core/angles.hpp>
 #include <priormap/core/json_io.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/core/simulate.hpp>
 #include <priormap/render/scene_drawing.hpp>
-
-#include <fmt/format.h>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -53,7 +53,8 @@ void Run(const SimulateOptions& o) {
   // Every check before the first write, so that a failure leaves nothing behind.
   const Scene scene = LoadScene(o.scene);
   const RangeSensor sensor = MakeSensor(o);
-  if (o.out.empty() && !o.write_scene) throw UserError("--out is required (or --write-scene alone to export the scene)");
+  if (o.out.empty() && !o.write_scene)
+    throw UserError("--out is required (or --write-scene alone to export the scene)");
   const LogFormat format = o.format ? *LogFormatFromString(*o.format) : LogFormatFromPath(o.out);
   if (o.figure) RequireFigurePath(*o.figure, "--png");
   if (!o.out.empty()) RequireOutputDirectory(o.out, "--out");
@@ -71,7 +72,8 @@ void Run(const SimulateOptions& o) {
 
   Log log;
   if (o.log) {
-    log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, o.speed, o.rate), o.seed);
+    log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, o.speed, o.rate),
+                      o.seed);
   } else {
     Rng rng(o.seed);
     log.pose_source = PoseSource::kGroundTruth;
@@ -95,8 +97,9 @@ void Run(const SimulateOptions& o) {
   if (o.figure) {
     Box2 bounds = scene.Bounds();
     for (const Scan& scan : log.scans) bounds.extend(render::ScanBounds(scan));
-    render::Figure figure(bounds, {.title = fmt::format("{}: {} ({})", scene.name, sensor.name,
-                                                       o.log ? Plural(log.scans.size(), "scan") : "one scan")});
+    render::Figure figure(
+        bounds, {.title = fmt::format("{}: {} ({})", scene.name, sensor.name,
+                                      o.log ? Plural(log.scans.size(), "scan") : "one scan")});
     render::DrawScene(figure, scene);
     if (o.log) {
       render::DrawLog(figure, log);
@@ -112,28 +115,44 @@ void Run(const SimulateOptions& o) {
 
 void AddSimulateCommand(CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
-  CLI::App* cmd = app.add_subcommand("simulate", "Simulate a range scan (or a localized log) with ground truth");
+  CLI::App* cmd = app.add_subcommand(
+      "simulate", "Simulate a range scan (or a localized log) with ground truth");
   cmd->add_option("--scene", o->scene,
-                  "Built-in scene (square, rectangle, circle, two-circles, l-room, corridor) or a scene JSON file")
+                  "Built-in scene (square, rectangle, circle, two-circles, l-room, corridor) or a "
+                  "scene JSON file")
       ->capture_default_str();
   cmd->add_option("--sensor", o->sensor, "Sensor preset: utm30 or lms200")->capture_default_str();
-  cmd->add_option("--beams", o->beams, "Number of beams (overrides the preset)")->check(CLI::PositiveNumber);
+  cmd->add_option("--beams", o->beams, "Number of beams (overrides the preset)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--fov", o->fov_deg, "Field of view, degrees")->check(CLI::Range(0.0, 360.0));
-  cmd->add_option("--sigma", o->sigma, "Range noise standard deviation, m")->check(CLI::PositiveNumber);
-  cmd->add_option("--correlation", o->correlation, "Noise correlation of neighbouring beams, in [0, 1)");
+  cmd->add_option("--sigma", o->sigma, "Range noise standard deviation, m")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--correlation", o->correlation,
+                  "Noise correlation of neighbouring beams, in [0, 1)");
   cmd->add_option("--min-range", o->min_range, "Minimum range, m");
   cmd->add_option("--max-range", o->max_range, "Maximum range, m");
   cmd->add_option("--outliers", o->outliers, "Probability of a spurious short reading per beam");
-  cmd->add_option("--dropout", o->dropout, "Probability of a missing return (max-range reading) per beam");
-  cmd->add_option("--pose", o->pose, "Sensor pose x,y,theta (m, m, rad); default: the scene's, which sees every wall");
-  cmd->add_flag("--log", o->log, "Simulate a localized log along the scene's waypoints instead of one scan");
-  cmd->add_option("--speed", o->speed, "Log: robot speed, m/s")->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--rate", o->rate, "Log: scans per second")->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same output")->capture_default_str();
-  cmd->add_option("-o,--out", o->out, "Output file: .json (priormap JSON) or .log / .log.gz (CARMEN)");
-  cmd->add_option("--format", o->format, "Output format, overriding the extension")->check(CLI::IsMember({"json", "carmen"}));
+  cmd->add_option("--dropout", o->dropout,
+                  "Probability of a missing return (max-range reading) per beam");
+  cmd->add_option("--pose", o->pose,
+                  "Sensor pose x,y,theta (m, m, rad); default: the scene's, which sees every wall");
+  cmd->add_flag("--log", o->log,
+                "Simulate a localized log along the scene's waypoints instead of one scan");
+  cmd->add_option("--speed", o->speed, "Log: robot speed, m/s")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--rate", o->rate, "Log: scans per second")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same output")
+      ->capture_default_str();
+  cmd->add_option("-o,--out", o->out,
+                  "Output file: .json (priormap JSON) or .log / .log.gz (CARMEN)");
+  cmd->add_option("--format", o->format, "Output format, overriding the extension")
+      ->check(CLI::IsMember({"json", "carmen"}));
   cmd->add_option("--png,--figure", o->figure, "Also draw the result (.png, .svg or .pdf)");
-  cmd->add_option("--write-scene", o->write_scene, "Also write the scene as priormap JSON (a starting point for your own)");
+  cmd->add_option("--write-scene", o->write_scene,
+                  "Also write the scene as priormap JSON (a starting point for your own)");
   cmd->callback([o] { Run(*o); });
 }
 

@@ -1,17 +1,17 @@
 // priormap: 2D mapping with structural prior knowledge. A thin shell: each subcommand parses
 // its options, calls the library and reports; errors go to stderr as "priormap: error: ...".
-#include <priormap/core/check.hpp>
-#include <priormap/core/file_io.hpp>
-
 #include <algorithm>
 #include <cstdio>
-#include <string>
-#include <vector>
 #include <exception>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include <priormap/core/check.hpp>
+#include <priormap/core/file_io.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -42,10 +42,11 @@ int main(int argc, char** argv) {
   // CLI11 would only say "a subcommand is required"; name the word it did not know.
   if (argc > 1 && argv[1][0] != '-') {
     std::vector<std::string> names;
-    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) names.push_back(sub->get_name());
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+      names.push_back(sub->get_name());
     if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
-      PrintError(fmt::format("unknown command '{}' (expected one of: {}); run 'priormap --help'", argv[1],
-                             fmt::join(names, ", ")));
+      PrintError(fmt::format("unknown command '{}' (expected one of: {}); run 'priormap --help'",
+                             argv[1], fmt::join(names, ", ")));
       return 2;
     }
   }
@@ -58,7 +59,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    fmt::print(stderr, "priormap: error: {}\nRun 'priormap --help' or 'priormap <command> --help'.\n", e.what());
+    fmt::print(stderr,
+               "priormap: error: {}\nRun 'priormap --help' or 'priormap <command> --help'.\n",
+               e.what());
     return e.get_exit_code() != 0 ? e.get_exit_code() : 2;
   } catch (const priormap::app::UserError& e) {
     PrintError(e.what());

@@ -1,17 +1,18 @@
 // Uses the installed headers and libraries: simulate a scan, write it as JSON and draw it.
+#include <cstdio>
+#include <string>
+
 #include <priormap/core/json_io.hpp>
 #include <priormap/core/simulate.hpp>
 #include <priormap/render/scene_drawing.hpp>
-
-#include <cstdio>
-#include <string>
 
 int main(int argc, char** argv) {
   const std::string out = argc > 1 ? argv[1] : ".";
   const priormap::Scene scene = *priormap::BuiltinScene("square");
   priormap::Rng rng(1);
-  const priormap::Scan scan = priormap::SimulateScan(
-      priormap::SceneRayCaster(scene), *priormap::RangeSensor::Preset("lms200"), *scene.default_pose, rng);
+  const priormap::Scan scan =
+      priormap::SimulateScan(priormap::SceneRayCaster(scene),
+                             *priormap::RangeSensor::Preset("lms200"), *scene.default_pose, rng);
   priormap::WriteJsonScan(scan, out + "/consumer-scan.json");
   priormap::render::Figure figure(scene.Bounds());
   priormap::render::DrawScene(figure, scene);

@@ -1,6 +1,6 @@
-#include <priormap/core/angles.hpp>
-
 #include <cmath>
+
+#include <priormap/core/angles.hpp>
 
 namespace priormap {
 
@@ -10,7 +10,9 @@ double WrapAngle(double angle) {
   return wrapped <= -kPi ? wrapped + kTwoPi : wrapped;
 }
 
-double AngleDifference(double to, double from) { return WrapAngle(to - from); }
+double AngleDifference(double to, double from) {
+  return WrapAngle(to - from);
+}
 
 std::vector<double> UnwrapAngles(std::span<const double> angles) {
   std::vector<double> out(angles.begin(), angles.end());

@@ -1,8 +1,8 @@
-#include <priormap/core/banded_matrix.hpp>
-#include <priormap/core/check.hpp>
-
 #include <algorithm>
 #include <cmath>
+
+#include <priormap/core/banded_matrix.hpp>
+#include <priormap/core/check.hpp>
 
 namespace priormap {
 
@@ -10,8 +10,7 @@ SymmetricBandedMatrix::SymmetricBandedMatrix(std::size_t n, std::size_t bandwidt
     : band_(Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(bandwidth + 1),
                                   static_cast<Eigen::Index>(n))) {}
 
-SymmetricBandedMatrix SymmetricBandedMatrix::Ar1Precision(std::span<const double> sigma,
-                                                          double c) {
+SymmetricBandedMatrix SymmetricBandedMatrix::Ar1Precision(std::span<const double> sigma, double c) {
   PRIORMAP_CHECK(c >= 0.0 && c < 1.0, "AR(1) correlation must be in [0, 1)");
   const std::size_t n = sigma.size();
   SymmetricBandedMatrix w(n, n > 1 ? 1 : 0);
@@ -104,7 +103,8 @@ Eigen::VectorXd BandedCholesky::Solve(const Eigen::VectorXd& rhs) const {
   PRIORMAP_CHECK(rhs.size() == n, "size mismatch in banded solve");
   Eigen::VectorXd y = rhs;
   for (Eigen::Index i = 0; i < n; ++i) {  // L y = rhs
-    for (Eigen::Index p = std::max<Eigen::Index>(0, i - b); p < i; ++p) y[i] -= l_band_(i - p, p) * y[p];
+    for (Eigen::Index p = std::max<Eigen::Index>(0, i - b); p < i; ++p)
+      y[i] -= l_band_(i - p, p) * y[p];
     y[i] /= l_band_(0, i);
   }
   return SolveUpperTransposed(y);

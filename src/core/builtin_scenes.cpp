@@ -1,8 +1,8 @@
-#include <priormap/core/angles.hpp>
-#include <priormap/core/scene.hpp>
-
 #include <functional>
 #include <utility>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/scene.hpp>
 
 namespace priormap {
 namespace {
@@ -33,9 +33,13 @@ Scene RectangularRoom(std::string name, double width, double height, Se2 pose) {
   return scene;
 }
 
-Scene Square() { return RectangularRoom("square", 4.0, 4.0, Se2(-1.0, -1.0, kPi / 4)); }
+Scene Square() {
+  return RectangularRoom("square", 4.0, 4.0, Se2(-1.0, -1.0, kPi / 4));
+}
 
-Scene Rectangle() { return RectangularRoom("rectangle", 6.0, 4.0, Se2(-1.5, -1.0, 0.6)); }
+Scene Rectangle() {
+  return RectangularRoom("rectangle", 6.0, 4.0, Se2(-1.5, -1.0, 0.6));
+}
 
 Scene CircularRoom() {
   Scene scene;
@@ -64,7 +68,7 @@ Scene LRoom() {
   scene.surfaces.push_back(Box({-0.8, -2.3}, 0.5, 0.3, "box"));
   scene.surfaces.push_back(Pillar({-2.3, -0.6}, 0.15, true, "bin"));
   scene.default_pose = Se2(-1.5, -1.5, kPi / 4);
-  scene.waypoints = {{-1.5, -1.5}, {2.2, -1.5},  {2.2, -0.6},  {-0.6, -0.6},
+  scene.waypoints = {{-1.5, -1.5}, {2.2, -1.5}, {2.2, -0.6}, {-0.6, -0.6},
                      {-0.6, 2.2},  {-1.5, 2.2}, {-1.5, -1.5}};
   return scene;
 }
@@ -82,8 +86,8 @@ Scene Corridor() {
 
 const std::vector<std::pair<std::string, std::function<Scene()>>>& Registry() {
   static const std::vector<std::pair<std::string, std::function<Scene()>>> registry = {
-      {"square", Square},   {"rectangle", Rectangle}, {"circle", CircularRoom},
-      {"two-circles", TwoCircles}, {"l-room", LRoom}, {"corridor", Corridor}};
+      {"square", Square},          {"rectangle", Rectangle}, {"circle", CircularRoom},
+      {"two-circles", TwoCircles}, {"l-room", LRoom},        {"corridor", Corridor}};
   return registry;
 }
 

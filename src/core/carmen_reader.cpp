@@ -1,21 +1,22 @@
 // Reader for CARMEN logs. Record layouts (fields after the record name):
-//   FLASER / RLASER  n r_1..r_n x y theta odom_x odom_y odom_theta [ipc_timestamp host logger_timestamp]
-//   ROBOTLASER1      laser_type start_angle fov angular_resolution max_range accuracy remission_mode
+//   FLASER / RLASER  n r_1..r_n x y theta odom_x odom_y odom_theta [ipc_timestamp host
+//   logger_timestamp] ROBOTLASER1      laser_type start_angle fov angular_resolution max_range
+//   accuracy remission_mode
 //                    n r_1..r_n m e_1..e_m laser_x laser_y laser_theta robot_x robot_y robot_theta
 //                    tv rv forward_safety_dist side_safety_dist turn_axis [timestamps]
 //   ODOM             x y theta tv rv accel [timestamps]
 //   TRUEPOS          true_x true_y true_theta odom_x odom_y odom_theta [timestamps]
 //   PARAM            name value...
-#include <priormap/core/angles.hpp>
-#include <priormap/core/carmen_io.hpp>
-#include <priormap/core/file_io.hpp>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/carmen_io.hpp>
+#include <priormap/core/file_io.hpp>
 
 namespace priormap {
 namespace {
@@ -41,7 +42,8 @@ std::vector<Token> Tokenize(std::string_view line) {
 
 std::optional<double> ParseDouble(std::string_view text) {
   // from_chars takes no '+' sign; accept one, but not "+-1".
-  if (text.size() > 1 && text.front() == '+' && text[1] != '-' && text[1] != '+') text.remove_prefix(1);
+  if (text.size() > 1 && text.front() == '+' && text[1] != '-' && text[1] != '+')
+    text.remove_prefix(1);
   double value = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
@@ -70,14 +72,16 @@ class FieldReader {
   double Number(std::string_view what) {
     const Token& t = Take(what);
     if (const auto v = ParseDouble(t.text)) return *v;
-    return Fail(t.col, fmt::format("expected {} (a number), got {}", what, QuoteForMessage(t.text)));
+    return Fail(t.col,
+                fmt::format("expected {} (a number), got {}", what, QuoteForMessage(t.text)));
   }
 
   double FiniteNumber(std::string_view what) {
     const std::size_t index = next_;
     const double v = Number(what);
     if (!std::isfinite(v)) {
-      Fail(tokens_[index].col, fmt::format("{} must be finite, got {}", what, QuoteForMessage(tokens_[index].text)));
+      Fail(tokens_[index].col,
+           fmt::format("{} must be finite, got {}", what, QuoteForMessage(tokens_[index].text)));
     }
     return v;
   }
@@ -87,12 +91,15 @@ class FieldReader {
     const Token& t = Take(what);
     const auto v = ParseInteger(t.text);
     if (!v || *v < 0) {
-      Fail(t.col, fmt::format("expected {} (a non-negative integer), got {}", what, QuoteForMessage(t.text)));
+      Fail(t.col, fmt::format("expected {} (a non-negative integer), got {}", what,
+                              QuoteForMessage(t.text)));
     }
     const std::size_t available = remaining();
-    if (available < fields_after || static_cast<unsigned long long>(*v) > available - fields_after) {
-      Fail(t.col, fmt::format("{} is {}, but only {} fields follow it (expected {} values, then {})",
-                              what, *v, available, *v, after_what));
+    if (available < fields_after ||
+        static_cast<unsigned long long>(*v) > available - fields_after) {
+      Fail(t.col,
+           fmt::format("{} is {}, but only {} fields follow it (expected {} values, then {})", what,
+                       *v, available, *v, after_what));
     }
     return *v;
   }
@@ -132,9 +139,8 @@ class FieldReader {
 
   void End() {
     if (remaining() > 0) {
-      Fail(tokens_[next_].col,
-           fmt::format("unexpected extra field {} at the end of the {} record",
-                       QuoteForMessage(tokens_[next_].text), record_));
+      Fail(tokens_[next_].col, fmt::format("unexpected extra field {} at the end of the {} record",
+                                           QuoteForMessage(tokens_[next_].text), record_));
     }
   }
 
@@ -282,7 +288,8 @@ class CarmenParser {
     const long long n = fields.Count("the number of readings", 12,
                                      "the remission count, 6 pose values and 5 safety values");
     if (n > 1 && !(resolution > 0.0)) {
-      fields.Fail(resolution_col, fmt::format("angular_resolution must be positive, got {}", resolution));
+      fields.Fail(resolution_col,
+                  fmt::format("angular_resolution must be positive, got {}", resolution));
     }
     scan.angles.resize(static_cast<std::size_t>(n));
     for (std::size_t i = 0; i < scan.angles.size(); ++i) {

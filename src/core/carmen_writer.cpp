@@ -1,10 +1,10 @@
-#include <priormap/core/carmen_io.hpp>
-#include <priormap/core/check.hpp>
-#include <priormap/core/file_io.hpp>
-
 #include <cmath>
 
 #include <fmt/format.h>
+
+#include <priormap/core/carmen_io.hpp>
+#include <priormap/core/check.hpp>
+#include <priormap/core/file_io.hpp>
 
 namespace priormap {
 namespace {
@@ -33,8 +33,10 @@ void RequireFinite(const Se2& pose, const char* field, RecordName record) {
 
 void RequireWord(const std::string& value, const char* field, RecordName record) {
   if (value.empty() || value.find_first_of(" \t\r\n") != std::string::npos) {
-    throw IoError(fmt::format("{} {} has {} '{}', which a CARMEN log cannot hold (it must be one "
-                              "word)", record.kind, record.index, field, value));
+    throw IoError(
+        fmt::format("{} {} has {} '{}', which a CARMEN log cannot hold (it must be one "
+                    "word)",
+                    record.kind, record.index, field, value));
   }
 }
 
@@ -78,15 +80,18 @@ std::pair<double, double> RobotLaserAngles(const Scan& scan, std::size_t scan_in
   if (n < 2) return {n == 1 ? scan.angles[0] : 0.0, 0.0};
   const double resolution = (scan.angles[n - 1] - scan.angles[0]) / static_cast<double>(n - 1);
   if (!(resolution > 0.0)) {
-    throw IoError(fmt::format("scan {} has beam angles that do not increase, which a CARMEN log "
-                              "cannot represent", scan_index));
+    throw IoError(
+        fmt::format("scan {} has beam angles that do not increase, which a CARMEN log "
+                    "cannot represent",
+                    scan_index));
   }
   for (std::size_t i = 0; i < n; ++i) {
     const double expected = scan.angles[0] + static_cast<double>(i) * resolution;
     if (!(std::abs(expected - scan.angles[i]) <= 1e-9)) {  // NaN angles are not evenly spaced
       throw IoError(fmt::format(
           "scan {} has unevenly spaced beam angles, which a CARMEN log cannot represent; "
-          "write JSON instead", scan_index));
+          "write JSON instead",
+          scan_index));
     }
   }
   return {scan.angles[0], resolution};
@@ -102,13 +107,15 @@ void AppendPose(std::string& out, const Se2& pose) {
 
 void AppendTimestamps(std::string& out, double timestamp, bool has_timestamps,
                       const std::string& host, double logger_timestamp) {
-  if (has_timestamps) fmt::format_to(std::back_inserter(out), " {} {} {}", timestamp, host, logger_timestamp);
+  if (has_timestamps)
+    fmt::format_to(std::back_inserter(out), " {} {} {}", timestamp, host, logger_timestamp);
 }
 
 void AppendRecordTimestamps(std::string& out, double timestamp,
                             const std::optional<CarmenRecordFields>& carmen) {
   if (carmen) {
-    AppendTimestamps(out, timestamp, carmen->has_timestamps, carmen->host, carmen->logger_timestamp);
+    AppendTimestamps(out, timestamp, carmen->has_timestamps, carmen->host,
+                     carmen->logger_timestamp);
   } else {
     AppendTimestamps(out, timestamp, true, "priormap", timestamp);
   }
@@ -138,13 +145,13 @@ void AppendScan(std::string& out, const Scan& scan, std::size_t index) {
     // A ROBOTLASER1 record's own field of view is written back as read (0 included); other
     // scans get the span of their angles.
     const bool own_fov = scan.carmen && (scan.channel == "ROBOTLASER1" || carmen.fov != 0.0);
-    const double fov = own_fov       ? carmen.fov
+    const double fov = own_fov           ? carmen.fov
                        : scan.size() > 1 ? resolution * static_cast<double>(scan.size() - 1)
                                          : 0.0;
     RequireFinite(fov, "field of view", record);
-    fmt::format_to(std::back_inserter(out), "ROBOTLASER1 {} {} {} {} {} {} {} {}", carmen.laser_type,
-                   start, fov, resolution, scan.max_range, carmen.accuracy, carmen.remission_mode,
-                   scan.size());
+    fmt::format_to(std::back_inserter(out), "ROBOTLASER1 {} {} {} {} {} {} {} {}",
+                   carmen.laser_type, start, fov, resolution, scan.max_range, carmen.accuracy,
+                   carmen.remission_mode, scan.size());
     AppendNumbers(out, scan.ranges);
     fmt::format_to(std::back_inserter(out), " {}", carmen.remissions.size());
     AppendNumbers(out, carmen.remissions);
@@ -154,7 +161,8 @@ void AppendScan(std::string& out, const Scan& scan, std::size_t index) {
                    carmen.forward_safety_dist, carmen.side_safety_dist, carmen.turn_axis);
   }
   if (scan.carmen) {
-    AppendTimestamps(out, scan.timestamp, carmen.has_timestamps, carmen.host, carmen.logger_timestamp);
+    AppendTimestamps(out, scan.timestamp, carmen.has_timestamps, carmen.host,
+                     carmen.logger_timestamp);
   } else {
     AppendTimestamps(out, scan.timestamp, true, "priormap", scan.timestamp);
   }
@@ -197,10 +205,13 @@ std::string FormatCarmenLog(const Log& log) {
         const auto& [name, value] = log.params[ref.index];
         RequireWord(name, "name", {"param", ref.index});
         if (value.find('\n') != std::string::npos) {
-          throw IoError(fmt::format("param {} ({}) has a line break in its value, which a CARMEN "
-                                    "log cannot hold", ref.index, name));
+          throw IoError(
+              fmt::format("param {} ({}) has a line break in its value, which a CARMEN "
+                          "log cannot hold",
+                          ref.index, name));
         }
-        fmt::format_to(std::back_inserter(out), "PARAM {}{}{}\n", name, value.empty() ? "" : " ", value);
+        fmt::format_to(std::back_inserter(out), "PARAM {}{}{}\n", name, value.empty() ? "" : " ",
+                       value);
         break;
       }
     }

@@ -1,6 +1,6 @@
-#include <priormap/core/check.hpp>
-
 #include <fmt/format.h>
+
+#include <priormap/core/check.hpp>
 
 namespace priormap::detail {
 

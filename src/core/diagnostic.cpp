@@ -1,7 +1,7 @@
+#include <fmt/format.h>
+
 #include <priormap/core/check.hpp>
 #include <priormap/core/diagnostic.hpp>
-
-#include <fmt/format.h>
 
 namespace priormap {
 

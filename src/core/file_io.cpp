@@ -1,17 +1,19 @@
-#include <priormap/core/file_io.hpp>
-
 #include <atomic>
 #include <fstream>
+#include <unistd.h>
 
 #include <fmt/format.h>
-#include <unistd.h>
 #include <zlib.h>
+
+#include <priormap/core/file_io.hpp>
 
 namespace priormap {
 namespace fs = std::filesystem;
 namespace {
 
-bool EndsWithGz(const fs::path& path) { return path.extension() == ".gz"; }
+bool EndsWithGz(const fs::path& path) {
+  return path.extension() == ".gz";
+}
 
 fs::path TemporarySibling(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
@@ -49,15 +51,16 @@ Result<std::string> ReadFileText(const fs::path& path) {
   return text;
 }
 
-void WriteFileAtomically(const fs::path& path,
-                         const std::function<void(const fs::path&)>& write) {
+void WriteFileAtomically(const fs::path& path, const std::function<void(const fs::path&)>& write) {
   const fs::path directory = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::error_code ec;
   if (!fs::is_directory(directory, ec)) {
     if (fs::exists(directory, ec)) {
-      throw IoError(fmt::format("{}: cannot write: {} is not a directory", path.string(), directory.string()));
+      throw IoError(fmt::format("{}: cannot write: {} is not a directory", path.string(),
+                                directory.string()));
     }
-    throw IoError(fmt::format("{}: cannot write: directory {} does not exist", path.string(), directory.string()));
+    throw IoError(fmt::format("{}: cannot write: directory {} does not exist", path.string(),
+                              directory.string()));
   }
   const fs::path temporary = TemporarySibling(path);
   try {
@@ -77,9 +80,9 @@ void WriteTextFileAtomically(const fs::path& path, std::string_view content) {
     if (EndsWithGz(path)) {
       gzFile file = gzopen(temporary.string().c_str(), "wb");
       if (file == nullptr) throw IoError(fmt::format("{}: cannot open for writing", path.string()));
-      const bool ok = content.empty() ||
-                      gzwrite(file, content.data(), static_cast<unsigned>(content.size())) ==
-                          static_cast<int>(content.size());
+      const bool ok =
+          content.empty() || gzwrite(file, content.data(), static_cast<unsigned>(content.size())) ==
+                                 static_cast<int>(content.size());
       if (gzclose(file) != Z_OK || !ok) {
         throw IoError(fmt::format("{}: write failed", path.string()));
       }

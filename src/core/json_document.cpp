@@ -1,11 +1,11 @@
 #include "json_document.hpp"
 
-#include <priormap/core/file_io.hpp>
-
 #include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
+
+#include <priormap/core/file_io.hpp>
 
 namespace priormap::detail {
 namespace {
@@ -125,7 +125,8 @@ class JsonScanner {
       return;
     }
     while (pos_ < text_.size() && text_[pos_] != ',' && text_[pos_] != '}' && text_[pos_] != ']' &&
-           text_[pos_] != ' ' && text_[pos_] != '\n' && text_[pos_] != '\r' && text_[pos_] != '\t') {
+           text_[pos_] != ' ' && text_[pos_] != '\n' && text_[pos_] != '\r' &&
+           text_[pos_] != '\t') {
       ++pos_;
     }
   }
@@ -136,15 +137,22 @@ class JsonScanner {
 
 std::string Describe(const Json& value) {
   switch (value.type()) {
-    case Json::value_t::null: return "null";
-    case Json::value_t::boolean: return "a boolean";
-    case Json::value_t::string: return fmt::format("the string \"{}\"", value.get_ref<const std::string&>());
+    case Json::value_t::null:
+      return "null";
+    case Json::value_t::boolean:
+      return "a boolean";
+    case Json::value_t::string:
+      return fmt::format("the string \"{}\"", value.get_ref<const std::string&>());
     case Json::value_t::number_integer:
     case Json::value_t::number_unsigned:
-    case Json::value_t::number_float: return fmt::format("the number {}", value.dump());
-    case Json::value_t::object: return "an object";
-    case Json::value_t::array: return "an array";
-    default: return "something else";
+    case Json::value_t::number_float:
+      return fmt::format("the number {}", value.dump());
+    case Json::value_t::object:
+      return "an object";
+    case Json::value_t::array:
+      return "an array";
+    default:
+      return "something else";
   }
 }
 
@@ -231,7 +239,8 @@ void Fail(const JsonNode& node, std::string message) {
 }
 
 void RequireObject(const JsonNode& node, std::string_view what) {
-  if (!node.value.is_object()) Fail(node, fmt::format("expected {} (an object), got {}", what, Describe(node.value)));
+  if (!node.value.is_object())
+    Fail(node, fmt::format("expected {} (an object), got {}", what, Describe(node.value)));
 }
 
 JsonNode Member(const JsonNode& object, const char* key) {
@@ -253,7 +262,8 @@ JsonNode Element(const JsonNode& array, std::size_t index) {
 }
 
 std::size_t ArraySize(const JsonNode& node, std::string_view what) {
-  if (!node.value.is_array()) Fail(node, fmt::format("expected {} (an array), got {}", what, Describe(node.value)));
+  if (!node.value.is_array())
+    Fail(node, fmt::format("expected {} (an array), got {}", what, Describe(node.value)));
   return node.value.size();
 }
 
@@ -272,7 +282,8 @@ double Number(const JsonNode& node, std::string_view what) {
 
 double FiniteNumber(const JsonNode& node, std::string_view what) {
   const double v = Number(node, what);
-  if (!std::isfinite(v)) Fail(node, fmt::format("expected {} (a finite number), got {}", what, Describe(node.value)));
+  if (!std::isfinite(v))
+    Fail(node, fmt::format("expected {} (a finite number), got {}", what, Describe(node.value)));
   return v;
 }
 
@@ -293,12 +304,14 @@ long long IntegerInRange(const JsonNode& node, std::string_view what, long long 
 }
 
 bool Boolean(const JsonNode& node, std::string_view what) {
-  if (!node.value.is_boolean()) Fail(node, fmt::format("expected {} (true or false), got {}", what, Describe(node.value)));
+  if (!node.value.is_boolean())
+    Fail(node, fmt::format("expected {} (true or false), got {}", what, Describe(node.value)));
   return node.value.get<bool>();
 }
 
 std::string String(const JsonNode& node, std::string_view what) {
-  if (!node.value.is_string()) Fail(node, fmt::format("expected {} (a string), got {}", what, Describe(node.value)));
+  if (!node.value.is_string())
+    Fail(node, fmt::format("expected {} (a string), got {}", what, Describe(node.value)));
   return node.value.get<std::string>();
 }
 
@@ -308,7 +321,8 @@ std::vector<double> Numbers(const JsonNode& node, std::string_view what) {
   for (std::size_t i = 0; i < n; ++i) {
     const Json& v = node.value[i];
     // The common case without building a description; Number() explains anything else.
-    out[i] = v.is_number() ? v.get<double>() : Number(Element(node, i), fmt::format("an element of {}", what));
+    out[i] = v.is_number() ? v.get<double>()
+                           : Number(Element(node, i), fmt::format("an element of {}", what));
   }
   return out;
 }
@@ -318,7 +332,9 @@ std::vector<long long> Integers(const JsonNode& node, std::string_view what) {
   std::vector<long long> out(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Json& v = node.value[i];
-    out[i] = v.is_number_integer() ? v.get<long long>() : Integer(Element(node, i), fmt::format("an element of {}", what));
+    out[i] = v.is_number_integer()
+                 ? v.get<long long>()
+                 : Integer(Element(node, i), fmt::format("an element of {}", what));
   }
   return out;
 }
@@ -338,11 +354,13 @@ void RequireFormat(const JsonNode& root, std::string_view format, int version) {
   RequireObject(root, fmt::format("a {} document", format));
   const JsonNode format_node = Member(root, "format");
   const std::string actual = String(format_node, "the document format");
-  if (actual != format) Fail(format_node, fmt::format("expected format \"{}\", got \"{}\"", format, actual));
+  if (actual != format)
+    Fail(format_node, fmt::format("expected format \"{}\", got \"{}\"", format, actual));
   const JsonNode version_node = Member(root, "version");
   const long long v = Integer(version_node, "the format version");
   if (v != version) {
-    Fail(version_node, fmt::format("unsupported {} version {} (this priormap reads version {})", format, v, version));
+    Fail(version_node, fmt::format("unsupported {} version {} (this priormap reads version {})",
+                                   format, v, version));
   }
 }
 
@@ -358,7 +376,9 @@ OrderedJson NumbersToJson(const std::vector<double>& values) {
   return array;
 }
 
-OrderedJson PoseToJson(const Se2& pose) { return {pose.x(), pose.y(), pose.theta()}; }
+OrderedJson PoseToJson(const Se2& pose) {
+  return {pose.x(), pose.y(), pose.theta()};
+}
 
 std::string Dump(const OrderedJson& value, int indent) {
   return value.dump(indent, ' ', false, OrderedJson::error_handler_t::replace);

@@ -2,15 +2,15 @@
 // Reading priormap's JSON documents with precise diagnostics: every accessor names what it
 // expected, and a failure is reported at the file:line:col of the offending value.
 
-#include <priormap/core/diagnostic.hpp>
-#include <priormap/core/se2.hpp>
-
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/core/se2.hpp>
 
 namespace priormap::detail {
 

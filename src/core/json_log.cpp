@@ -1,12 +1,12 @@
 // priormap.scan / priormap.log JSON documents (docs/formats.md).
-#include <priormap/core/file_io.hpp>
-#include <priormap/core/json_io.hpp>
-
-#include <climits>
 #include <cmath>
 #include <limits>
 
+#include <climits>
 #include <fmt/format.h>
+
+#include <priormap/core/file_io.hpp>
+#include <priormap/core/json_io.hpp>
 
 #include "json_document.hpp"
 
@@ -73,7 +73,8 @@ OrderedJson CarmenRecordToJson(const CarmenRecordFields& c) {
 
 bool StatusesAreDerivable(const Scan& scan) {
   for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (scan.status[i] != ClassifyReading(scan.ranges[i], scan.min_range, scan.max_range)) return false;
+    if (scan.status[i] != ClassifyReading(scan.ranges[i], scan.min_range, scan.max_range))
+      return false;
   }
   return true;
 }
@@ -93,8 +94,9 @@ OrderedJson ScanToJson(const Scan& scan, OrderedJson j) {
     j["angles"] = detail::NumbersToJson(scan.angles);
   }
   j["ranges"] = detail::NumbersToJson(scan.ranges);
-  const bool uniform_sigma = !scan.sigma.empty() &&
-      std::all_of(scan.sigma.begin(), scan.sigma.end(), [&](double s) { return s == scan.sigma[0]; });
+  const bool uniform_sigma =
+      !scan.sigma.empty() && std::all_of(scan.sigma.begin(), scan.sigma.end(),
+                                         [&](double s) { return s == scan.sigma[0]; });
   j["sigma"] = uniform_sigma ? OrderedJson(scan.sigma[0]) : detail::NumbersToJson(scan.sigma);
   if (!StatusesAreDerivable(scan)) {
     OrderedJson status = OrderedJson::array();
@@ -105,7 +107,8 @@ OrderedJson ScanToJson(const Scan& scan, OrderedJson j) {
     OrderedJson bands = OrderedJson::array();
     const Eigen::MatrixXd& band = scan.precision->band();
     for (Eigen::Index k = 0; k < band.rows(); ++k) {
-      bands.push_back(detail::NumbersToJson(std::vector<double>(band.row(k).begin(), band.row(k).end())));
+      bands.push_back(
+          detail::NumbersToJson(std::vector<double>(band.row(k).begin(), band.row(k).end())));
     }
     j["precision"] = {{"bandwidth", scan.precision->bandwidth()}, {"bands", std::move(bands)}};
   }
@@ -122,7 +125,8 @@ OrderedJson ScanToJson(const Scan& scan, OrderedJson j) {
 
 // ---- reading ----
 
-std::optional<double> OptionalNumber(const JsonNode& object, const char* key, std::string_view what) {
+std::optional<double> OptionalNumber(const JsonNode& object, const char* key,
+                                     std::string_view what) {
   if (const auto node = detail::OptionalMember(object, key)) return detail::Number(*node, what);
   return std::nullopt;
 }
@@ -135,17 +139,22 @@ std::optional<Se2> OptionalPose(const JsonNode& object, const char* key) {
 std::vector<double> SizedNumbers(const JsonNode& object, const char* key, std::size_t n) {
   const JsonNode node = detail::Member(object, key);
   std::vector<double> values = detail::Numbers(node, fmt::format("\"{}\"", key));
-  if (values.size() != n) detail::Fail(node, fmt::format("expected {} values in \"{}\", got {}", n, key, values.size()));
+  if (values.size() != n)
+    detail::Fail(node, fmt::format("expected {} values in \"{}\", got {}", n, key, values.size()));
   return values;
 }
 
-std::vector<int> SizedInts(const JsonNode& object, const char* key, std::size_t n, long long lo, long long hi) {
+std::vector<int> SizedInts(const JsonNode& object, const char* key, std::size_t n, long long lo,
+                           long long hi) {
   const JsonNode node = detail::Member(object, key);
   const std::vector<long long> values = detail::Integers(node, fmt::format("\"{}\"", key));
-  if (values.size() != n) detail::Fail(node, fmt::format("expected {} values in \"{}\", got {}", n, key, values.size()));
+  if (values.size() != n)
+    detail::Fail(node, fmt::format("expected {} values in \"{}\", got {}", n, key, values.size()));
   for (std::size_t i = 0; i < n; ++i) {
     if (values[i] < lo || values[i] > hi) {
-      detail::Fail(detail::Element(node, i), fmt::format("expected values of \"{}\" in [{}, {}], got {}", key, lo, hi, values[i]));
+      detail::Fail(
+          detail::Element(node, i),
+          fmt::format("expected values of \"{}\" in [{}, {}], got {}", key, lo, hi, values[i]));
     }
   }
   return {values.begin(), values.end()};
@@ -155,7 +164,8 @@ std::vector<double> ReadAngles(const JsonNode& object, std::size_t n) {
   if (detail::OptionalMember(object, "angles")) return SizedNumbers(object, "angles", n);
   const auto min = detail::OptionalMember(object, "angle_min");
   const auto step = detail::OptionalMember(object, "angle_increment");
-  if (!min || !step) detail::Fail(object, "expected \"angles\", or \"angle_min\" and \"angle_increment\"");
+  if (!min || !step)
+    detail::Fail(object, "expected \"angles\", or \"angle_min\" and \"angle_increment\"");
   const double first = detail::FiniteNumber(*min, "angle_min");
   const double increment = detail::FiniteNumber(*step, "angle_increment");
   std::vector<double> angles(n);
@@ -164,21 +174,30 @@ std::vector<double> ReadAngles(const JsonNode& object, std::size_t n) {
 }
 
 std::vector<BeamStatus> ReadStatus(const JsonNode& node, std::size_t n) {
-  if (detail::ArraySize(node, "\"status\"") != n) detail::Fail(node, fmt::format("expected {} entries in \"status\"", n));
+  if (detail::ArraySize(node, "\"status\"") != n)
+    detail::Fail(node, fmt::format("expected {} entries in \"status\"", n));
   std::vector<BeamStatus> status(n);
   for (std::size_t i = 0; i < n; ++i) {
     const JsonNode e = detail::Element(node, i);
     const std::string s = detail::String(e, "a beam status");
-    if (s == "valid") status[i] = BeamStatus::kValid;
-    else if (s == "max_range") status[i] = BeamStatus::kMaxRange;
-    else if (s == "invalid") status[i] = BeamStatus::kInvalid;
-    else detail::Fail(e, fmt::format("expected a beam status (\"valid\", \"max_range\" or \"invalid\"), got \"{}\"", s));
+    if (s == "valid")
+      status[i] = BeamStatus::kValid;
+    else if (s == "max_range")
+      status[i] = BeamStatus::kMaxRange;
+    else if (s == "invalid")
+      status[i] = BeamStatus::kInvalid;
+    else
+      detail::Fail(
+          e,
+          fmt::format(
+              "expected a beam status (\"valid\", \"max_range\" or \"invalid\"), got \"{}\"", s));
   }
   return status;
 }
 
 SymmetricBandedMatrix ReadPrecision(const JsonNode& node, std::size_t n) {
-  const long long bandwidth = detail::Integer(detail::Member(node, "bandwidth"), "the precision bandwidth");
+  const long long bandwidth =
+      detail::Integer(detail::Member(node, "bandwidth"), "the precision bandwidth");
   if (bandwidth < 0 || static_cast<std::size_t>(bandwidth) >= std::max<std::size_t>(n, 1)) {
     detail::Fail(node, fmt::format("precision bandwidth must be in [0, {}), got {}", n, bandwidth));
   }
@@ -193,7 +212,8 @@ SymmetricBandedMatrix ReadPrecision(const JsonNode& node, std::size_t n) {
   for (std::size_t k = 0; k < values.size(); ++k) {
     const JsonNode row = detail::Element(bands, k);
     values[k] = detail::Numbers(row, "a precision band");
-    if (values[k].size() != n) detail::Fail(row, fmt::format("expected {} values in each precision band", n));
+    if (values[k].size() != n)
+      detail::Fail(row, fmt::format("expected {} values in each precision band", n));
   }
   SymmetricBandedMatrix w(n, static_cast<std::size_t>(bandwidth));
   for (std::size_t k = 0; k < values.size(); ++k) {
@@ -208,16 +228,21 @@ CarmenLaserFields ReadCarmenLaser(const JsonNode& node) {
   const auto number = [&](const char* key, double fallback) {
     return OptionalNumber(node, key, key).value_or(fallback);
   };
-  if (const auto n = detail::OptionalMember(node, "has_timestamps")) c.has_timestamps = detail::Boolean(*n, "has_timestamps");
+  if (const auto n = detail::OptionalMember(node, "has_timestamps"))
+    c.has_timestamps = detail::Boolean(*n, "has_timestamps");
   if (const auto n = detail::OptionalMember(node, "host")) c.host = detail::String(*n, "host");
   c.logger_timestamp = number("logger_timestamp", 0.0);
-  if (const auto n = detail::OptionalMember(node, "laser_type")) c.laser_type = static_cast<int>(detail::IntegerInRange(*n, "laser_type", INT_MIN, INT_MAX));
+  if (const auto n = detail::OptionalMember(node, "laser_type"))
+    c.laser_type = static_cast<int>(detail::IntegerInRange(*n, "laser_type", INT_MIN, INT_MAX));
   c.start_angle = number("start_angle", 0.0);
   c.fov = number("fov", 0.0);
   c.angular_resolution = number("angular_resolution", 0.0);
   c.accuracy = number("accuracy", 0.0);
-  if (const auto n = detail::OptionalMember(node, "remission_mode")) c.remission_mode = static_cast<int>(detail::IntegerInRange(*n, "remission_mode", INT_MIN, INT_MAX));
-  if (const auto n = detail::OptionalMember(node, "remissions")) c.remissions = detail::Numbers(*n, "remissions");
+  if (const auto n = detail::OptionalMember(node, "remission_mode"))
+    c.remission_mode =
+        static_cast<int>(detail::IntegerInRange(*n, "remission_mode", INT_MIN, INT_MAX));
+  if (const auto n = detail::OptionalMember(node, "remissions"))
+    c.remissions = detail::Numbers(*n, "remissions");
   c.tv = number("tv", 0.0);
   c.rv = number("rv", 0.0);
   c.forward_safety_dist = number("forward_safety_dist", 0.0);
@@ -231,7 +256,8 @@ std::optional<CarmenRecordFields> ReadCarmenRecord(const JsonNode& record) {
   if (!node) return std::nullopt;
   detail::RequireObject(*node, "\"carmen\" fields");
   CarmenRecordFields c;
-  if (const auto n = detail::OptionalMember(*node, "has_timestamps")) c.has_timestamps = detail::Boolean(*n, "has_timestamps");
+  if (const auto n = detail::OptionalMember(*node, "has_timestamps"))
+    c.has_timestamps = detail::Boolean(*n, "has_timestamps");
   if (const auto n = detail::OptionalMember(*node, "host")) c.host = detail::String(*n, "host");
   c.logger_timestamp = OptionalNumber(*node, "logger_timestamp", "logger_timestamp").value_or(0.0);
   return c;
@@ -240,13 +266,15 @@ std::optional<CarmenRecordFields> ReadCarmenRecord(const JsonNode& record) {
 Scan ReadScan(const JsonNode& node) {
   detail::RequireObject(node, "a scan");
   Scan scan;
-  if (const auto n = detail::OptionalMember(node, "channel")) scan.channel = detail::String(*n, "the channel");
+  if (const auto n = detail::OptionalMember(node, "channel"))
+    scan.channel = detail::String(*n, "the channel");
   scan.timestamp = OptionalNumber(node, "timestamp", "the timestamp").value_or(0.0);
   scan.pose = detail::Pose(detail::Member(node, "pose"), "the sensor pose");
   scan.robot_pose = OptionalPose(node, "robot_pose");
   scan.odom_pose = OptionalPose(node, "odom_pose");
   scan.min_range = OptionalNumber(node, "min_range", "min_range").value_or(0.0);
-  scan.max_range = OptionalNumber(node, "max_range", "max_range").value_or(std::numeric_limits<double>::infinity());
+  scan.max_range = OptionalNumber(node, "max_range", "max_range")
+                       .value_or(std::numeric_limits<double>::infinity());
   if (std::isnan(scan.max_range)) scan.max_range = std::numeric_limits<double>::infinity();
   const JsonNode ranges = detail::Member(node, "ranges");
   scan.ranges = detail::Numbers(ranges, "\"ranges\"");
@@ -266,7 +294,8 @@ Scan ReadScan(const JsonNode& node) {
   } else {
     scan.ClassifyAll();
   }
-  if (const auto precision = detail::OptionalMember(node, "precision")) scan.precision = ReadPrecision(*precision, n);
+  if (const auto precision = detail::OptionalMember(node, "precision"))
+    scan.precision = ReadPrecision(*precision, n);
   if (detail::OptionalMember(node, "true_range")) {
     ScanTruth& truth = scan.truth.emplace();
     truth.range = SizedNumbers(node, "true_range", n);
@@ -281,7 +310,8 @@ Scan ReadScan(const JsonNode& node) {
       truth.outlier.assign(n, 0);
     }
   }
-  if (const auto carmen = detail::OptionalMember(node, "carmen")) scan.carmen = ReadCarmenLaser(*carmen);
+  if (const auto carmen = detail::OptionalMember(node, "carmen"))
+    scan.carmen = ReadCarmenLaser(*carmen);
   if (const std::vector<std::string> problems = scan.Problems(); !problems.empty()) {
     detail::Fail(node, "inconsistent scan: " + problems.front());
   }
@@ -318,8 +348,9 @@ void ReadRecord(const JsonNode& record, Log& log) {
     log.params.emplace_back(detail::String(detail::Member(record, "name"), "the parameter name"),
                             detail::String(detail::Member(record, "value"), "the parameter value"));
   } else {
-    detail::Fail(type_node, fmt::format(
-        "expected a record type (\"scan\", \"odometry\", \"true_pose\" or \"param\"), got \"{}\"", type));
+    detail::Fail(type_node, fmt::format("expected a record type (\"scan\", \"odometry\", "
+                                        "\"true_pose\" or \"param\"), got \"{}\"",
+                                        type));
   }
 }
 
@@ -334,13 +365,20 @@ Log ReadLogDocument(const JsonNode& root) {
     return log;
   }
   if (format != "priormap.log") {
-    detail::Fail(format_node, fmt::format("expected format \"priormap.log\" or \"priormap.scan\", got \"{}\"", format));
+    detail::Fail(
+        format_node,
+        fmt::format("expected format \"priormap.log\" or \"priormap.scan\", got \"{}\"", format));
   }
   detail::RequireFormat(root, "priormap.log", kVersion);
   if (const auto source = detail::OptionalMember(root, "pose_source")) {
     const std::string name = detail::String(*source, "the pose source");
     const auto parsed = PoseSourceFromString(name);
-    if (!parsed) detail::Fail(*source, fmt::format("expected a pose source (unknown, odometry, corrected, ground_truth), got \"{}\"", name));
+    if (!parsed)
+      detail::Fail(
+          *source,
+          fmt::format(
+              "expected a pose source (unknown, odometry, corrected, ground_truth), got \"{}\"",
+              name));
     log.pose_source = *parsed;
   }
   const JsonNode records = detail::Member(root, "records");
@@ -388,13 +426,17 @@ std::string FormatJsonLog(const Log& log) {
       }
       case Log::RecordKind::kTruePose: {
         const TruePoseRecord& r = log.true_poses[ref.index];
-        record = {{"type", "true_pose"}, {"timestamp", detail::NumberToJson(r.timestamp)},
-                  {"true_pose", detail::PoseToJson(r.true_pose)}, {"odom_pose", detail::PoseToJson(r.odom_pose)}};
+        record = {{"type", "true_pose"},
+                  {"timestamp", detail::NumberToJson(r.timestamp)},
+                  {"true_pose", detail::PoseToJson(r.true_pose)},
+                  {"odom_pose", detail::PoseToJson(r.odom_pose)}};
         if (r.carmen) record["carmen"] = CarmenRecordToJson(*r.carmen);
         break;
       }
       case Log::RecordKind::kParam:
-        record = {{"type", "param"}, {"name", log.params[ref.index].first}, {"value", log.params[ref.index].second}};
+        record = {{"type", "param"},
+                  {"name", log.params[ref.index].first},
+                  {"value", log.params[ref.index].second}};
         break;
     }
     out += first ? "\n" : ",\n";

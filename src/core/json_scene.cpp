@@ -1,8 +1,8 @@
 // priormap.scene JSON documents (docs/formats.md).
+#include <fmt/format.h>
+
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/json_io.hpp>
-
-#include <fmt/format.h>
 
 #include "json_document.hpp"
 
@@ -23,7 +23,8 @@ OrderedJson PointsToJson(const std::vector<Vec2>& points) {
 std::vector<Vec2> ReadPoints(const JsonNode& node, std::string_view what) {
   const std::size_t n = detail::ArraySize(node, what);
   std::vector<Vec2> points(n);
-  for (std::size_t i = 0; i < n; ++i) points[i] = detail::Point(detail::Element(node, i), "a point [x, y]");
+  for (std::size_t i = 0; i < n; ++i)
+    points[i] = detail::Point(detail::Element(node, i), "a point [x, y]");
   return points;
 }
 
@@ -37,37 +38,47 @@ SceneSurface ReadSurface(const JsonNode& node) {
     const JsonNode points = detail::Member(node, "points");
     polyline.points = ReadPoints(points, "\"points\"");
     if (polyline.points.size() < 2) detail::Fail(points, "a polyline needs at least 2 points");
-    if (const auto closed = detail::OptionalMember(node, "closed")) polyline.closed = detail::Boolean(*closed, "\"closed\"");
+    if (const auto closed = detail::OptionalMember(node, "closed"))
+      polyline.closed = detail::Boolean(*closed, "\"closed\"");
     surface.shape = std::move(polyline);
   } else if (type == "circle") {
     const Vec2 center = detail::Point(detail::Member(node, "center"), "the circle centre");
     const JsonNode radius_node = detail::Member(node, "radius");
     const double radius = detail::FiniteNumber(radius_node, "the radius");
-    if (!(radius > 0.0)) detail::Fail(radius_node, fmt::format("radius must be positive, got {}", radius));
+    if (!(radius > 0.0))
+      detail::Fail(radius_node, fmt::format("radius must be positive, got {}", radius));
     surface.shape = Circle{center, radius};
   } else {
-    detail::Fail(type_node, fmt::format("expected a surface type (\"polyline\" or \"circle\"), got \"{}\"", type));
+    detail::Fail(
+        type_node,
+        fmt::format("expected a surface type (\"polyline\" or \"circle\"), got \"{}\"", type));
   }
-  if (const auto clutter = detail::OptionalMember(node, "clutter")) surface.clutter = detail::Boolean(*clutter, "\"clutter\"");
-  if (const auto label = detail::OptionalMember(node, "label")) surface.label = detail::String(*label, "\"label\"");
+  if (const auto clutter = detail::OptionalMember(node, "clutter"))
+    surface.clutter = detail::Boolean(*clutter, "\"clutter\"");
+  if (const auto label = detail::OptionalMember(node, "label"))
+    surface.label = detail::String(*label, "\"label\"");
   return surface;
 }
 
 Scene ReadScene(const JsonNode& root) {
   detail::RequireFormat(root, "priormap.scene", kVersion);
   Scene scene;
-  if (const auto name = detail::OptionalMember(root, "name")) scene.name = detail::String(*name, "the scene name");
+  if (const auto name = detail::OptionalMember(root, "name"))
+    scene.name = detail::String(*name, "the scene name");
   const JsonNode surfaces = detail::Member(root, "surfaces");
   const std::size_t n = detail::ArraySize(surfaces, "\"surfaces\"");
   for (std::size_t i = 0; i < n; ++i) {
     const JsonNode surface = detail::Element(surfaces, i);
     scene.surfaces.push_back(ReadSurface(surface));
-    if (const std::vector<std::string> problems = scene.surfaces.back().Problems(); !problems.empty()) {
+    if (const std::vector<std::string> problems = scene.surfaces.back().Problems();
+        !problems.empty()) {
       detail::Fail(surface, problems.front());
     }
   }
-  if (const auto pose = detail::OptionalMember(root, "default_pose")) scene.default_pose = detail::Pose(*pose, "the default pose");
-  if (const auto waypoints = detail::OptionalMember(root, "waypoints")) scene.waypoints = ReadPoints(*waypoints, "\"waypoints\"");
+  if (const auto pose = detail::OptionalMember(root, "default_pose"))
+    scene.default_pose = detail::Pose(*pose, "the default pose");
+  if (const auto waypoints = detail::OptionalMember(root, "waypoints"))
+    scene.waypoints = ReadPoints(*waypoints, "\"waypoints\"");
   return scene;
 }
 

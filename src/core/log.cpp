@@ -1,16 +1,20 @@
+#include <fmt/format.h>
+
 #include <priormap/core/check.hpp>
 #include <priormap/core/log.hpp>
-
-#include <fmt/format.h>
 
 namespace priormap {
 
 const char* ToString(PoseSource source) {
   switch (source) {
-    case PoseSource::kUnknown: return "unknown";
-    case PoseSource::kOdometry: return "odometry";
-    case PoseSource::kCorrected: return "corrected";
-    case PoseSource::kGroundTruth: return "ground_truth";
+    case PoseSource::kUnknown:
+      return "unknown";
+    case PoseSource::kOdometry:
+      return "odometry";
+    case PoseSource::kCorrected:
+      return "corrected";
+    case PoseSource::kGroundTruth:
+      return "ground_truth";
   }
   return "?";
 }
@@ -44,18 +48,24 @@ std::vector<Log::RecordRef> Log::RecordOrder() const {
 std::vector<std::string> Log::Problems() const {
   std::vector<std::string> problems;
   for (std::size_t k = 0; k < scans.size(); ++k) {
-    for (const std::string& p : scans[k].Problems()) problems.push_back(fmt::format("scan {}: {}", k, p));
+    for (const std::string& p : scans[k].Problems())
+      problems.push_back(fmt::format("scan {}: {}", k, p));
   }
   if (!order.empty()) {
     if (order.size() != NumRecords()) {
-      problems.push_back(fmt::format("order lists {} records, the log has {}", order.size(), NumRecords()));
+      problems.push_back(
+          fmt::format("order lists {} records, the log has {}", order.size(), NumRecords()));
     }
     const auto count_of = [&](RecordKind kind) -> std::size_t {
       switch (kind) {
-        case RecordKind::kScan: return scans.size();
-        case RecordKind::kOdometry: return odometry.size();
-        case RecordKind::kTruePose: return true_poses.size();
-        case RecordKind::kParam: return params.size();
+        case RecordKind::kScan:
+          return scans.size();
+        case RecordKind::kOdometry:
+          return odometry.size();
+        case RecordKind::kTruePose:
+          return true_poses.size();
+        case RecordKind::kParam:
+          return params.size();
       }
       return 0;
     };

@@ -1,14 +1,16 @@
+#include <algorithm>
+
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
-
-#include <algorithm>
 
 namespace priormap {
 
 const char* ToString(LogFormat format) {
   switch (format) {
-    case LogFormat::kCarmen: return "carmen";
-    case LogFormat::kJson: return "json";
+    case LogFormat::kCarmen:
+      return "carmen";
+    case LogFormat::kJson:
+      return "json";
   }
   return "?";
 }
@@ -37,16 +39,20 @@ Result<Log> ReadLog(const std::filesystem::path& path, std::optional<LogFormat> 
   Result<std::string> text = ReadFileText(path);
   if (!text) return text.diagnostics();
   switch (format.value_or(SniffLogFormat(text.value()))) {
-    case LogFormat::kJson: return ParseJsonLog(text.value(), path.string());
-    case LogFormat::kCarmen: return ParseCarmenLog(text.value(), path.string(), carmen_options);
+    case LogFormat::kJson:
+      return ParseJsonLog(text.value(), path.string());
+    case LogFormat::kCarmen:
+      return ParseCarmenLog(text.value(), path.string(), carmen_options);
   }
   return Diagnostic{path.string(), 0, 0, "unknown log format"};
 }
 
 void WriteLog(const Log& log, const std::filesystem::path& path, LogFormat format) {
   switch (format) {
-    case LogFormat::kJson: return WriteJsonLog(log, path);
-    case LogFormat::kCarmen: return WriteCarmenLog(log, path);
+    case LogFormat::kJson:
+      return WriteJsonLog(log, path);
+    case LogFormat::kCarmen:
+      return WriteCarmenLog(log, path);
   }
 }
 

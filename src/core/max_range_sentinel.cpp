@@ -1,15 +1,15 @@
-#include <priormap/core/carmen_io.hpp>
-
 #include <cmath>
 #include <map>
+
+#include <priormap/core/carmen_io.hpp>
 
 namespace priormap {
 namespace {
 
 constexpr int kMinSentinelCount = 10;
-constexpr double kSentinelBand = 0.5;     // m below the sentinel that still count as "no return"
-constexpr double kComparisonBand = 2.0;   // m below that band, where real returns would be
-constexpr double kMinIsolation = 10.0;    // sentinel cluster / comparison band
+constexpr double kSentinelBand = 0.5;    // m below the sentinel that still count as "no return"
+constexpr double kComparisonBand = 2.0;  // m below that band, where real returns would be
+constexpr double kMinIsolation = 10.0;   // sentinel cluster / comparison band
 
 }  // namespace
 

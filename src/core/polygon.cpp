@@ -1,7 +1,7 @@
+#include <cmath>
+
 #include <priormap/core/check.hpp>
 #include <priormap/core/polygon.hpp>
-
-#include <cmath>
 
 namespace priormap {
 
@@ -18,7 +18,9 @@ double Polygon::SignedArea() const {
   return 0.5 * twice_area;
 }
 
-double Polygon::Area() const { return std::abs(SignedArea()); }
+double Polygon::Area() const {
+  return std::abs(SignedArea());
+}
 
 double Polygon::Perimeter() const {
   double perimeter = 0.0;

@@ -1,7 +1,7 @@
+#include <limits>
+
 #include <priormap/core/check.hpp>
 #include <priormap/core/polyline.hpp>
-
-#include <limits>
 
 namespace priormap {
 

@@ -1,10 +1,10 @@
-#include <priormap/core/angles.hpp>
-#include <priormap/core/range_sensor.hpp>
-#include <priormap/core/scan.hpp>
-
 #include <cmath>
 
 #include <fmt/format.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/range_sensor.hpp>
+#include <priormap/core/scan.hpp>
 
 namespace priormap {
 
@@ -19,7 +19,8 @@ bool RangeSensor::IsValid(std::string* why) const {
   } else if (!(correlation >= 0.0 && correlation < 1.0)) {
     reason = fmt::format("correlation must be in [0, 1) (got {})", correlation);
   } else if (!(min_range >= 0.0 && max_range > min_range && std::isfinite(max_range))) {
-    reason = fmt::format("need 0 <= min_range < max_range < inf (got {} and {})", min_range, max_range);
+    reason =
+        fmt::format("need 0 <= min_range < max_range < inf (got {} and {})", min_range, max_range);
   } else if (!(outlier_probability >= 0.0 && outlier_probability <= 1.0)) {
     reason = fmt::format("outlier probability must be in [0, 1] (got {})", outlier_probability);
   } else if (!(dropout_probability >= 0.0 && dropout_probability <= 1.0)) {
@@ -56,6 +57,8 @@ std::optional<RangeSensor> RangeSensor::Preset(std::string_view name) {
   return std::nullopt;
 }
 
-std::vector<std::string> RangeSensor::PresetNames() { return {"utm30", "lms200"}; }
+std::vector<std::string> RangeSensor::PresetNames() {
+  return {"utm30", "lms200"};
+}
 
 }  // namespace priormap

@@ -1,7 +1,7 @@
+#include <cmath>
+
 #include <priormap/core/angles.hpp>
 #include <priormap/core/ray_cast.hpp>
-
-#include <cmath>
 
 namespace priormap {
 namespace {

@@ -1,8 +1,8 @@
-#include <priormap/core/check.hpp>
-#include <priormap/core/rng.hpp>
-
 #include <cmath>
 #include <limits>
+
+#include <priormap/core/check.hpp>
+#include <priormap/core/rng.hpp>
 
 namespace priormap {
 
@@ -43,8 +43,8 @@ double Rng::Normal() {
 std::uint64_t Rng::UniformIndex(std::uint64_t n) {
   PRIORMAP_CHECK(n > 0, "UniformIndex needs n > 0");
   // Rejection sampling removes the modulo bias.
-  const std::uint64_t limit = std::numeric_limits<std::uint64_t>::max() - 
-                              std::numeric_limits<std::uint64_t>::max() % n;
+  const std::uint64_t limit =
+      std::numeric_limits<std::uint64_t>::max() - std::numeric_limits<std::uint64_t>::max() % n;
   std::uint64_t x;
   do {
     x = engine_();

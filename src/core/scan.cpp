@@ -1,18 +1,21 @@
-#include <priormap/core/check.hpp>
-#include <priormap/core/scan.hpp>
-
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include <priormap/core/check.hpp>
+#include <priormap/core/scan.hpp>
+
 namespace priormap {
 
 const char* ToString(BeamStatus status) {
   switch (status) {
-    case BeamStatus::kValid: return "valid";
-    case BeamStatus::kMaxRange: return "max_range";
-    case BeamStatus::kInvalid: return "invalid";
+    case BeamStatus::kValid:
+      return "valid";
+    case BeamStatus::kMaxRange:
+      return "max_range";
+    case BeamStatus::kInvalid:
+      return "invalid";
   }
   return "?";
 }
@@ -35,7 +38,9 @@ Vec2 Scan::PointInSensorFrame(std::size_t i) const {
   return ranges[i] * UnitVector(angles[i]);
 }
 
-Vec2 Scan::PointInWorld(std::size_t i) const { return pose.Transform(PointInSensorFrame(i)); }
+Vec2 Scan::PointInWorld(std::size_t i) const {
+  return pose.Transform(PointInSensorFrame(i));
+}
 
 void Scan::ClassifyAll() {
   status.resize(ranges.size());
@@ -48,7 +53,8 @@ std::vector<std::string> Scan::Problems() const {
   std::vector<std::string> problems;
   const std::size_t n = ranges.size();
   const auto require_size = [&](std::size_t size, const char* what) {
-    if (size != n) problems.push_back(fmt::format("{} has {} entries for {} readings", what, size, n));
+    if (size != n)
+      problems.push_back(fmt::format("{} has {} entries for {} readings", what, size, n));
   };
   require_size(angles.size(), "angles");
   require_size(sigma.size(), "sigma");
@@ -62,7 +68,8 @@ std::vector<std::string> Scan::Problems() const {
   if (std::any_of(angles.begin(), angles.end(), [](double a) { return !std::isfinite(a); })) {
     problems.push_back("angles must be finite");
   }
-  if (std::any_of(sigma.begin(), sigma.end(), [](double s) { return !(s > 0.0 && std::isfinite(s)); })) {
+  if (std::any_of(sigma.begin(), sigma.end(),
+                  [](double s) { return !(s > 0.0 && std::isfinite(s)); })) {
     problems.push_back("sigma must be positive and finite");
   }
   if (precision && precision->size() != n) {
@@ -70,7 +77,8 @@ std::vector<std::string> Scan::Problems() const {
   }
   if (!pose.IsFinite()) problems.push_back("pose must be finite");
   if (!(min_range >= 0.0) || !(max_range > min_range)) {
-    problems.push_back(fmt::format("need 0 <= min_range < max_range (got {} and {})", min_range, max_range));
+    problems.push_back(
+        fmt::format("need 0 <= min_range < max_range (got {} and {})", min_range, max_range));
   }
   if (truth) {
     require_size(truth->range.size(), "true_range");

@@ -1,14 +1,16 @@
-#include <priormap/core/scene.hpp>
-
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include <priormap/core/scene.hpp>
+
 namespace priormap {
 namespace {
 
-bool IsFinite(const Vec2& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }
+bool IsFinite(const Vec2& p) {
+  return std::isfinite(p.x()) && std::isfinite(p.y());
+}
 
 void AddPolylineProblems(const Polyline& polyline, std::vector<std::string>& problems) {
   if (polyline.points.size() < 2) {

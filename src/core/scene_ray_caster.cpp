@@ -1,6 +1,6 @@
-#include <priormap/core/scene_ray_caster.hpp>
-
 #include <cmath>
+
+#include <priormap/core/scene_ray_caster.hpp>
 
 namespace priormap {
 namespace {

@@ -1,9 +1,9 @@
-#include <priormap/core/angles.hpp>
-#include <priormap/core/se2.hpp>
-
 #include <cmath>
 
 #include <fmt/format.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/se2.hpp>
 
 namespace priormap {
 namespace {
@@ -29,7 +29,9 @@ Mat2 Se2::rotation() const {
   return r;
 }
 
-bool Se2::IsFinite() const { return std::isfinite(x_) && std::isfinite(y_) && std::isfinite(theta_); }
+bool Se2::IsFinite() const {
+  return std::isfinite(x_) && std::isfinite(y_) && std::isfinite(theta_);
+}
 
 Se2 Se2::Compose(const Se2& other, Mat3* J_out_this, Mat3* J_out_other) const {
   const Mat2 r = rotation();
@@ -86,7 +88,9 @@ Vec2 Se2::InverseTransform(const Vec2& point, Mat23* J_out_pose, Mat2* J_out_poi
   return rt * delta;
 }
 
-std::string Se2::ToString() const { return fmt::format("{} {} {}", x_, y_, theta_); }
+std::string Se2::ToString() const {
+  return fmt::format("{} {} {}", x_, y_, theta_);
+}
 
 bool IsApprox(const Se2& a, const Se2& b, double tolerance) {
   return std::abs(a.x() - b.x()) <= tolerance && std::abs(a.y() - b.y()) <= tolerance &&

@@ -1,8 +1,8 @@
-#include <priormap/core/check.hpp>
-#include <priormap/core/segment.hpp>
-
 #include <algorithm>
 #include <cmath>
+
+#include <priormap/core/check.hpp>
+#include <priormap/core/segment.hpp>
 
 namespace priormap {
 

@@ -1,12 +1,12 @@
-#include <priormap/core/angles.hpp>
-#include <priormap/core/check.hpp>
-#include <priormap/core/simulate.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include <tbb/parallel_for.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/check.hpp>
+#include <priormap/core/simulate.hpp>
 
 namespace priormap {
 namespace {
@@ -81,7 +81,8 @@ std::vector<TimedPose> TrajectoryFromWaypoints(const std::vector<Vec2>& waypoint
   PRIORMAP_CHECK(speed > 0.0 && rate > 0.0, "speed and rate must be positive");
   std::vector<Segment> legs;
   for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) {
-    if ((waypoints[i + 1] - waypoints[i]).norm() > 0.0) legs.push_back({waypoints[i], waypoints[i + 1]});
+    if ((waypoints[i + 1] - waypoints[i]).norm() > 0.0)
+      legs.push_back({waypoints[i], waypoints[i + 1]});
   }
   PRIORMAP_CHECK(!legs.empty(), "a trajectory needs at least two distinct waypoints");
   double total = 0.0;
@@ -128,7 +129,8 @@ Log SimulateLog(const Scene& scene, const RangeSensor& sensor,
     const double sigma_t = options.odom_sigma_per_meter * distance;
     const double sigma_r = options.odom_sigma_rad_per_rad * std::abs(delta.theta()) +
                            options.odom_sigma_rad_per_meter * distance;
-    const Se2 noisy(delta.x() + sigma_t * odom_rng.Normal(), delta.y() + sigma_t * odom_rng.Normal(),
+    const Se2 noisy(delta.x() + sigma_t * odom_rng.Normal(),
+                    delta.y() + sigma_t * odom_rng.Normal(),
                     delta.theta() + sigma_r * odom_rng.Normal());
     odom[k] = odom[k - 1].Compose(noisy);
   }

@@ -1,13 +1,12 @@
 #include "canvas.hpp"
 
-#include <priormap/core/file_io.hpp>
+#include <algorithm>
 
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
-
-#include <algorithm>
-
 #include <fmt/format.h>
+
+#include <priormap/core/file_io.hpp>
 
 namespace priormap::render::detail {
 namespace {
@@ -16,7 +15,8 @@ constexpr const char* kFont = "DejaVu Sans";
 
 void CheckStatus(cairo_status_t status, const std::filesystem::path& path) {
   if (status != CAIRO_STATUS_SUCCESS) {
-    throw IoError(fmt::format("{}: cannot write figure: {}", path.string(), cairo_status_to_string(status)));
+    throw IoError(
+        fmt::format("{}: cannot write figure: {}", path.string(), cairo_status_to_string(status)));
   }
 }
 
@@ -68,8 +68,8 @@ void SetColor(cairo_t* cr, const Color& color) {
   cairo_set_source_rgba(cr, color.r, color.g, color.b, color.a);
 }
 
-void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size,
-              double align_x, double align_y, bool bold) {
+void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size, double align_x,
+              double align_y, bool bold) {
   cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL,
                          bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, size);
@@ -85,7 +85,9 @@ namespace {
 constexpr double kLegendFont = 11.0, kLegendRow = 18.0;
 }  // namespace
 
-double LegendHeight(std::size_t entries) { return kLegendRow * static_cast<double>(entries) + 8; }
+double LegendHeight(std::size_t entries) {
+  return kLegendRow * static_cast<double>(entries) + 8;
+}
 
 void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& entries, double x,
                 double y, bool anchor_right) {

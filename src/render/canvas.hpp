@@ -1,14 +1,14 @@
 #pragma once
 // A drawing recorded once (Cairo recording surface) and replayed into PNG, SVG or PDF files.
 
-#include <cairo.h>
-
 #include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <cairo.h>
 
 #include <priormap/render/color.hpp>
 
@@ -44,8 +44,8 @@ class Canvas {
 void SetColor(cairo_t* cr, const Color& color);
 /// Text at (x, y): `align_x` 0 puts x at the left end, 0.5 at the centre, 1 at the right end;
 /// `align_y` 0 puts y at the top of capital letters, 0.5 at their middle, 1 on the baseline.
-void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size,
-              double align_x, double align_y, bool bold = false);
+void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size, double align_x,
+              double align_y, bool bold = false);
 
 /// Height in pixels of a legend box with `entries` rows.
 [[nodiscard]] double LegendHeight(std::size_t entries);
@@ -55,7 +55,8 @@ void DrawText(cairo_t* cr, const std::string& text, double x, double y, double s
 void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& entries, double x,
                 double y, bool anchor_right);
 
-/// A legend as one row of swatches and labels, centred on `center_x`, with `y` the middle of the row.
+/// A legend as one row of swatches and labels, centred on `center_x`, with `y` the middle of the
+/// row.
 void DrawLegendRow(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& entries,
                    double center_x, double y);
 

@@ -1,11 +1,11 @@
-#include <priormap/render/color.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <string>
+
+#include <priormap/render/color.hpp>
 
 namespace priormap::render {
 namespace {
@@ -22,7 +22,8 @@ constexpr std::array<Color, 9> kViridis = {{{0.267004, 0.004874, 0.329415},
                                             {0.993248, 0.906157, 0.143936}}};
 
 Color Lerp(const Color& a, const Color& b, double t) {
-  return {a.r + t * (b.r - a.r), a.g + t * (b.g - a.g), a.b + t * (b.b - a.b), a.a + t * (b.a - a.a)};
+  return {a.r + t * (b.r - a.r), a.g + t * (b.g - a.g), a.b + t * (b.b - a.b),
+          a.a + t * (b.a - a.a)};
 }
 
 }  // namespace
@@ -35,14 +36,15 @@ Color Color::FromHex(std::string_view hex) {
   };
   if (!std::all_of(hex.begin() + 1, hex.end(), is_hex_digit)) return palette::kBlack;
   const auto byte = [&](std::size_t i) {
-    return static_cast<double>(std::strtol(std::string(hex.substr(i, 2)).c_str(), nullptr, 16)) / 255.0;
+    return static_cast<double>(std::strtol(std::string(hex.substr(i, 2)).c_str(), nullptr, 16)) /
+           255.0;
   };
   return {byte(1), byte(3), byte(5), hex.size() == 9 ? byte(7) : 1.0};
 }
 
 Color palette::Categorical(int i) {
-  static constexpr std::array<Color, 7> kColors = {kBlue, kOrange, kGreen, kVermillion, kPurple,
-                                                   kSkyBlue, kYellow};
+  static constexpr std::array<Color, 7> kColors = {kBlue,   kOrange,  kGreen, kVermillion,
+                                                   kPurple, kSkyBlue, kYellow};
   const int n = static_cast<int>(kColors.size());
   return kColors[static_cast<std::size_t>(((i % n) + n) % n)];
 }

@@ -1,12 +1,12 @@
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/render/figure.hpp>
 #include <priormap/render/ticks.hpp>
-
-#include <Eigen/Eigenvalues>
-
-#include <algorithm>
-#include <cmath>
 
 #include "canvas.hpp"
 
@@ -66,7 +66,8 @@ struct Figure::Impl {
     cairo_t* c = cr();
     detail::SetColor(c, palette::kBlack);
     if (!options.title.empty()) {
-      detail::DrawText(c, options.title, margins.left + plot_width / 2, 10.0, kTitleFont, 0.5, 0.0, true);
+      detail::DrawText(c, options.title, margins.left + plot_width / 2, 10.0, kTitleFont, 0.5, 0.0,
+                       true);
     }
     if (!options.axes) return;
     detail::SetColor(c, palette::kBlack);
@@ -102,7 +103,8 @@ struct Figure::Impl {
     cairo_t* c = cr();
     cairo_save(c);
     cairo_reset_clip(c);
-    const double x = margins.left + plot_width + 18, width = 16, top = margins.top, height = plot_height;
+    const double x = margins.left + plot_width + 18, width = 16, top = margins.top,
+                 height = plot_height;
     constexpr int kSteps = 96;
     for (int i = 0; i < kSteps; ++i) {
       const double t = (i + 0.5) / kSteps;
@@ -143,11 +145,14 @@ struct Figure::Impl {
     }
     if (legend.empty()) return;
     if (options.legend == LegendPlace::kBelow) {
-      detail::DrawLegendRow(c, legend, margins.left + plot_width / 2, margins.top + plot_height + margins.bottom - 14);
+      detail::DrawLegendRow(c, legend, margins.left + plot_width / 2,
+                            margins.top + plot_height + margins.bottom - 14);
       return;
     }
-    const bool right = options.legend == LegendPlace::kTopRight || options.legend == LegendPlace::kBottomRight;
-    const bool bottom = options.legend == LegendPlace::kBottomLeft || options.legend == LegendPlace::kBottomRight;
+    const bool right =
+        options.legend == LegendPlace::kTopRight || options.legend == LegendPlace::kBottomRight;
+    const bool bottom =
+        options.legend == LegendPlace::kBottomLeft || options.legend == LegendPlace::kBottomRight;
     const double x = right ? margins.left + plot_width - 10 : margins.left + 10;
     const double y = bottom ? margins.top + plot_height - 10 - detail::LegendHeight(legend.size())
                             : margins.top + 10;
@@ -163,12 +168,14 @@ Figure::Figure(const Box2& world, FigureOptions options) : impl_(std::make_uniqu
   const Vec2 pad = Vec2::Constant(std::max(f.options.padding_m, 1e-6));
   f.world = Box2(world.min() - pad, world.max() + pad);
   // The bottom margin always has room for a legend row: entries arrive after the layout is fixed.
-  f.margins = {f.options.axes ? 60.0 : 10.0, f.options.colorbar ? 100.0 : 16.0,
-               f.options.title.empty() ? 12.0 : 36.0,
-               (f.options.axes ? 44.0 : 10.0) + (f.options.legend == LegendPlace::kBelow ? 24.0 : 0.0)};
+  f.margins = {
+      f.options.axes ? 60.0 : 10.0, f.options.colorbar ? 100.0 : 16.0,
+      f.options.title.empty() ? 12.0 : 36.0,
+      (f.options.axes ? 44.0 : 10.0) + (f.options.legend == LegendPlace::kBelow ? 24.0 : 0.0)};
   const Vec2 size = f.world.sizes();
   const double width = std::max(f.options.width_px, 100);
-  const double max_plot_height = std::max(f.options.max_height_px, 100) - f.margins.top - f.margins.bottom;
+  const double max_plot_height =
+      std::max(f.options.max_height_px, 100) - f.margins.top - f.margins.bottom;
   f.scale = (width - f.margins.left - f.margins.right) / size.x();
   if (size.y() * f.scale > max_plot_height) f.scale = max_plot_height / size.y();
   f.plot_width = size.x() * f.scale;
@@ -185,9 +192,15 @@ Figure::~Figure() = default;
 Figure::Figure(Figure&&) noexcept = default;
 Figure& Figure::operator=(Figure&&) noexcept = default;
 
-int Figure::width_px() const { return static_cast<int>(impl_->canvas->width()); }
-int Figure::height_px() const { return static_cast<int>(impl_->canvas->height()); }
-Vec2 Figure::ToDevice(const Vec2& world) const { return impl_->ToDevice(world); }
+int Figure::width_px() const {
+  return static_cast<int>(impl_->canvas->width());
+}
+int Figure::height_px() const {
+  return static_cast<int>(impl_->canvas->height());
+}
+Vec2 Figure::ToDevice(const Vec2& world) const {
+  return impl_->ToDevice(world);
+}
 
 void Figure::Points(std::span<const Vec2> points, const Color& color, double radius_px) {
   cairo_t* c = impl_->cr();
@@ -266,7 +279,8 @@ void Figure::Ticks(std::span<const Vec2> points, std::span<const double> angles,
     if (!std::isfinite(angles[i])) continue;
     const Vec2 d = impl_->ToDevice(points[i]);
     cairo_move_to(c, d.x(), d.y());
-    cairo_line_to(c, d.x() + length_px * std::cos(angles[i]), d.y() - length_px * std::sin(angles[i]));
+    cairo_line_to(c, d.x() + length_px * std::cos(angles[i]),
+                  d.y() - length_px * std::sin(angles[i]));
   }
   detail::SetColor(c, style.color);
   cairo_set_line_width(c, style.width_px);
@@ -295,7 +309,8 @@ void Figure::PoseMarker(const Se2& pose, const Color& color, double size_px) {
   cairo_stroke(c);
 }
 
-void Figure::Text(const Vec2& position, const std::string& text, double size_px, const Color& color) {
+void Figure::Text(const Vec2& position, const std::string& text, double size_px,
+                  const Color& color) {
   const Vec2 d = impl_->ToDevice(position);
   detail::SetColor(impl_->cr(), color);
   detail::DrawText(impl_->cr(), text, d.x(), d.y(), size_px, 0.0, 1.0);
@@ -311,13 +326,16 @@ void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap
   const int stride = cairo_image_surface_get_stride(image.get());
   unsigned char* data = cairo_image_surface_get_data(image.get());
   for (int iy = 0; iy < rows; ++iy) {
-    auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(rows - 1 - iy) * stride);
+    auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(rows - 1 - iy) *
+                                                            stride);
     for (int ix = 0; ix < cols; ++ix) {
       const Color col = MapColor(colormap, (values(iy, ix) - vmin) / (vmax - vmin));
       // ARGB32 is premultiplied alpha in native byte order.
-      const auto channel = [&](double v) { return static_cast<std::uint32_t>(std::lround(v * col.a * 255.0)); };
-      row[ix] = (static_cast<std::uint32_t>(std::lround(col.a * 255.0)) << 24) | (channel(col.r) << 16) |
-                (channel(col.g) << 8) | channel(col.b);
+      const auto channel = [&](double v) {
+        return static_cast<std::uint32_t>(std::lround(v * col.a * 255.0));
+      };
+      row[ix] = (static_cast<std::uint32_t>(std::lround(col.a * 255.0)) << 24) |
+                (channel(col.r) << 16) | (channel(col.g) << 8) | channel(col.b);
     }
   }
   cairo_surface_mark_dirty(image.get());
@@ -326,7 +344,8 @@ void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap
   const Vec2 bottom_right = impl_->ToDevice({extent.max().x(), extent.min().y()});
   cairo_save(c);
   cairo_translate(c, top_left.x(), top_left.y());
-  cairo_scale(c, (bottom_right.x() - top_left.x()) / cols, (bottom_right.y() - top_left.y()) / rows);
+  cairo_scale(c, (bottom_right.x() - top_left.x()) / cols,
+              (bottom_right.y() - top_left.y()) / rows);
   cairo_set_source_surface(c, image.get(), 0.0, 0.0);
   cairo_pattern_set_filter(cairo_get_source(c), CAIRO_FILTER_NEAREST);
   cairo_paint(c);

@@ -1,11 +1,11 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include <priormap/core/check.hpp>
 #include <priormap/core/types.hpp>
 #include <priormap/render/line_plot.hpp>
 #include <priormap/render/ticks.hpp>
-
-#include <algorithm>
-#include <cmath>
-#include <limits>
 
 #include "canvas.hpp"
 
@@ -32,7 +32,8 @@ std::pair<double, double> DataRange(const std::vector<Series>& series, bool use_
     }
   }
   if (!std::isfinite(lo)) return {0.0, 1.0};
-  if (lo == hi) return {lo - std::max(0.5, std::abs(lo) * 0.1), hi + std::max(0.5, std::abs(hi) * 0.1)};
+  if (lo == hi)
+    return {lo - std::max(0.5, std::abs(lo) * 0.1), hi + std::max(0.5, std::abs(hi) * 0.1)};
   if (!use_x) {
     const double pad = 0.05 * (hi - lo);
     return {lo - pad, hi + pad};
@@ -58,26 +59,32 @@ void LinePlot::Save(const std::filesystem::path& path) const {
   std::vector<std::pair<double, Color>> lines;
   for (const Series& s : horizontal_lines_) lines.emplace_back(s.y[0], *s.color);
   // Plain variables rather than structured bindings: lambdas below capture them (clang 14 cannot).
-  const std::pair<double, double> x_range = options_.x_range.value_or(DataRange(series_, true, lines));
-  const std::pair<double, double> y_range = options_.y_range.value_or(DataRange(series_, false, lines));
-  const double x_lo = x_range.first, x_hi = x_range.second, y_lo = y_range.first, y_hi = y_range.second;
+  const std::pair<double, double> x_range =
+      options_.x_range.value_or(DataRange(series_, true, lines));
+  const std::pair<double, double> y_range =
+      options_.y_range.value_or(DataRange(series_, false, lines));
+  const double x_lo = x_range.first, x_hi = x_range.second, y_lo = y_range.first,
+               y_hi = y_range.second;
   PRIORMAP_CHECK(x_lo < x_hi && y_lo < y_hi, "plot ranges must not be empty");
 
   const double width = std::max(options_.width_px, 200), height = std::max(options_.height_px, 150);
   const double left = 72, right = 20, top = options_.title.empty() ? 16 : 38, bottom = 52;
   const double plot_w = width - left - right, plot_h = height - top - bottom;
   const auto to_device = [&](double x, double y) {
-    return Vec2(left + (x - x_lo) / (x_hi - x_lo) * plot_w, top + (y_hi - y) / (y_hi - y_lo) * plot_h);
+    return Vec2(left + (x - x_lo) / (x_hi - x_lo) * plot_w,
+                top + (y_hi - y) / (y_hi - y_lo) * plot_h);
   };
 
   detail::Canvas canvas(width, height);
   cairo_t* c = canvas.cr();
   detail::SetColor(c, palette::kBlack);
-  if (!options_.title.empty()) detail::DrawText(c, options_.title, left + plot_w / 2, 12, 14.0, 0.5, 0.0, true);
+  if (!options_.title.empty())
+    detail::DrawText(c, options_.title, left + plot_w / 2, 12, 14.0, 0.5, 0.0, true);
 
   // Grid and tick labels.
   const std::vector<double> xs = NiceTicks(x_lo, x_hi, 8), ys = NiceTicks(y_lo, y_hi, 6);
-  const double x_step = xs.size() > 1 ? xs[1] - xs[0] : 1.0, y_step = ys.size() > 1 ? ys[1] - ys[0] : 1.0;
+  const double x_step = xs.size() > 1 ? xs[1] - xs[0] : 1.0,
+               y_step = ys.size() > 1 ? ys[1] - ys[0] : 1.0;
   cairo_set_line_width(c, 1.0);
   for (double x : xs) {
     const double dx = to_device(x, y_lo).x();

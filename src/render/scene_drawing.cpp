@@ -1,6 +1,6 @@
-#include <priormap/render/scene_drawing.hpp>
-
 #include <cmath>
+
+#include <priormap/render/scene_drawing.hpp>
 
 namespace priormap::render {
 namespace {
@@ -31,7 +31,8 @@ void DrawScan(Figure& figure, const Scan& scan, const ScanStyle& style) {
   std::vector<Vec2> valid, outliers, normal_points;
   std::vector<double> normal_angles;
   for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (scan.status[i] == BeamStatus::kMaxRange && style.max_range_rays && std::isfinite(scan.max_range)) {
+    if (scan.status[i] == BeamStatus::kMaxRange && style.max_range_rays &&
+        std::isfinite(scan.max_range)) {
       const Vec2 end = scan.pose.Transform(scan.max_range * UnitVector(scan.angles[i]));
       figure.Line(scan.pose.translation(), end, {palette::kLightGray.WithAlpha(0.35), 0.5, {}});
     }

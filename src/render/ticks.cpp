@@ -1,10 +1,10 @@
-#include <priormap/core/check.hpp>
-#include <priormap/render/ticks.hpp>
-
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
+
+#include <priormap/core/check.hpp>
+#include <priormap/render/ticks.hpp>
 
 namespace priormap::render {
 

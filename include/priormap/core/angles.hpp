@@ -21,7 +21,11 @@ inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
 /// unwrapped against the last finite one).
 [[nodiscard]] std::vector<double> UnwrapAngles(std::span<const double> angles);
 
-[[nodiscard]] constexpr double DegToRad(double degrees) { return degrees * kPi / 180.0; }
-[[nodiscard]] constexpr double RadToDeg(double radians) { return radians * 180.0 / kPi; }
+[[nodiscard]] constexpr double DegToRad(double degrees) {
+  return degrees * kPi / 180.0;
+}
+[[nodiscard]] constexpr double RadToDeg(double radians) {
+  return radians * 180.0 / kPi;
+}
 
 }  // namespace priormap

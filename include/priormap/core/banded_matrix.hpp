@@ -3,11 +3,11 @@
 /// range noise with correlated neighbours. Everything is O(n * bandwidth^2) time and
 /// O(n * bandwidth) memory.
 
-#include <Eigen/Core>
-
 #include <cstddef>
 #include <optional>
 #include <span>
+
+#include <Eigen/Core>
 
 namespace priormap {
 

@@ -3,15 +3,15 @@
 /// records, plain or gzip-compressed. Other record types are skipped and counted. The format and
 /// the choices made where it is ambiguous are in docs/formats.md.
 
-#include <priormap/core/diagnostic.hpp>
-#include <priormap/core/log.hpp>
-
 #include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/core/log.hpp>
 
 namespace priormap {
 
@@ -33,8 +33,8 @@ struct CarmenReadOptions {
 };
 
 struct CarmenReadStats {
-  std::map<std::string, int> records;          ///< per record type, including skipped ones
-  std::optional<double> detected_max_range;    ///< from DetectMaxRangeSentinel
+  std::map<std::string, int> records;        ///< per record type, including skipped ones
+  std::optional<double> detected_max_range;  ///< from DetectMaxRangeSentinel
   int comment_lines = 0;
 };
 

@@ -21,11 +21,11 @@ namespace detail {
 }  // namespace priormap
 
 /// Checks `condition` in every build; `message` is any expression convertible to std::string.
-#define PRIORMAP_CHECK(condition, message)                                          \
-  do {                                                                              \
-    if (!(condition)) {                                                             \
-      ::priormap::detail::FailCheck(__FILE__, __LINE__, #condition, (message));    \
-    }                                                                               \
+#define PRIORMAP_CHECK(condition, message)                                      \
+  do {                                                                          \
+    if (!(condition)) {                                                         \
+      ::priormap::detail::FailCheck(__FILE__, __LINE__, #condition, (message)); \
+    }                                                                           \
   } while (false)
 
 /// As PRIORMAP_CHECK, but compiled out of release builds; for hot loops.

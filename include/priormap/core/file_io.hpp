@@ -1,13 +1,13 @@
 #pragma once
 /// Reading whole files (plain or gzip-compressed) and writing files atomically.
 
-#include <priormap/core/diagnostic.hpp>
-
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+#include <priormap/core/diagnostic.hpp>
 
 namespace priormap {
 

@@ -2,13 +2,13 @@
 /// priormap's own JSON formats for scans, logs and scenes (documented in docs/formats.md).
 /// Semantic errors are located at file:line:col of the offending JSON value.
 
-#include <priormap/core/diagnostic.hpp>
-#include <priormap/core/log.hpp>
-#include <priormap/core/scene.hpp>
-
 #include <filesystem>
 #include <string>
 #include <string_view>
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/core/log.hpp>
+#include <priormap/core/scene.hpp>
 
 namespace priormap {
 

@@ -1,8 +1,6 @@
 #pragma once
 /// A log: scans, odometry and true poses in the order they were recorded.
 
-#include <priormap/core/scan.hpp>
-
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -10,6 +8,8 @@
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include <priormap/core/scan.hpp>
 
 namespace priormap {
 
@@ -34,7 +34,7 @@ struct CarmenRecordFields {
 
 struct OdometryRecord {
   double timestamp = 0.0;
-  Se2 pose;  ///< odometry pose of the robot
+  Se2 pose;                                ///< odometry pose of the robot
   double tv = 0.0, rv = 0.0, accel = 0.0;  ///< translational / rotational velocity, acceleration
   std::optional<CarmenRecordFields> carmen;
 };

@@ -1,12 +1,12 @@
 #pragma once
 /// Format-independent entry points: read any supported log, write by file extension.
 
-#include <priormap/core/carmen_io.hpp>
-#include <priormap/core/json_io.hpp>
-
 #include <filesystem>
 #include <optional>
 #include <string_view>
+
+#include <priormap/core/carmen_io.hpp>
+#include <priormap/core/json_io.hpp>
 
 namespace priormap {
 

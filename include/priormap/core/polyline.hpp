@@ -1,9 +1,9 @@
 #pragma once
 
-#include <priormap/core/segment.hpp>
-
 #include <cstddef>
 #include <vector>
+
+#include <priormap/core/segment.hpp>
 
 namespace priormap {
 

@@ -3,10 +3,10 @@
 /// normal at the hit. Normals point back towards the ray's origin (the convention of Censi's CSM
 /// `true_alpha`: the normal and the beam direction have a negative dot product).
 
+#include <optional>
+
 #include <priormap/core/circle.hpp>
 #include <priormap/core/segment.hpp>
-
-#include <optional>
 
 namespace priormap {
 

@@ -2,15 +2,15 @@
 /// One range scan: where the sensor was, where each beam pointed, what it measured, how noisy
 /// that is, and which readings are usable. Optionally the simulator's ground truth.
 
-#include <priormap/core/banded_matrix.hpp>
-#include <priormap/core/se2.hpp>
-
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <priormap/core/banded_matrix.hpp>
+#include <priormap/core/se2.hpp>
 
 namespace priormap {
 
@@ -28,10 +28,10 @@ enum class BeamStatus : std::uint8_t {
 
 /// Ground truth of a simulated scan, per beam (NaN / -1 where the beam hit nothing).
 struct ScanTruth {
-  std::vector<double> range;     ///< true distance, m
-  std::vector<double> alpha;     ///< normal angle in the sensor frame, towards the sensor, rad
-  std::vector<int> surface;      ///< Scene surface id
-  std::vector<int> region;       ///< Scene region (primitive) id
+  std::vector<double> range;          ///< true distance, m
+  std::vector<double> alpha;          ///< normal angle in the sensor frame, towards the sensor, rad
+  std::vector<int> surface;           ///< Scene surface id
+  std::vector<int> region;            ///< Scene region (primitive) id
   std::vector<std::uint8_t> outlier;  ///< 1 when the simulator replaced the reading (outlier)
 };
 
@@ -66,7 +66,7 @@ struct Scan {
   /// Information matrix of the range noise when neighbouring readings are correlated
   /// (its inverse's diagonal equals sigma^2); nullopt for independent noise.
   std::optional<SymmetricBandedMatrix> precision;
-  double min_range = 0.0;  ///< m
+  double min_range = 0.0;                                      ///< m
   double max_range = std::numeric_limits<double>::infinity();  ///< m
 
   std::optional<ScanTruth> truth;

@@ -3,14 +3,14 @@
 /// Ground-truth ids follow the priorlets paper (Sec. II-A): the environment is partitioned into
 /// surfaces (connected objects) and each surface into regions (one straight wall, one circle).
 
-#include <priormap/core/circle.hpp>
-#include <priormap/core/polyline.hpp>
-#include <priormap/core/se2.hpp>
-
 #include <optional>
 #include <string>
 #include <variant>
 #include <vector>
+
+#include <priormap/core/circle.hpp>
+#include <priormap/core/polyline.hpp>
+#include <priormap/core/se2.hpp>
 
 namespace priormap {
 

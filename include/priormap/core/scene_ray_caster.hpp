@@ -1,11 +1,11 @@
 #pragma once
 /// Casts beams against a whole Scene and reports which surface and region each hit.
 
-#include <priormap/core/ray_cast.hpp>
-#include <priormap/core/scene.hpp>
-
 #include <optional>
 #include <vector>
+
+#include <priormap/core/ray_cast.hpp>
+#include <priormap/core/scene.hpp>
 
 namespace priormap {
 

@@ -3,9 +3,9 @@
 /// Jacobians are taken with respect to the parameters (x, y, theta), the convention of
 /// EKF-SLAM; the angle of an output is wrapped, so numeric checks must compare angles modulo 2 pi.
 
-#include <priormap/core/types.hpp>
-
 #include <string>
+
+#include <priormap/core/types.hpp>
 
 namespace priormap {
 

@@ -1,9 +1,9 @@
 #pragma once
 /// Line segments, and distances of points to segments and to infinite lines.
 
-#include <priormap/core/types.hpp>
-
 #include <optional>
+
+#include <priormap/core/types.hpp>
 
 namespace priormap {
 

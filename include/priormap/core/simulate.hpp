@@ -1,13 +1,13 @@
 #pragma once
 /// Simulated scans and localized logs with per-beam ground truth.
 
+#include <cstdint>
+#include <vector>
+
 #include <priormap/core/log.hpp>
 #include <priormap/core/range_sensor.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/core/scene_ray_caster.hpp>
-
-#include <cstdint>
-#include <vector>
 
 namespace priormap {
 

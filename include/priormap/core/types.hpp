@@ -1,10 +1,10 @@
 #pragma once
 /// Short names for the fixed-size Eigen types used across priormap.
 
+#include <cmath>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
-#include <cmath>
 
 namespace priormap {
 
@@ -18,12 +18,18 @@ using Row3 = Eigen::RowVector3d;
 using Box2 = Eigen::AlignedBox2d;
 
 /// The 2D cross product (z component of the 3D one): positive when b is counter-clockwise of a.
-inline double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+inline double Cross(const Vec2& a, const Vec2& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
 
 /// `v` rotated by +90 degrees.
-inline Vec2 Perp(const Vec2& v) { return {-v.y(), v.x()}; }
+inline Vec2 Perp(const Vec2& v) {
+  return {-v.y(), v.x()};
+}
 
 /// Unit vector at angle `theta` (rad) from the x axis.
-inline Vec2 UnitVector(double theta) { return {std::cos(theta), std::sin(theta)}; }
+inline Vec2 UnitVector(double theta) {
+  return {std::cos(theta), std::sin(theta)};
+}
 
 }  // namespace priormap

@@ -2,18 +2,18 @@
 /// A figure in world coordinates (metres, y up, equal aspect): maps, scans, normals, covariance
 /// ellipses, heat-map grids. Drawn once, saved as PNG, SVG or PDF (chosen by the file extension).
 
-#include <priormap/core/circle.hpp>
-#include <priormap/core/polygon.hpp>
-#include <priormap/core/se2.hpp>
-#include <priormap/render/color.hpp>
-
-#include <Eigen/Core>
-
 #include <filesystem>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
+
+#include <priormap/core/circle.hpp>
+#include <priormap/core/polygon.hpp>
+#include <priormap/core/se2.hpp>
+#include <priormap/render/color.hpp>
 
 namespace priormap::render {
 
@@ -30,9 +30,9 @@ struct FigureOptions {
   int width_px = 800;       ///< total width, including margins
   int max_height_px = 800;  ///< the height follows the world's aspect ratio, up to this
   std::string title{};
-  bool axes = true;          ///< metre ticks along the left and bottom edges
-  bool colorbar = false;     ///< reserve room on the right for a heat map's colour bar
-  double padding_m = 0.25;   ///< added around the world box
+  bool axes = true;         ///< metre ticks along the left and bottom edges
+  bool colorbar = false;    ///< reserve room on the right for a heat map's colour bar
+  double padding_m = 0.25;  ///< added around the world box
   LegendPlace legend = LegendPlace::kBelow;
 };
 
@@ -48,7 +48,8 @@ class Figure {
   void Line(const Vec2& a, const Vec2& b, const LineStyle& style);
   void Polyline(std::span<const Vec2> points, bool closed, const LineStyle& style);
   /// Filled polygon with an optional outline (`stroke.width_px` 0 draws none).
-  void FilledPolygon(const Polygon& polygon, const Color& fill, const LineStyle& stroke = {{}, 0.0, {}});
+  void FilledPolygon(const Polygon& polygon, const Color& fill,
+                     const LineStyle& stroke = {{}, 0.0, {}});
   void CircleOutline(const Circle& circle, const LineStyle& style);
   void FilledCircle(const Circle& circle, const Color& fill);
   /// The ellipse {x : (x - mean)^T cov^-1 (x - mean) = n_sigma^2}. Precondition: cov SPD.

@@ -1,20 +1,20 @@
 #pragma once
 /// x/y line plots with axes, ticks, labels and a legend (error over time, per-beam residuals).
 
-#include <priormap/render/color.hpp>
-
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <priormap/render/color.hpp>
+
 namespace priormap::render {
 
 struct Series {
   std::vector<double> x{};
-  std::vector<double> y{};  ///< same size as x; NaN breaks the line
-  std::string label{};    ///< empty: not in the legend
+  std::vector<double> y{};       ///< same size as x; NaN breaks the line
+  std::string label{};           ///< empty: not in the legend
   std::optional<Color> color{};  ///< default: the palette colour of the series' index
   double width_px = 1.5;
   bool markers = false;  ///< draw a dot at each point, no line
