@@ -1,1 +1,440 @@
-// placeholder
+// Bad CARMEN input: every problem is reported as a Diagnostic at the file, line and column of
+// the offending field, with a message saying what was expected; nothing crashes.
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <priormap/core/carmen_io.hpp>
+#include <priormap/core/file_io.hpp>
+#include <priormap/core/json_io.hpp>
+
+#include "testing/diagnostic_matchers.hpp"
+#include "testing/temp_dir.hpp"
+
+namespace priormap {
+namespace {
+
+using testing::DiagnosticAt;
+using ::testing::ElementsAre;
+using testing::Lines;
+using ::testing::SizeIs;
+
+constexpr const char* kName = "bad.log";
+
+// The diagnostics of parsing `text`, which must fail.
+std::vector<Diagnostic> ParseErrors(const std::string& text,
+                                    const CarmenReadOptions& options = {}) {
+  const Result<Log> result = ParseCarmenLog(text, kName, options);
+  EXPECT_FALSE(result.ok()) << "parsed without error:\n" << text;
+  return result.diagnostics();
+}
+
+// One bad line: exactly one diagnostic at line 1, `col`, containing `message_part`.
+void ExpectLineError(const std::string& line, int col, const std::string& message_part) {
+  SCOPED_TRACE(line);
+  EXPECT_THAT(ParseErrors(line + "\n"), ElementsAre(DiagnosticAt(kName, 1, col, message_part)));
+}
+
+// A complete, valid ROBOTLASER1 line with 3 readings and no remissions; fields (1-based columns):
+// laser_type 13, start_angle 15, fov 20, angular_resolution 22, max_range 27, accuracy 30,
+// remission_mode 35, count 37, readings 39 41 43, remission count 45, then 6 pose and 5 safety
+// values; 67 characters.
+const std::string kRobotLaser =
+    "ROBOTLASER1 0 -1.5 3 0.01 80 0.01 0 3 1 2 3 0 0 0 0 0 0 0 0 0 0 0 0";
+
+TEST(CarmenMalformed, ValidRobotLaserBaselineParses) {
+  // The ROBOTLASER1 cases below each break this line in one place.
+  EXPECT_TRUE(ParseCarmenLog(kRobotLaser + "\n", kName).ok());
+}
+
+TEST(CarmenMalformed, NonNumericCountReportsTheCountColumn) {
+  ExpectLineError("FLASER x 1 2 3 0 0 0 0 0 0", 8,
+                  "expected the number of readings (a non-negative integer), got 'x'");
+}
+
+TEST(CarmenMalformed, NegativeCountIsRejected) {
+  ExpectLineError("FLASER -1 1 2 3 0 0 0 0 0 0", 8,
+                  "expected the number of readings (a non-negative integer), got '-1'");
+}
+
+TEST(CarmenMalformed, CountTooLargeForAnIntegerIsRejected) {
+  ExpectLineError("FLASER 99999999999999999999 1 2 3 0 0 0 0 0 0", 8,
+                  "expected the number of readings (a non-negative integer), got "
+                  "'99999999999999999999'");
+}
+
+TEST(CarmenMalformed, CountLargerThanTheFieldsOnTheLineIsReportedAtTheCount) {
+  ExpectLineError("FLASER 9 1 2 3 0 0 0 0 0 0", 8,
+                  "the number of readings is 9, but only 9 fields follow it (expected 9 values, "
+                  "then 6 pose values)");
+}
+
+TEST(CarmenMalformed, LineCutOffInsideTheReadingsIsReportedAtTheCount) {
+  ExpectLineError("FLASER 180 1.5 1.6 1.7", 8,
+                  "the number of readings is 180, but only 3 fields follow it");
+}
+
+TEST(CarmenMalformed, TruncatedFlaserWithTimestampsReportsTheFieldCountAtTheCount) {
+  // One reading missing: 4 readings, 6 pose values and 3 timestamp fields follow the count 5.
+  ExpectLineError("FLASER 5 1 2 3 4 0 0 0 0 0 0 1.5 host 1.5", 8,
+                  "the number of readings is 5, but 13 fields follow it (expected 5 values, then "
+                  "6 pose values and optionally ipc_timestamp host logger_timestamp: 11 or 14 "
+                  "fields)");
+}
+
+TEST(CarmenMalformed, MissingPoseFieldsAreReportedAtTheCount) {
+  ExpectLineError("FLASER 3 1 2 3 0 0 0 0 0", 8,
+                  "the number of readings is 3, but only 8 fields follow it (expected 3 values, "
+                  "then 6 pose values)");
+}
+
+TEST(CarmenMalformed, GarbageReadingIsReportedAtItsColumn) {
+  ExpectLineError("FLASER 3 1 3.x4 2 0 0 0 0 0 0", 12,
+                  "expected a range reading (a number), got '3.x4'");
+}
+
+TEST(CarmenMalformed, ReadingWithEmbeddedNulIsRejected) {
+  const std::string line("FLASER 3 1 2\0 3 0 0 0 0 0 0", 27);
+  ExpectLineError(line, 12, "expected a range reading (a number), got '2");
+}
+
+TEST(CarmenMalformed, NanPoseIsRejectedAsNonFinite) {
+  ExpectLineError("FLASER 3 1 2 3 nan 0 0 0 0 0", 16, "laser pose x must be finite, got 'nan'");
+}
+
+TEST(CarmenMalformed, InfiniteOdometryThetaIsRejectedAsNonFinite) {
+  ExpectLineError("FLASER 3 1 2 3 0 0 0 0 0 inf", 26,
+                  "odometry pose theta must be finite, got 'inf'");
+}
+
+TEST(CarmenMalformed, OdometryWithTooFewFieldsEndsEarly) {
+  // The column is one past the end of the line: where the missing field should be.
+  ExpectLineError("ODOM 1 2 3 0 0", 15, "ODOM record ends early: expected accel");
+}
+
+TEST(CarmenMalformed, OdometryWithNonNumericFieldNamesTheField) {
+  ExpectLineError("ODOM 1 2 x 0 0 0", 10, "expected odometry pose theta (a number), got 'x'");
+}
+
+TEST(CarmenMalformed, TruncatedTruePoseEndsEarly) {
+  ExpectLineError("TRUEPOS 1 2 3 4 5", 18,
+                  "TRUEPOS record ends early: expected odometry pose theta");
+}
+
+TEST(CarmenMalformed, TruncatedRobotLaserIsReportedAtTheCount) {
+  ExpectLineError("ROBOTLASER1 0 -1.5 3 0.01 80 0.01 0 3 1 2", 37,
+                  "the number of readings is 3, but only 2 fields follow it (expected 3 values, "
+                  "then the remission count, 6 pose values and 5 safety values)");
+}
+
+TEST(CarmenMalformed, NonIntegerLaserTypeIsRejected) {
+  ExpectLineError("ROBOTLASER1 1.5 -1.5 3 0.01 80 0.01 0 3 1 2 3 0 0 0 0 0 0 0 0 0 0 0 0", 13,
+                  "expected laser_type (an integer), got '1.5'");
+}
+
+TEST(CarmenMalformed, NonNumericRemissionCountIsRejected) {
+  ExpectLineError("ROBOTLASER1 0 -1.5 3 0.01 80 0.01 0 3 1 2 3 x 0 0 0 0 0 0 0 0 0 0 0", 45,
+                  "expected the number of remissions (a non-negative integer), got 'x'");
+}
+
+TEST(CarmenMalformed, NegativeRemissionCountIsRejected) {
+  ExpectLineError("ROBOTLASER1 0 -1.5 3 0.01 80 0.01 0 3 1 2 3 -2 0 0 0 0 0 0 0 0 0 0 0", 45,
+                  "expected the number of remissions (a non-negative integer), got '-2'");
+}
+
+TEST(CarmenMalformed, RemissionCountLargerThanTheFieldsOnTheLineIsRejected) {
+  ExpectLineError("ROBOTLASER1 0 -1.5 3 0.01 80 0.01 0 3 1 2 3 5 0 0 0 0 0 0 0 0 0 0 0", 45,
+                  "the number of remissions is 5, but only 11 fields follow it (expected 5 values, "
+                  "then 6 pose values and 5 safety values)");
+}
+
+TEST(CarmenMalformed, ZeroAngularResolutionIsRejected) {
+  ExpectLineError("ROBOTLASER1 0 -1.5 3 0 80 0.01 0 3 1 2 3 0 0 0 0 0 0 0 0 0 0 0 0", 22,
+                  "angular_resolution must be positive, got 0");
+}
+
+TEST(CarmenMalformed, NegativeAngularResolutionIsRejected) {
+  ExpectLineError("ROBOTLASER1 0 -1.5 3 -0.01 80 0.01 0 3 1 2 3 0 0 0 0 0 0 0 0 0 0 0 0", 22,
+                  "angular_resolution must be positive, got -0.01");
+}
+
+TEST(CarmenMalformed, AngularResolutionThatGivesNoIncreasingAnglesIsRejected) {
+  // Next to 1e308, 0.01 is below the spacing of doubles: every beam would get the same angle.
+  ExpectLineError("ROBOTLASER1 0 1e308 3 0.01 80 0.01 0 3 1 2 3 0 0 0 0 0 0 0 0 0 0 0 0", 23,
+                  "start_angle 1e+308 and angular_resolution 0.01 do not give 3 increasing, "
+                  "finite beam angles");
+  ExpectLineError("ROBOTLASER1 0 1 3 1e308 80 0.01 0 3 1 2 3 0 0 0 0 0 0 0 0 0 0 0 0", 19,
+                  "start_angle 1 and angular_resolution 1e+308 do not give 3 increasing, finite "
+                  "beam angles");
+}
+
+TEST(CarmenMalformed, ExtraTrailingFieldIsReportedAtTheField) {
+  ExpectLineError("ODOM 1 2 3 0 0 0 1.0 host 2.0 junk", 31,
+                  "unexpected extra field 'junk' at the end of the ODOM record");
+  ExpectLineError(kRobotLaser + " 1.0 host 2.0 junk", 82,
+                  "unexpected extra field 'junk' at the end of the ROBOTLASER1 record");
+}
+
+TEST(CarmenMalformed, ExtraTrailingFieldOfFlaserContradictsTheCount) {
+  // FLASER lines have no other way to tell readings from the rest, so the count is blamed.
+  ExpectLineError("FLASER 3 1 2 3 0 0 0 0 0 0 extra", 8,
+                  "the number of readings is 3, but 10 fields follow it");
+  ExpectLineError("FLASER 3 1 2 3 0 0 0 0 0 0 1.0 host 2.0 extra", 8,
+                  "the number of readings is 3, but 13 fields follow it");
+}
+
+TEST(CarmenMalformed, OneTimestampFieldInsteadOfThreeEndsEarly) {
+  ExpectLineError("ODOM 1 2 3 0 0 0 1.0", 21, "ODOM record ends early: expected host");
+  ExpectLineError("FLASER 3 1 2 3 0 0 0 0 0 0 1.0", 8,
+                  "the number of readings is 3, but 10 fields follow it");
+}
+
+TEST(CarmenMalformed, TwoTimestampFieldsInsteadOfThreeEndsEarly) {
+  ExpectLineError("TRUEPOS 1 2 3 4 5 6 1.0 host", 29,
+                  "TRUEPOS record ends early: expected logger_timestamp");
+  ExpectLineError(kRobotLaser + " 1.0 host", 77,
+                  "ROBOTLASER1 record ends early: expected logger_timestamp");
+  ExpectLineError("RLASER 3 1 2 3 0 0 0 0 0 0 1.0 host", 8,
+                  "the number of readings is 3, but 11 fields follow it");
+}
+
+TEST(CarmenMalformed, NonNumericTimestampIsRejected) {
+  ExpectLineError("ODOM 1 2 3 0 0 0 abc host 2.0", 18,
+                  "expected ipc_timestamp (a number), got 'abc'");
+  ExpectLineError("ODOM 1 2 3 0 0 0 1.0 host nan", 27, "logger_timestamp must be finite");
+}
+
+TEST(CarmenMalformed, LineNumbersCountBlankAndCommentLines) {
+  const std::string text =
+      "# a comment\n"
+      "\n"
+      "ODOM 1 2 3 0 0 0\n"
+      "ODOM 1 2 3 0 zero 0\n";
+  EXPECT_THAT(ParseErrors(text),
+              ElementsAre(DiagnosticAt(kName, 4, 14, "expected rv (a number), got 'zero'")));
+}
+
+TEST(CarmenMalformed, EveryBadLineIsReported) {
+  const std::string text =
+      "ODOM 1 2 3 0 0 0\n"
+      "ODOM 1 2 x 0 0 0\n"
+      "FLASER 3 1 2 3 0 0 0 0 0 0\n"
+      "TRUEPOS 1 2\n";
+  EXPECT_THAT(ParseErrors(text),
+              ElementsAre(DiagnosticAt(kName, 2, 10, "expected odometry pose theta"),
+                          DiagnosticAt(kName, 4, 12, "TRUEPOS record ends early")));
+}
+
+TEST(CarmenMalformed, TextWithoutRecordsIsRejected) {
+  const std::string no_records = "no CARMEN records found";
+  EXPECT_THAT(ParseErrors(R"({"format": "priormap.log", "version": 1, "records": []})"),
+              ElementsAre(DiagnosticAt(kName, 0, 0, no_records)));
+  EXPECT_THAT(ParseErrors(""), ElementsAre(DiagnosticAt(kName, 0, 0, no_records)));
+  EXPECT_THAT(ParseErrors("# only a comment\n\n"),
+              ElementsAre(DiagnosticAt(kName, 0, 0, no_records)));
+}
+
+TEST(CarmenMalformed, BinaryGarbageWithNulBytesIsRejected) {
+  std::string garbage(
+      "\x7f"
+      "ELF\x02\x01\x01\0\0\0\0\0\0\0\0\0\x03\0>\0\x01\0\0\0",
+      24);
+  for (int i = 0; i < 200; ++i) garbage += static_cast<char>((i * 37 + 11) % 256);
+  EXPECT_THAT(ParseErrors(garbage),
+              ElementsAre(DiagnosticAt(kName, 0, 0, "no CARMEN records found")));
+}
+
+TEST(CarmenMalformed, OnlyUnknownRecordsAreRejectedButCounted) {
+  CarmenReadStats stats;
+  const Result<Log> result = ParseCarmenLog("NEFF 1 2 3\nSONAR 4\nNEFF 5\n", kName, {}, &stats);
+  EXPECT_THAT(result.diagnostics(),
+              ElementsAre(DiagnosticAt(kName, 0, 0, "no CARMEN records found")));
+  EXPECT_EQ(stats.records["NEFF"], 2);
+  EXPECT_EQ(stats.records["SONAR"], 1);
+}
+
+TEST(CarmenMalformed, MissingFileIsReported) {
+  const testing::TempDir dir;
+  const std::filesystem::path path = dir / "missing.log";
+  const Result<Log> result = ReadCarmenLog(path);
+  EXPECT_THAT(result.diagnostics(), ElementsAre(DiagnosticAt(path.string(), 0, 0, "no such file")));
+}
+
+TEST(CarmenMalformed, DirectoryInsteadOfFileIsReported) {
+  const testing::TempDir dir;
+  const Result<Log> result = ReadCarmenLog(dir.path());
+  EXPECT_THAT(result.diagnostics(), ElementsAre(DiagnosticAt(dir.path().string(), 0, 0,
+                                                             "is a directory, expected a file")));
+}
+
+std::string SomeLogText() {
+  std::string text;
+  for (int i = 0; i < 2000; ++i) {
+    text += "FLASER 3 1.25 2.5 " + std::to_string(i) + " 0 0 0 0 0 0 " + std::to_string(i) +
+            ".5 host 1.5\n";
+  }
+  return text;
+}
+
+TEST(CarmenMalformed, TruncatedGzipIsReported) {
+  const testing::TempDir dir;
+  const std::filesystem::path path = dir / "log.gz";
+  WriteTextFileAtomically(path, SomeLogText());
+  const std::string compressed = testing::ReadAll(path);
+  ASSERT_GT(compressed.size(), 100U);
+  testing::WriteAll(path, compressed.substr(0, compressed.size() / 2));
+  EXPECT_THAT(ReadCarmenLog(path).diagnostics(),
+              ElementsAre(DiagnosticAt(path.string(), 0, 0, "corrupt or truncated gzip data")));
+}
+
+TEST(CarmenMalformed, CorruptGzipIsReported) {
+  const testing::TempDir dir;
+  const std::filesystem::path path = dir / "log.gz";
+  WriteTextFileAtomically(path, SomeLogText());
+  std::string compressed = testing::ReadAll(path);
+  for (std::size_t i = 20; i + 20 < compressed.size(); i += 7) compressed[i] = '\x55';
+  testing::WriteAll(path, compressed);
+  EXPECT_THAT(ReadCarmenLog(path).diagnostics(),
+              ElementsAre(DiagnosticAt(path.string(), 0, 0, "corrupt or truncated gzip data")));
+}
+
+std::string BadLines(int n) {
+  std::string text;
+  for (int i = 0; i < n; ++i) text += "ODOM 1 2 x 0 0 0\n";
+  return text;
+}
+
+TEST(CarmenMalformed, StopsWithTooManyErrorsAfterMaxDiagnostics) {
+  CarmenReadOptions options;
+  options.max_diagnostics = 3;
+  EXPECT_THAT(ParseErrors(BadLines(10), options),
+              ElementsAre(DiagnosticAt(kName, 1, 10, "expected odometry pose theta"),
+                          DiagnosticAt(kName, 2, 10, "expected odometry pose theta"),
+                          DiagnosticAt(kName, 3, 10, "expected odometry pose theta"),
+                          DiagnosticAt(kName, 3, 0, "too many errors; stopped reading")));
+}
+
+TEST(CarmenMalformed, DefaultLimitIsTwentyDiagnostics) {
+  const std::vector<Diagnostic> diagnostics = ParseErrors(BadLines(30));
+  ASSERT_THAT(diagnostics, SizeIs(21));
+  EXPECT_THAT(diagnostics.back(), DiagnosticAt(kName, 20, 0, "too many errors; stopped reading"));
+}
+
+TEST(CarmenMalformed, NonPositiveMaxDiagnosticsStillReadsAndReportsTheFirstError) {
+  CarmenReadOptions options;
+  options.max_diagnostics = 0;
+  EXPECT_TRUE(ParseCarmenLog("ODOM 1 2 3 0 0 0\n", kName, options).ok());
+  EXPECT_THAT(ParseErrors(BadLines(3), options),
+              ElementsAre(DiagnosticAt(kName, 1, 10, "expected odometry pose theta"),
+                          DiagnosticAt(kName, 1, 0, "too many errors; stopped reading")));
+}
+
+const std::string kEveryRecordType =
+    "# comment\n"
+    "PARAM robot_front_laser_max 81.9\n"
+    "PARAM robot_name a robot with spaces\n"
+    "FLASER 3 1.5 nan 2.5 1 2 0.5 1.1 2.1 0.6 12.5 host 12.75\n"
+    "RLASER 2 4 5 1 2 0.5 1.1 2.1 0.6\n"
+    "ODOM 1 2 3 0.1 0.2 0.3 13 host 13.5\n"
+    "TRUEPOS 1 2 3 4 5 6 14 host 14.5\n" +
+    kRobotLaser + "\n";
+
+std::string WithCrlf(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '\n') out += '\r';
+    out += c;
+  }
+  return out;
+}
+
+TEST(CarmenMalformed, CrlfLineEndingsParseLikeLf) {
+  const Result<Log> lf = ParseCarmenLog(kEveryRecordType, kName);
+  const Result<Log> crlf = ParseCarmenLog(WithCrlf(kEveryRecordType), kName);
+  ASSERT_TRUE(lf.ok()) << lf.error();
+  ASSERT_TRUE(crlf.ok()) << crlf.error();
+  EXPECT_EQ(FormatJsonLog(crlf.value()), FormatJsonLog(lf.value()));
+  ASSERT_EQ(crlf.value().params.size(), 2U);
+  EXPECT_EQ(crlf.value().params[1].second, "a robot with spaces");
+}
+
+TEST(CarmenMalformed, CrlfDoesNotShiftTheColumnOfAMissingField) {
+  EXPECT_THAT(ParseErrors("ODOM 1 2 3 0 0\r\n"),
+              ElementsAre(DiagnosticAt(kName, 1, 15, "ODOM record ends early: expected accel")));
+}
+
+// ---- no input crashes the reader ----
+
+// What holds for any input: a result, either a consistent log or diagnostics that point into
+// the text.
+void CheckParseIsWellBehaved(const std::string& text) {
+  const Result<Log> result = ParseCarmenLog(text, kName);
+  if (result.ok()) {
+    RC_ASSERT(result.value().NumRecords() > 0U);
+    const std::vector<std::string> problems = result.value().Problems();
+    RC_ASSERT(problems.empty());
+    return;
+  }
+  const std::vector<std::string> lines = Lines(text);
+  RC_ASSERT(!result.diagnostics().empty());
+  for (const Diagnostic& d : result.diagnostics()) {
+    RC_ASSERT(d.file == kName);
+    RC_ASSERT(!d.message.empty());
+    RC_ASSERT(d.line >= 0);
+    RC_ASSERT(d.line <= static_cast<int>(lines.size()));
+    if (d.line > 0 && d.col > 0) {
+      std::string line = lines[static_cast<std::size_t>(d.line - 1)];
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      RC_ASSERT(d.col <= static_cast<int>(line.size()) + 1);
+    }
+  }
+}
+
+RC_GTEST_PROP(CarmenMalformed, ArbitraryTextNeverCrashes, (const std::string& text)) {
+  CheckParseIsWellBehaved(text);
+}
+
+// A valid log with one line changed: fields deleted, duplicated or replaced by troublesome
+// values. (One line only, so that the result often still parses and the log is checked too.)
+RC_GTEST_PROP(CarmenMalformed, MutatedRecordsNeverCrash, ()) {
+  std::vector<std::string> lines = Lines(kEveryRecordType);
+  const std::vector<std::string> replacements = {
+      "nan", "inf", "-inf",  "-1",     "0",  "x", "3.x4", "1e999", "1e-400", "99999999999999999999",
+      "+",   "-",   "1e308", "1e-300", "-0", "4", "180",  "#",     "FLASER", "\t",
+      "0x10"};
+  std::string& line = lines[*rc::gen::inRange<std::size_t>(0, lines.size())];
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  while (start < line.size()) {
+    std::size_t end = line.find(' ', start);
+    if (end == std::string::npos) end = line.size();
+    fields.push_back(line.substr(start, end - start));
+    start = end + 1;
+  }
+  const int edits = *rc::gen::inRange(1, 3);
+  for (int e = 0; e < edits && !fields.empty(); ++e) {
+    const std::size_t at = *rc::gen::inRange<std::size_t>(0, fields.size());
+    switch (*rc::gen::inRange(0, 3)) {
+      case 0:
+        fields.erase(fields.begin() + static_cast<std::ptrdiff_t>(at));
+        break;
+      case 1:
+        fields.insert(fields.begin() + static_cast<std::ptrdiff_t>(at), fields[at]);
+        break;
+      default:
+        fields[at] = *rc::gen::elementOf(replacements);
+        break;
+    }
+  }
+  line.clear();
+  for (const std::string& f : fields) line += (line.empty() ? "" : " ") + f;
+  std::string text;
+  for (const std::string& l : lines) text += l + "\n";
+  CheckParseIsWellBehaved(text);
+}
+
+}  // namespace
+}  // namespace priormap

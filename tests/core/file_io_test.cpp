@@ -1,1 +1,250 @@
-// placeholder
+// Reading files whole (plain or gzip, recognised by content) and writing them atomically.
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <priormap/core/file_io.hpp>
+
+#include "testing/temp_dir.hpp"
+
+namespace priormap {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+using ::testing::UnorderedElementsAre;
+
+// Bytes of every value, several MiB: more than one read chunk.
+std::string BinaryContent(std::size_t size) {
+  std::string content(size, '\0');
+  std::uint32_t state = 12345;
+  for (char& c : content) {
+    state = state * 1664525U + 1013904223U;
+    c = static_cast<char>(state >> 24);
+  }
+  return content;
+}
+
+std::string Text(const Result<std::string>& result) {
+  if (!result.ok()) ADD_FAILURE() << result.error();
+  return result.ok() ? result.value() : std::string();
+}
+
+TEST(FileIo, ReadsPlainFilesByteForByte) {
+  const testing::TempDir dir;
+  const std::string content = std::string("line 1\r\nline 2\n\0nul\n", 20) + BinaryContent(3 << 20);
+  testing::WriteAll(dir / "plain.bin", content);
+  EXPECT_EQ(Text(ReadFileText(dir / "plain.bin")), content);
+  testing::WriteAll(dir / "empty", "");
+  EXPECT_EQ(Text(ReadFileText(dir / "empty")), "");
+}
+
+TEST(FileIo, DecompressesGzipRecognisedByItsMagicBytes) {
+  const testing::TempDir dir;
+  const std::string content = "FLASER 3 1 2 3 0 0 0 0 0 0\n" + BinaryContent(3 << 20);
+  WriteTextFileAtomically(dir / "data.gz", content);
+  const std::string compressed = testing::ReadAll(dir / "data.gz");
+  ASSERT_EQ(compressed.substr(0, 2), "\x1f\x8b");
+  EXPECT_EQ(Text(ReadFileText(dir / "data.gz")), content);
+  // The name does not matter.
+  fs::rename(dir / "data.gz", dir / "data.log");
+  EXPECT_EQ(Text(ReadFileText(dir / "data.log")), content);
+}
+
+TEST(FileIo, PlainFileNamedGzIsReadAsIs) {
+  const testing::TempDir dir;
+  testing::WriteAll(dir / "plain.gz", "not compressed\n");
+  EXPECT_EQ(Text(ReadFileText(dir / "plain.gz")), "not compressed\n");
+}
+
+TEST(FileIo, EmptyContentRoundTripsThroughGzip) {
+  const testing::TempDir dir;
+  WriteTextFileAtomically(dir / "empty.gz", "");
+  EXPECT_EQ(testing::ReadAll(dir / "empty.gz").substr(0, 2), "\x1f\x8b");
+  EXPECT_EQ(Text(ReadFileText(dir / "empty.gz")), "");
+}
+
+TEST(FileIo, ConcatenatedGzipMembersAreReadWhole) {
+  const testing::TempDir dir;
+  WriteTextFileAtomically(dir / "a.gz", "first\n");
+  WriteTextFileAtomically(dir / "b.gz", "second\n");
+  testing::WriteAll(dir / "ab.gz", testing::ReadAll(dir / "a.gz") + testing::ReadAll(dir / "b.gz"));
+  EXPECT_EQ(Text(ReadFileText(dir / "ab.gz")), "first\nsecond\n");
+}
+
+TEST(FileIo, MissingFileIsADiagnostic) {
+  const testing::TempDir dir;
+  const Result<std::string> result = ReadFileText(dir / "missing.txt");
+  ASSERT_FALSE(result.ok());
+  ASSERT_EQ(result.diagnostics().size(), 1U);
+  const Diagnostic& d = result.diagnostics()[0];
+  EXPECT_EQ(d.file, (dir / "missing.txt").string());
+  EXPECT_EQ(d.line, 0);
+  EXPECT_EQ(d.col, 0);
+  EXPECT_EQ(d.message, "no such file");
+}
+
+TEST(FileIo, DirectoryIsADiagnostic) {
+  const testing::TempDir dir;
+  const Result<std::string> result = ReadFileText(dir.path());
+  ASSERT_EQ(result.diagnostics().size(), 1U);
+  EXPECT_EQ(result.diagnostics()[0].message, "is a directory, expected a file");
+}
+
+TEST(FileIo, TruncatedGzipIsADiagnostic) {
+  const testing::TempDir dir;
+  WriteTextFileAtomically(dir / "data.gz", BinaryContent(100000));
+  const std::string compressed = testing::ReadAll(dir / "data.gz");
+  for (const std::size_t keep : {compressed.size() - 4, compressed.size() / 2, std::size_t{12}}) {
+    testing::WriteAll(dir / "cut.gz", compressed.substr(0, keep));
+    const Result<std::string> result = ReadFileText(dir / "cut.gz");
+    ASSERT_FALSE(result.ok()) << "kept " << keep << " bytes";
+    EXPECT_THAT(result.diagnostics()[0].message, HasSubstr("corrupt or truncated gzip data"));
+  }
+}
+
+TEST(FileIo, CorruptGzipIsADiagnostic) {
+  const testing::TempDir dir;
+  WriteTextFileAtomically(dir / "data.gz", std::string(100000, 'a') + "b");
+  std::string compressed = testing::ReadAll(dir / "data.gz");
+  compressed[compressed.size() - 6] ^= 0x40;  // the CRC of the trailer
+  testing::WriteAll(dir / "bad-crc.gz", compressed);
+  const Result<std::string> result = ReadFileText(dir / "bad-crc.gz");
+  ASSERT_FALSE(result.ok());
+  EXPECT_THAT(result.diagnostics()[0].message, HasSubstr("corrupt or truncated gzip data"));
+}
+
+// ---- writing ----
+
+TEST(FileIo, WriteTextFileAtomicallyWritesPlainOrGzipByName) {
+  const testing::TempDir dir;
+  const std::string binary = BinaryContent(1 << 20);
+  WriteTextFileAtomically(dir / "plain.txt", binary);
+  EXPECT_EQ(testing::ReadAll(dir / "plain.txt"), binary);
+  WriteTextFileAtomically(dir / "packed.txt.gz", binary);
+  const std::string compressed = testing::ReadAll(dir / "packed.txt.gz");
+  EXPECT_EQ(compressed.substr(0, 2), "\x1f\x8b");
+  EXPECT_EQ(Text(ReadFileText(dir / "packed.txt.gz")), binary);
+  EXPECT_THAT(testing::FilesIn(dir.path()), UnorderedElementsAre("plain.txt", "packed.txt.gz"));
+}
+
+TEST(FileIo, WriteReplacesAnExistingFile) {
+  const testing::TempDir dir;
+  testing::WriteAll(dir / "out.txt", "old content that is longer than the new one\n");
+  WriteTextFileAtomically(dir / "out.txt", "new\n");
+  EXPECT_EQ(testing::ReadAll(dir / "out.txt"), "new\n");
+  EXPECT_THAT(testing::FilesIn(dir.path()), ElementsAre("out.txt"));
+}
+
+struct WriterFailed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+TEST(FileIo, ThrowingWriterLeavesNoTemporaryAndTheTargetUntouched) {
+  const testing::TempDir dir;
+  testing::WriteAll(dir / "out.txt", "previous\n");
+  fs::path temporary;
+  EXPECT_THROW(WriteFileAtomically(dir / "out.txt",
+                                   [&](const fs::path& path) {
+                                     temporary = path;
+                                     std::ofstream(path) << "half written";
+                                     throw WriterFailed("disk on fire");
+                                   }),
+               WriterFailed);
+  EXPECT_EQ(temporary.parent_path(), dir.path());  // a sibling, so that rename is atomic
+  EXPECT_NE(temporary.filename(), "out.txt");
+  EXPECT_FALSE(fs::exists(temporary));
+  EXPECT_EQ(testing::ReadAll(dir / "out.txt"), "previous\n");
+  EXPECT_THAT(testing::FilesIn(dir.path()), ElementsAre("out.txt"));
+}
+
+TEST(FileIo, ThrowingWriterLeavesNoFileWhenThereWasNone) {
+  const testing::TempDir dir;
+  EXPECT_THROW(WriteFileAtomically(dir / "out.txt",
+                                   [](const fs::path& path) {
+                                     std::ofstream(path) << "half written";
+                                     throw WriterFailed("no");
+                                   }),
+               WriterFailed);
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+TEST(FileIo, WriterThatCreatesNoFileIsAnIoError) {
+  const testing::TempDir dir;
+  EXPECT_THROW(WriteFileAtomically(dir / "out.txt", [](const fs::path&) {}), IoError);
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+TEST(FileIo, WritingOverADirectoryIsAnIoErrorAndLeavesNoTemporary) {
+  const testing::TempDir dir;
+  fs::create_directory(dir / "taken");
+  testing::WriteAll(dir / "taken" / "inside", "x");
+  try {
+    WriteTextFileAtomically(dir / "taken", "content");
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_THAT(e.what(), HasSubstr((dir / "taken").string() + ": cannot write"));
+  }
+  EXPECT_THAT(testing::FilesIn(dir.path()), ElementsAre("taken"));
+  EXPECT_EQ(testing::ReadAll(dir / "taken" / "inside"), "x");
+}
+
+TEST(FileIo, WritingIntoAMissingDirectoryIsAnIoError) {
+  const testing::TempDir dir;
+  const fs::path path = dir / "no" / "such" / "dir" / "out.txt";
+  try {
+    WriteTextFileAtomically(path, "content");
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path.string() + ": cannot write: directory " +
+                                    (dir / "no" / "such" / "dir").string() + " does not exist"));
+  }
+  EXPECT_FALSE(fs::exists(dir / "no"));
+  EXPECT_THROW(WriteFileAtomically(path, [](const fs::path&) { FAIL() << "must not be called"; }),
+               IoError);
+}
+
+TEST(FileIo, ParentThatIsAFileIsAnIoError) {
+  const testing::TempDir dir;
+  testing::WriteAll(dir / "file", "x");
+  EXPECT_THROW(WriteTextFileAtomically(dir / "file" / "out.txt", "content"), IoError);
+}
+
+// ---- positions ----
+
+TEST(FileIo, PositionOfOffsetCountsLinesAndColumnsFromOne) {
+  const std::string text = "ab\ncd\n\nxyz";
+  const auto at = [&](std::size_t offset) {
+    const TextPosition p = PositionOfOffset(text, offset);
+    return std::pair(p.line, p.col);
+  };
+  EXPECT_EQ(at(0), std::pair(1, 1));
+  EXPECT_EQ(at(1), std::pair(1, 2));
+  EXPECT_EQ(at(2), std::pair(1, 3));  // the newline itself ends line 1
+  EXPECT_EQ(at(3), std::pair(2, 1));
+  EXPECT_EQ(at(5), std::pair(2, 3));
+  EXPECT_EQ(at(6), std::pair(3, 1));  // an empty line
+  EXPECT_EQ(at(7), std::pair(4, 1));
+  EXPECT_EQ(at(9), std::pair(4, 3));
+  EXPECT_EQ(at(10), std::pair(4, 4));    // one past the end
+  EXPECT_EQ(at(1000), std::pair(4, 4));  // clamped to the end
+  EXPECT_EQ(PositionOfOffset("", 0).line, 1);
+  EXPECT_EQ(PositionOfOffset("", 5).col, 1);
+}
+
+TEST(FileIo, PositionOfOffsetCountsCarriageReturnsAndBytesAsColumns) {
+  // Columns are bytes: a CR before the newline, or a multi-byte UTF-8 character, takes room.
+  EXPECT_EQ(PositionOfOffset("a\r\nb", 3).line, 2);
+  EXPECT_EQ(PositionOfOffset("a\r\nb", 3).col, 1);
+  EXPECT_EQ(PositionOfOffset("a\r\nb", 2).col, 3);
+  EXPECT_EQ(PositionOfOffset("\xc3\xa9x", 2).col, 3);
+}
+
+}  // namespace
+}  // namespace priormap

@@ -1,1 +1,475 @@
-// placeholder
+// Bad JSON documents: each problem is one Diagnostic at the line and column of the offending
+// value (or of the object that lacks a key), saying what was expected; nothing throws.
+#include <exception>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <priormap/core/json_io.hpp>
+#include <priormap/core/scene.hpp>
+
+#include "testing/diagnostic_matchers.hpp"
+#include "testing/temp_dir.hpp"
+
+namespace priormap {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::ElementsAre;
+using ::testing::Field;
+using ::testing::HasSubstr;
+using testing::Lines;
+using ::testing::Matcher;
+
+constexpr const char* kName = "bad.json";
+
+// A diagnostic of the document under test (kName).
+Matcher<const Diagnostic&> DiagnosticAt(int line, int col, const std::string& message_part) {
+  return testing::DiagnosticAt(kName, line, col, message_part);
+}
+
+std::vector<Diagnostic> LogErrors(const std::string& text) {
+  const Result<Log> result = ParseJsonLog(text, kName);
+  EXPECT_FALSE(result.ok()) << "parsed without error:\n" << text;
+  return result.diagnostics();
+}
+
+std::vector<Diagnostic> SceneErrors(const std::string& text) {
+  const Result<Scene> result = ParseJsonScene(text, kName);
+  EXPECT_FALSE(result.ok()) << "parsed without error:\n" << text;
+  return result.diagnostics();
+}
+
+// A valid scan document, one member per line; the value of `key` is replaced by `value`.
+// Values start at column 8 + the length of the key: format 2:13, version 3:14, pose 4:11,
+// angles 5:13, ranges 6:13, sigma 7:12.
+std::string ScanDocument(const std::string& key = "", const std::string& value = "") {
+  const std::vector<std::pair<std::string, std::string>> members = {
+      {"format", "\"priormap.scan\""}, {"version", "1"},        {"pose", "[0, 0, 0]"},
+      {"angles", "[0, 0.5, 1]"},       {"ranges", "[1, 2, 3]"}, {"sigma", "[0.1, 0.1, 0.1]"}};
+  std::string text = "{\n";
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    const auto& [k, v] = members[i];
+    text += "  \"" + k + "\": " + (k == key ? value : v) + (i + 1 < members.size() ? ",\n" : "\n");
+  }
+  return text + "}\n";
+}
+
+// Line 2 is a valid polyline; line 3 a circle whose radius is at column 50.
+std::string SceneDocument(const std::string& circle_radius = "0.5",
+                          const std::string& polyline_points = "[[0, 0], [4, 0], [4, 3]]") {
+  return "{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [\n"
+         "  {\"type\": \"polyline\", \"points\": " +
+         polyline_points +
+         ", \"closed\": true},\n"
+         "  {\"type\": \"circle\", \"center\": [1, 1], \"radius\": " +
+         circle_radius +
+         "}\n"
+         "]}\n";
+}
+
+TEST(JsonMalformed, DocumentsUsedBelowAreValidAsGiven) {
+  EXPECT_TRUE(ParseJsonLog(ScanDocument(), kName).ok());
+  EXPECT_TRUE(ParseJsonScene(SceneDocument(), kName).ok());
+}
+
+// ---- syntax ----
+
+TEST(JsonMalformed, SyntaxErrorIsLocatedAtTheOffendingCharacter) {
+  EXPECT_THAT(LogErrors("{\"format\": \"priormap.log\",\n"
+                        " \"version\": 1,\n"
+                        " \"records\": [}\n"),
+              ElementsAre(DiagnosticAt(3, 14,
+                                       "invalid JSON: syntax error while parsing value - "
+                                       "unexpected '}'; expected '[', '{', or a literal")));
+}
+
+TEST(JsonMalformed, MissingCommaIsLocatedAtTheNextKey) {
+  // nlohmann stops at the last character of the unexpected token: the closing quote of "version".
+  EXPECT_THAT(LogErrors("{\"format\": \"priormap.log\"\n \"version\": 1}"),
+              ElementsAre(DiagnosticAt(2, 10,
+                                       "invalid JSON: syntax error while parsing object - "
+                                       "unexpected string literal; expected '}'")));
+}
+
+TEST(JsonMalformed, TruncatedDocumentIsLocatedAtTheEnd) {
+  EXPECT_THAT(LogErrors("{\"format\": \"priormap.log\", \"version\": 1, \"records\": [\n"),
+              ElementsAre(DiagnosticAt(2, 1, "unexpected end of input")));
+  EXPECT_THAT(LogErrors(""), ElementsAre(DiagnosticAt(1, 1, "unexpected end of input")));
+}
+
+TEST(JsonMalformed, TrailingGarbageMessageIsKeptWhole) {
+  // nlohmann's message quotes the text it read, which itself contains ": ".
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.log", "version": 1, "records": []} x)"),
+              ElementsAre(DiagnosticAt(1, 57,
+                                       "invalid JSON: syntax error while parsing value - invalid "
+                                       "literal; last read: '\"records\": []} x'; expected end "
+                                       "of input")));
+}
+
+TEST(JsonMalformed, NumberBeyondDoubleRangeIsADiagnosticNotAnException) {
+  EXPECT_THAT(LogErrors(ScanDocument("ranges", "[1, 1e400, 3]")),
+              ElementsAre(DiagnosticAt(6, 17, "invalid JSON: number overflow parsing '1e400'")));
+  EXPECT_THAT(SceneErrors(SceneDocument("-1e99999")),
+              ElementsAre(DiagnosticAt(3, 50, "invalid JSON: number overflow parsing '-1e99999'")));
+}
+
+// ---- document type ----
+
+TEST(JsonMalformed, DocumentMustBeAnObject) {
+  EXPECT_THAT(LogErrors("[1, 2]"),
+              ElementsAre(DiagnosticAt(1, 1,
+                                       "expected a priormap.log or priormap.scan document (an "
+                                       "object), got an array")));
+}
+
+TEST(JsonMalformed, WrongFormatIsReportedAtTheFormatValue) {
+  EXPECT_THAT(LogErrors(ScanDocument("format", "\"priormap.scene\"")),
+              ElementsAre(DiagnosticAt(2, 13,
+                                       "expected format \"priormap.log\" or \"priormap.scan\", got "
+                                       "\"priormap.scene\" (at /format)")));
+  EXPECT_THAT(SceneErrors(ScanDocument()),
+              ElementsAre(DiagnosticAt(
+                  2, 13, "expected format \"priormap.scene\", got \"priormap.scan\"")));
+  EXPECT_THAT(LogErrors(ScanDocument("format", "42")),
+              ElementsAre(DiagnosticAt(2, 13,
+                                       "expected the document format (a string), got the "
+                                       "number 42")));
+}
+
+TEST(JsonMalformed, MissingFormatIsReportedAtTheDocument) {
+  EXPECT_THAT(LogErrors("\n  {\"version\": 1}"),
+              ElementsAre(DiagnosticAt(2, 3, "missing key \"format\"")));
+}
+
+TEST(JsonMalformed, UnsupportedVersionIsReportedAtTheVersionValue) {
+  EXPECT_THAT(LogErrors(ScanDocument("version", "2")),
+              ElementsAre(DiagnosticAt(3, 14,
+                                       "unsupported priormap.scan version 2 (this priormap reads "
+                                       "version 1) (at /version)")));
+  EXPECT_THAT(LogErrors(ScanDocument("version", "\"1\"")),
+              ElementsAre(DiagnosticAt(3, 14,
+                                       "expected the format version (an integer), got the "
+                                       "string \"1\"")));
+}
+
+// ---- scans ----
+
+TEST(JsonMalformed, MissingRangesIsReportedAtTheScan) {
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0]})"),
+              ElementsAre(DiagnosticAt(1, 1, "missing key \"ranges\"")));
+}
+
+TEST(JsonMalformed, RangesThatAreNotAnArrayAreReportedAtTheValue) {
+  EXPECT_THAT(LogErrors(ScanDocument("ranges", "\"1 2 3\"")),
+              ElementsAre(DiagnosticAt(6, 13,
+                                       "expected \"ranges\" (an array), got the string "
+                                       "\"1 2 3\" (at /ranges)")));
+}
+
+TEST(JsonMalformed, StringInsideRangesIsReportedAtTheElement) {
+  EXPECT_THAT(LogErrors(ScanDocument("ranges", "[1, \"two\", 3]")),
+              ElementsAre(DiagnosticAt(6, 17,
+                                       "expected an element of \"ranges\" (a number), got "
+                                       "the string \"two\" (at /ranges/1)")));
+}
+
+TEST(JsonMalformed, SigmaOfTheWrongSizeIsReportedAtTheArray) {
+  EXPECT_THAT(
+      LogErrors(ScanDocument("sigma", "[0.1, 0.1]")),
+      ElementsAre(DiagnosticAt(7, 12, "expected 3 values in \"sigma\", got 2 (at /sigma)")));
+}
+
+TEST(JsonMalformed, AnglesOfTheWrongSizeAreReportedAtTheArray) {
+  EXPECT_THAT(LogErrors(ScanDocument("angles", "[0, 1]")),
+              ElementsAre(DiagnosticAt(5, 13, "expected 3 values in \"angles\", got 2")));
+}
+
+TEST(JsonMalformed, ScanWithoutAnglesIsReportedAtTheScan) {
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+                            "ranges": [1], "angle_min": 0})"),
+              ElementsAre(DiagnosticAt(1, 1,
+                                       "expected \"angles\", or \"angle_min\" and "
+                                       "\"angle_increment\"")));
+}
+
+TEST(JsonMalformed, PoseWithTwoElementsIsReportedAtThePose) {
+  EXPECT_THAT(
+      LogErrors(ScanDocument("pose", "[0, 0]")),
+      ElementsAre(DiagnosticAt(4, 11, "expected the sensor pose as [x, y, theta] (at /pose)")));
+}
+
+TEST(JsonMalformed, NonFinitePoseIsReportedAtTheElement) {
+  EXPECT_THAT(LogErrors(ScanDocument("pose", "[0, \"inf\", 0]")),
+              ElementsAre(DiagnosticAt(4, 15,
+                                       "expected y (a finite number), got the string "
+                                       "\"inf\" (at /pose/1)")));
+}
+
+TEST(JsonMalformed, InconsistentScanIsReportedAtTheScan) {
+  EXPECT_THAT(LogErrors(ScanDocument("angles", "[0, 1, 0.5]")),
+              ElementsAre(DiagnosticAt(1, 1,
+                                       "inconsistent scan: angles must increase (beam 1 "
+                                       "to 2)")));
+  EXPECT_THAT(LogErrors(ScanDocument("sigma", "[0.1, 0, 0.1]")),
+              ElementsAre(DiagnosticAt(1, 1,
+                                       "inconsistent scan: sigma must be positive and "
+                                       "finite")));
+}
+
+TEST(JsonMalformed, BadStatusStringIsReportedAtTheElement) {
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [1, 2], "status": ["valid", "broken"]})"),
+              ElementsAre(DiagnosticAt(2, 59,
+                                       "expected a beam status (\"valid\", \"max_range\" "
+                                       "or \"invalid\"), got \"broken\" (at /status/1)")));
+}
+
+TEST(JsonMalformed, StatusOfTheWrongSizeIsReportedAtTheArray) {
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [1, 2], "status": ["valid"]})"),
+              ElementsAre(DiagnosticAt(2, 49, "expected 2 entries in \"status\"")));
+}
+
+TEST(JsonMalformed, PrecisionBandwidthOutOfRangeIsReportedAtThePrecision) {
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [1, 2], "precision": {"bandwidth": 2, "bands": []}})"),
+              ElementsAre(DiagnosticAt(2, 52, "precision bandwidth must be in [0, 2), got 2")));
+}
+
+TEST(JsonMalformed, PrecisionBandOfTheWrongSizeIsReportedAtTheBand) {
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [1, 2],
+  "precision": {"bandwidth": 1, "bands": [[1, 1], [0.5]]}})"),
+              ElementsAre(DiagnosticAt(3, 51, "expected 2 values in each precision band")));
+}
+
+TEST(JsonMalformed, LargePrecisionBandwidthOfAShortDocumentIsRejectedWithoutAllocating) {
+  // 200000 readings and bandwidth 199999 would be a 320 GB band matrix (std::bad_alloc); the
+  // bands of this 1 MB document, all empty, are checked first.
+  const std::size_t n = 200000;
+  std::string ranges = "1", bands = "[]";
+  for (std::size_t i = 1; i < n; ++i) {
+    ranges += ",1";
+    bands += ",[]";
+  }
+  const std::string text =
+      "{\"format\": \"priormap.scan\", \"version\": 1, \"pose\": [0, 0, 0], \"angle_min\": 0,\n"
+      "\"angle_increment\": 1e-6, \"ranges\": [" +
+      ranges +
+      "],\n"
+      "\"precision\": {\"bandwidth\": 199999, \"bands\": [" +
+      bands + "]}}";
+  EXPECT_THAT(LogErrors(text),
+              ElementsAre(DiagnosticAt(3, 46,
+                                       "expected 200000 values in each precision band (at "
+                                       "/precision/bands/0)")));
+}
+
+TEST(JsonMalformed, DuplicateKeyIsReportedAtTheValueThatIsUsed) {
+  // nlohmann keeps the last of duplicate keys.
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0], "ranges": [1],
+  "ranges": ["x"]})"),
+              ElementsAre(DiagnosticAt(3, 14, "got the string \"x\" (at /ranges/0)")));
+}
+
+// ---- logs ----
+
+const std::string kLogWithUnknownRecord =
+    "{\"format\": \"priormap.log\", \"version\": 1, \"records\": [\n"
+    "{\"type\": \"odometry\", \"pose\": [0, 0, 0]},\n"
+    "{\"type\": \"laser\", \"pose\": [0, 0, 0]}\n"
+    "]}\n";
+
+TEST(JsonMalformed, UnknownRecordTypeIsReportedAtTheType) {
+  EXPECT_THAT(LogErrors(kLogWithUnknownRecord),
+              ElementsAre(DiagnosticAt(3, 10,
+                                       "expected a record type (\"scan\", \"odometry\", "
+                                       "\"true_pose\" or \"param\"), got \"laser\" (at "
+                                       "/records/1/type)")));
+}
+
+TEST(JsonMalformed, RecordWithoutTypeIsReportedAtTheRecord) {
+  EXPECT_THAT(LogErrors("{\"format\": \"priormap.log\", \"version\": 1, \"records\": [\n"
+                        "  {\"pose\": [0, 0, 0]}]}"),
+              ElementsAre(DiagnosticAt(2, 3, "missing key \"type\" (at /records/0)")));
+}
+
+TEST(JsonMalformed, UnknownPoseSourceIsReportedAtTheValue) {
+  EXPECT_THAT(
+      LogErrors(
+          R"({"format": "priormap.log", "version": 1, "pose_source": "slam", "records": []})"),
+      ElementsAre(DiagnosticAt(1, 57,
+                               "expected a pose source (unknown, odometry, "
+                               "corrected, ground_truth), got \"slam\"")));
+}
+
+TEST(JsonMalformed, RecordsThatAreNotAnArrayAreReportedAtTheValue) {
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.log", "version": 1, "records": {}})"),
+              ElementsAre(DiagnosticAt(1, 53, "expected \"records\" (an array), got an object")));
+}
+
+TEST(JsonMalformed, ErrorsInsideCarmenFieldsAreLocated) {
+  EXPECT_THAT(
+      LogErrors("{\"format\": \"priormap.log\", \"version\": 1, \"records\": [\n"
+                "{\"type\": \"odometry\", \"pose\": [0, 0, 0], \"carmen\": {\"host\": 7}}]}"),
+      ElementsAre(DiagnosticAt(2, 60, "expected host (a string), got the number 7")));
+}
+
+// ---- scenes ----
+
+TEST(JsonMalformed, ZeroRadiusIsReportedAtTheRadius) {
+  EXPECT_THAT(SceneErrors(SceneDocument("0")),
+              ElementsAre(DiagnosticAt(3, 50,
+                                       "radius must be positive, got 0 (at "
+                                       "/surfaces/1/radius)")));
+  EXPECT_THAT(SceneErrors(SceneDocument("null")),
+              ElementsAre(DiagnosticAt(3, 50, "expected the radius (a finite number), got null")));
+}
+
+TEST(JsonMalformed, PolylineWithOnePointIsReportedAtThePoints) {
+  EXPECT_THAT(SceneErrors(SceneDocument("0.5", "[[0, 0]]")),
+              ElementsAre(DiagnosticAt(2, 34,
+                                       "a polyline needs at least 2 points (at "
+                                       "/surfaces/0/points)")));
+}
+
+TEST(JsonMalformed, PointWithThreeCoordinatesIsReportedAtThePoint) {
+  EXPECT_THAT(SceneErrors(SceneDocument("0.5", "[[0, 0], [4, 0, 1]]")),
+              ElementsAre(DiagnosticAt(2, 43,
+                                       "expected a point [x, y] as [x, y] (at "
+                                       "/surfaces/0/points/1)")));
+}
+
+TEST(JsonMalformed, DegeneratePolylineIsReportedAtTheSurface) {
+  EXPECT_THAT(SceneErrors(SceneDocument("0.5", "[[0, 0], [0, 0]]")),
+              ElementsAre(DiagnosticAt(2, 3, "segment 0 has zero length (at /surfaces/0)")));
+}
+
+TEST(JsonMalformed, UnknownSurfaceTypeIsReportedAtTheType) {
+  EXPECT_THAT(SceneErrors("{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [\n"
+                          "  {\"type\": \"box\", \"size\": [1, 1]}]}"),
+              ElementsAre(DiagnosticAt(2, 12,
+                                       "expected a surface type (\"polyline\" or "
+                                       "\"circle\"), got \"box\"")));
+}
+
+TEST(JsonMalformed, DefaultPoseWithTwoElementsIsReportedAtThePose) {
+  EXPECT_THAT(SceneErrors("{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [],\n"
+                          " \"default_pose\": [1, 2]}"),
+              ElementsAre(DiagnosticAt(2, 18, "expected the default pose as [x, y, theta]")));
+}
+
+// ---- files ----
+
+TEST(JsonMalformed, FileErrorsNameTheFile) {
+  const testing::TempDir dir;
+  const std::filesystem::path path = dir / "missing.json";
+  EXPECT_THAT(ReadJsonLog(path).diagnostics(),
+              ElementsAre(AllOf(Field(&Diagnostic::file, path.string()),
+                                Field(&Diagnostic::message, HasSubstr("no such file")))));
+  testing::WriteAll(dir / "bad.json", kLogWithUnknownRecord);
+  EXPECT_THAT(ReadJsonLog(dir / "bad.json").diagnostics(),
+              ElementsAre(AllOf(Field(&Diagnostic::file, (dir / "bad.json").string()),
+                                Field(&Diagnostic::line, 3), Field(&Diagnostic::col, 10))));
+  testing::WriteAll(dir / "bad-scene.json", SceneDocument("0"));
+  EXPECT_THAT(ReadJsonScene(dir / "bad-scene.json").diagnostics(),
+              ElementsAre(AllOf(Field(&Diagnostic::file, (dir / "bad-scene.json").string()),
+                                Field(&Diagnostic::line, 3), Field(&Diagnostic::col, 50))));
+}
+
+// ---- no input makes the readers throw ----
+
+template <typename T>
+void CheckDiagnosticsPointIntoText(const Result<T>& result, const std::string& text) {
+  if (result.ok()) return;
+  const std::vector<std::string> lines = Lines(text);
+  RC_ASSERT(!result.diagnostics().empty());
+  for (const Diagnostic& d : result.diagnostics()) {
+    RC_ASSERT(d.file == kName);
+    RC_ASSERT(!d.message.empty());
+    RC_ASSERT(d.line >= 0);
+    RC_ASSERT(d.line <= static_cast<int>(lines.size()));
+    if (d.line > 0) {
+      RC_ASSERT(d.col >= 1);
+      RC_ASSERT(d.col <= static_cast<int>(lines[static_cast<std::size_t>(d.line - 1)].size()) + 1);
+    }
+  }
+}
+
+void CheckReadersAreWellBehaved(const std::string& text) {
+  try {
+    CheckDiagnosticsPointIntoText(ParseJsonLog(text, kName), text);
+    CheckDiagnosticsPointIntoText(ParseJsonScene(text, kName), text);
+  } catch (const std::exception& e) {
+    RC_FAIL(std::string("exception: ") + e.what());
+  }
+}
+
+// Valid documents with a few bytes deleted, duplicated or replaced by JSON-ish fragments.
+RC_GTEST_PROP(JsonMalformed, MutatedDocumentsNeverThrow, ()) {
+  const std::vector<std::string> documents = {
+      ScanDocument(), SceneDocument(), kLogWithUnknownRecord,
+      R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0], "angle_min": -1,
+          "angle_increment": 0.5, "ranges": [1, null, "inf", 2], "status": ["valid", "invalid",
+          "invalid", "max_range"], "precision": {"bandwidth": 1, "bands": [[1, 1, 1, 1],
+          [0.1, 0.1, 0.1, 0]]}, "true_range": [1, 1, 1, 1], "true_alpha": [0, 0, 0, 0],
+          "true_surface": [0, 0, 0, 0], "true_region": [1, 1, 1, 1], "true_outlier": [0, 1, 0, 0],
+          "carmen": {"host": "h", "remissions": [1]}})"};
+  const std::vector<std::string> fragments = {"{",
+                                              "}",
+                                              "[",
+                                              "]",
+                                              ",",
+                                              ":",
+                                              "\"",
+                                              "null",
+                                              "1e400",
+                                              "-1",
+                                              "0",
+                                              "\"inf\"",
+                                              "\"x\"",
+                                              "[]",
+                                              "{}",
+                                              "\\u0000",
+                                              "\\",
+                                              "\n",
+                                              "\xff",
+                                              "true",
+                                              "\"format\"",
+                                              "1.5e-400",
+                                              "9223372036854775808"};
+  std::string text = *rc::gen::elementOf(documents);
+  const int edits = *rc::gen::inRange(1, 4);
+  for (int e = 0; e < edits; ++e) {
+    const std::size_t at = *rc::gen::inRange<std::size_t>(0, text.size() + 1);
+    const std::size_t length = std::min(*rc::gen::inRange<std::size_t>(0, 6), text.size() - at);
+    switch (*rc::gen::inRange(0, 3)) {
+      case 0:
+        text.erase(at, length);
+        break;
+      case 1:
+        text.insert(at, text.substr(at, length));
+        break;
+      default:
+        text.replace(at, length, *rc::gen::elementOf(fragments));
+        break;
+    }
+  }
+  RC_LOG() << text;
+  CheckReadersAreWellBehaved(text);
+}
+
+RC_GTEST_PROP(JsonMalformed, ArbitraryTextNeverThrows, (const std::string& text)) {
+  CheckReadersAreWellBehaved(text);
+  CheckReadersAreWellBehaved("{\"format\": \"priormap.log\", \"version\": 1, \"records\": [" +
+                             text);
+}
+
+}  // namespace
+}  // namespace priormap

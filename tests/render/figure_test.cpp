@@ -1,13 +1,9 @@
 #include <cmath>
-#include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <limits>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include <cairo.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/check.hpp>
@@ -18,102 +14,25 @@
 #include <priormap/render/figure.hpp>
 #include <priormap/render/scene_drawing.hpp>
 
+#include "testing/png_image.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap::render {
 namespace {
 
 namespace fs = std::filesystem;
+using priormap::testing::ColorNear;
+using priormap::testing::FilesIn;
+using priormap::testing::HasTemporaryFile;
+using priormap::testing::Near;
+using priormap::testing::PngImage;
 using priormap::testing::ReadAll;
+using priormap::testing::Rgba;
 using priormap::testing::TempDir;
+using priormap::testing::ToRgba;
 using priormap::testing::WriteAll;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// 8-bit colour, not premultiplied.
-struct Rgba {
-  int r = 0, g = 0, b = 0, a = 0;
-};
-
-Rgba ToRgba(const Color& c) {
-  const auto byte = [](double v) { return static_cast<int>(std::lround(v * 255.0)); };
-  return {byte(c.r), byte(c.g), byte(c.b), byte(c.a)};
-}
-
-bool Near(const Rgba& x, const Rgba& y, int tolerance = 1) {
-  return std::abs(x.r - y.r) <= tolerance && std::abs(x.g - y.g) <= tolerance &&
-         std::abs(x.b - y.b) <= tolerance && std::abs(x.a - y.a) <= tolerance;
-}
-
-std::string Describe(const Rgba& c) {
-  return "rgba(" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) +
-         ", " + std::to_string(c.a) + ")";
-}
-
-// A PNG file read back with Cairo.
-class PngImage {
- public:
-  explicit PngImage(const fs::path& path)
-      : surface_(cairo_image_surface_create_from_png(path.string().c_str()),
-                 cairo_surface_destroy) {}
-
-  [[nodiscard]] bool ok() const {
-    return cairo_surface_status(surface_.get()) == CAIRO_STATUS_SUCCESS;
-  }
-  [[nodiscard]] int width() const { return cairo_image_surface_get_width(surface_.get()); }
-  [[nodiscard]] int height() const { return cairo_image_surface_get_height(surface_.get()); }
-
-  [[nodiscard]] Rgba At(int x, int y) const {
-    const unsigned char* data = cairo_image_surface_get_data(surface_.get());
-    const int stride = cairo_image_surface_get_stride(surface_.get());
-    const std::uint32_t p = reinterpret_cast<const std::uint32_t*>(data + y * stride)[x];
-    const bool has_alpha = cairo_image_surface_get_format(surface_.get()) == CAIRO_FORMAT_ARGB32;
-    const int a = has_alpha ? static_cast<int>(p >> 24) : 255;
-    const auto channel = [&](int shift) {
-      const int v = static_cast<int>((p >> shift) & 0xff);
-      return a == 0 ? 0 : (v * 255 + a / 2) / a;  // undo premultiplication
-    };
-    return {channel(16), channel(8), channel(0), a};
-  }
-  /// The pixel containing a device point.
-  [[nodiscard]] Rgba At(const Vec2& device) const {
-    return At(static_cast<int>(std::floor(device.x())), static_cast<int>(std::floor(device.y())));
-  }
-
-  [[nodiscard]] int Count(const std::function<bool(const Rgba&)>& predicate) const {
-    int n = 0;
-    for (int y = 0; y < height(); ++y) {
-      for (int x = 0; x < width(); ++x) n += predicate(At(x, y)) ? 1 : 0;
-    }
-    return n;
-  }
-  [[nodiscard]] int Count(const Rgba& color, int tolerance = 1) const {
-    return Count([&](const Rgba& c) { return Near(c, color, tolerance); });
-  }
-
- private:
-  std::unique_ptr<cairo_surface_t, void (*)(cairo_surface_t*)> surface_;
-};
-
-::testing::AssertionResult ColorNear(const Rgba& actual, const Rgba& expected, int tolerance = 1) {
-  if (Near(actual, expected, tolerance)) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure()
-         << "got " << Describe(actual) << ", expected " << Describe(expected);
-}
-
-std::vector<std::string> FilesIn(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir))
-    names.push_back(entry.path().filename().string());
-  return names;
-}
-
-bool HasTemporaryFile(const fs::path& dir) {
-  for (const std::string& name : FilesIn(dir)) {
-    if (name.starts_with(".") && name.find(".tmp-") != std::string::npos) return true;
-  }
-  return false;
-}
 
 const Rgba kWhite{255, 255, 255, 255};
 

@@ -1,89 +1,29 @@
-#include <cmath>
-#include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <limits>
-#include <memory>
 #include <set>
 #include <string>
 #include <vector>
 
-#include <cairo.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/render/line_plot.hpp>
 
+#include "testing/png_image.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap::render {
 namespace {
 
 namespace fs = std::filesystem;
+using priormap::testing::HasTemporaryFile;
+using priormap::testing::Like;
+using priormap::testing::PngImage;
 using priormap::testing::ReadAll;
 using priormap::testing::TempDir;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-struct Rgb {
-  int r = 0, g = 0, b = 0;
-};
-
-Rgb ToRgb(const Color& c) {
-  const auto byte = [](double v) { return static_cast<int>(std::lround(v * 255.0)); };
-  return {byte(c.r), byte(c.g), byte(c.b)};
-}
-
-// Pixel `p` is `color` drawn over white with at least 70% coverage (anti-aliased thin lines
-// rarely cover a whole pixel).
-bool Like(const Rgb& p, const Rgb& color) {
-  const auto close = [](int v, int c) { return std::abs(v - c) <= (3 * (255 - c)) / 10 + 2; };
-  return close(p.r, color.r) && close(p.g, color.g) && close(p.b, color.b);
-}
-
-// A PNG file read back with Cairo (all plots are opaque: white background).
-class PngImage {
- public:
-  explicit PngImage(const fs::path& path)
-      : surface_(cairo_image_surface_create_from_png(path.string().c_str()),
-                 cairo_surface_destroy) {}
-
-  [[nodiscard]] bool ok() const {
-    return cairo_surface_status(surface_.get()) == CAIRO_STATUS_SUCCESS;
-  }
-  [[nodiscard]] int width() const { return cairo_image_surface_get_width(surface_.get()); }
-  [[nodiscard]] int height() const { return cairo_image_surface_get_height(surface_.get()); }
-
-  [[nodiscard]] Rgb At(int x, int y) const {
-    const unsigned char* data = cairo_image_surface_get_data(surface_.get());
-    const int stride = cairo_image_surface_get_stride(surface_.get());
-    const std::uint32_t p = reinterpret_cast<const std::uint32_t*>(data + y * stride)[x];
-    return {static_cast<int>((p >> 16) & 0xff), static_cast<int>((p >> 8) & 0xff),
-            static_cast<int>(p & 0xff)};
-  }
-
-  /// Columns that hold at least one pixel like `color`.
-  [[nodiscard]] std::set<int> ColumnsWith(const Rgb& color) const {
-    std::set<int> columns;
-    for (int y = 0; y < height(); ++y) {
-      for (int x = 0; x < width(); ++x) {
-        if (Like(At(x, y), color)) columns.insert(x);
-      }
-    }
-    return columns;
-  }
-  [[nodiscard]] int Count(const Rgb& color) const {
-    int n = 0;
-    for (int y = 0; y < height(); ++y) {
-      for (int x = 0; x < width(); ++x) n += Like(At(x, y), color) ? 1 : 0;
-    }
-    return n;
-  }
-
- private:
-  std::unique_ptr<cairo_surface_t, void (*)(cairo_surface_t*)> surface_;
-};
 
 // The widest run of columns without `color` between its first and last column.
 int WidestGap(const std::set<int>& columns) {
@@ -92,14 +32,6 @@ int WidestGap(const std::set<int>& columns) {
     gap = std::max(gap, *std::next(it) - *it - 1);
   }
   return gap;
-}
-
-bool HasTemporaryFile(const fs::path& dir) {
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    const std::string name = entry.path().filename().string();
-    if (name.starts_with(".") && name.find(".tmp-") != std::string::npos) return true;
-  }
-  return false;
 }
 
 // Colours no default drawing uses (grid, text and the palette are other colours).
@@ -212,7 +144,7 @@ TEST(LinePlot, SeriesConstantUpToRoundingSaves) {
   LinePlot plot;
   plot.Add(Line({0, 1, 2}, {0.3, 0.1 * 3, 0.3}, kCrimson));
   plot.Save(dir / "rounding.png");
-  EXPECT_GT(PngImage(dir / "rounding.png").Count(ToRgb(kCrimson)), 100);
+  EXPECT_GT(PngImage(dir / "rounding.png").Count(Like(kCrimson)), 100);
 }
 
 TEST(LinePlot, EmptyExplicitRangeIsAContractError) {
@@ -232,8 +164,8 @@ TEST(LinePlot, SeriesColourAppearsInThePng) {
   LinePlot without;
   without.Add(Xy({0, 1, 2, 3}, {0, 2, 1, 3}, 4.0));  // palette colour
   without.Save(dir / "without.png");
-  EXPECT_GT(PngImage(dir / "with.png").Count(ToRgb(kCrimson)), 100);
-  EXPECT_EQ(PngImage(dir / "without.png").Count(ToRgb(kCrimson)), 0);
+  EXPECT_GT(PngImage(dir / "with.png").Count(Like(kCrimson)), 100);
+  EXPECT_EQ(PngImage(dir / "without.png").Count(Like(kCrimson)), 0);
 }
 
 TEST(LinePlot, SeriesWithoutColourTakesThePaletteColourOfItsIndex) {
@@ -243,8 +175,8 @@ TEST(LinePlot, SeriesWithoutColourTakesThePaletteColourOfItsIndex) {
   plot.Add(Xy({0, 1}, {1, 0}, 4.0));
   plot.Save(dir / "palette.png");
   const PngImage image(dir / "palette.png");
-  EXPECT_GT(image.Count(ToRgb(palette::Categorical(0))), 50);
-  EXPECT_GT(image.Count(ToRgb(palette::Categorical(1))), 50);
+  EXPECT_GT(image.Count(Like(palette::Categorical(0))), 50);
+  EXPECT_GT(image.Count(Like(palette::Categorical(1))), 50);
 }
 
 TEST(LinePlot, MarkersDrawDotsInTheSeriesColour) {
@@ -254,7 +186,7 @@ TEST(LinePlot, MarkersDrawDotsInTheSeriesColour) {
   dots.markers = true;
   plot.Add(dots);
   plot.Save(dir / "markers.png");
-  const std::set<int> columns = PngImage(dir / "markers.png").ColumnsWith(ToRgb(kCrimson));
+  const std::set<int> columns = PngImage(dir / "markers.png").ColumnsWith(Like(kCrimson));
   ASSERT_FALSE(columns.empty());
   // Three separate dots, no line between them.
   EXPECT_GT(WidestGap(columns), 100);
@@ -270,8 +202,8 @@ TEST(LinePlot, NanValuesBreakTheLine) {
   whole.Add(Line(x, {0, 0, 0, 0, 0}, kCrimson));
   whole.Save(dir / "whole.png");
 
-  const std::set<int> broken_columns = PngImage(dir / "broken.png").ColumnsWith(ToRgb(kCrimson));
-  const std::set<int> whole_columns = PngImage(dir / "whole.png").ColumnsWith(ToRgb(kCrimson));
+  const std::set<int> broken_columns = PngImage(dir / "broken.png").ColumnsWith(Like(kCrimson));
+  const std::set<int> whole_columns = PngImage(dir / "whole.png").ColumnsWith(Like(kCrimson));
   ASSERT_FALSE(broken_columns.empty());
   ASSERT_FALSE(whole_columns.empty());
   const int span = *whole_columns.rbegin() - *whole_columns.begin();
@@ -286,7 +218,7 @@ TEST(LinePlot, NanInXAlsoBreaksTheLine) {
   LinePlot plot(YRange(-1.0, 1.0));
   plot.Add(Line({0, 1, kNaN, 3, 4}, {0, 0, 0, 0, 0}, kCrimson));
   plot.Save(dir / "nan-x.png");
-  const std::set<int> columns = PngImage(dir / "nan-x.png").ColumnsWith(ToRgb(kCrimson));
+  const std::set<int> columns = PngImage(dir / "nan-x.png").ColumnsWith(Like(kCrimson));
   ASSERT_FALSE(columns.empty());
   EXPECT_GT(WidestGap(columns), (*columns.rbegin() - *columns.begin()) * 4 / 10);
 }
@@ -299,8 +231,8 @@ TEST(LinePlot, HorizontalLinesAreInTheAutomaticYRange) {
   automatic.AddHorizontalLine(-10.0, kCrimson);
   automatic.Save(dir / "auto.png");
   const PngImage image(dir / "auto.png");
-  EXPECT_GT(image.Count(ToRgb(kMagenta)), 0);
-  EXPECT_GT(image.Count(ToRgb(kCrimson)), 0);
+  EXPECT_GT(image.Count(Like(kMagenta)), 0);
+  EXPECT_GT(image.Count(Like(kCrimson)), 0);
 
   // With a y range that excludes them, the lines are clipped away.
   LinePlot fixed(YRange(0.0, 1.0));
@@ -309,8 +241,8 @@ TEST(LinePlot, HorizontalLinesAreInTheAutomaticYRange) {
   fixed.AddHorizontalLine(-10.0, kCrimson);
   fixed.Save(dir / "fixed.png");
   const PngImage clipped(dir / "fixed.png");
-  EXPECT_EQ(clipped.Count(ToRgb(kMagenta)), 0);
-  EXPECT_EQ(clipped.Count(ToRgb(kCrimson)), 0);
+  EXPECT_EQ(clipped.Count(Like(kMagenta)), 0);
+  EXPECT_EQ(clipped.Count(Like(kCrimson)), 0);
 }
 
 TEST(LinePlot, HorizontalLineSpansTheWholeXAxis) {
@@ -320,7 +252,7 @@ TEST(LinePlot, HorizontalLineSpansTheWholeXAxis) {
   plot.AddHorizontalLine(0.5, kMagenta);
   plot.Save(dir / "span.png");
   const PngImage image(dir / "span.png");
-  const std::set<int> columns = image.ColumnsWith(ToRgb(kMagenta));
+  const std::set<int> columns = image.ColumnsWith(Like(kMagenta));
   ASSERT_FALSE(columns.empty());
   // The line is dashed, but reaches across most of the figure.
   EXPECT_GT(*columns.rbegin() - *columns.begin(), image.width() * 3 / 4);
