@@ -10,8 +10,8 @@ packages=(
   libeigen3-dev libcli11-dev nlohmann-json3-dev libfmt-dev libcairo2-dev libtbb-dev zlib1g-dev
   # a font for figure labels (Cairo's toy text API goes through fontconfig)
   fonts-dejavu-core
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev librapidcheck-dev
+  # tests and benchmarks; clang and its runtime for the libFuzzer harnesses
+  libgtest-dev libgmock-dev libbenchmark-dev librapidcheck-dev clang libclang-rt-14-dev
 )
 
 missing=()
