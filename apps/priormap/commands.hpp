@@ -8,6 +8,7 @@ namespace priormap::app {
 void AddSimulateCommand(CLI::App& app);
 void AddConvertCommand(CLI::App& app);
 void AddPlotCommand(CLI::App& app);
+void AddPriorCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);
 

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   priormap::app::AddSimulateCommand(app);
   priormap::app::AddConvertCommand(app);
   priormap::app::AddPlotCommand(app);
+  priormap::app::AddPriorCommand(app);
   priormap::app::AddDemoCommand(app);
   priormap::app::AddVersionCommand(app);
   // CLI11 would only say "a subcommand is required"; name the word it did not know.

@@ -1,0 +1,99 @@
+// Infix printing of expression-graph nodes with the fewest parentheses that keep the meaning.
+#include <priormap/core/angles.hpp>
+
+#include <fmt/format.h>
+
+#include "expression_graph.hpp"
+
+namespace priormap::dsl::detail {
+namespace {
+
+constexpr int kAddPrecedence = 1, kMulPrecedence = 2, kNegPrecedence = 3, kPowPrecedence = 4, kAtomPrecedence = 5;
+
+const char* FunctionName(Op op) {
+  switch (op) {
+    case Op::kSqrt: return "sqrt";
+    case Op::kExp: return "exp";
+    case Op::kLog: return "log";
+    case Op::kSin: return "sin";
+    case Op::kCos: return "cos";
+    case Op::kTan: return "tan";
+    case Op::kAsin: return "asin";
+    case Op::kAcos: return "acos";
+    case Op::kAtan: return "atan";
+    case Op::kAbs: return "abs";
+    case Op::kSign: return "sign";
+    case Op::kAtan2: return "atan2";
+    default: return "?";
+  }
+}
+
+class Printer {
+ public:
+  Printer(const ExpressionGraph& graph, const std::function<std::string(bool, int)>& name)
+      : graph_(graph), name_(name) {}
+
+  // The text of `id` and its precedence.
+  std::pair<std::string, int> Print(NodeId id) const {
+    const Node& n = graph_.node(id);
+    switch (n.op) {
+      case Op::kConst: {
+        if (n.value == kPi) return {"pi", kAtomPrecedence};
+        return {fmt::format("{}", n.value), n.value < 0 ? kNegPrecedence : kAtomPrecedence};
+      }
+      case Op::kVar: return {name_(false, n.index), kAtomPrecedence};
+      case Op::kParam: return {name_(true, n.index), kAtomPrecedence};
+      case Op::kAdd: return Binary(n, " + ", kAddPrecedence);
+      case Op::kSub: return Binary(n, " - ", kAddPrecedence);
+      case Op::kMul: {
+        if (n.a == n.b) return {fmt::format("{}^2", Wrapped(n.a, kAtomPrecedence)), kPowPrecedence};
+        // Constants in front: 0.5*x rather than x*0.5.
+        if (graph_.IsConst(n.b) && !graph_.IsConst(n.a)) {
+          Node swapped = n;
+          std::swap(swapped.a, swapped.b);
+          return Binary(swapped, "*", kMulPrecedence);
+        }
+        return Binary(n, "*", kMulPrecedence);
+      }
+      case Op::kDiv: return Binary(n, "/", kMulPrecedence);
+      case Op::kPow: return Binary(n, "^", kPowPrecedence);
+      // -a*b reads as -(a*b) and means the same, so a product needs no parentheses.
+      case Op::kNeg: return {fmt::format("-{}", Wrapped(n.a, kMulPrecedence)), kNegPrecedence};
+      case Op::kAtan2: return {fmt::format("atan2({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
+      case Op::kSelect: {
+        if (n.c == n.a && n.d == n.b) return {fmt::format("min({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
+        if (n.c == n.b && n.d == n.a) return {fmt::format("max({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
+        return {fmt::format("select({} <= {}, {}, {})", Print(n.a).first, Print(n.b).first, Print(n.c).first,
+                            Print(n.d).first),
+                kAtomPrecedence};
+      }
+      default: return {fmt::format("{}({})", FunctionName(n.op), Print(n.a).first), kAtomPrecedence};
+    }
+  }
+
+ private:
+  // Left operands need parentheses when they bind looser; right operands of - / ^ also when
+  // they bind equally (those operators do not associate to the right).
+  std::pair<std::string, int> Binary(const Node& n, const char* op, int precedence) const {
+    const bool right_strict = n.op == Op::kSub || n.op == Op::kDiv || n.op == Op::kPow;
+    const int left_min = n.op == Op::kPow ? precedence + 1 : precedence;
+    return {fmt::format("{}{}{}", Wrapped(n.a, left_min), op, Wrapped(n.b, right_strict ? precedence + 1 : precedence)),
+            precedence};
+  }
+
+  std::string Wrapped(NodeId id, int min_precedence) const {
+    auto [text, precedence] = Print(id);
+    return precedence < min_precedence ? fmt::format("({})", text) : text;
+  }
+
+  const ExpressionGraph& graph_;
+  const std::function<std::string(bool, int)>& name_;
+};
+
+}  // namespace
+
+std::string ExpressionGraph::Print(NodeId id, const std::function<std::string(bool is_param, int index)>& name) const {
+  return Printer(*this, name).Print(id).first;
+}
+
+}  // namespace priormap::dsl::detail

@@ -1,0 +1,57 @@
+#pragma once
+// Splits prior text into logical lines of tokens. A logical line is a physical line, joined with
+// the following ones when it ends in "..." (MATLAB's continuation). Comments (# or %) and blank
+// lines are dropped. Greek identifiers are normalised: α₁ and α_1 become alpha_1, ρ rho, φ/ϕ phi.
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/dsl/ast.hpp>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace priormap::dsl::detail {
+
+enum class TokenKind {
+  kIdentifier, kNumber,
+  kPlus, kMinus, kStar, kSlash, kCaret, kDotStar, kDotSlash, kDotCaret, kTranspose,
+  kEqualEqual, kLessEqual, kGreaterEqual, kLess, kGreater, kAssign, kOrOr, kOr,
+  kLParen, kRParen, kLBracket, kRBracket, kComma, kSemicolon, kColon,
+  kEnd,  // end of the logical line
+};
+
+/// How a token kind is written ("'=='", "a number", ...), for messages.
+[[nodiscard]] const char* Describe(TokenKind kind);
+
+struct Token {
+  TokenKind kind = TokenKind::kEnd;
+  std::string text;  ///< identifiers: normalised name; numbers and operators: as written
+  double number = 0.0;
+  int line = 0;
+  int col = 0;              ///< 1-based, in characters
+  bool space_before = false;
+  bool space_after = false;
+};
+
+struct Line {
+  int number = 0;          ///< of the first physical line
+  std::string indentation; ///< leading blanks, as written
+  int indent_width = 0;    ///< in columns, tabs to the next multiple of 8
+  std::vector<Token> tokens;  ///< ends with kEnd; empty for header lines
+
+  // Header lines ("name: text", "order: 2", ... at column 1) are not tokenised: a name may hold
+  // any text.
+  bool is_header = false;
+  std::string header_key;
+  std::string header_value;  ///< trimmed, without its comment
+  int header_value_col = 1;
+};
+
+/// The header keys: name, order, max_curvature, specializes.
+[[nodiscard]] bool IsHeaderKey(std::string_view word);
+
+/// The logical lines of `source`, or the first lexical error.
+[[nodiscard]] Result<std::vector<Line>> Lex(std::string_view source,
+                                            const std::shared_ptr<const std::string>& file);
+
+}  // namespace priormap::dsl::detail
