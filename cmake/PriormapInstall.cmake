@@ -9,6 +9,9 @@ install(TARGETS priormap_core priormap_render priormap_dsl
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS priormap RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The prior library, for reading and as a starting point (the library has it compiled in).
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/priors/ DESTINATION ${CMAKE_INSTALL_DATADIR}/priormap/priors
+        FILES_MATCHING PATTERN "*.prior")
 
 set(PRIORMAP_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/priormap)
 install(EXPORT priormapTargets NAMESPACE priormap:: DESTINATION ${PRIORMAP_CMAKE_DIR})

@@ -1,13 +1,13 @@
 // priormap prior: list, check, show and evaluate priorlet files (docs/priorlet-language.md).
-#include <priormap/dsl/pose_independence.hpp>
-#include <priormap/dsl/prior_library.hpp>
-
 #include <charconv>
 #include <cmath>
 #include <map>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include <priormap/dsl/pose_independence.hpp>
+#include <priormap/dsl/prior_library.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -31,7 +31,9 @@ dsl::PriorLibrary Library(const PriorOptions& o) {
   return dsl::PriorLibrary(std::move(directories));
 }
 
-dsl::CompiledPrior Load(const PriorOptions& o) { return ValueOrThrow(Library(o).Load(o.prior)); }
+dsl::CompiledPrior Load(const PriorOptions& o) {
+  return ValueOrThrow(Library(o).Load(o.prior));
+}
 
 void List(const PriorOptions& o) {
   for (const dsl::PriorListing& p : Library(o).List()) {
@@ -52,7 +54,8 @@ void Check(const PriorOptions& o) {
     fmt::print("  specializes: {} ({})\n", prior.chain()[i].name, prior.chain()[i].path);
   }
   fmt::print("  order: {}   max_curvature: {} 1/m\n", prior.order(),
-             std::isinf(prior.max_curvature()) ? std::string("none") : fmt::format("{}", prior.max_curvature()));
+             std::isinf(prior.max_curvature()) ? std::string("none")
+                                               : fmt::format("{}", prior.max_curvature()));
   for (int b = 0; b < dsl::kNumBlockKinds; ++b) {
     const auto kind = static_cast<dsl::BlockKind>(b);
     const dsl::CompiledBlock* block = prior.block(kind);
@@ -62,24 +65,31 @@ void Check(const PriorOptions& o) {
     }
     const dsl::BlockSummary& s = block->summary();
     fmt::print("  {:<18} {}, {}, {}, {} ({}); uses {}\n", fmt::format("{}:", dsl::ToString(kind)),
-               Count(s.equalities, "equality", "equalities"), Count(s.inequalities, "inequality", "inequalities"),
-               Count(s.disjunctions, "disjunction", "disjunctions"), Count(s.energies, "energy", "energies"),
-               Count(s.scalar_terms, "scalar term", "scalar terms"), s.variables.empty() ? "nothing" : fmt::format("{}", fmt::join(s.variables, " ")));
+               Count(s.equalities, "equality", "equalities"),
+               Count(s.inequalities, "inequality", "inequalities"),
+               Count(s.disjunctions, "disjunction", "disjunctions"),
+               Count(s.energies, "energy", "energies"),
+               Count(s.scalar_terms, "scalar term", "scalar terms"),
+               s.variables.empty() ? "nothing" : fmt::format("{}", fmt::join(s.variables, " ")));
   }
   if (o.pose_independence) {
     const dsl::PoseIndependenceReport report = dsl::CheckPoseIndependence(prior, 200, o.seed);
     if (report.ok()) {
-      fmt::print("  pose independence: ok (every term unchanged under {} random rigid motions per block)\n",
-                 report.configurations);
+      fmt::print(
+          "  pose independence: ok (every term unchanged under {} random rigid motions per "
+          "block)\n",
+          report.configurations);
     } else {
       for (const dsl::PoseIndependenceViolation& v : report.violations) {
         const dsl::Term& term = prior.block(v.block)->terms()[static_cast<std::size_t>(v.term)];
         fmt::print(stderr,
-                   "priormap: warning: {}:{}: '{}' ({}) is not pose-independent: {} becomes {} when the map moves by "
-                   "dx={:.3f}, dy={:.3f}, dtheta={:.3f}; the degrees-of-freedom analysis assumes pose independence "
+                   "priormap: warning: {}:{}: '{}' ({}) is not pose-independent: {} becomes {} "
+                   "when the map moves by "
+                   "dx={:.3f}, dy={:.3f}, dtheta={:.3f}; the degrees-of-freedom analysis assumes "
+                   "pose independence "
                    "(paper Def. 3)\n",
-                   term.loc.file_name(), term.loc.line, term.source, dsl::ToString(v.block), v.value_before,
-                   v.value_after, v.dx, v.dy, v.dtheta);
+                   term.loc.file_name(), term.loc.line, term.source, dsl::ToString(v.block),
+                   v.value_before, v.value_after, v.dx, v.dy, v.dtheta);
       }
       fmt::print("  pose independence: {} term(s) changed under rigid motions (warnings above)\n",
                  report.violations.size());
@@ -91,10 +101,13 @@ const dsl::CompiledBlock& RequireBlock(const dsl::CompiledPrior& prior, const st
   for (int b = 0; b < dsl::kNumBlockKinds; ++b) {
     const auto kind = static_cast<dsl::BlockKind>(b);
     if (name != dsl::ToString(kind)) continue;
-    if (!prior.block(kind)) throw UserError(fmt::format("--block {}: the prior '{}' has no such block", name, prior.name()));
+    if (!prior.block(kind))
+      throw UserError(
+          fmt::format("--block {}: the prior '{}' has no such block", name, prior.name()));
     return *prior.block(kind);
   }
-  throw UserError(fmt::format("--block: expected same_region, different_region or different_surface, got '{}'", name));
+  throw UserError(fmt::format(
+      "--block: expected same_region, different_region or different_surface, got '{}'", name));
 }
 
 void Show(const PriorOptions& o) {
@@ -106,10 +119,14 @@ void Show(const PriorOptions& o) {
     for (int t = 0; t < block->num_terms(); ++t) {
       const dsl::Term& term = block->terms()[static_cast<std::size_t>(t)];
       std::string role = dsl::ToString(term.kind);
-      if (term.disjunction >= 0) role += fmt::format(", disjunction {} branch {}", term.disjunction + 1, term.branch + 1);
+      if (term.disjunction >= 0)
+        role += fmt::format(", disjunction {} branch {}", term.disjunction + 1, term.branch + 1);
       if (term.entries > 1) role += fmt::format(", entry {} of {}", term.entry + 1, term.entries);
-      const char* symbol = term.kind == dsl::TermKind::kEquality ? "f" : term.kind == dsl::TermKind::kInequality ? "g" : "h";
-      fmt::print("  term {} ({}; {}:{}: {})\n", t + 1, role, term.loc.file_name(), term.loc.line, term.source);
+      const char* symbol = term.kind == dsl::TermKind::kEquality     ? "f"
+                           : term.kind == dsl::TermKind::kInequality ? "g"
+                                                                     : "h";
+      fmt::print("  term {} ({}; {}:{}: {})\n", t + 1, role, term.loc.file_name(), term.loc.line,
+                 term.source);
       fmt::print("    {} = {}\n", symbol, block->TermExpression(t));
       if (!o.derivatives) continue;
       for (int v = 0; v < block->num_variables(); ++v) {
@@ -118,8 +135,8 @@ void Show(const PriorOptions& o) {
       }
     }
     const auto lengths = block->TapeLengths();
-    fmt::print("  tape: {} instructions for values, {} with gradients, {} with Hessians\n", lengths[0], lengths[1],
-               lengths[2]);
+    fmt::print("  tape: {} instructions for values, {} with gradients, {} with Hessians\n",
+               lengths[0], lengths[1], lengths[2]);
   }
 }
 
@@ -135,8 +152,10 @@ std::map<std::string, double> ParseAssignments(const std::string& text) {
     double value = 0.0;
     const char* first = item.data() + (eq == std::string::npos ? 0 : eq + 1);
     const auto [ptr, ec] = std::from_chars(first, item.data() + item.size(), value);
-    if (eq == std::string::npos || eq == 0 || ec != std::errc() || ptr != item.data() + item.size()) {
-      throw UserError(fmt::format("--at: expected name=value pairs separated by commas, got '{}'", item));
+    if (eq == std::string::npos || eq == 0 || ec != std::errc() ||
+        ptr != item.data() + item.size()) {
+      throw UserError(
+          fmt::format("--at: expected name=value pairs separated by commas, got '{}'", item));
     }
     values[item.substr(0, eq)] = value;
     start = end + 1;
@@ -160,7 +179,8 @@ void Eval(const PriorOptions& o) {
   for (int v = 0; v < nv; ++v) x[static_cast<std::size_t>(v)] = take(block.VariableName(v));
   for (int i = 0; i < k; ++i) phi[static_cast<std::size_t>(i)] = take(fmt::format("phi_{}", i + 1));
   if (!given.empty()) {
-    throw UserError(fmt::format("--at: '{}' is not a variable of this prior (order {})", given.begin()->first, k));
+    throw UserError(fmt::format("--at: '{}' is not a variable of this prior (order {})",
+                                given.begin()->first, k));
   }
   const std::size_t nt = static_cast<std::size_t>(block.num_terms());
   std::vector<double> values(nt), gradients(nt * x.size()), hessians(nt * x.size() * x.size());
@@ -170,14 +190,16 @@ void Eval(const PriorOptions& o) {
   for (int v = 0; v < nv; ++v) names.push_back(block.VariableName(v));
   for (std::size_t t = 0; t < nt; ++t) {
     const dsl::Term& term = block.terms()[t];
-    fmt::print("term {} ({}: {})\n  value: {}\n  gradient [{}]:\n    {}\n  Hessian:\n", t + 1, dsl::ToString(term.kind),
-               term.source, values[t], fmt::join(names, ", "),
-               fmt::join(std::vector<double>(gradients.begin() + static_cast<long>(t * x.size()),
-                                             gradients.begin() + static_cast<long>((t + 1) * x.size())),
-                         " "));
+    fmt::print(
+        "term {} ({}: {})\n  value: {}\n  gradient [{}]:\n    {}\n  Hessian:\n", t + 1,
+        dsl::ToString(term.kind), term.source, values[t], fmt::join(names, ", "),
+        fmt::join(std::vector<double>(gradients.begin() + static_cast<long>(t * x.size()),
+                                      gradients.begin() + static_cast<long>((t + 1) * x.size())),
+                  " "));
     for (std::size_t i = 0; i < x.size(); ++i) {
       const auto row = hessians.begin() + static_cast<long>(t * x.size() * x.size() + i * x.size());
-      fmt::print("    {}\n", fmt::join(std::vector<double>(row, row + static_cast<long>(x.size())), " "));
+      fmt::print("    {}\n",
+                 fmt::join(std::vector<double>(row, row + static_cast<long>(x.size())), " "));
     }
   }
 }
@@ -186,30 +208,43 @@ void Eval(const PriorOptions& o) {
 
 void AddPriorCommand(CLI::App& app) {
   auto o = std::make_shared<PriorOptions>();
-  CLI::App* prior = app.add_subcommand("prior", "List, check, show and evaluate environment priors (priorlet files)");
+  CLI::App* prior = app.add_subcommand(
+      "prior", "List, check, show and evaluate environment priors (priorlet files)");
   prior->require_subcommand(1);
+  // Its subcommands (made below) inherit this: `prior check FILE --prior-path DIR` passes the
+  // option up to `prior`, as users write it.
+  prior->fallthrough();
   prior->add_option("--prior-path", o->prior_path,
-                    "Directory searched for priors by name (repeatable; before PRIORMAP_PRIOR_PATH and the built-ins)");
+                    "Directory searched for priors by name (repeatable; before PRIORMAP_PRIOR_PATH "
+                    "and the built-ins)");
 
-  prior->add_subcommand("list", "The priors that can be named: the built-in library and --prior-path")
+  prior
+      ->add_subcommand("list",
+                       "The priors that can be named: the built-in library and --prior-path")
       ->callback([o] { List(*o); });
 
   CLI::App* check = prior->add_subcommand("check", "Check a prior and summarise it");
   check->add_option("prior", o->prior, "A prior file, or the name of a prior")->required();
-  check->add_flag("--pose-independence", o->pose_independence,
-                  "Also test numerically that the prior does not depend on the map's pose (paper Def. 3)");
+  check->add_flag(
+      "--pose-independence", o->pose_independence,
+      "Also test numerically that the prior does not depend on the map's pose (paper Def. 3)");
   check->add_option("--seed", o->seed, "Seed of the random configurations")->capture_default_str();
   check->callback([o] { Check(*o); });
 
-  CLI::App* show = prior->add_subcommand("show", "Print each term as compiled (simplified), optionally its derivatives");
+  CLI::App* show = prior->add_subcommand(
+      "show", "Print each term as compiled (simplified), optionally its derivatives");
   show->add_option("prior", o->prior, "A prior file, or the name of a prior")->required();
-  show->add_flag("--derivatives", o->derivatives, "Also print the simplified symbolic gradient of each term");
+  show->add_flag("--derivatives", o->derivatives,
+                 "Also print the simplified symbolic gradient of each term");
   show->callback([o] { Show(*o); });
 
-  CLI::App* eval = prior->add_subcommand("eval", "Evaluate a block's terms, gradients and Hessians at a point");
+  CLI::App* eval =
+      prior->add_subcommand("eval", "Evaluate a block's terms, gradients and Hessians at a point");
   eval->add_option("prior", o->prior, "A prior file, or the name of a prior")->required();
-  eval->add_option("--block", o->block, "same_region, different_region or different_surface")->capture_default_str();
-  eval->add_option("--at", o->at, "Values: rho_1=...,alpha_1=...,phi_1=...,... for i = 1..order")->required();
+  eval->add_option("--block", o->block, "same_region, different_region or different_surface")
+      ->capture_default_str();
+  eval->add_option("--at", o->at, "Values: rho_1=...,alpha_1=...,phi_1=...,... for i = 1..order")
+      ->required();
   eval->callback([o] { Eval(*o); });
 }
 

@@ -1,16 +1,21 @@
 #include "expression_graph.hpp"
 
-#include <priormap/core/check.hpp>
-
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
+#include <fmt/format.h>
+
+#include <priormap/core/check.hpp>
+
 namespace priormap::dsl::detail {
 namespace {
 
-bool IsCommutative(Op op) { return op == Op::kAdd || op == Op::kMul; }
+bool IsCommutative(Op op) {
+  return op == Op::kAdd || op == Op::kMul;
+}
 
 std::uint64_t Bits(double v) {
   std::uint64_t bits;
@@ -22,28 +27,48 @@ std::uint64_t Bits(double v) {
 
 double ApplyOp(Op op, double a, double b, double c, double d) {
   switch (op) {
-    case Op::kAdd: return a + b;
-    case Op::kSub: return a - b;
-    case Op::kMul: return a * b;
-    case Op::kDiv: return a / b;
-    case Op::kNeg: return -a;
-    case Op::kSqrt: return std::sqrt(a);
-    case Op::kExp: return std::exp(a);
-    case Op::kLog: return std::log(a);
-    case Op::kSin: return std::sin(a);
-    case Op::kCos: return std::cos(a);
-    case Op::kTan: return std::tan(a);
-    case Op::kAsin: return std::asin(a);
-    case Op::kAcos: return std::acos(a);
-    case Op::kAtan: return std::atan(a);
-    case Op::kAbs: return std::abs(a);
-    case Op::kSign: return a > 0.0 ? 1.0 : (a < 0.0 ? -1.0 : 0.0);
-    case Op::kAtan2: return std::atan2(a, b);
-    case Op::kPow: return std::pow(a, b);
-    case Op::kSelect: return a <= b ? c : d;
+    case Op::kAdd:
+      return a + b;
+    case Op::kSub:
+      return a - b;
+    case Op::kMul:
+      return a * b;
+    case Op::kDiv:
+      return a / b;
+    case Op::kNeg:
+      return -a;
+    case Op::kSqrt:
+      return std::sqrt(a);
+    case Op::kExp:
+      return std::exp(a);
+    case Op::kLog:
+      return std::log(a);
+    case Op::kSin:
+      return std::sin(a);
+    case Op::kCos:
+      return std::cos(a);
+    case Op::kTan:
+      return std::tan(a);
+    case Op::kAsin:
+      return std::asin(a);
+    case Op::kAcos:
+      return std::acos(a);
+    case Op::kAtan:
+      return std::atan(a);
+    case Op::kAbs:
+      return std::abs(a);
+    case Op::kSign:
+      return a > 0.0 ? 1.0 : (a < 0.0 ? -1.0 : 0.0);
+    case Op::kAtan2:
+      return std::atan2(a, b);
+    case Op::kPow:
+      return std::pow(a, b);
+    case Op::kSelect:
+      return a <= b ? c : d;
     case Op::kConst:
     case Op::kVar:
-    case Op::kParam: break;
+    case Op::kParam:
+      break;
   }
   return std::numeric_limits<double>::quiet_NaN();
 }
@@ -51,19 +76,20 @@ double ApplyOp(Op op, double a, double b, double c, double d) {
 std::size_t ExpressionGraph::KeyHash::operator()(const Node& n) const {
   std::uint64_t h = static_cast<std::uint64_t>(n.op) * 0x9E3779B97F4A7C15ULL;
   for (std::uint64_t v : {static_cast<std::uint64_t>(n.a), static_cast<std::uint64_t>(n.b),
-                          static_cast<std::uint64_t>(n.c), static_cast<std::uint64_t>(n.d), Bits(n.value),
-                          static_cast<std::uint64_t>(n.index)}) {
+                          static_cast<std::uint64_t>(n.c), static_cast<std::uint64_t>(n.d),
+                          Bits(n.value), static_cast<std::uint64_t>(n.index)}) {
     h ^= v + 0x9E3779B97F4A7C15ULL + (h << 6) + (h >> 2);
   }
   return static_cast<std::size_t>(h);
 }
 
 bool ExpressionGraph::KeyEqual::operator()(const Node& x, const Node& y) const {
-  return x.op == y.op && x.a == y.a && x.b == y.b && x.c == y.c && x.d == y.d && Bits(x.value) == Bits(y.value) &&
-         x.index == y.index;
+  return x.op == y.op && x.a == y.a && x.b == y.b && x.c == y.c && x.d == y.d &&
+         Bits(x.value) == Bits(y.value) && x.index == y.index;
 }
 
-ExpressionGraph::ExpressionGraph(int num_vars, int num_params) : num_vars_(num_vars), num_params_(num_params) {
+ExpressionGraph::ExpressionGraph(int num_vars, int num_params)
+    : num_vars_(num_vars), num_params_(num_params) {
   PRIORMAP_CHECK(num_vars >= 0 && num_vars <= 64 && num_params >= 0 && num_params <= 64,
                  "an expression graph has at most 64 unknowns and 64 parameters");
 }
@@ -80,6 +106,13 @@ NodeId ExpressionGraph::Make(Node n) {
     if (child < 0) continue;
     n.var_mask |= node(child).var_mask;
     n.param_mask |= node(child).param_mask;
+    n.depth = std::max(n.depth, node(child).depth + 1);
+  }
+  if (nodes_.size() >= kMaxNodes) {
+    throw GraphLimitExceeded{fmt::format("more than {} distinct subexpressions", kMaxNodes)};
+  }
+  if (n.depth > kMaxDepth) {
+    throw GraphLimitExceeded{fmt::format("operations nested more than {} deep", kMaxDepth)};
   }
   const NodeId id = static_cast<NodeId>(nodes_.size());
   nodes_.push_back(n);
@@ -119,6 +152,7 @@ NodeId ExpressionGraph::Add(NodeId a, NodeId b) {
   if (IsConst(b, 0.0)) return a;
   if (node(b).op == Op::kNeg) return Sub(a, node(b).a);  // a + (-b) = a - b
   if (node(a).op == Op::kNeg) return Sub(b, node(a).a);
+  if (a == b) return Mul(Const(2.0), a);  // product rules give x*y + x*y
   return Make({Op::kAdd, a, b});
 }
 
@@ -156,6 +190,9 @@ NodeId ExpressionGraph::Div(NodeId a, NodeId b) {
   if (IsConst(b)) return Mul(Const(1.0 / node(b).value), a);  // multiplying is cheaper
   if (node(a).op == Op::kNeg) return Neg(Div(node(a).a, b));
   if (node(b).op == Op::kNeg) return Neg(Div(a, node(b).a));
+  // a / b = a * (1 / b): derivatives divide many numerators by the same denominators, and one
+  // shared reciprocal then replaces a division (slow, ~15 cycles) per numerator.
+  if (!IsConst(a, 1.0)) return Mul(a, Div(Const(1.0), b));
   return Make({Op::kDiv, a, b});
 }
 
@@ -199,8 +236,10 @@ NodeId ExpressionGraph::Unary(Op op, NodeId a) {
     case Op::kAsin:
     case Op::kAcos:
     case Op::kAtan:
-    case Op::kSign: break;
-    default: PRIORMAP_CHECK(false, "Unary() takes a one-argument function");
+    case Op::kSign:
+      break;
+    default:
+      PRIORMAP_CHECK(false, "Unary() takes a one-argument function");
   }
   return Make({op, a});
 }
@@ -222,8 +261,12 @@ NodeId ExpressionGraph::Select(NodeId a, NodeId b, NodeId then, NodeId otherwise
   return Make(n);
 }
 
-NodeId ExpressionGraph::Min(NodeId a, NodeId b) { return Select(a, b, a, b); }
-NodeId ExpressionGraph::Max(NodeId a, NodeId b) { return Select(b, a, a, b); }
+NodeId ExpressionGraph::Min(NodeId a, NodeId b) {
+  return Select(a, b, a, b);
+}
+NodeId ExpressionGraph::Max(NodeId a, NodeId b) {
+  return Select(b, a, a, b);
+}
 
 NodeId ExpressionGraph::Derivative(NodeId id, int var) {
   PRIORMAP_CHECK(var >= 0 && var < num_vars_, "derivative with respect to an unknown out of range");
@@ -241,24 +284,40 @@ NodeId ExpressionGraph::MakeDerivative(NodeId id, int var) {
   switch (n.op) {
     case Op::kConst:
     case Op::kParam:
-    case Op::kSign: return Const(0.0);
-    case Op::kVar: return Const(n.index == var ? 1.0 : 0.0);
-    case Op::kAdd: return Add(D(n.a), D(n.b));
-    case Op::kSub: return Sub(D(n.a), D(n.b));
-    case Op::kMul: return Add(Mul(D(n.a), n.b), Mul(n.a, D(n.b)));
+    case Op::kSign:
+      return Const(0.0);
+    case Op::kVar:
+      return Const(n.index == var ? 1.0 : 0.0);
+    case Op::kAdd:
+      return Add(D(n.a), D(n.b));
+    case Op::kSub:
+      return Sub(D(n.a), D(n.b));
+    case Op::kMul:
+      return Add(Mul(D(n.a), n.b), Mul(n.a, D(n.b)));
     case Op::kDiv:  // (a' - (a/b) b') / b, reusing the node a/b
       return Div(Sub(D(n.a), Mul(id, D(n.b))), n.b);
-    case Op::kNeg: return Neg(D(n.a));
-    case Op::kSqrt: return Div(Mul(Const(0.5), D(n.a)), id);
-    case Op::kExp: return Mul(D(n.a), id);
-    case Op::kLog: return Div(D(n.a), n.a);
-    case Op::kSin: return Mul(D(n.a), Unary(Op::kCos, n.a));
-    case Op::kCos: return Neg(Mul(D(n.a), Unary(Op::kSin, n.a)));
-    case Op::kTan: return Mul(D(n.a), Add(Const(1.0), Mul(id, id)));
-    case Op::kAsin: return Div(D(n.a), Unary(Op::kSqrt, Sub(Const(1.0), Mul(n.a, n.a))));
-    case Op::kAcos: return Neg(Div(D(n.a), Unary(Op::kSqrt, Sub(Const(1.0), Mul(n.a, n.a)))));
-    case Op::kAtan: return Div(D(n.a), Add(Const(1.0), Mul(n.a, n.a)));
-    case Op::kAbs: return Mul(D(n.a), Unary(Op::kSign, n.a));
+    case Op::kNeg:
+      return Neg(D(n.a));
+    case Op::kSqrt:
+      return Div(Mul(Const(0.5), D(n.a)), id);
+    case Op::kExp:
+      return Mul(D(n.a), id);
+    case Op::kLog:
+      return Div(D(n.a), n.a);
+    case Op::kSin:
+      return Mul(D(n.a), Unary(Op::kCos, n.a));
+    case Op::kCos:
+      return Neg(Mul(D(n.a), Unary(Op::kSin, n.a)));
+    case Op::kTan:
+      return Mul(D(n.a), Add(Const(1.0), Mul(id, id)));
+    case Op::kAsin:
+      return Div(D(n.a), Unary(Op::kSqrt, Sub(Const(1.0), Mul(n.a, n.a))));
+    case Op::kAcos:
+      return Neg(Div(D(n.a), Unary(Op::kSqrt, Sub(Const(1.0), Mul(n.a, n.a)))));
+    case Op::kAtan:
+      return Div(D(n.a), Add(Const(1.0), Mul(n.a, n.a)));
+    case Op::kAbs:
+      return Mul(D(n.a), Unary(Op::kSign, n.a));
     case Op::kAtan2: {  // d atan2(y, x) = (x y' - y x') / (x^2 + y^2)
       const NodeId y = n.a, x = n.b;
       return Div(Sub(Mul(x, D(y)), Mul(y, D(x))), Add(Mul(x, x), Mul(y, y)));
@@ -271,22 +330,33 @@ NodeId ExpressionGraph::MakeDerivative(NodeId id, int var) {
       // d a^b = a^b (b' log a + b a' / a)
       return Mul(id, Add(Mul(D(n.b), Unary(Op::kLog, n.a)), Div(Mul(n.b, D(n.a)), n.a)));
     }
-    case Op::kSelect: return Select(n.a, n.b, D(n.c), D(n.d));  // the active branch's derivative
+    case Op::kSelect:
+      return Select(n.a, n.b, D(n.c), D(n.d));  // the active branch's derivative
   }
   return Const(0.0);
 }
 
-double ExpressionGraph::Evaluate(NodeId id, std::span<const double> x, std::span<const double> phi) const {
+double ExpressionGraph::Evaluate(NodeId id, std::span<const double> x,
+                                 std::span<const double> phi) const {
   std::vector<double> values(static_cast<std::size_t>(id) + 1);
   for (NodeId i = 0; i <= id; ++i) {
     const Node& n = node(i);
-    const auto v = [&](NodeId child) { return child >= 0 ? values[static_cast<std::size_t>(child)] : 0.0; };
+    const auto v = [&](NodeId child) {
+      return child >= 0 ? values[static_cast<std::size_t>(child)] : 0.0;
+    };
     double out;
     switch (n.op) {
-      case Op::kConst: out = n.value; break;
-      case Op::kVar: out = x[static_cast<std::size_t>(n.index)]; break;
-      case Op::kParam: out = phi[static_cast<std::size_t>(n.index)]; break;
-      default: out = ApplyOp(n.op, v(n.a), v(n.b), v(n.c), v(n.d));
+      case Op::kConst:
+        out = n.value;
+        break;
+      case Op::kVar:
+        out = x[static_cast<std::size_t>(n.index)];
+        break;
+      case Op::kParam:
+        out = phi[static_cast<std::size_t>(n.index)];
+        break;
+      default:
+        out = ApplyOp(n.op, v(n.a), v(n.b), v(n.c), v(n.d));
     }
     values[static_cast<std::size_t>(i)] = out;
   }

@@ -17,25 +17,53 @@ namespace priormap::dsl::detail {
 using NodeId = int;
 
 enum class Op : std::uint8_t {
-  kConst, kVar, kParam,
-  kAdd, kSub, kMul, kDiv, kNeg,
-  kSqrt, kExp, kLog, kSin, kCos, kTan, kAsin, kAcos, kAtan, kAbs, kSign,
-  kAtan2,  // atan2(a, b)
-  kPow,    // a ^ b
-  kSelect, // a <= b ? c : d
+  kConst,
+  kVar,
+  kParam,
+  kAdd,
+  kSub,
+  kMul,
+  kDiv,
+  kNeg,
+  kSqrt,
+  kExp,
+  kLog,
+  kSin,
+  kCos,
+  kTan,
+  kAsin,
+  kAcos,
+  kAtan,
+  kAbs,
+  kSign,
+  kAtan2,   // atan2(a, b)
+  kPow,     // a ^ b
+  kSelect,  // a <= b ? c : d
 };
 
 struct Node {
   Op op = Op::kConst;
   NodeId a = -1, b = -1, c = -1, d = -1;
-  double value = 0.0;           ///< kConst
-  int index = 0;                ///< kVar, kParam
-  std::uint64_t var_mask = 0;   ///< unknowns this node depends on (bit i: x_i)
-  std::uint64_t param_mask = 0; ///< parameters it depends on
+  double value = 0.0;            ///< kConst
+  int index = 0;                 ///< kVar, kParam
+  std::uint64_t var_mask = 0;    ///< unknowns this node depends on (bit i: x_i)
+  std::uint64_t param_mask = 0;  ///< parameters it depends on
+  int depth = 0;                 ///< longest path to a leaf (leaves: 0)
+};
+
+/// Thrown when making a node would exceed ExpressionGraph::kMaxNodes or kMaxDepth (the graph is
+/// unchanged). Lowering turns it into a located diagnostic.
+struct GraphLimitExceeded {
+  std::string message;
 };
 
 class ExpressionGraph {
  public:
+  /// Bounds that keep a hostile prior from exhausting memory, and the recursive passes over the
+  /// graph (derivatives, printing) from exhausting the stack. Real priors are far below both.
+  static constexpr std::size_t kMaxNodes = std::size_t{1} << 17;
+  static constexpr int kMaxDepth = 2000;
+
   /// `num_vars` unknowns and `num_params` parameters, each at most 64.
   ExpressionGraph(int num_vars, int num_params);
 
@@ -63,13 +91,15 @@ class ExpressionGraph {
   /// a <= b ? then : otherwise.
   NodeId Select(NodeId a, NodeId b, NodeId then, NodeId otherwise);
 
-  /// d node / d x_var, as a node (memoised).
+  /// d node / d x_var, as a node (memoised; forward mode).
   NodeId Derivative(NodeId id, int var);
 
   /// The value of `id` for unknowns `x` and parameters `phi` (slow; for tests and checks).
-  [[nodiscard]] double Evaluate(NodeId id, std::span<const double> x, std::span<const double> phi) const;
+  [[nodiscard]] double Evaluate(NodeId id, std::span<const double> x,
+                                std::span<const double> phi) const;
   /// Infix text, with `name(var)` / `param_name(index)` naming leaves.
-  [[nodiscard]] std::string Print(NodeId id, const std::function<std::string(bool is_param, int index)>& name) const;
+  [[nodiscard]] std::string Print(
+      NodeId id, const std::function<std::string(bool is_param, int index)>& name) const;
 
  private:
   NodeId Make(Node node);

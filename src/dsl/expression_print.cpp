@@ -1,30 +1,44 @@
 // Infix printing of expression-graph nodes with the fewest parentheses that keep the meaning.
-#include <priormap/core/angles.hpp>
-
 #include <fmt/format.h>
+
+#include <priormap/core/angles.hpp>
 
 #include "expression_graph.hpp"
 
 namespace priormap::dsl::detail {
 namespace {
 
-constexpr int kAddPrecedence = 1, kMulPrecedence = 2, kNegPrecedence = 3, kPowPrecedence = 4, kAtomPrecedence = 5;
+constexpr int kAddPrecedence = 1, kMulPrecedence = 2, kNegPrecedence = 3, kPowPrecedence = 4,
+              kAtomPrecedence = 5;
 
 const char* FunctionName(Op op) {
   switch (op) {
-    case Op::kSqrt: return "sqrt";
-    case Op::kExp: return "exp";
-    case Op::kLog: return "log";
-    case Op::kSin: return "sin";
-    case Op::kCos: return "cos";
-    case Op::kTan: return "tan";
-    case Op::kAsin: return "asin";
-    case Op::kAcos: return "acos";
-    case Op::kAtan: return "atan";
-    case Op::kAbs: return "abs";
-    case Op::kSign: return "sign";
-    case Op::kAtan2: return "atan2";
-    default: return "?";
+    case Op::kSqrt:
+      return "sqrt";
+    case Op::kExp:
+      return "exp";
+    case Op::kLog:
+      return "log";
+    case Op::kSin:
+      return "sin";
+    case Op::kCos:
+      return "cos";
+    case Op::kTan:
+      return "tan";
+    case Op::kAsin:
+      return "asin";
+    case Op::kAcos:
+      return "acos";
+    case Op::kAtan:
+      return "atan";
+    case Op::kAbs:
+      return "abs";
+    case Op::kSign:
+      return "sign";
+    case Op::kAtan2:
+      return "atan2";
+    default:
+      return "?";
   }
 }
 
@@ -41,12 +55,27 @@ class Printer {
         if (n.value == kPi) return {"pi", kAtomPrecedence};
         return {fmt::format("{}", n.value), n.value < 0 ? kNegPrecedence : kAtomPrecedence};
       }
-      case Op::kVar: return {name_(false, n.index), kAtomPrecedence};
-      case Op::kParam: return {name_(true, n.index), kAtomPrecedence};
-      case Op::kAdd: return Binary(n, " + ", kAddPrecedence);
-      case Op::kSub: return Binary(n, " - ", kAddPrecedence);
+      case Op::kVar:
+        return {name_(false, n.index), kAtomPrecedence};
+      case Op::kParam:
+        return {name_(true, n.index), kAtomPrecedence};
+      case Op::kAdd:
+        return Binary(n, " + ", kAddPrecedence);
+      case Op::kSub:
+        return Binary(n, " - ", kAddPrecedence);
       case Op::kMul: {
         if (n.a == n.b) return {fmt::format("{}^2", Wrapped(n.a, kAtomPrecedence)), kPowPrecedence};
+        // a * (1/b), as the graph stores quotients, reads a/b.
+        for (const auto& [numerator, reciprocal] : {std::pair{n.a, n.b}, std::pair{n.b, n.a}}) {
+          const Node& r = graph_.node(reciprocal);
+          if (r.op == Op::kDiv && graph_.IsConst(r.a, 1.0)) {
+            Node quotient = n;
+            quotient.op = Op::kDiv;
+            quotient.a = numerator;
+            quotient.b = r.b;
+            return Binary(quotient, "/", kMulPrecedence);
+          }
+        }
         // Constants in front: 0.5*x rather than x*0.5.
         if (graph_.IsConst(n.b) && !graph_.IsConst(n.a)) {
           Node swapped = n;
@@ -55,19 +84,26 @@ class Printer {
         }
         return Binary(n, "*", kMulPrecedence);
       }
-      case Op::kDiv: return Binary(n, "/", kMulPrecedence);
-      case Op::kPow: return Binary(n, "^", kPowPrecedence);
+      case Op::kDiv:
+        return Binary(n, "/", kMulPrecedence);
+      case Op::kPow:
+        return Binary(n, "^", kPowPrecedence);
       // -a*b reads as -(a*b) and means the same, so a product needs no parentheses.
-      case Op::kNeg: return {fmt::format("-{}", Wrapped(n.a, kMulPrecedence)), kNegPrecedence};
-      case Op::kAtan2: return {fmt::format("atan2({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
+      case Op::kNeg:
+        return {fmt::format("-{}", Wrapped(n.a, kMulPrecedence)), kNegPrecedence};
+      case Op::kAtan2:
+        return {fmt::format("atan2({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
       case Op::kSelect: {
-        if (n.c == n.a && n.d == n.b) return {fmt::format("min({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
-        if (n.c == n.b && n.d == n.a) return {fmt::format("max({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
-        return {fmt::format("select({} <= {}, {}, {})", Print(n.a).first, Print(n.b).first, Print(n.c).first,
-                            Print(n.d).first),
+        if (n.c == n.a && n.d == n.b)
+          return {fmt::format("min({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
+        if (n.c == n.b && n.d == n.a)
+          return {fmt::format("max({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
+        return {fmt::format("select({} <= {}, {}, {})", Print(n.a).first, Print(n.b).first,
+                            Print(n.c).first, Print(n.d).first),
                 kAtomPrecedence};
       }
-      default: return {fmt::format("{}({})", FunctionName(n.op), Print(n.a).first), kAtomPrecedence};
+      default:
+        return {fmt::format("{}({})", FunctionName(n.op), Print(n.a).first), kAtomPrecedence};
     }
   }
 
@@ -77,7 +113,8 @@ class Printer {
   std::pair<std::string, int> Binary(const Node& n, const char* op, int precedence) const {
     const bool right_strict = n.op == Op::kSub || n.op == Op::kDiv || n.op == Op::kPow;
     const int left_min = n.op == Op::kPow ? precedence + 1 : precedence;
-    return {fmt::format("{}{}{}", Wrapped(n.a, left_min), op, Wrapped(n.b, right_strict ? precedence + 1 : precedence)),
+    return {fmt::format("{}{}{}", Wrapped(n.a, left_min), op,
+                        Wrapped(n.b, right_strict ? precedence + 1 : precedence)),
             precedence};
   }
 
@@ -92,7 +129,8 @@ class Printer {
 
 }  // namespace
 
-std::string ExpressionGraph::Print(NodeId id, const std::function<std::string(bool is_param, int index)>& name) const {
+std::string ExpressionGraph::Print(
+    NodeId id, const std::function<std::string(bool is_param, int index)>& name) const {
   return Printer(*this, name).Print(id).first;
 }
 

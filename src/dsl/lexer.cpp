@@ -31,24 +31,40 @@ Char Decode(std::string_view s, std::size_t i) {
   return {code, size};
 }
 
-bool IsAsciiLetter(char32_t c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
-bool IsDigit(char32_t c) { return c >= '0' && c <= '9'; }
-bool IsSubscriptDigit(char32_t c) { return c >= 0x2080 && c <= 0x2089; }
+bool IsAsciiLetter(char32_t c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+}
+bool IsDigit(char32_t c) {
+  return c >= '0' && c <= '9';
+}
+bool IsSubscriptDigit(char32_t c) {
+  return c >= 0x2080 && c <= 0x2089;
+}
 
 // The ASCII name of a Greek letter priorlets predefine (ρ, α, φ, ϕ), or nullptr.
 const char* GreekName(char32_t c) {
   switch (c) {
-    case 0x03C1: return "rho";
-    case 0x03B1: return "alpha";
-    case 0x03C6: return "phi";
-    case 0x03D5: return "phi";
-    default: return nullptr;
+    case 0x03C1:
+      return "rho";
+    case 0x03B1:
+      return "alpha";
+    case 0x03C6:
+      return "phi";
+    case 0x03D5:
+      return "phi";
+    default:
+      return nullptr;
   }
 }
 
+// A bound on the work and memory one logical line can ask of the parser (the parser bounds the
+// depth of the trees it builds separately).
+constexpr std::size_t kMaxTokensPerLine = 10000;
+
 class LineLexer {
  public:
-  LineLexer(std::string_view text, int line, int first_col, const std::shared_ptr<const std::string>& file)
+  LineLexer(std::string_view text, int line, int first_col,
+            const std::shared_ptr<const std::string>& file)
       : text_(text), line_(line), col_(first_col), file_(file) {}
 
   // Appends the tokens of this physical line; returns false (with `error`) on a lexical error.
@@ -63,12 +79,19 @@ class LineLexer {
         if (!tokens.empty()) tokens.back().space_after = true;
         continue;
       }
+      if (tokens.size() >= kMaxTokensPerLine) {
+        return Fail(error, col_,
+                    fmt::format("more than {} tokens in one logical line: split the statement with "
+                                "definitions",
+                                kMaxTokensPerLine));
+      }
       Token token;
       token.line = line_;
       token.col = col_;
       token.space_before = space_;
       space_ = false;
       if (!Next(c, tokens, token, error)) return false;
+      token.end_col = col_;
       tokens.push_back(std::move(token));
     }
     if (!tokens.empty()) tokens.back().space_after = true;
@@ -82,7 +105,8 @@ class LineLexer {
   }
   char32_t Peek(std::size_t offset = 0) const {
     std::size_t p = pos_;
-    for (std::size_t k = 0; k < offset && p < text_.size(); ++k) p += static_cast<std::size_t>(Decode(text_, p).size);
+    for (std::size_t k = 0; k < offset && p < text_.size(); ++k)
+      p += static_cast<std::size_t>(Decode(text_, p).size);
     return p < text_.size() ? Decode(text_, p).code : 0;
   }
   bool Fail(Diagnostic& error, int col, std::string message) {
@@ -111,8 +135,10 @@ class LineLexer {
         }
         name += static_cast<char>('0' + (c.code - 0x2080));
       } else if (c.code >= 0x80 && c.code != 0xFFFD && IsLetterLike(c.code)) {
-        return Fail(error, col_, fmt::format("unexpected character U+{:04X} in a name (only ρ, α, φ and ϕ "
-                                             "may be written in Greek)", static_cast<std::uint32_t>(c.code)));
+        return Fail(error, col_,
+                    fmt::format("unexpected character U+{:04X} in a name (only ρ, α, φ and ϕ "
+                                "may be written in Greek)",
+                                static_cast<std::uint32_t>(c.code)));
       } else {
         break;
       }
@@ -125,7 +151,9 @@ class LineLexer {
     return true;
   }
 
-  static bool IsLetterLike(char32_t c) { return c >= 0x0370 && c <= 0x03FF; }  // other Greek letters
+  static bool IsLetterLike(char32_t c) {
+    return c >= 0x0370 && c <= 0x03FF;
+  }  // other Greek letters
   char32_t PreviousCode() const { return previous_code_; }
 
   bool Number(Token& token, Diagnostic& error) {
@@ -141,7 +169,7 @@ class LineLexer {
     // "1.*x" is 1 .* x: a dot followed by an operator belongs to the operator.
     if (pos_ < text_.size() && text_[pos_] == '.' &&
         !(pos_ + 1 < text_.size() && (text_[pos_ + 1] == '*' || text_[pos_ + 1] == '/' ||
-                                       text_[pos_ + 1] == '^' || text_[pos_ + 1] == '\''))) {
+                                      text_[pos_ + 1] == '^' || text_[pos_ + 1] == '\''))) {
       ++pos_;
       ++col_;
       skip_digits();
@@ -155,32 +183,38 @@ class LineLexer {
         skip_digits();
       } else {
         pos_ = p;
-        return Fail(error, start_col, fmt::format("bad number {}: an exponent needs digits",
-                                                  QuoteForMessage(text_.substr(start, pos_ - start))));
+        return Fail(error, start_col,
+                    fmt::format("bad number {}: an exponent needs digits",
+                                QuoteForMessage(text_.substr(start, pos_ - start))));
       }
     }
-    // A number running into letters, digits or another dot ("3x", "1.2.3") is a typo, not two tokens.
+    // A number running into letters, digits or another dot ("3x", "1.2.3") is a typo, not two
+    // tokens.
     if (pos_ < text_.size()) {
       const Char next = Decode(text_, pos_);
-      if (IsAsciiLetter(next.code) || IsDigit(next.code) || next.code == '.' ) {
+      if (IsAsciiLetter(next.code) || IsDigit(next.code) || next.code == '.') {
         const bool dot_operator = next.code == '.' && pos_ + 1 < text_.size() &&
-                                  (text_[pos_ + 1] == '*' || text_[pos_ + 1] == '/' || text_[pos_ + 1] == '^' ||
-                                   text_[pos_ + 1] == '\'');
+                                  (text_[pos_ + 1] == '*' || text_[pos_ + 1] == '/' ||
+                                   text_[pos_ + 1] == '^' || text_[pos_ + 1] == '\'');
         if (!dot_operator) {
           std::size_t end = pos_;
-          while (end < text_.size() && (std::isalnum(static_cast<unsigned char>(text_[end])) || text_[end] == '.' ||
-                                        text_[end] == '_')) {
+          while (end < text_.size() && (std::isalnum(static_cast<unsigned char>(text_[end])) ||
+                                        text_[end] == '.' || text_[end] == '_')) {
             ++end;
           }
-          return Fail(error, start_col, fmt::format("bad number {}", QuoteForMessage(text_.substr(start, end - start))));
+          return Fail(
+              error, start_col,
+              fmt::format("bad number {}", QuoteForMessage(text_.substr(start, end - start))));
         }
       }
     }
     token.kind = TokenKind::kNumber;
     token.text = std::string(text_.substr(start, pos_ - start));
-    const auto [ptr, ec] = std::from_chars(token.text.data(), token.text.data() + token.text.size(), token.number);
+    const auto [ptr, ec] =
+        std::from_chars(token.text.data(), token.text.data() + token.text.size(), token.number);
     if (ec != std::errc() || ptr != token.text.data() + token.text.size()) {
-      return Fail(error, start_col, fmt::format("bad number {} (out of range)", QuoteForMessage(token.text)));
+      return Fail(error, start_col,
+                  fmt::format("bad number {} (out of range)", QuoteForMessage(token.text)));
     }
     return true;
   }
@@ -195,18 +229,30 @@ class LineLexer {
       return true;
     };
     switch (c.code) {
-      case '+': return take(TokenKind::kPlus, 1);
-      case '-': return take(TokenKind::kMinus, 1);
-      case '*': return take(TokenKind::kStar, 1);
-      case '/': return take(TokenKind::kSlash, 1);
-      case '^': return take(TokenKind::kCaret, 1);
-      case '(': return take(TokenKind::kLParen, 1);
-      case ')': return take(TokenKind::kRParen, 1);
-      case '[': return take(TokenKind::kLBracket, 1);
-      case ']': return take(TokenKind::kRBracket, 1);
-      case ',': return take(TokenKind::kComma, 1);
-      case ';': return take(TokenKind::kSemicolon, 1);
-      case ':': return take(TokenKind::kColon, 1);
+      case '+':
+        return take(TokenKind::kPlus, 1);
+      case '-':
+        return take(TokenKind::kMinus, 1);
+      case '*':
+        return take(TokenKind::kStar, 1);
+      case '/':
+        return take(TokenKind::kSlash, 1);
+      case '^':
+        return take(TokenKind::kCaret, 1);
+      case '(':
+        return take(TokenKind::kLParen, 1);
+      case ')':
+        return take(TokenKind::kRParen, 1);
+      case '[':
+        return take(TokenKind::kLBracket, 1);
+      case ']':
+        return take(TokenKind::kRBracket, 1);
+      case ',':
+        return take(TokenKind::kComma, 1);
+      case ';':
+        return take(TokenKind::kSemicolon, 1);
+      case ':':
+        return take(TokenKind::kColon, 1);
       case '.':
         if (n == '*') return take(TokenKind::kDotStar, 2);
         if (n == '/') return take(TokenKind::kDotSlash, 2);
@@ -215,12 +261,16 @@ class LineLexer {
         break;
       case '\'': {
         // A quote right after an operand is a transpose; anywhere else it would start a string.
-        const bool after_operand = !tokens.empty() && !space_ &&
-            (tokens.back().kind == TokenKind::kIdentifier || tokens.back().kind == TokenKind::kNumber ||
-             tokens.back().kind == TokenKind::kRParen || tokens.back().kind == TokenKind::kRBracket ||
+        const bool after_operand =
+            !tokens.empty() && !token.space_before &&
+            (tokens.back().kind == TokenKind::kIdentifier ||
+             tokens.back().kind == TokenKind::kNumber || tokens.back().kind == TokenKind::kRParen ||
+             tokens.back().kind == TokenKind::kRBracket ||
              tokens.back().kind == TokenKind::kTranspose);
         if (after_operand) return take(TokenKind::kTranspose, 1);
-        return Fail(error, col_, "unexpected ' (transpose must follow an operand directly; strings are not supported)");
+        return Fail(
+            error, col_,
+            "unexpected ' (transpose must follow an operand directly; strings are not supported)");
       }
       case '=':
         if (n == '=') return take(TokenKind::kEqualEqual, 2);
@@ -235,16 +285,34 @@ class LineLexer {
         if (n == '|') return take(TokenKind::kOrOr, 2);
         return take(TokenKind::kOr, 1);
       case '&':
-        return Fail(error, col_, "'&' is not supported: every constraint of a priorlet must hold, so write "
-                                 "them on separate lines");
+        return Fail(error, col_,
+                    fmt::format("{} is not supported: every constraint of a priorlet must hold, so "
+                                "write them on separate lines",
+                                n == '&' ? "'&&'" : "'&'"));
       case '~':
       case '!':
-        if (n == '=') return Fail(error, col_, "'~=' / '!=' constraints are not supported (use == , <= or >=)");
+        if (n == '=')
+          return Fail(error, col_, "'~=' / '!=' constraints are not supported (use == , <= or >=)");
         break;
-      default: break;
+      default:
+        break;
     }
-    std::string shown = c.code < 0x80 && c.code >= 0x20 ? fmt::format("'{}'", static_cast<char>(c.code))
-                                                        : fmt::format("U+{:04X}", static_cast<std::uint32_t>(c.code));
+    if (c.code == 0xFFFD && c.size == 1) {
+      return Fail(error, col_,
+                  fmt::format("unexpected byte 0x{:02X} (prior files are UTF-8 text)",
+                              static_cast<unsigned char>(text_[pos_])));
+    }
+    std::string shown = c.code < 0x80 && c.code >= 0x20
+                            ? fmt::format("'{}'", static_cast<char>(c.code))
+                            : fmt::format("U+{:04X}", static_cast<std::uint32_t>(c.code));
+    if (IsLetterLike(c.code)) {
+      // Shown as itself too: it is a printable letter, and the hint names the Greek letters
+      // allowed.
+      return Fail(
+          error, col_,
+          fmt::format("unexpected character '{}' ({}); only ρ, α, φ and ϕ may be written in Greek",
+                      text_.substr(pos_, static_cast<std::size_t>(c.size)), shown));
+    }
     return Fail(error, col_, fmt::format("unexpected character {}", shown));
   }
 
@@ -264,17 +332,21 @@ std::size_t CommentStart(std::string_view line) {
 }
 
 std::string_view TrimRight(std::string_view s) {
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
 // "key:" at the start of `body` with key a header key: the key and the byte offset after ':'.
 std::optional<std::pair<std::string, std::size_t>> HeaderPrefix(std::string_view body) {
   std::size_t end = 0;
-  while (end < body.size() && (std::isalpha(static_cast<unsigned char>(body[end])) || body[end] == '_')) ++end;
+  while (end < body.size() &&
+         (std::isalpha(static_cast<unsigned char>(body[end])) || body[end] == '_'))
+    ++end;
   std::size_t colon = end;
   while (colon < body.size() && (body[colon] == ' ' || body[colon] == '\t')) ++colon;
-  if (end == 0 || colon >= body.size() || body[colon] != ':' || !IsHeaderKey(body.substr(0, end))) return std::nullopt;
+  if (end == 0 || colon >= body.size() || body[colon] != ':' || !IsHeaderKey(body.substr(0, end)))
+    return std::nullopt;
   return std::pair{std::string(body.substr(0, end)), colon + 1};
 }
 
@@ -293,38 +365,66 @@ bool IsHeaderKey(std::string_view word) {
 
 const char* Describe(TokenKind kind) {
   switch (kind) {
-    case TokenKind::kIdentifier: return "a name";
-    case TokenKind::kNumber: return "a number";
-    case TokenKind::kPlus: return "'+'";
-    case TokenKind::kMinus: return "'-'";
-    case TokenKind::kStar: return "'*'";
-    case TokenKind::kSlash: return "'/'";
-    case TokenKind::kCaret: return "'^'";
-    case TokenKind::kDotStar: return "'.*'";
-    case TokenKind::kDotSlash: return "'./'";
-    case TokenKind::kDotCaret: return "'.^'";
-    case TokenKind::kTranspose: return "a transpose '''";
-    case TokenKind::kEqualEqual: return "'=='";
-    case TokenKind::kLessEqual: return "'<='";
-    case TokenKind::kGreaterEqual: return "'>='";
-    case TokenKind::kLess: return "'<'";
-    case TokenKind::kGreater: return "'>'";
-    case TokenKind::kAssign: return "'='";
-    case TokenKind::kOrOr: return "'||'";
-    case TokenKind::kOr: return "'|'";
-    case TokenKind::kLParen: return "'('";
-    case TokenKind::kRParen: return "')'";
-    case TokenKind::kLBracket: return "'['";
-    case TokenKind::kRBracket: return "']'";
-    case TokenKind::kComma: return "','";
-    case TokenKind::kSemicolon: return "';'";
-    case TokenKind::kColon: return "':'";
-    case TokenKind::kEnd: return "the end of the line";
+    case TokenKind::kIdentifier:
+      return "a name";
+    case TokenKind::kNumber:
+      return "a number";
+    case TokenKind::kPlus:
+      return "'+'";
+    case TokenKind::kMinus:
+      return "'-'";
+    case TokenKind::kStar:
+      return "'*'";
+    case TokenKind::kSlash:
+      return "'/'";
+    case TokenKind::kCaret:
+      return "'^'";
+    case TokenKind::kDotStar:
+      return "'.*'";
+    case TokenKind::kDotSlash:
+      return "'./'";
+    case TokenKind::kDotCaret:
+      return "'.^'";
+    case TokenKind::kTranspose:
+      return "a transpose '''";
+    case TokenKind::kEqualEqual:
+      return "'=='";
+    case TokenKind::kLessEqual:
+      return "'<='";
+    case TokenKind::kGreaterEqual:
+      return "'>='";
+    case TokenKind::kLess:
+      return "'<'";
+    case TokenKind::kGreater:
+      return "'>'";
+    case TokenKind::kAssign:
+      return "'='";
+    case TokenKind::kOrOr:
+      return "'||'";
+    case TokenKind::kOr:
+      return "'|'";
+    case TokenKind::kLParen:
+      return "'('";
+    case TokenKind::kRParen:
+      return "')'";
+    case TokenKind::kLBracket:
+      return "'['";
+    case TokenKind::kRBracket:
+      return "']'";
+    case TokenKind::kComma:
+      return "','";
+    case TokenKind::kSemicolon:
+      return "';'";
+    case TokenKind::kColon:
+      return "':'";
+    case TokenKind::kEnd:
+      return "the end of the line";
   }
   return "?";
 }
 
-Result<std::vector<Line>> Lex(std::string_view source, const std::shared_ptr<const std::string>& file) {
+Result<std::vector<Line>> Lex(std::string_view source,
+                              const std::shared_ptr<const std::string>& file) {
   std::vector<Line> lines;
   std::size_t start = 0;
   int number = 0;
@@ -341,7 +441,8 @@ Result<std::vector<Line>> Lex(std::string_view source, const std::shared_ptr<con
     physical = TrimRight(physical);
     std::size_t indent_end = 0;
     int indent_width = 0;
-    while (indent_end < physical.size() && (physical[indent_end] == ' ' || physical[indent_end] == '\t')) {
+    while (indent_end < physical.size() &&
+           (physical[indent_end] == ' ' || physical[indent_end] == '\t')) {
       indent_width = physical[indent_end] == '\t' ? (indent_width / 8 + 1) * 8 : indent_width + 1;
       ++indent_end;
     }
@@ -383,7 +484,7 @@ Result<std::vector<Line>> Lex(std::string_view source, const std::shared_ptr<con
     end_token.kind = TokenKind::kEnd;
     const Token* last = line.tokens.empty() ? nullptr : &line.tokens.back();
     end_token.line = last ? last->line : line.number;
-    end_token.col = last ? last->col + CharacterCount(last->text) : line.indent_width + 1;
+    end_token.col = last ? last->end_col : static_cast<int>(line.indentation.size()) + 1;
     end_token.space_before = true;
     line.tokens.push_back(end_token);
   }

@@ -3,20 +3,42 @@
 // the following ones when it ends in "..." (MATLAB's continuation). Comments (# or %) and blank
 // lines are dropped. Greek identifiers are normalised: α₁ and α_1 become alpha_1, ρ rho, φ/ϕ phi.
 
-#include <priormap/core/diagnostic.hpp>
-#include <priormap/dsl/ast.hpp>
-
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/dsl/ast.hpp>
+
 namespace priormap::dsl::detail {
 
 enum class TokenKind {
-  kIdentifier, kNumber,
-  kPlus, kMinus, kStar, kSlash, kCaret, kDotStar, kDotSlash, kDotCaret, kTranspose,
-  kEqualEqual, kLessEqual, kGreaterEqual, kLess, kGreater, kAssign, kOrOr, kOr,
-  kLParen, kRParen, kLBracket, kRBracket, kComma, kSemicolon, kColon,
+  kIdentifier,
+  kNumber,
+  kPlus,
+  kMinus,
+  kStar,
+  kSlash,
+  kCaret,
+  kDotStar,
+  kDotSlash,
+  kDotCaret,
+  kTranspose,
+  kEqualEqual,
+  kLessEqual,
+  kGreaterEqual,
+  kLess,
+  kGreater,
+  kAssign,
+  kOrOr,
+  kOr,
+  kLParen,
+  kRParen,
+  kLBracket,
+  kRBracket,
+  kComma,
+  kSemicolon,
+  kColon,
   kEnd,  // end of the logical line
 };
 
@@ -28,15 +50,16 @@ struct Token {
   std::string text;  ///< identifiers: normalised name; numbers and operators: as written
   double number = 0.0;
   int line = 0;
-  int col = 0;              ///< 1-based, in characters
+  int col = 0;      ///< 1-based, in characters
+  int end_col = 0;  ///< the column just after the token as written (α₁ is 2 characters)
   bool space_before = false;
   bool space_after = false;
 };
 
 struct Line {
-  int number = 0;          ///< of the first physical line
-  std::string indentation; ///< leading blanks, as written
-  int indent_width = 0;    ///< in columns, tabs to the next multiple of 8
+  int number = 0;             ///< of the first physical line
+  std::string indentation;    ///< leading blanks, as written
+  int indent_width = 0;       ///< in columns, tabs to the next multiple of 8
   std::vector<Token> tokens;  ///< ends with kEnd; empty for header lines
 
   // Header lines ("name: text", "order: 2", ... at column 1) are not tokenised: a name may hold

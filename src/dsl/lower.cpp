@@ -2,9 +2,6 @@
 // nodes, so that shape errors, unknown names and bad indices surface with their location.
 #include "lower.hpp"
 
-#include <priormap/core/angles.hpp>
-#include <priormap/dsl/parse.hpp>
-
 #include <charconv>
 #include <cmath>
 #include <functional>
@@ -15,12 +12,21 @@
 
 #include <fmt/format.h>
 
+#include <priormap/core/angles.hpp>
+#include <priormap/dsl/parse.hpp>
+
 #include "expression_graph.hpp"
 
 namespace priormap::dsl::detail {
 namespace {
 
 constexpr int kMaxOrder = 16;
+// Bounds on what one prior may ask for, so that a small hostile file cannot make the compiler
+// allocate without limit: entries of one matrix value, multiply-adds of one matrix product,
+// scalar terms of one block. (The expression graph bounds its own size and depth.)
+constexpr long long kMaxEntries = 1024;
+constexpr long long kMaxProductWork = 1 << 18;
+constexpr std::size_t kMaxTerms = 1024;
 
 struct CompileError {
   Diagnostic diagnostic;
@@ -38,10 +44,14 @@ struct Value {
 
   [[nodiscard]] bool IsScalar() const { return rows == 1 && cols == 1; }
   [[nodiscard]] std::string Shape() const { return fmt::format("{}x{}", rows, cols); }
-  [[nodiscard]] NodeId at(int r, int c) const { return entries[static_cast<std::size_t>(r * cols + c)]; }
+  [[nodiscard]] NodeId at(int r, int c) const {
+    return entries[static_cast<std::size_t>(r * cols + c)];
+  }
 };
 
-Value Scalar(NodeId id) { return {1, 1, {id}}; }
+Value Scalar(NodeId id) {
+  return {1, 1, {id}};
+}
 
 // The header values of a prior and its ancestors, the nearest given one winning.
 struct Header {
@@ -52,10 +62,12 @@ struct Header {
 
 int ParseOrder(const HeaderEntry& entry) {
   int order = 0;
-  const auto [ptr, ec] = std::from_chars(entry.value.data(), entry.value.data() + entry.value.size(), order);
-  if (ec != std::errc() || ptr != entry.value.data() + entry.value.size() || order < 1 || order > kMaxOrder) {
-    Fail(entry.value_loc, fmt::format("order must be a whole number from 1 to {}, got {}", kMaxOrder,
-                                      QuoteForMessage(entry.value)));
+  const auto [ptr, ec] =
+      std::from_chars(entry.value.data(), entry.value.data() + entry.value.size(), order);
+  if (ec != std::errc() || ptr != entry.value.data() + entry.value.size() || order < 1 ||
+      order > kMaxOrder) {
+    Fail(entry.value_loc, fmt::format("order must be a whole number from 1 to {}, got {}",
+                                      kMaxOrder, QuoteForMessage(entry.value)));
   }
   return order;
 }
@@ -63,10 +75,12 @@ int ParseOrder(const HeaderEntry& entry) {
 double ParseCurvature(const HeaderEntry& entry) {
   if (entry.value == "inf") return std::numeric_limits<double>::infinity();
   double value = 0.0;
-  const auto [ptr, ec] = std::from_chars(entry.value.data(), entry.value.data() + entry.value.size(), value);
+  const auto [ptr, ec] =
+      std::from_chars(entry.value.data(), entry.value.data() + entry.value.size(), value);
   if (ec != std::errc() || ptr != entry.value.data() + entry.value.size() || !(value >= 0.0)) {
-    Fail(entry.value_loc, fmt::format("max_curvature must be a non-negative number (1/m) or inf, got {}",
-                                      QuoteForMessage(entry.value)));
+    Fail(entry.value_loc,
+         fmt::format("max_curvature must be a non-negative number (1/m) or inf, got {}",
+                     QuoteForMessage(entry.value)));
   }
   return value;
 }
@@ -75,17 +89,21 @@ Header ResolveHeader(const ResolvedPrior& prior) {
   Header header;
   const PriorFile& own = *prior.files.front();
   const HeaderEntry* name = own.Header("name");
-  if (!name) Fail({std::make_shared<const std::string>(own.path), 1, 1}, "missing 'name:' (every prior file needs one)");
+  if (!name)
+    Fail({std::make_shared<const std::string>(own.path), 1, 1},
+         "missing 'name:' (every prior file needs one)");
   header.name = name->value;
   std::optional<int> order;
   // Ancestors first, so that the nearest value overrides.
   for (auto it = prior.files.rbegin(); it != prior.files.rend(); ++it) {
     if (const HeaderEntry* entry = (*it)->Header("order")) order = ParseOrder(*entry);
-    if (const HeaderEntry* entry = (*it)->Header("max_curvature")) header.max_curvature = ParseCurvature(*entry);
+    if (const HeaderEntry* entry = (*it)->Header("max_curvature"))
+      header.max_curvature = ParseCurvature(*entry);
   }
   if (!order) {
     Fail({std::make_shared<const std::string>(own.path), 1, 1},
-         "missing 'order:' (the number of consecutive points a priorlet relates), and no parent prior gives one");
+         "missing 'order:' (the number of consecutive points a priorlet relates), and no parent "
+         "prior gives one");
   }
   header.order = *order;
   return header;
@@ -98,10 +116,10 @@ struct Function {
 
 const std::map<std::string, Function>& Functions() {
   static const std::map<std::string, Function> functions = {
-      {"sin", {1, 1}},  {"cos", {1, 1}},  {"tan", {1, 1}},     {"asin", {1, 1}},    {"acos", {1, 1}},
-      {"atan", {1, 1}}, {"atan2", {2, 2}}, {"sqrt", {1, 1}},   {"exp", {1, 1}},     {"log", {1, 1}},
-      {"abs", {1, 1}},  {"norm", {1, 1}},  {"deg2rad", {1, 1}}, {"rad2deg", {1, 1}}, {"min", {1, 2}},
-      {"max", {1, 2}}};
+      {"sin", {1, 1}},     {"cos", {1, 1}},     {"tan", {1, 1}},   {"asin", {1, 1}},
+      {"acos", {1, 1}},    {"atan", {1, 1}},    {"atan2", {2, 2}}, {"sqrt", {1, 1}},
+      {"exp", {1, 1}},     {"log", {1, 1}},     {"abs", {1, 1}},   {"norm", {1, 1}},
+      {"deg2rad", {1, 1}}, {"rad2deg", {1, 1}}, {"min", {1, 2}},   {"max", {1, 2}}};
   return functions;
 }
 
@@ -119,7 +137,11 @@ std::optional<std::pair<std::string, int>> PredefinedName(const std::string& nam
     int index = 0;
     const char* first = name.data() + prefix.size();
     const auto [ptr, ec] = std::from_chars(first, name.data() + name.size(), index);
-    if (ec == std::errc() && ptr == name.data() + name.size()) return std::pair{std::string(base), index};
+    if (ptr != name.data() + name.size()) continue;
+    if (ec == std::errc()) return std::pair{std::string(base), index};
+    // All digits, too many for an int: an index above any order.
+    if (ec == std::errc::result_out_of_range)
+      return std::pair{std::string(base), std::numeric_limits<int>::max()};
   }
   return std::nullopt;
 }
@@ -137,23 +159,44 @@ class Lowerer {
   void Define(const Statement& definition, Scope& scope) {
     CheckNewName(definition);
     defining_.push_back(&definition);
-    Value value = Lower(*definition.expr, scope);
+    Value value;
+    try {
+      value = Lower(*definition.expr, scope);
+    } catch (const GraphLimitExceeded& e) {
+      Fail(definition.loc,
+           fmt::format("'{}' is too large to compile: {}", definition.name, e.message));
+    }
     defining_.pop_back();
     scope.values.emplace(definition.name, std::move(value));
   }
 
   Value Lower(const Expr& e, const Scope& scope) {
     switch (e.kind) {
-      case Expr::Kind::kNumber: return Scalar(graph_.Const(e.number));
-      case Expr::Kind::kName: return Name(e, scope);
-      case Expr::Kind::kNegate: return Map(Lower(*e.children[0], scope), [&](NodeId a) { return graph_.Neg(a); });
-      case Expr::Kind::kTranspose: return Transpose(Lower(*e.children[0], scope));
-      case Expr::Kind::kBinary: return Binary(e, Lower(*e.children[0], scope), Lower(*e.children[1], scope));
-      case Expr::Kind::kCall: return Call(e, scope);
-      case Expr::Kind::kMatrix: return Matrix(e, scope);
+      case Expr::Kind::kNumber:
+        return Scalar(graph_.Const(e.number));
+      case Expr::Kind::kName:
+        return Name(e, scope);
+      case Expr::Kind::kNegate:
+        return Map(Lower(*e.children[0], scope), [&](NodeId a) { return graph_.Neg(a); });
+      case Expr::Kind::kTranspose:
+        return Transpose(Lower(*e.children[0], scope));
+      case Expr::Kind::kBinary: {
+        // In sequence (not as two arguments, whose order is unspecified): the leftmost problem is
+        // the one reported, with every compiler.
+        const Value left = Lower(*e.children[0], scope);
+        const Value right = Lower(*e.children[1], scope);
+        return Binary(e, left, right);
+      }
+      case Expr::Kind::kCall:
+        return Call(e, scope);
+      case Expr::Kind::kMatrix:
+        return Matrix(e, scope);
       case Expr::Kind::kCompare:
-        Fail(e.loc, "a comparison is not a value: comparisons make constraints, one per line (or joined by ||)");
-      case Expr::Kind::kOr: Fail(e.loc, "'||' joins constraints; it cannot be used inside an expression");
+        Fail(e.loc,
+             "a comparison is not a value: comparisons make constraints, one per line (or joined "
+             "by ||)");
+      case Expr::Kind::kOr:
+        Fail(e.loc, "'||' joins constraints; it cannot be used inside an expression");
     }
     Fail(e.loc, "unsupported expression");
   }
@@ -166,9 +209,13 @@ class Lowerer {
     const std::string& name = definition.name;
     if (name == "pi") Fail(definition.loc, "'pi' is a constant and cannot be redefined");
     if (PredefinedName(name) || name == "rho" || name == "alpha" || name == "phi") {
-      Fail(definition.loc, fmt::format("'{}' is predefined (rho_i, alpha_i, phi_i) and cannot be redefined", name));
+      Fail(definition.loc,
+           fmt::format("'{}' is predefined (rho_i, alpha_i, phi_i) and cannot be redefined (to "
+                       "constrain it, compare with '==')",
+                       name));
     }
-    if (Functions().count(name)) Fail(definition.loc, fmt::format("'{}' is a function and cannot be redefined", name));
+    if (Functions().count(name))
+      Fail(definition.loc, fmt::format("'{}' is a function and cannot be redefined", name));
     if (name == "model_likelihood" || name == "priorlet") {
       Fail(definition.loc, fmt::format("'{}' is a keyword and cannot be defined", name));
     }
@@ -176,7 +223,8 @@ class Lowerer {
       for (const Statement* other : scope->statements) {
         if (other == &definition) break;
         if (other->name == name) {
-          Fail(definition.loc, fmt::format("'{}' is already defined at {}:{}", name, other->loc.file_name(), other->loc.line));
+          Fail(definition.loc, fmt::format("'{}' is already defined at {}:{}", name,
+                                           other->loc.file_name(), other->loc.line));
         }
       }
     }
@@ -192,7 +240,8 @@ class Lowerer {
       const auto& [base, index] = *predefined;
       if (index < 1) Fail(e.loc, fmt::format("'{}': indices start at 1", e.name));
       if (index > header_.order) {
-        Fail(e.loc, fmt::format("'{}': index {} is above the prior's order {}", e.name, index, header_.order));
+        Fail(e.loc, fmt::format("'{}': index {} is above the prior's order {}", e.name,
+                                e.name.substr(base.size() + 1), header_.order));
       }
       const int k = header_.order;
       if (base == "rho") return Scalar(graph_.Var(index - 1));
@@ -203,7 +252,8 @@ class Lowerer {
       Fail(e.loc, fmt::format("'{0}' needs an index: {0}_1 ... {0}_{1}", e.name, header_.order));
     }
     for (auto it = visible_.rbegin(); it != visible_.rend(); ++it) {
-      if (const auto found = (*it)->values.find(e.name); found != (*it)->values.end()) return found->second;
+      if (const auto found = (*it)->values.find(e.name); found != (*it)->values.end())
+        return found->second;
     }
     (void)scope;
     UnknownName(e);
@@ -214,20 +264,32 @@ class Lowerer {
     for (const Scope* s : visible_) {
       for (const Statement* later : s->statements) {
         if (later->name != e.name) continue;
-        if (const Statement* cycle = CycleThrough(*later)) {
-          Fail(e.loc, fmt::format("definition cycle: '{}' uses '{}', which depends on '{}' (line {})", CurrentName(),
-                                  e.name, cycle->name, cycle->loc.line));
+        if (!defining_.empty() && later == defining_.back()) {
+          Fail(e.loc, fmt::format("'{}' is used in its own definition", e.name));
         }
-        Fail(e.loc, fmt::format("'{}' is used before its definition at line {}; define names before using them",
-                                e.name, later->loc.line));
+        if (const Statement* cycle = CycleThrough(*later)) {
+          Fail(e.loc,
+               fmt::format(
+                   "definition cycle: '{}' uses '{}' (line {}), which depends on '{}' (line {})",
+                   CurrentName(), e.name, later->loc.line, cycle->name, cycle->loc.line));
+        }
+        Fail(e.loc,
+             fmt::format(
+                 "'{}' is used before its definition at line {}; define names before using them",
+                 e.name, later->loc.line));
       }
     }
-    if (Functions().count(e.name)) Fail(e.loc, fmt::format("'{}' is a function: call it as {}(...)", e.name, e.name));
-    Fail(e.loc, fmt::format("unknown name '{}' (known: pi, rho_i, alpha_i, phi_i for i = 1..{}, and the definitions "
-                            "above this line)", e.name, header_.order));
+    if (Functions().count(e.name))
+      Fail(e.loc, fmt::format("'{}' is a function: call it as {}(...)", e.name, e.name));
+    Fail(e.loc, fmt::format("unknown name '{}' (known: pi, rho_i, alpha_i, phi_i for i = 1..{}, "
+                            "and the definitions "
+                            "above this line)",
+                            e.name, header_.order));
   }
 
-  std::string CurrentName() const { return defining_.empty() ? "this line" : defining_.back()->name; }
+  std::string CurrentName() const {
+    return defining_.empty() ? "this line" : defining_.back()->name;
+  }
 
   // The definition being lowered that `start` reaches through the names it uses, if any.
   const Statement* CycleThrough(const Statement& start) const {
@@ -268,7 +330,8 @@ class Lowerer {
   Value Transpose(const Value& v) {
     Value out{v.cols, v.rows, std::vector<NodeId>(v.entries.size())};
     for (int r = 0; r < v.rows; ++r) {
-      for (int c = 0; c < v.cols; ++c) out.entries[static_cast<std::size_t>(c * v.rows + r)] = v.at(r, c);
+      for (int c = 0; c < v.cols; ++c)
+        out.entries[static_cast<std::size_t>(c * v.rows + r)] = v.at(r, c);
     }
     return out;
   }
@@ -277,13 +340,16 @@ class Lowerer {
   Value Elementwise(const Expr& e, const Value& a, const Value& b, const char* what,
                     const std::function<NodeId(NodeId, NodeId)>& f) {
     if (!a.IsScalar() && !b.IsScalar() && (a.rows != b.rows || a.cols != b.cols)) {
-      Fail(e.loc, fmt::format("{}: the operands are {} and {}; they need the same size, or one of them a scalar",
-                              what, a.Shape(), b.Shape()));
+      Fail(e.loc,
+           fmt::format(
+               "{}: the operands are {} and {}; they need the same size, or one of them a scalar",
+               what, a.Shape(), b.Shape()));
     }
     const Value& shape = a.IsScalar() ? b : a;
     Value out{shape.rows, shape.cols, std::vector<NodeId>(shape.entries.size())};
     for (std::size_t i = 0; i < out.entries.size(); ++i) {
-      out.entries[i] = f(a.IsScalar() ? a.entries[0] : a.entries[i], b.IsScalar() ? b.entries[0] : b.entries[i]);
+      out.entries[i] =
+          f(a.IsScalar() ? a.entries[0] : a.entries[i], b.IsScalar() ? b.entries[0] : b.entries[i]);
     }
     return out;
   }
@@ -291,24 +357,31 @@ class Lowerer {
   Value Binary(const Expr& e, const Value& a, const Value& b) {
     ExpressionGraph& g = graph_;
     switch (e.binary) {
-      case BinaryOp::kAdd: return Elementwise(e, a, b, "'+'", [&](NodeId x, NodeId y) { return g.Add(x, y); });
-      case BinaryOp::kSubtract: return Elementwise(e, a, b, "'-'", [&](NodeId x, NodeId y) { return g.Sub(x, y); });
+      case BinaryOp::kAdd:
+        return Elementwise(e, a, b, "'+'", [&](NodeId x, NodeId y) { return g.Add(x, y); });
+      case BinaryOp::kSubtract:
+        return Elementwise(e, a, b, "'-'", [&](NodeId x, NodeId y) { return g.Sub(x, y); });
       case BinaryOp::kElementMultiply:
         return Elementwise(e, a, b, "'.*'", [&](NodeId x, NodeId y) { return g.Mul(x, y); });
       case BinaryOp::kElementDivide:
         return Elementwise(e, a, b, "'./'", [&](NodeId x, NodeId y) { return g.Div(x, y); });
       case BinaryOp::kElementPower:
         return Elementwise(e, a, b, "'.^'", [&](NodeId x, NodeId y) { return g.Pow(x, y); });
-      case BinaryOp::kMatrixMultiply: return MatrixMultiply(e, a, b);
+      case BinaryOp::kMatrixMultiply:
+        return MatrixMultiply(e, a, b);
       case BinaryOp::kDivide:
         if (!b.IsScalar()) {
-          Fail(e.loc, fmt::format("'/' divides by a scalar only, the right side is {} (use ./ for element-wise "
-                                  "division)", b.Shape()));
+          Fail(e.loc,
+               fmt::format(
+                   "'/' divides by a scalar only, the right side is {} (use ./ for element-wise "
+                   "division)",
+                   b.Shape()));
         }
         return Elementwise(e, a, b, "'/'", [&](NodeId x, NodeId y) { return g.Div(x, y); });
       case BinaryOp::kPower:
         if (!a.IsScalar() || !b.IsScalar()) {
-          Fail(e.loc, fmt::format("'^' needs scalars, got {} ^ {} (use .^ for element-wise powers)", a.Shape(), b.Shape()));
+          Fail(e.loc, fmt::format("'^' needs scalars, got {} ^ {} (use .^ for element-wise powers)",
+                                  a.Shape(), b.Shape()));
         }
         return Scalar(g.Pow(a.entries[0], b.entries[0]));
     }
@@ -320,8 +393,16 @@ class Lowerer {
       return Elementwise(e, a, b, "'*'", [&](NodeId x, NodeId y) { return graph_.Mul(x, y); });
     }
     if (a.cols != b.rows) {
-      Fail(e.loc, fmt::format("matrix product of {} and {}: the inner sizes differ (use .* for element-wise "
-                              "products, or ' to transpose)", a.Shape(), b.Shape()));
+      Fail(e.loc,
+           fmt::format(
+               "matrix product of {} and {}: the inner sizes differ (use .* for element-wise "
+               "products, or ' to transpose)",
+               a.Shape(), b.Shape()));
+    }
+    CheckEntries(e.loc, a.rows, b.cols);
+    if (static_cast<long long>(a.rows) * b.cols * a.cols > kMaxProductWork) {
+      Fail(e.loc, fmt::format("matrix product of {} and {}: more than {} multiplications",
+                              a.Shape(), b.Shape(), kMaxProductWork));
     }
     Value out{a.rows, b.cols, {}};
     for (int r = 0; r < a.rows; ++r) {
@@ -339,24 +420,30 @@ class Lowerer {
     if (f == Functions().end()) {
       for (const Scope* s : visible_) {
         if (s->values.count(e.name)) {
-          Fail(e.loc, fmt::format("'{}' is a definition, not a function: indexing with () is not supported", e.name));
+          Fail(e.loc, fmt::format(
+                          "'{}' is a definition, not a function: indexing with () is not supported",
+                          e.name));
         }
       }
-      if (PredefinedName(e.name)) Fail(e.loc, fmt::format("'{}' is a variable, not a function", e.name));
+      if (PredefinedName(e.name))
+        Fail(e.loc, fmt::format("'{}' is a variable, not a function", e.name));
       Fail(e.loc, fmt::format("unknown function '{}' (available: {})", e.name, FunctionList()));
     }
     const int n = static_cast<int>(e.children.size());
     if (n < f->second.min_args || n > f->second.max_args) {
-      const std::string expected = f->second.min_args == f->second.max_args
-                                       ? fmt::format("{}", f->second.min_args)
-                                       : fmt::format("{} or {}", f->second.min_args, f->second.max_args);
+      const std::string expected =
+          f->second.min_args == f->second.max_args
+              ? fmt::format("{}", f->second.min_args)
+              : fmt::format("{} or {}", f->second.min_args, f->second.max_args);
       Fail(e.loc, fmt::format("'{}' takes {} argument{}, got {}", e.name, expected,
                               f->second.max_args == 1 ? "" : "s", n));
     }
     std::vector<Value> args;
     for (const ExprPtr& arg : e.children) args.push_back(Lower(*arg, scope));
     ExpressionGraph& g = graph_;
-    const auto unary = [&](Op op) { return Map(args[0], [&](NodeId a) { return g.Unary(op, a); }); };
+    const auto unary = [&](Op op) {
+      return Map(args[0], [&](NodeId a) { return g.Unary(op, a); });
+    };
     const std::string& name = e.name;
     if (name == "sin") return unary(Op::kSin);
     if (name == "cos") return unary(Op::kCos);
@@ -368,10 +455,13 @@ class Lowerer {
     if (name == "exp") return unary(Op::kExp);
     if (name == "log") return unary(Op::kLog);
     if (name == "abs") return unary(Op::kAbs);
-    if (name == "deg2rad") return Map(args[0], [&](NodeId a) { return g.Mul(g.Const(kPi / 180.0), a); });
-    if (name == "rad2deg") return Map(args[0], [&](NodeId a) { return g.Mul(g.Const(180.0 / kPi), a); });
+    if (name == "deg2rad")
+      return Map(args[0], [&](NodeId a) { return g.Mul(g.Const(kPi / 180.0), a); });
+    if (name == "rad2deg")
+      return Map(args[0], [&](NodeId a) { return g.Mul(g.Const(180.0 / kPi), a); });
     if (name == "atan2") {
-      return Elementwise(e, args[0], args[1], "'atan2'", [&](NodeId y, NodeId x) { return g.Atan2(y, x); });
+      return Elementwise(e, args[0], args[1], "'atan2'",
+                         [&](NodeId y, NodeId x) { return g.Atan2(y, x); });
     }
     if (name == "norm") {
       NodeId sum = g.Const(0.0);
@@ -386,12 +476,19 @@ class Lowerer {
     return Scalar(best);
   }
 
+  static void CheckEntries(const SourceLocation& at, long long rows, long long cols) {
+    if (rows * cols > kMaxEntries) {
+      Fail(at, fmt::format("a {}x{} matrix: more than {} entries", rows, cols, kMaxEntries));
+    }
+  }
+
   // [a, b; c, d] with MATLAB concatenation: elements of a row side by side (same rows), rows
   // stacked (same columns).
   Value Matrix(const Expr& e, const Scope& scope) {
     const std::size_t per_row = e.children.size() / static_cast<std::size_t>(e.rows);
     Value out{0, 0, {}};
     std::vector<Value> block_rows;
+    long long total_rows = 0;
     for (int r = 0; r < e.rows; ++r) {
       Value row{0, 0, {}};
       std::vector<Value> parts;
@@ -399,13 +496,17 @@ class Lowerer {
         const Expr& element = *e.children[static_cast<std::size_t>(r) * per_row + c];
         Value v = Lower(element, scope);
         if (!parts.empty() && v.rows != parts.front().rows) {
-          Fail(element.loc, fmt::format("horizontal concatenation of {} and {}: the row counts differ",
-                                        parts.front().Shape(), v.Shape()));
+          Fail(element.loc,
+               fmt::format("horizontal concatenation of {} and {}: the row counts differ",
+                           parts.front().Shape(), v.Shape()));
         }
         parts.push_back(std::move(v));
       }
       row.rows = parts.front().rows;
-      for (const Value& p : parts) row.cols += p.cols;
+      long long cols = 0;
+      for (const Value& p : parts) cols += p.cols;
+      CheckEntries(e.loc, row.rows, cols);
+      row.cols = static_cast<int>(cols);
       for (int i = 0; i < row.rows; ++i) {
         for (const Value& p : parts) {
           for (int j = 0; j < p.cols; ++j) row.entries.push_back(p.at(i, j));
@@ -416,6 +517,8 @@ class Lowerer {
              fmt::format("vertical concatenation of {} and {}: the column counts differ",
                          block_rows.front().Shape(), row.Shape()));
       }
+      total_rows += row.rows;
+      CheckEntries(e.loc, total_rows, row.cols);
       block_rows.push_back(std::move(row));
     }
     out.cols = block_rows.front().cols;
@@ -430,6 +533,17 @@ class Lowerer {
   ExpressionGraph& graph_;
   std::vector<const Statement*> defining_;
 };
+
+// Where an expression starts in the source (an operator node is located at its operator).
+const SourceLocation& StartOf(const Expr& e) {
+  const Expr* x = &e;
+  while ((x->kind == Expr::Kind::kBinary || x->kind == Expr::Kind::kTranspose ||
+          x->kind == Expr::Kind::kCompare || x->kind == Expr::Kind::kOr) &&
+         !x->children.empty()) {
+    x = x->children[0].get();
+  }
+  return x->loc;
+}
 
 // Flattens a || b || c into its branches.
 void Branches(const ExprPtr& e, std::vector<const Expr*>& out) {
@@ -451,7 +565,8 @@ std::string VariableName(int order, int v) {
   return v < order ? fmt::format("rho_{}", v + 1) : fmt::format("alpha_{}", v - order + 1);
 }
 
-std::unique_ptr<CompiledBlock> CompileBlock(const Header& header, const std::vector<const Statement*>& file_scope,
+std::unique_ptr<CompiledBlock> CompileBlock(const Header& header,
+                                            const std::vector<const Statement*>& file_scope,
                                             const BlockInput& input) {
   const int k = header.order;
   auto graph = std::make_shared<ExpressionGraph>(2 * k, k);
@@ -471,62 +586,82 @@ std::unique_ptr<CompiledBlock> CompileBlock(const Header& header, const std::vec
   std::vector<int> nodes;
   BlockSummary summary;
   const auto add = [&](Term term, NodeId node) {
+    if (terms.size() >= kMaxTerms) {
+      Fail(term.loc, fmt::format("more than {} scalar terms in 'priorlet {}'", kMaxTerms,
+                                 ToString(input.kind)));
+    }
     terms.push_back(std::move(term));
     nodes.push_back(node);
   };
   for (const Statement* s : input.statements) {
-    switch (s->kind) {
-      case Statement::Kind::kDefinition: lowerer.Define(*s, local); break;
-      case Statement::Kind::kEnergy: {
-        const Value v = lowerer.Lower(*s->expr, local);
-        if (!v.IsScalar()) Fail(s->loc, fmt::format("model_likelihood needs a scalar, got {}", v.Shape()));
-        add({TermKind::kEnergy, -1, -1, 0, 1, s->loc, ToSource(*s)}, v.entries[0]);
-        ++summary.energies;
-        break;
-      }
-      case Statement::Kind::kConstraint: {
-        std::vector<const Expr*> branches;
-        Branches(s->expr, branches);
-        const bool disjunction = branches.size() > 1;
-        const int group = disjunction ? summary.disjunctions++ : -1;
-        for (std::size_t b = 0; b < branches.size(); ++b) {
-          const Expr& c = *branches[b];
-          if (c.kind != Expr::Kind::kCompare) {
-            Fail(c.loc, "expected a constraint: a comparison with '==', '<=' or '>=' (a plain expression constrains "
-                        "nothing; use model_likelihood for a cost)");
-          }
-          const Value lhs = lowerer.Lower(*c.children[0], local);
-          const Value rhs = lowerer.Lower(*c.children[1], local);
-          const bool equality = c.compare == CompareOp::kEqual;
-          if (!equality && (!lhs.IsScalar() || !rhs.IsScalar())) {
-            Fail(c.loc, fmt::format("an inequality compares scalars, got {} and {}", lhs.Shape(), rhs.Shape()));
-          }
-          if (!lhs.IsScalar() && !rhs.IsScalar() && (lhs.rows != rhs.rows || lhs.cols != rhs.cols)) {
-            Fail(c.loc, fmt::format("'==' compares values of the same size (or one scalar), got {} and {}",
-                                    lhs.Shape(), rhs.Shape()));
-          }
-          const Value& shape = lhs.IsScalar() ? rhs : lhs;
-          const int entries = static_cast<int>(shape.entries.size());
-          for (int i = 0; i < entries; ++i) {
-            const NodeId l = lhs.IsScalar() ? lhs.entries[0] : lhs.entries[static_cast<std::size_t>(i)];
-            const NodeId r = rhs.IsScalar() ? rhs.entries[0] : rhs.entries[static_cast<std::size_t>(i)];
-            // g <= 0 form: a <= b is a - b <= 0, a >= b is b - a <= 0 (strict < and > alike).
-            const bool flip = c.compare == CompareOp::kGreaterEqual || c.compare == CompareOp::kGreater;
-            const NodeId f = flip ? graph->Sub(r, l) : graph->Sub(l, r);
-            add({equality ? TermKind::kEquality : TermKind::kInequality, group, disjunction ? static_cast<int>(b) : -1,
-                 i, entries, s->loc, ToSource(*s)},
-                f);
-          }
+    try {
+      switch (s->kind) {
+        case Statement::Kind::kDefinition:
+          lowerer.Define(*s, local);
+          break;
+        case Statement::Kind::kEnergy: {
+          const Value v = lowerer.Lower(*s->expr, local);
+          if (!v.IsScalar())
+            Fail(s->loc, fmt::format("model_likelihood needs a scalar, got {}", v.Shape()));
+          add({TermKind::kEnergy, -1, -1, 0, 1, s->loc, ToSource(*s)}, v.entries[0]);
+          ++summary.energies;
+          break;
         }
-        if (!disjunction) {
-          if (branches[0]->compare == CompareOp::kEqual) {
-            ++summary.equalities;
-          } else {
-            ++summary.inequalities;
+        case Statement::Kind::kConstraint: {
+          std::vector<const Expr*> branches;
+          Branches(s->expr, branches);
+          const bool disjunction = branches.size() > 1;
+          const int group = disjunction ? summary.disjunctions++ : -1;
+          for (std::size_t b = 0; b < branches.size(); ++b) {
+            const Expr& c = *branches[b];
+            if (c.kind != Expr::Kind::kCompare) {
+              Fail(disjunction ? StartOf(c) : s->loc,
+                   "expected a constraint: a comparison with '==', '<=' or '>=' (a plain "
+                   "expression constrains "
+                   "nothing; use model_likelihood for a cost)");
+            }
+            const Value lhs = lowerer.Lower(*c.children[0], local);
+            const Value rhs = lowerer.Lower(*c.children[1], local);
+            const bool equality = c.compare == CompareOp::kEqual;
+            if (!equality && (!lhs.IsScalar() || !rhs.IsScalar())) {
+              Fail(c.loc, fmt::format("an inequality compares scalars, got {} and {}", lhs.Shape(),
+                                      rhs.Shape()));
+            }
+            if (!lhs.IsScalar() && !rhs.IsScalar() &&
+                (lhs.rows != rhs.rows || lhs.cols != rhs.cols)) {
+              Fail(c.loc,
+                   fmt::format(
+                       "'==' compares values of the same size (or one scalar), got {} and {}",
+                       lhs.Shape(), rhs.Shape()));
+            }
+            const Value& shape = lhs.IsScalar() ? rhs : lhs;
+            const int entries = static_cast<int>(shape.entries.size());
+            for (int i = 0; i < entries; ++i) {
+              const NodeId l =
+                  lhs.IsScalar() ? lhs.entries[0] : lhs.entries[static_cast<std::size_t>(i)];
+              const NodeId r =
+                  rhs.IsScalar() ? rhs.entries[0] : rhs.entries[static_cast<std::size_t>(i)];
+              // g <= 0 form: a <= b is a - b <= 0, a >= b is b - a <= 0 (strict < and > alike).
+              const bool flip =
+                  c.compare == CompareOp::kGreaterEqual || c.compare == CompareOp::kGreater;
+              const NodeId f = flip ? graph->Sub(r, l) : graph->Sub(l, r);
+              add({equality ? TermKind::kEquality : TermKind::kInequality, group,
+                   disjunction ? static_cast<int>(b) : -1, i, entries, s->loc, ToSource(*s)},
+                  f);
+            }
           }
+          if (!disjunction) {
+            if (branches[0]->compare == CompareOp::kEqual) {
+              ++summary.equalities;
+            } else {
+              ++summary.inequalities;
+            }
+          }
+          break;
         }
-        break;
       }
+    } catch (const GraphLimitExceeded& e) {
+      Fail(s->loc, fmt::format("this statement is too large to compile: {}", e.message));
     }
   }
   std::uint64_t vars = 0, params = 0;
@@ -541,8 +676,13 @@ std::unique_ptr<CompiledBlock> CompileBlock(const Header& header, const std::vec
     if (params & (std::uint64_t{1} << p)) summary.variables.push_back(fmt::format("phi_{}", p + 1));
   }
   summary.scalar_terms = static_cast<int>(terms.size());
-  return std::make_unique<CompiledBlock>(input.kind, k, std::move(terms), std::move(summary), std::move(graph),
-                                         std::move(nodes));
+  try {
+    return std::make_unique<CompiledBlock>(input.kind, k, std::move(terms), std::move(summary),
+                                           std::move(graph), std::move(nodes));
+  } catch (const GraphLimitExceeded& e) {
+    Fail(input.loc, fmt::format("the derivatives of 'priorlet {}' are too large to compile: {}",
+                                ToString(input.kind), e.message));
+  }
 }
 
 }  // namespace
@@ -579,7 +719,8 @@ Result<CompiledPrior> LowerAndCompile(const ResolvedPrior& prior) {
     for (std::size_t i = 0; i < blocks.size(); ++i) {
       if (blocks[i]) compiled[i] = CompileBlock(header, file_scope, *blocks[i]);
     }
-    return CompiledPrior(header.name, header.order, header.max_curvature, std::move(chain), std::move(compiled));
+    return CompiledPrior(header.name, header.order, header.max_curvature, std::move(chain),
+                         std::move(compiled));
   } catch (const CompileError& error) {
     return error.diagnostic;
   }

@@ -1,12 +1,16 @@
 // Recursive-descent parser for priorlet files. Grammar in docs/priorlet-language.md; operator
 // precedence as in MATLAB, from loosest: || |, comparisons, + -, * / .* ./, unary + -, ^ .^,
 // postfix ' and calls.
-#include <priormap/core/file_io.hpp>
-#include <priormap/dsl/parse.hpp>
-
+#include <algorithm>
+#include <cstddef>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
+
+#include <priormap/core/file_io.hpp>
+#include <priormap/dsl/parse.hpp>
 
 #include "lexer.hpp"
 
@@ -19,9 +23,12 @@ const std::string& SourceLocation::file_name() const {
 
 const char* ToString(BlockKind kind) {
   switch (kind) {
-    case BlockKind::kSameRegion: return "same_region";
-    case BlockKind::kDifferentRegion: return "different_region";
-    case BlockKind::kDifferentSurface: return "different_surface";
+    case BlockKind::kSameRegion:
+      return "same_region";
+    case BlockKind::kDifferentRegion:
+      return "different_region";
+    case BlockKind::kDifferentSurface:
+      return "different_surface";
   }
   return "?";
 }
@@ -47,19 +54,26 @@ struct ParseError {
 // Parses the tokens of one logical line.
 class LineParser {
  public:
-  LineParser(const Line& line, std::shared_ptr<const std::string> file) : line_(line), file_(std::move(file)) {}
+  LineParser(const Line& line, std::shared_ptr<const std::string> file)
+      : line_(line), file_(std::move(file)) {}
 
   // statement (';' statement)* [';']
   std::vector<Statement> Statements() {
     std::vector<Statement> statements;
     for (;;) {
       statements.push_back(ParseStatement());
+      CheckDepth(*statements.back().expr);
       if (Peek().kind == TokenKind::kSemicolon) {
         Take();
         if (Peek().kind == TokenKind::kEnd) break;
         continue;
       }
-      if (Peek().kind != TokenKind::kEnd) Fail(Peek(), fmt::format("expected ';' or the end of the line, got {}", Shown(Peek())));
+      if (Peek().kind == TokenKind::kRParen || Peek().kind == TokenKind::kRBracket) {
+        Fail(Peek(),
+             fmt::format("unmatched {}: nothing before it on the line opens it", Shown(Peek())));
+      }
+      if (Peek().kind != TokenKind::kEnd)
+        Fail(Peek(), fmt::format("expected ';' or the end of the line, got {}", Shown(Peek())));
       break;
     }
     return statements;
@@ -68,11 +82,17 @@ class LineParser {
   // 'priorlet' kind ':'
   Block BlockHeader() {
     Block block;
-    block.loc = Location(Take());  // 'priorlet'
+    const Token& keyword = Take();  // 'priorlet'
+    block.loc = Location(keyword);
+    if (Peek().kind == TokenKind::kAssign)
+      Fail(keyword, "'priorlet' is a keyword and cannot be defined");
     const Token& kind = Peek();
     if (kind.kind != TokenKind::kIdentifier) {
-      Fail(kind, fmt::format("expected a block kind (same_region, different_region or different_surface) after "
-                             "'priorlet', got {}", Shown(kind)));
+      Fail(kind,
+           fmt::format(
+               "expected a block kind (same_region, different_region or different_surface) after "
+               "'priorlet', got {}",
+               Shown(kind)));
     }
     if (kind.text == "same_region") {
       block.kind = BlockKind::kSameRegion;
@@ -81,14 +101,18 @@ class LineParser {
     } else if (kind.text == "different_surface") {
       block.kind = BlockKind::kDifferentSurface;
     } else {
-      Fail(kind, fmt::format("unknown block kind '{}' (expected same_region, different_region or different_surface)",
+      Fail(kind, fmt::format("unknown block kind '{}' (expected same_region, different_region or "
+                             "different_surface)",
                              kind.text));
     }
     Take();
-    if (Peek().kind != TokenKind::kColon) Fail(Peek(), fmt::format("expected ':' after 'priorlet {}', got {}", kind.text, Shown(Peek())));
+    if (Peek().kind != TokenKind::kColon)
+      Fail(Peek(),
+           fmt::format("expected ':' after 'priorlet {}', got {}", kind.text, Shown(Peek())));
     Take();
     if (Peek().kind != TokenKind::kEnd) {
-      Fail(Peek(), "a priorlet block's body goes on the following, indented lines, not after the ':'");
+      Fail(Peek(),
+           "a priorlet block's body goes on the following, indented lines, not after the ':'");
     }
     return block;
   }
@@ -105,6 +129,46 @@ class LineParser {
  private:
   const Token& Take() { return line_.tokens[std::min(next_++, line_.tokens.size() - 1)]; }
 
+  // The passes over a syntax tree (checks and lowering, printing) recurse, so a tree may be at most
+  // this deep; long operator chains (a + b + c ...) count, as they make left-deep trees. Checked
+  // without recursion.
+  static constexpr int kMaxTreeDepth = 500;
+  void CheckDepth(const Expr& root) const {
+    std::vector<std::pair<const Expr*, int>> stack = {{&root, 1}};
+    while (!stack.empty()) {
+      const auto [e, depth] = stack.back();
+      stack.pop_back();
+      if (depth > kMaxTreeDepth) {
+        throw ParseError{
+            {e->loc.file_name(), e->loc.line, e->loc.col,
+             fmt::format(
+                 "expression too deep: more than {} operations inside one another (split it "
+                 "with definitions)",
+                 kMaxTreeDepth)}};
+      }
+      for (const ExprPtr& child : e->children) stack.emplace_back(child.get(), depth + 1);
+    }
+  }
+
+  // Brackets, parentheses, calls and signs nest by recursion: a bound keeps a hostile line from
+  // exhausting the stack (here, and in the recursive passes over the tree that follow).
+  static constexpr int kMaxNesting = 100;
+  struct Nested {
+    explicit Nested(LineParser& parser, const Token& at) : parser_(parser) {
+      if (++parser_.depth_ > kMaxNesting) {
+        parser_.Fail(
+            at, fmt::format(
+                    "expression nested too deeply (more than {} levels of parentheses, brackets "
+                    "and signs)",
+                    kMaxNesting));
+      }
+    }
+    ~Nested() { --parser_.depth_; }
+    Nested(const Nested&) = delete;
+    Nested& operator=(const Nested&) = delete;
+    LineParser& parser_;
+  };
+
   SourceLocation Location(const Token& t) const { return {file_, t.line, t.col}; }
 
   static std::string Shown(const Token& t) {
@@ -117,8 +181,24 @@ class LineParser {
     Statement statement;
     const Token& first = Peek();
     statement.loc = Location(first);
+    if (first.kind == TokenKind::kIdentifier &&
+        (first.text == "priorlet" || first.text == "model_likelihood") &&
+        Peek(1).kind == TokenKind::kAssign) {
+      Fail(first, fmt::format("'{}' is a keyword and cannot be defined", first.text));
+    }
     if (first.kind == TokenKind::kIdentifier && first.text == "priorlet") {
       Fail(first, "'priorlet' starts a block and must be at column 1 (blocks cannot be nested)");
+    }
+    if (first.kind == TokenKind::kIdentifier && Peek(1).kind == TokenKind::kColon) {
+      if (detail::IsHeaderKey(first.text)) {
+        Fail(first, fmt::format("'{}:' is a header line and must start at column 1, before the "
+                                "first priorlet block",
+                                first.text));
+      }
+      Fail(first,
+           fmt::format(
+               "unknown header key '{}:' (the keys are name, order, max_curvature and specializes)",
+               first.text));
     }
     if (first.kind == TokenKind::kIdentifier && first.text == "model_likelihood") {
       Take();
@@ -169,14 +249,25 @@ class LineParser {
     const TokenKind k = Peek().kind;
     CompareOp op;
     switch (k) {
-      case TokenKind::kEqualEqual: op = CompareOp::kEqual; break;
-      case TokenKind::kLessEqual: op = CompareOp::kLessEqual; break;
-      case TokenKind::kGreaterEqual: op = CompareOp::kGreaterEqual; break;
-      case TokenKind::kLess: op = CompareOp::kLess; break;
-      case TokenKind::kGreater: op = CompareOp::kGreater; break;
+      case TokenKind::kEqualEqual:
+        op = CompareOp::kEqual;
+        break;
+      case TokenKind::kLessEqual:
+        op = CompareOp::kLessEqual;
+        break;
+      case TokenKind::kGreaterEqual:
+        op = CompareOp::kGreaterEqual;
+        break;
+      case TokenKind::kLess:
+        op = CompareOp::kLess;
+        break;
+      case TokenKind::kGreater:
+        op = CompareOp::kGreater;
+        break;
       case TokenKind::kAssign:
         Fail(Peek(), "'=' defines a name; a constraint compares with '==', '<=' or '>='");
-      default: return left;
+      default:
+        return left;
     }
     const Token& at = Take();
     auto e = std::make_shared<Expr>();
@@ -185,8 +276,9 @@ class LineParser {
     e->compare = op;
     e->children = {left, Expression(false)};
     const TokenKind after = Peek().kind;
-    if (after == TokenKind::kEqualEqual || after == TokenKind::kLessEqual || after == TokenKind::kGreaterEqual ||
-        after == TokenKind::kLess || after == TokenKind::kGreater) {
+    if (after == TokenKind::kEqualEqual || after == TokenKind::kLessEqual ||
+        after == TokenKind::kGreaterEqual || after == TokenKind::kLess ||
+        after == TokenKind::kGreater) {
       Fail(Peek(), "comparisons cannot be chained (write a <= b and b <= c as two constraints)");
     }
     return e;
@@ -217,11 +309,16 @@ class LineParser {
     for (;;) {
       const TokenKind k = Peek().kind;
       BinaryOp op;
-      if (k == TokenKind::kStar) op = BinaryOp::kMatrixMultiply;
-      else if (k == TokenKind::kSlash) op = BinaryOp::kDivide;
-      else if (k == TokenKind::kDotStar) op = BinaryOp::kElementMultiply;
-      else if (k == TokenKind::kDotSlash) op = BinaryOp::kElementDivide;
-      else break;
+      if (k == TokenKind::kStar)
+        op = BinaryOp::kMatrixMultiply;
+      else if (k == TokenKind::kSlash)
+        op = BinaryOp::kDivide;
+      else if (k == TokenKind::kDotStar)
+        op = BinaryOp::kElementMultiply;
+      else if (k == TokenKind::kDotSlash)
+        op = BinaryOp::kElementDivide;
+      else
+        break;
       const Token& at = Take();
       auto e = std::make_shared<Expr>();
       e->kind = Expr::Kind::kBinary;
@@ -235,6 +332,7 @@ class LineParser {
 
   // unary := ('-' | '+') unary | power
   ExprPtr Unary(bool in_matrix) {
+    const Nested nested(*this, Peek());
     if (Peek().kind == TokenKind::kMinus) {
       const Token& at = Take();
       return Make(Expr::Kind::kNegate, at, {Unary(in_matrix)});
@@ -263,6 +361,7 @@ class LineParser {
 
   // A signed exponent is allowed: 2^-1.
   ExprPtr PowerOperand(bool in_matrix) {
+    const Nested nested(*this, Peek());
     if (Peek().kind == TokenKind::kMinus) {
       const Token& at = Take();
       return Make(Expr::Kind::kNegate, at, {PowerOperand(in_matrix)});
@@ -296,6 +395,16 @@ class LineParser {
         return e;
       }
       case TokenKind::kIdentifier: {
+        // Keywords are not names: printed back at the start of a statement, one would change its
+        // kind.
+        if (t.text == "model_likelihood") {
+          Fail(t,
+               "'model_likelihood' starts an energy statement ('model_likelihood expression'); it "
+               "cannot be "
+               "used in an expression");
+        }
+        if (t.text == "priorlet")
+          Fail(t, "'priorlet' starts a block; it cannot be used in an expression");
         Take();
         auto e = std::make_shared<Expr>();
         e->loc = Location(t);
@@ -315,7 +424,8 @@ class LineParser {
         Expect(TokenKind::kRParen, t, "')' to close the '('");
         return inner;
       }
-      case TokenKind::kLBracket: return Matrix(t);
+      case TokenKind::kLBracket:
+        return Matrix(t);
       default:
         Fail(t, fmt::format("expected an expression, got {}", Shown(t)));
     }
@@ -334,7 +444,8 @@ class LineParser {
         Take();
         continue;
       }
-      Expect(TokenKind::kRParen, open, fmt::format("',' or ')' in the arguments of '{}'", name.text));
+      Expect(TokenKind::kRParen, open,
+             fmt::format("',' or ')' in the arguments of '{}'", name.text));
       return args;
     }
   }
@@ -349,7 +460,8 @@ class LineParser {
         Take();
         break;
       }
-      if (t.kind == TokenKind::kEnd) Fail(open, "unterminated '[': expected ']' before the end of the line");
+      if (t.kind == TokenKind::kEnd)
+        Fail(open, "unterminated '[': expected ']' before the end of the line");
       if (t.kind == TokenKind::kSemicolon) {
         Take();
         rows.emplace_back();
@@ -364,8 +476,12 @@ class LineParser {
         rows.back().push_back(Expression(true));
         continue;
       }
-      if (!rows.back().empty() && !t.space_before) {
-        Fail(t, fmt::format("expected ',', ';' or ']' in the matrix, got {}", Shown(t)));
+      if (rows.back().empty()) {
+        if (!StartsOperand(t.kind))
+          Fail(t, fmt::format("expected a matrix element or ']', got {}", Shown(t)));
+      } else if (!t.space_before || !StartsOperand(t.kind)) {
+        Fail(t, fmt::format("expected ',', ';' or ']' in the matrix opened at column {}, got {}",
+                            open.col, Shown(t)));
       }
       rows.back().push_back(Expression(true));
     }
@@ -378,12 +494,18 @@ class LineParser {
     e->rows = static_cast<int>(rows.size());
     for (std::size_t r = 0; r < rows.size(); ++r) {
       if (rows[r].size() != width) {
-        Fail(open, fmt::format("matrix rows must have the same length: row 1 has {}, row {} has {}", width, r + 1,
-                               rows[r].size()));
+        Fail(open, fmt::format("matrix rows must have the same length: row 1 has {}, row {} has {}",
+                               width, r + 1, rows[r].size()));
       }
       for (ExprPtr& element : rows[r]) e->children.push_back(std::move(element));
     }
     return e;
+  }
+
+  static bool StartsOperand(TokenKind kind) {
+    return kind == TokenKind::kNumber || kind == TokenKind::kIdentifier ||
+           kind == TokenKind::kLParen || kind == TokenKind::kLBracket ||
+           kind == TokenKind::kMinus || kind == TokenKind::kPlus;
   }
 
   void Expect(TokenKind kind, const Token& opened_at, const std::string& what) {
@@ -401,6 +523,7 @@ class LineParser {
   const Line& line_;
   std::shared_ptr<const std::string> file_;
   std::size_t next_ = 0;
+  int depth_ = 0;
 };
 
 class FileParser {
@@ -431,15 +554,21 @@ class FileParser {
   void Header(const Line& line, PriorFile& prior) {
     CloseBlock(prior);
     if (!prior.blocks.empty()) {
-      Fail(line.number, 1, fmt::format("'{}:' must come before the first priorlet block", line.header_key));
+      Fail(line.number, 1,
+           fmt::format("'{}:' must come before the first priorlet block", line.header_key));
     }
     if (const HeaderEntry* previous = prior.Header(line.header_key)) {
-      Fail(line.number, 1, fmt::format("duplicate '{}:' (already given at line {})", line.header_key, previous->loc.line));
+      Fail(line.number, 1,
+           fmt::format("duplicate '{}:' (already given at line {})", line.header_key,
+                       previous->loc.line));
     }
     if (line.header_value.empty()) {
-      Fail(line.number, line.header_value_col, fmt::format("expected a value after '{}:'", line.header_key));
+      Fail(line.number, line.header_value_col,
+           fmt::format("expected a value after '{}:'", line.header_key));
     }
-    prior.header.push_back({line.header_key, line.header_value, {file_, line.number, 1},
+    prior.header.push_back({line.header_key,
+                            line.header_value,
+                            {file_, line.number, 1},
                             {file_, line.number, line.header_value_col}});
   }
 
@@ -451,8 +580,8 @@ class FileParser {
       Block block = parser.BlockHeader();
       for (const Block& existing : prior.blocks) {
         if (existing.kind == block.kind) {
-          parser.Fail(first, fmt::format("duplicate 'priorlet {}' block (the first is at line {})", ToString(block.kind),
-                                         existing.loc.line));
+          parser.Fail(first, fmt::format("duplicate 'priorlet {}' block (the first is at line {})",
+                                         ToString(block.kind), existing.loc.line));
         }
       }
       prior.blocks.push_back(std::move(block));
@@ -464,34 +593,55 @@ class FileParser {
       if (statement.kind != Statement::Kind::kDefinition) {
         throw ParseError{{*file_, statement.loc.line, statement.loc.col,
                           statement.kind == Statement::Kind::kEnergy
-                              ? "'model_likelihood' must be inside a priorlet block (indent it under 'priorlet ...:')"
-                              : "a constraint must be inside a priorlet block (indent it under 'priorlet ...:'); "
+                              ? "'model_likelihood' must be inside a priorlet block (indent it "
+                                "under 'priorlet ...:')"
+                              : "a constraint must be inside a priorlet block (indent it under "
+                                "'priorlet ...:'); "
                                 "at file scope only definitions 'name = expression' are allowed"}};
       }
       prior.definitions.push_back(std::move(statement));
     }
   }
 
+  // Columns count characters, as everywhere in diagnostics: a line's first character after its
+  // indentation (blanks only) is at column indentation.size() + 1.
   void BlockLine(const Line& line, PriorFile& prior) {
+    const int col = static_cast<int>(line.indentation.size()) + 1;
     if (!open_block_) {
-      Fail(line.number, line.indent_width + 1,
+      Fail(line.number, col,
            "unexpected indentation: only the lines of a priorlet block are indented");
     }
     if (!body_indentation_) {
       body_indentation_ = line.indentation;
     } else if (line.indentation != *body_indentation_) {
-      Fail(line.number, line.indent_width + 1,
-           fmt::format("inconsistent indentation: the lines of this block start at column {}{}", Width(*body_indentation_) + 1,
-                       line.indent_width == Width(*body_indentation_) ? " (do not mix tabs and spaces)" : ""));
+      const bool tabs = line.indentation.find('\t') != std::string::npos ||
+                        body_indentation_->find('\t') != std::string::npos;
+      if (tabs) {
+        Fail(line.number, col,
+             fmt::format("inconsistent indentation: this line is indented with {}, the block's "
+                         "first line with {} "
+                         "(do not mix tabs and spaces)",
+                         Blanks(line.indentation), Blanks(*body_indentation_)));
+      }
+      Fail(line.number, col,
+           fmt::format("inconsistent indentation: the lines of this block start at column {}",
+                       body_indentation_->size() + 1));
     }
     LineParser parser(line, file_);
-    for (Statement& statement : parser.Statements()) prior.blocks.back().statements.push_back(std::move(statement));
+    for (Statement& statement : parser.Statements())
+      prior.blocks.back().statements.push_back(std::move(statement));
   }
 
-  static int Width(const std::string& indentation) {
-    int width = 0;
-    for (char c : indentation) width = c == '\t' ? (width / 8 + 1) * 8 : width + 1;
-    return width;
+  // "2 spaces", "1 tab", "1 tab and 2 spaces".
+  static std::string Blanks(const std::string& indentation) {
+    const auto tabs = std::count(indentation.begin(), indentation.end(), '\t');
+    const auto spaces = static_cast<std::ptrdiff_t>(indentation.size()) - tabs;
+    const auto count = [](std::ptrdiff_t n, const char* what) {
+      return fmt::format("{} {}{}", n, what, n == 1 ? "" : "s");
+    };
+    if (tabs == 0) return count(spaces, "space");
+    if (spaces == 0) return count(tabs, "tab");
+    return count(tabs, "tab") + " and " + count(spaces, "space");
   }
 
   // A block ends at the next line at column 1 (or at the end of the file); it may not be empty.
@@ -500,10 +650,11 @@ class FileParser {
     open_block_ = false;
     const Block& block = prior.blocks.back();
     if (block.statements.empty()) {
-      throw ParseError{{*file_, block.loc.line, block.loc.col,
-                        fmt::format("empty block 'priorlet {}': give its constraints on the following, indented "
-                                    "lines, or leave the block out (no block means no constraint)",
-                                    ToString(block.kind))}};
+      throw ParseError{
+          {*file_, block.loc.line, block.loc.col,
+           fmt::format("empty block 'priorlet {}': give its constraints on the following, indented "
+                       "lines, or leave the block out (no block means no constraint)",
+                       ToString(block.kind))}};
     }
   }
 

@@ -1,12 +1,12 @@
-#include <priormap/core/file_io.hpp>
-#include <priormap/dsl/parse.hpp>
-#include <priormap/dsl/prior_library.hpp>
-
 #include <algorithm>
 #include <cstdlib>
 #include <set>
 
 #include <fmt/format.h>
+
+#include <priormap/core/file_io.hpp>
+#include <priormap/dsl/parse.hpp>
+#include <priormap/dsl/prior_library.hpp>
 
 #include "lower.hpp"
 
@@ -41,7 +41,8 @@ std::string Description(std::string_view text) {
     comment += line;
   }
   // The first ". " after a label such as "Fig. 2a:" ends the sentence.
-  if (const std::size_t stop = comment.find(". ", 16); stop != std::string::npos) comment.resize(stop + 1);
+  if (const std::size_t stop = comment.find(". ", 16); stop != std::string::npos)
+    comment.resize(stop + 1);
   if (comment.size() > 100) comment = comment.substr(0, 97) + "...";
   return comment;
 }
@@ -51,7 +52,8 @@ std::vector<std::pair<PriorFile, std::string>> PriorsIn(const fs::path& director
   std::vector<fs::path> files;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(directory, ec)) {
-    if (entry.path().extension() == ".prior" && entry.is_regular_file(ec)) files.push_back(entry.path());
+    if (entry.path().extension() == ".prior" && entry.is_regular_file(ec))
+      files.push_back(entry.path());
   }
   std::sort(files.begin(), files.end());
   std::vector<std::pair<PriorFile, std::string>> priors;
@@ -75,7 +77,8 @@ std::vector<std::pair<PriorFile, std::string>> Builtins() {
 
 }  // namespace
 
-PriorLibrary::PriorLibrary(std::vector<fs::path> directories) : directories_(std::move(directories)) {}
+PriorLibrary::PriorLibrary(std::vector<fs::path> directories)
+    : directories_(std::move(directories)) {}
 
 std::vector<fs::path> PriorLibrary::EnvironmentPriorPath() {
   std::vector<fs::path> directories;
@@ -111,7 +114,8 @@ Result<PriorFile> PriorLibrary::Find(const std::string& name, const fs::path& fi
                                      const SourceLocation& requested_at) const {
   std::vector<fs::path> directories;
   std::error_code ec;
-  if (!first_directory.empty() && fs::is_directory(first_directory, ec)) directories.push_back(first_directory);
+  if (!first_directory.empty() && fs::is_directory(first_directory, ec))
+    directories.push_back(first_directory);
   for (const fs::path& d : directories_) directories.push_back(d);
   std::vector<std::string> searched;
   for (const fs::path& directory : directories) {
@@ -122,8 +126,8 @@ Result<PriorFile> PriorLibrary::Find(const std::string& name, const fs::path& fi
     }
     if (matches.size() > 1) {
       return Diagnostic{requested_at.file_name(), requested_at.line, requested_at.col,
-                        fmt::format("ambiguous prior name '{}': both {} and {} have it", name, matches[0].path,
-                                    matches[1].path)};
+                        fmt::format("ambiguous prior name '{}': both {} and {} have it", name,
+                                    matches[0].path, matches[1].path)};
     }
     if (matches.size() == 1) return std::move(matches[0]);
   }
@@ -146,12 +150,14 @@ Result<CompiledPrior> PriorLibrary::Compile(const PriorFile& file) const {
     if (parent == nullptr) break;
     if (std::find(names.begin(), names.end(), parent->value) != names.end()) {
       names.push_back(parent->value);
-      return Diagnostic{parent->value_loc.file_name(), parent->value_loc.line, parent->value_loc.col,
-                        fmt::format("inheritance cycle: '{}'", fmt::join(names, "' specializes '"))};
+      return Diagnostic{
+          parent->value_loc.file_name(), parent->value_loc.line, parent->value_loc.col,
+          fmt::format("inheritance cycle: '{}'", fmt::join(names, "' specializes '"))};
     }
-    const fs::path directory = fs::path(current.path).parent_path();
-    Result<PriorFile> found = Find(parent->value, directory == kBuiltinDirectory ? fs::path() : directory,
-                                   parent->value_loc);
+    fs::path directory = fs::path(current.path).parent_path();
+    if (directory.empty()) directory = ".";  // a relative path without a directory: the current one
+    Result<PriorFile> found = Find(
+        parent->value, directory == kBuiltinDirectory ? fs::path() : directory, parent->value_loc);
     if (!found) return found.diagnostics();
     names.push_back(parent->value);
     resolved.files.push_back(std::make_shared<const PriorFile>(std::move(found).value()));
@@ -159,7 +165,8 @@ Result<CompiledPrior> PriorLibrary::Compile(const PriorFile& file) const {
   return detail::LowerAndCompile(resolved);
 }
 
-Result<CompiledPrior> PriorLibrary::CompileText(std::string_view text, const std::string& path) const {
+Result<CompiledPrior> PriorLibrary::CompileText(std::string_view text,
+                                                const std::string& path) const {
   Result<PriorFile> parsed = ParsePrior(text, path);
   if (!parsed) return parsed.diagnostics();
   return Compile(parsed.value());
@@ -174,11 +181,16 @@ Result<CompiledPrior> PriorLibrary::Load(const std::string& file_or_name) const 
   }
   Result<PriorFile> found = Find(file_or_name, fs::path(), SourceLocation{});
   if (!found) {
-    // A convenience of the command line: a built-in or library file named by its stem ("polygonal").
+    // A name given to two priors of one directory stays an error (not "no prior named").
+    if (found.diagnostics().front().message.starts_with("ambiguous")) return found.diagnostics();
+    // A convenience of the command line: a built-in or library file named by its stem
+    // ("polygonal").
     for (const PriorListing& listing : List()) {
       if (fs::path(listing.path).stem() == file_or_name) return Load(listing.name);
     }
-    return Diagnostic{"", 0, 0, fmt::format("no prior file or prior named '{}' (see 'priormap prior list')", file_or_name)};
+    return Diagnostic{
+        "", 0, 0,
+        fmt::format("no prior file or prior named '{}' (see 'priormap prior list')", file_or_name)};
   }
   return Compile(found.value());
 }

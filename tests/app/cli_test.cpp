@@ -5,7 +5,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
-#include <regex>
 #include <set>
 #include <string>
 #include <sys/wait.h>
@@ -31,7 +30,9 @@ namespace fs = std::filesystem;
 using priormap::testing::ReadAll;
 using priormap::testing::TempDir;
 using priormap::testing::WriteAll;
+using ::testing::ContainsRegex;
 using ::testing::HasSubstr;
+using ::testing::MatchesRegex;
 using ::testing::Not;
 using ::testing::StartsWith;
 
@@ -433,11 +434,12 @@ TEST_F(Cli, DemoWritesAGalleryAndSaysWhereItIs) {
     EXPECT_THAT(r.out, HasSubstr(file));
   }
   // Every image the page shows exists.
-  const std::regex image(R"re(src="([^"]+)")re");
   int images = 0;
-  for (auto it = std::sregex_iterator(index.begin(), index.end(), image);
-       it != std::sregex_iterator(); ++it) {
-    EXPECT_TRUE(fs::exists(Work("gallery/" + (*it)[1].str()))) << (*it)[1].str();
+  for (std::size_t at = index.find("src=\""); at != std::string::npos;
+       at = index.find("src=\"", at)) {
+    at += 5;
+    const std::string file = index.substr(at, index.find('"', at) - at);
+    EXPECT_TRUE(fs::exists(Work("gallery/" + file))) << file;
     ++images;
   }
   EXPECT_EQ(images, static_cast<int>(expected.size()));
@@ -447,7 +449,7 @@ TEST_F(Cli, DemoWritesAGalleryAndSaysWhereItIs) {
 
 TEST_F(Cli, VersionPrintsTheVersionAndLibraries) {
   const RunResult r = Ok({"version"});
-  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(^priormap \d+\.\d+\.\d+\n)"))) << r.out;
+  EXPECT_THAT(r.out, MatchesRegex("priormap [0-9]+\\.[0-9]+\\.[0-9]+\n.*"));
   EXPECT_THAT(r.out, HasSubstr("Eigen"));
   EXPECT_THAT(r.out, HasSubstr("cairo"));
   EXPECT_TRUE(WorkFiles().empty());
@@ -526,18 +528,18 @@ TEST_F(Cli, MalformedCarmenInputIsLocated) {
   WriteAll(Work("bad.log"),
            "ODOM 0.0 0.0 0.0 0.1 0.0 0.0 1.0 host 1.0\n"
            "FLASER 3 1.0 2.0 oops 0.0 0.0 0.0 0.0 0.0 0.0 1.05 host 1.05\n");
-  const std::regex located(R"(priormap: error: bad\.log:2:\d+: )");
+  const auto located = ContainsRegex("priormap: error: bad\\.log:2:[0-9]+: ");
   const RunResult convert = Fails({"convert", "bad.log", "-o", "out.json"});
-  EXPECT_TRUE(std::regex_search(convert.err, located)) << convert.err;
+  EXPECT_THAT(convert.err, located);
   EXPECT_THAT(convert.err, HasSubstr("oops"));
   const RunResult plot = Fails({"plot", "bad.log", "-o", "out.png"});
-  EXPECT_TRUE(std::regex_search(plot.err, located)) << plot.err;
+  EXPECT_THAT(plot.err, located);
 }
 
 TEST_F(Cli, MalformedJsonInputIsLocated) {
   WriteAll(Work("bad.json"), "{\"format\": \"priormap.scan\",\n \"version\": oops}\n");
   const RunResult r = Fails({"convert", "bad.json", "-o", "out.log"});
-  EXPECT_TRUE(std::regex_search(r.err, std::regex(R"(priormap: error: bad\.json:2:\d+)"))) << r.err;
+  EXPECT_THAT(r.err, ContainsRegex("priormap: error: bad\\.json:2:[0-9]+"));
 }
 
 TEST_F(Cli, OutputIntoAMissingDirectoryIsAnError) {
@@ -592,6 +594,192 @@ TEST_F(Cli, FailedWriteKeepsThePreviousOutput) {
   const std::string before = ReadAll(Work("s.json"));
   Fails({"simulate", "--scene", "atlantis", "--seed", "2", "-o", "s.json"});
   EXPECT_EQ(ReadAll(Work("s.json")), before);
+}
+
+// --- prior -------------------------------------------------------------------------------------
+
+constexpr const char* kPoseDependentPrior =
+    "# Walls facing the sensor.\n"
+    "name: Facing\n"
+    "order: 2\n"
+    "priorlet same_region:\n"
+    "  alpha_1 == alpha_2\n"
+    "  alpha_1 == 0\n";
+
+// `priormap prior eval polygonal --at ...` at p_1 = (1, 0), p_2 = 2 (cos 0.5, sin 0.5).
+const std::vector<std::string> kPolygonalEval = {
+    "prior", "eval", "polygonal", "--at",
+    "rho_1=1,rho_2=2,alpha_1=0.3,alpha_2=-0.1,phi_1=0,phi_2=0.5"};
+
+TEST_F(Cli, PriorListShowsTheBuiltinLibrary) {
+  const RunResult r = Ok({"prior", "list"});
+  for (const char* name : {"Polygonal prior", "Rectangular prior (relaxed - alternative)",
+                           "Circular prior", "Splines prior", "Straight or circular prior"}) {
+    EXPECT_THAT(r.out, HasSubstr(name));
+  }
+  EXPECT_THAT(r.out, HasSubstr("<builtin>/polygonal.prior"));
+  EXPECT_THAT(r.out, HasSubstr("Fig. 2a: the environment is made of straight walls."));
+  std::size_t builtins = 0;
+  for (std::size_t at = r.out.find("<builtin>/"); at != std::string::npos;
+       at = r.out.find("<builtin>/", at + 1)) {
+    ++builtins;
+  }
+  EXPECT_EQ(builtins, 10u);
+  EXPECT_TRUE(WorkFiles().empty());
+}
+
+TEST_F(Cli, PriorListIncludesThePriorPathBeforeOrAfterTheSubcommand) {
+  fs::create_directory(Work("lib"));
+  WriteAll(Work("lib/facing.prior"), kPoseDependentPrior);
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"prior", "--prior-path", "lib", "list"},
+        std::vector<std::string>{"prior", "list", "--prior-path", "lib"}}) {
+    const RunResult r = Ok(args);
+    EXPECT_THAT(r.out, StartsWith("Facing "));
+    EXPECT_THAT(r.out, HasSubstr("Walls facing the sensor."));
+    EXPECT_THAT(r.out, HasSubstr("lib/facing.prior"));
+  }
+}
+
+TEST_F(Cli, PriorCheckSummarisesTheResolvedPrior) {
+  const RunResult r = Ok({"prior", "check", "rectangular"});
+  EXPECT_THAT(r.out, StartsWith("Rectangular prior (<builtin>/rectangular.prior)\n"));
+  EXPECT_THAT(r.out, HasSubstr("  specializes: Polygonal prior (<builtin>/polygonal.prior)\n"));
+  EXPECT_THAT(r.out, HasSubstr("  order: 2   max_curvature: 0 1/m\n"));
+  EXPECT_THAT(
+      r.out,
+      HasSubstr("  same_region:       2 equalities, 0 inequalities, 0 disjunctions, 0 energies (2 "
+                "scalar terms); uses rho_1 rho_2 alpha_1 alpha_2 phi_1 phi_2\n"));
+  EXPECT_THAT(
+      r.out,
+      HasSubstr("  different_region:  0 equalities, 0 inequalities, 1 disjunction, 0 energies (2 "
+                "scalar terms); uses alpha_1 alpha_2\n"));
+  EXPECT_THAT(r.out, HasSubstr("  different_surface: none (no constraint)\n"));
+  EXPECT_THAT(r.out, Not(HasSubstr("pose independence")));
+}
+
+TEST_F(Cli, PriorCheckOfAFileFindsItsParentNextToIt) {
+  WriteAll(Work("facing.prior"), kPoseDependentPrior);
+  WriteAll(Work("child.prior"),
+           "name: Child\nspecializes: Facing\npriorlet different_surface:\n  rho_1 >= 0.5\n");
+  const RunResult r = Ok({"prior", "check", "child.prior"});
+  EXPECT_THAT(r.out, StartsWith("Child (child.prior)\n"));
+  EXPECT_THAT(r.out, HasSubstr("specializes: Facing ("));
+  EXPECT_THAT(r.out, HasSubstr("facing.prior)"));
+  EXPECT_THAT(r.out, HasSubstr("different_surface: 0 equalities, 1 inequality"));
+}
+
+TEST_F(Cli, PriorCheckPoseIndependenceWarnsAboutAPoseDependentTerm) {
+  WriteAll(Work("facing.prior"), kPoseDependentPrior);
+  const RunResult r = Run({"prior", "check", "facing.prior", "--pose-independence", "--seed", "4"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.err,
+              StartsWith("priormap: warning: facing.prior:6: 'alpha_1 == 0' (same_region) is not "
+                         "pose-independent"));
+  EXPECT_THAT(r.err, Not(HasSubstr("alpha_1 == alpha_2")));
+  EXPECT_THAT(r.out, HasSubstr("pose independence: 1 term(s) changed under rigid motions"));
+  // The same seed gives the same warning.
+  EXPECT_EQ(Run({"prior", "check", "facing.prior", "--pose-independence", "--seed", "4"}).err,
+            r.err);
+}
+
+TEST_F(Cli, PriorCheckPoseIndependenceOfABuiltinIsOk) {
+  const RunResult r = Ok({"prior", "check", "circular-radius", "--pose-independence"});
+  EXPECT_THAT(r.out, HasSubstr("pose independence: ok"));
+}
+
+TEST_F(Cli, PriorShowPrintsTermsAndOptionallyTheirDerivatives) {
+  const RunResult plain = Ok({"prior", "show", "polygonal"});
+  EXPECT_THAT(plain.out, StartsWith("Polygonal prior, priorlet same_region:\n"));
+  EXPECT_THAT(plain.out,
+              HasSubstr("  term 1 (equality; <builtin>/polygonal.prior:9: alpha_1 == alpha_2)\n"
+                        "    f = alpha_1 - alpha_2\n"));
+  EXPECT_THAT(plain.out, Not(HasSubstr("df/")));
+  EXPECT_THAT(plain.out, HasSubstr("  tape: "));
+
+  const RunResult derivatives = Ok({"prior", "show", "polygonal", "--derivatives"});
+  EXPECT_THAT(derivatives.out, HasSubstr("    f = alpha_1 - alpha_2\n"
+                                         "    df/dalpha_1 = 1\n"
+                                         "    df/dalpha_2 = -1\n"));
+  EXPECT_THAT(derivatives.out,
+              HasSubstr("    df/drho_1 = -cos(phi_1)*cos(alpha_1) - sin(phi_1)*sin(alpha_1)\n"));
+  EXPECT_THAT(derivatives.out, Not(HasSubstr("df/drho_1 = 0")));  // zero derivatives are left out
+
+  const RunResult disjunction = Ok({"prior", "show", "rectangular"});
+  EXPECT_THAT(disjunction.out,
+              HasSubstr("(equality, disjunction 1 branch 2; <builtin>/rectangular.prior:5:"));
+}
+
+TEST_F(Cli, PriorEvalPrintsValuesGradientsAndHessians) {
+  const RunResult r = Ok(kPolygonalEval);
+  EXPECT_THAT(r.out, StartsWith("term 1 (equality: alpha_1 == alpha_2)\n"
+                                "  value: 0.4\n"
+                                "  gradient [rho_1, rho_2, alpha_1, alpha_2]:\n"
+                                "    0 0 1 -1\n"
+                                "  Hessian:\n"
+                                "    0 0 0 0\n"));
+  EXPECT_THAT(r.out,
+              HasSubstr("term 2 (equality: (p_2 - p_1)' * [cos(alpha_1); sin(alpha_1)] == 0)\n"));
+  // (p_2 - p_1)' (cos 0.3, sin 0.3)
+  const double value = (2 * std::cos(0.5) - 1) * std::cos(0.3) + 2 * std::sin(0.5) * std::sin(0.3);
+  const std::size_t term2 = r.out.find("term 2 ");
+  ASSERT_NE(term2, std::string::npos) << r.out;
+  const std::size_t value_at = r.out.find("\n  value: ", term2);
+  ASSERT_NE(value_at, std::string::npos) << r.out;
+  EXPECT_NEAR(std::stod(r.out.substr(value_at + 10)), value, 1e-12);
+  EXPECT_TRUE(WorkFiles().empty());
+}
+
+TEST_F(Cli, PriorEvalOfAnotherBlock) {
+  const RunResult r = Ok({"prior", "eval", "rectangular", "--block", "different_region", "--at",
+                          "rho_1=1,rho_2=2,alpha_1=0,alpha_2=0,phi_1=0,phi_2=0.5"});
+  EXPECT_THAT(
+      r.out,
+      HasSubstr("term 1 (equality: alpha_2 == alpha_1 - pi / 2 || alpha_2 == alpha_1 + pi / 2)\n"));
+  EXPECT_THAT(r.out, HasSubstr("term 2 "));
+  EXPECT_THAT(r.out, Not(HasSubstr("term 3 ")));
+}
+
+TEST_F(Cli, PriorErrorsNameTheProblem) {
+  EXPECT_THAT(Fails({"prior", "check", "no-such-prior"}).err,
+              HasSubstr("no prior file or prior named 'no-such-prior'"));
+  EXPECT_EQ(Fails({"prior", "show", "no-such-prior"}).status, 1);
+
+  std::vector<std::string> args = kPolygonalEval;
+  args.back() = "rho_1=1,rho_2";
+  EXPECT_THAT(Fails(args).err,
+              HasSubstr("--at: expected name=value pairs separated by commas, got 'rho_2'"));
+  args.back() = "rho_1=1,rho_2=x,alpha_1=0.3,alpha_2=-0.1,phi_1=0,phi_2=0.5";
+  EXPECT_THAT(Fails(args).err, HasSubstr("got 'rho_2=x'"));
+  args.back() = "rho_1=1,rho_2=2,alpha_1=0.3,phi_1=0,phi_2=0.5";
+  EXPECT_THAT(Fails(args).err, HasSubstr("--at: missing a value for alpha_2"));
+  args.back() = "rho_1=1,rho_2=2,alpha_1=0.3,alpha_2=-0.1,phi_1=0,phi_2=0.5,rho_3=1";
+  EXPECT_THAT(Fails(args).err,
+              HasSubstr("--at: 'rho_3' is not a variable of this prior (order 2)"));
+
+  args = kPolygonalEval;
+  args.insert(args.end(), {"--block", "corner"});
+  EXPECT_THAT(Fails(args).err,
+              HasSubstr("--block: expected same_region, different_region or different_surface, "
+                        "got 'corner'"));
+  args.back() = "different_surface";
+  EXPECT_THAT(Fails(args).err, HasSubstr("the prior 'Polygonal prior' has no such block"));
+
+  EXPECT_THAT(Fails({"prior", "eval", "polygonal"}).err, HasSubstr("--at"));
+  Fails({"prior"});  // a subcommand is required
+  Fails({"prior", "check"});
+}
+
+TEST_F(Cli, PriorFileErrorsAreLocated) {
+  WriteAll(Work("bad.prior"), "name: Bad\norder: 2\npriorlet same_region:\n  rho_3 == 1\n");
+  const RunResult r = Fails({"prior", "check", "bad.prior"});
+  EXPECT_THAT(
+      r.err,
+      HasSubstr("priormap: error: bad.prior:4:3: 'rho_3': index 3 is above the prior's order 2"));
+  EXPECT_EQ(r.status, 1);
+  WriteAll(Work("orphan.prior"), "name: Orphan\nspecializes: Nobody\n");
+  EXPECT_THAT(Fails({"prior", "show", "orphan.prior"}).err,
+              HasSubstr("priormap: error: orphan.prior:2:14: unknown prior 'Nobody'"));
 }
 
 }  // namespace

@@ -3,14 +3,14 @@
 /// different surface) the priorlet's terms with exact values, gradients and Hessians.
 /// (Paper: de la Puente & Censi, Def. 1-2; the language is in docs/priorlet-language.md.)
 
-#include <priormap/dsl/ast.hpp>
-
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
+
+#include <priormap/dsl/ast.hpp>
 
 namespace priormap::dsl {
 
@@ -36,8 +36,8 @@ struct Term {
   int branch = -1;       ///< branch within the disjunction, or -1
   int entry = 0;         ///< entry of a vector/matrix (in)equality, row-major
   int entries = 1;
-  SourceLocation loc;    ///< of the statement
-  std::string source;    ///< the statement as written (normalised spacing)
+  SourceLocation loc;  ///< of the statement
+  std::string source;  ///< the statement as written (normalised spacing)
 };
 
 /// Counts of a block's statements.
@@ -46,7 +46,7 @@ struct BlockSummary {
   int inequalities = 0;  ///< inequality statements outside disjunctions
   int disjunctions = 0;
   int energies = 0;
-  int scalar_terms = 0;  ///< Term objects
+  int scalar_terms = 0;                ///< Term objects
   std::vector<std::string> variables;  ///< rho_i, alpha_i, phi_i the block's terms depend on
 };
 
@@ -90,22 +90,35 @@ class CompiledBlock {
   std::unique_ptr<detail::CompiledTape> tape_;
 };
 
-/// Evaluates a CompiledBlock without allocating: one evaluator per thread.
+/// Evaluates a CompiledBlock without allocating after construction: one evaluator per thread.
 class BlockEvaluator {
  public:
   explicit BlockEvaluator(const CompiledBlock& block);
 
   /// Values (num_terms), gradients (num_terms x num_variables, row-major) and Hessians
   /// (num_terms x num_variables x num_variables) of every term at unknowns `x` (size
-  /// num_variables) and beam angles `phi` (size order). Null outputs are not computed.
+  /// num_variables) and beam angles `phi` (size order). Null outputs are not computed. The part
+  /// that depends on phi only is reused while phi stays the same.
   void Evaluate(std::span<const double> x, std::span<const double> phi, double* values,
                 double* gradients = nullptr, double* hessians = nullptr);
 
+  /// Evaluate for `count` points at once: x is count x num_variables and phi count x order
+  /// (row-major); the outputs are the single-point outputs of each point, one after the other.
+  /// Several points share each instruction's dispatch and run in vectorisable loops, so this is
+  /// the fast way to evaluate every window of a scan.
+  void EvaluateBatch(std::size_t count, std::span<const double> x, std::span<const double> phi,
+                     double* values, double* gradients = nullptr, double* hessians = nullptr);
+
  private:
   const CompiledBlock* block_;
-  std::vector<double> slots_;
+  std::vector<double> slots_;       // one value per slot
+  std::vector<double> lane_slots_;  // kLanes values per slot, for EvaluateBatch
   std::vector<double> cached_phi_;
   bool phi_valid_ = false;
+  // EvaluateBatch: the phi of the last call and its parameter-only slots, chunk after chunk,
+  // reused while a call repeats the same phi (Newton steps over the same windows).
+  std::vector<double> batch_phi_;
+  std::vector<double> batch_parameter_slots_;
 };
 
 /// Where a prior comes from (its file, or <builtin>/file.prior).

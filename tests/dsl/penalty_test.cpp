@@ -1,0 +1,150 @@
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/rng.hpp>
+#include <priormap/dsl/penalty.hpp>
+#include <priormap/dsl/prior_library.hpp>
+
+#include "testing/numeric_diff.hpp"
+
+namespace priormap::dsl {
+namespace {
+
+// Everything a penalty needs at one point.
+struct Evaluation {
+  std::vector<double> values, gradients, hessians;
+};
+
+Evaluation Evaluate(const CompiledBlock& block, const std::vector<double>& x,
+                    const std::vector<double>& phi) {
+  const std::size_t nt = static_cast<std::size_t>(block.num_terms()), nv = x.size();
+  Evaluation e{std::vector<double>(nt), std::vector<double>(nt * nv),
+               std::vector<double>(nt * nv * nv)};
+  BlockEvaluator(block).Evaluate(x, phi, e.values.data(), e.gradients.data(), e.hessians.data());
+  return e;
+}
+
+double Total(const CompiledBlock& block, const std::vector<double>& x,
+             const std::vector<double>& phi, const PenaltyOptions& options) {
+  const Evaluation e = Evaluate(block, x, phi);
+  return AccumulatePenalty(block, e.values.data(), e.gradients.data(), e.hessians.data(), options,
+                           nullptr, nullptr)
+      .Total(options.lambda);
+}
+
+CompiledPrior Load(const std::string& name) {
+  return PriorLibrary().Load(name).value();
+}
+
+// The accumulated gradient and Hessian are the derivatives of lambda * constraint + energy.
+void ExpectDerivativesMatch(const CompiledBlock& block, const std::vector<double>& x,
+                            const std::vector<double>& phi) {
+  const PenaltyOptions options{2.5, false};
+  const std::size_t nv = x.size();
+  const Evaluation e = Evaluate(block, x, phi);
+  std::vector<double> gradient(nv, 0.0), hessian(nv * nv, 0.0);
+  (void)AccumulatePenalty(block, e.values.data(), e.gradients.data(), e.hessians.data(), options,
+                          gradient.data(), hessian.data());
+  const Eigen::VectorXd x0 =
+      Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(nv));
+  const auto total = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+    return Eigen::VectorXd::Constant(
+        1, Total(block, std::vector<double>(v.data(), v.data() + v.size()), phi, options));
+  };
+  const auto grad = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+    const std::vector<double> point(v.data(), v.data() + v.size());
+    const Evaluation ev = Evaluate(block, point, phi);
+    std::vector<double> g(nv, 0.0);
+    (void)AccumulatePenalty(block, ev.values.data(), ev.gradients.data(), ev.hessians.data(),
+                            options, g.data(), nullptr);
+    return Eigen::Map<const Eigen::VectorXd>(g.data(), static_cast<Eigen::Index>(nv));
+  };
+  const Eigen::Map<const Eigen::RowVectorXd> analytic_gradient(gradient.data(),
+                                                               static_cast<Eigen::Index>(nv));
+  EXPECT_TRUE(
+      testing::JacobiansMatch(analytic_gradient, testing::NumericJacobian(total, x0, 1e-6)));
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+      analytic_hessian(hessian.data(), static_cast<Eigen::Index>(nv),
+                       static_cast<Eigen::Index>(nv));
+  EXPECT_TRUE(testing::JacobiansMatch(analytic_hessian, testing::NumericJacobian(grad, x0, 1e-6)));
+}
+
+TEST(Penalty, EqualitiesAreSquared) {
+  const CompiledPrior prior = Load("Polygonal prior");
+  const CompiledBlock& block = *prior.block(BlockKind::kSameRegion);
+  const std::vector<double> x = {1.0, 2.0, 0.3, 0.5}, phi = {0.0, 0.2};
+  const Evaluation e = Evaluate(block, x, phi);
+  const PenaltyValue p =
+      AccumulatePenalty(block, e.values.data(), nullptr, nullptr, {}, nullptr, nullptr);
+  EXPECT_DOUBLE_EQ(p.constraint, e.values[0] * e.values[0] + e.values[1] * e.values[1]);
+  EXPECT_DOUBLE_EQ(p.energy, 0.0);
+  ExpectDerivativesMatch(block, x, phi);
+}
+
+TEST(Penalty, DisjunctionTakesTheSmallestBranch) {
+  const CompiledPrior prior = Load("Rectangular prior");
+  const CompiledBlock& block = *prior.block(BlockKind::kDifferentRegion);
+  // alpha_2 - alpha_1 = pi/2 + 0.1: the "+ pi/2" branch (index 1) is off by 0.1, the other by pi +
+  // 0.1.
+  const std::vector<double> x = {1.0, 1.0, 0.2, 0.2 + kPi / 2 + 0.1}, phi = {0.0, 0.1};
+  const Evaluation e = Evaluate(block, x, phi);
+  std::vector<int> active;
+  const PenaltyValue p =
+      AccumulatePenalty(block, e.values.data(), nullptr, nullptr, {}, nullptr, nullptr, &active);
+  ASSERT_EQ(active.size(), 1u);
+  EXPECT_EQ(active[0], 1);
+  EXPECT_NEAR(p.constraint, 0.01, 1e-12);
+  ExpectDerivativesMatch(block, x, phi);
+}
+
+TEST(Penalty, InequalitiesCountOnlyWhenViolated) {
+  const CompiledPrior prior = Load("Rectangular prior (relaxed)");
+  const CompiledBlock& block = *prior.block(BlockKind::kDifferentRegion);
+  const std::vector<double> phi = {0.0, 0.1};
+  const std::vector<double> inside = {1.0, 1.0, 0.0,
+                                      kPi / 2 + DegToRad(1.0)};  // 91 degrees: feasible
+  const std::vector<double> outside = {1.0, 1.0, 0.0,
+                                       kPi / 2 + DegToRad(10.0)};  // 100 degrees: violated
+  EXPECT_DOUBLE_EQ(Total(block, inside, phi, {}), 0.0);
+  const double violation = -std::cos(kPi / 2 + DegToRad(10.0)) - std::cos(DegToRad(93.0)) * -1.0;
+  EXPECT_NEAR(Total(block, outside, phi, {}), violation * violation, 1e-12);
+  ExpectDerivativesMatch(block, outside, phi);
+}
+
+TEST(Penalty, EnergiesAreAddedUnweighted) {
+  const CompiledPrior prior = Load("Circular prior (with prior on radius)");
+  const CompiledBlock& block = *prior.block(BlockKind::kSameRegion);
+  const std::vector<double> x = {2.0, 2.1, 2.3, 2.9, 3.0, 3.2}, phi = {-0.3, 0.0, 0.3};
+  const Evaluation e = Evaluate(block, x, phi);
+  const PenaltyValue p =
+      AccumulatePenalty(block, e.values.data(), nullptr, nullptr, {7.0, false}, nullptr, nullptr);
+  EXPECT_DOUBLE_EQ(p.energy, e.values[2]);
+  EXPECT_DOUBLE_EQ(p.Total(7.0), 7.0 * p.constraint + p.energy);
+  ExpectDerivativesMatch(block, x, phi);
+}
+
+TEST(Penalty, GaussNewtonHessianIsPositiveSemiDefinite) {
+  const CompiledPrior prior = Load("Circular prior");
+  const CompiledBlock& block = *prior.block(BlockKind::kSameRegion);
+  Rng rng(3);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<double> x(6), phi = {-0.4, 0.0, 0.4};
+    for (int i = 0; i < 3; ++i) x[static_cast<std::size_t>(i)] = rng.Uniform(1.0, 4.0);
+    for (int i = 3; i < 6; ++i) x[static_cast<std::size_t>(i)] = rng.Uniform(-kPi, kPi);
+    const Evaluation e = Evaluate(block, x, phi);
+    std::vector<double> hessian(36, 0.0);
+    (void)AccumulatePenalty(block, e.values.data(), e.gradients.data(), e.hessians.data(),
+                            {1.0, true}, nullptr, hessian.data());
+    const Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> h(hessian.data());
+    using Matrix6 = Eigen::Matrix<double, 6, 6>;
+    const double smallest =
+        Eigen::SelfAdjointEigenSolver<Matrix6>(Matrix6(h)).eigenvalues().minCoeff();
+    EXPECT_GE(smallest, -1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace priormap::dsl
