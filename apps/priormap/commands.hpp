@@ -9,6 +9,7 @@ void AddSimulateCommand(CLI::App& app);
 void AddConvertCommand(CLI::App& app);
 void AddPlotCommand(CLI::App& app);
 void AddPriorCommand(CLI::App& app);
+void AddScanCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);
 

@@ -12,6 +12,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/carmen_io.hpp>
@@ -780,6 +781,60 @@ TEST_F(Cli, PriorFileErrorsAreLocated) {
   WriteAll(Work("orphan.prior"), "name: Orphan\nspecializes: Nobody\n");
   EXPECT_THAT(Fails({"prior", "show", "orphan.prior"}).err,
               HasSubstr("priormap: error: orphan.prior:2:14: unknown prior 'Nobody'"));
+}
+
+}  // namespace
+}  // namespace priormap
+
+namespace priormap {
+namespace {
+
+TEST_F(Cli, ScanWritesTheMapScanOfOneScan) {
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "--seed", "2", "--pose",
+      "0.3,-0.2,0.4", "-o", "s.json"});
+  const RunResult r = Ok({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "map.json"});
+  EXPECT_THAT(r.out, HasSubstr("wrote map.json"));
+  const nlohmann::json map = nlohmann::json::parse(ReadAll(Work("map.json")));
+  EXPECT_EQ(map["format"], "priormap.map_scan");
+  EXPECT_EQ(map["prior"], "Rectangular prior");
+  EXPECT_TRUE(map["feasible"].get<bool>());
+  for (const char* key : {"rho", "alpha", "inmodel"}) EXPECT_EQ(map[key].size(), 181u) << key;
+  EXPECT_EQ(map["topology"].size() + 1, map["inmodel_beams"].size());
+  EXPECT_GE(map["regions"].size(), 2u);
+  EXPECT_GT(map["stats"]["newton_steps"].get<int>(), 0);
+  EXPECT_EQ(WorkFiles(), (std::set<std::string>{"s.json", "map.json"}));
+}
+
+TEST_F(Cli, ScanAllWritesJsonLinesForEveryScanOfALog) {
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "--log", "--seed", "3", "-o",
+      "run.json"});
+  const std::size_t scans = ReadLogFile("run.json").scans.size();
+  ASSERT_GT(scans, 2u);
+  const RunResult r =
+      Run({"scan", "--prior", "polygonal", "--log", "run.json", "--all", "-o", "maps.jsonl"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  // Progress goes to stderr, a line every 10 % when stderr is not a terminal.
+  EXPECT_THAT(r.err, HasSubstr(std::to_string(scans) + "/" + std::to_string(scans) + " scans"));
+  const std::string text = ReadAll(Work("maps.jsonl"));
+  std::size_t lines = 0, start = 0;
+  for (std::size_t end = text.find('\n'); end != std::string::npos;
+       start = end + 1, end = text.find('\n', start)) {
+    const nlohmann::json line = nlohmann::json::parse(text.substr(start, end - start));
+    EXPECT_EQ(line["scan_index"].get<std::size_t>(), lines);
+    EXPECT_FALSE(line.contains("error")) << line["error"];
+    ++lines;
+  }
+  EXPECT_EQ(lines, scans);
+}
+
+TEST_F(Cli, ScanErrorsNameTheProblem) {
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "-o", "s.json"});
+  EXPECT_THAT(
+      Fails({"scan", "--prior", "rectangular", "-i", "s.json", "--index", "5", "-o", "m.json"}).err,
+      HasSubstr("--index 5: s.json has 1 scan"));
+  EXPECT_THAT(Fails({"scan", "--prior", "no-such-prior", "-i", "s.json", "-o", "m.json"}).err,
+              HasSubstr("no-such-prior"));
+  EXPECT_FALSE(fs::exists(Work("m.json")));
 }
 
 }  // namespace

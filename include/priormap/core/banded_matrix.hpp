@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -30,6 +31,13 @@ class SymmetricBandedMatrix {
   /// Sets A(i, j) = A(j, i) = value. Precondition: |i - j| <= bandwidth.
   void Set(std::size_t i, std::size_t j, double value);
 
+  /// A(i, j) += value (and A(j, i)). Precondition: |i - j| <= bandwidth.
+  void Add(std::size_t i, std::size_t j, double value) {
+    if (i < j) std::swap(i, j);
+    band_(static_cast<Eigen::Index>(i - j), static_cast<Eigen::Index>(j)) += value;
+  }
+  /// All entries zero, keeping the size.
+  void SetZero() { band_.setZero(); }
   /// A x.
   [[nodiscard]] Eigen::VectorXd Multiply(const Eigen::VectorXd& x) const;
   [[nodiscard]] Eigen::MatrixXd ToDense() const;

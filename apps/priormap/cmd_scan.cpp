@@ -1,0 +1,151 @@
+// priormap scan: the MAP scan under a prior (priorlets engine) for one scan or every scan of a log.
+#include <atomic>
+#include <cstdio>
+#include <mutex>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+
+#include <priormap/core/file_io.hpp>
+#include <priormap/core/log_io.hpp>
+#include <priormap/dsl/prior_library.hpp>
+#include <priormap/priorlets/engine.hpp>
+#include <priormap/priorlets/map_scan_json.hpp>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+
+namespace priormap::app {
+namespace {
+
+struct ScanOptions {
+  std::string prior;
+  std::vector<std::string> prior_path;
+  std::string input;
+  std::optional<std::size_t> index;
+  bool all = false;
+  std::string out;
+  double beta = priorlets::EngineOptions{}.beta;
+  bool no_refine = false;
+  std::optional<double> max_range;
+};
+
+// A progress bar on stderr, redrawn at most every percent on a terminal; elsewhere (CI logs,
+// files) a line every 10 %.
+class Progress {
+ public:
+  explicit Progress(std::size_t total) : total_(total), terminal_(isatty(fileno(stderr)) != 0) {}
+  void Step() {
+    const std::size_t done = ++done_;
+    const std::size_t percent = 100 * done / total_;
+    std::lock_guard lock(mutex_);
+    if (percent == last_percent_ && done != total_) return;
+    if (!terminal_) {
+      if (percent / 10 != last_percent_ / 10 || done == total_)
+        fmt::print(stderr, "{}/{} scans\n", done, total_);
+      last_percent_ = percent;
+      return;
+    }
+    last_percent_ = percent;
+    const std::size_t filled = percent * 30 / 100;
+    fmt::print(stderr, "\r[{}{}] {}/{} scans", std::string(filled, '#'),
+               std::string(30 - filled, ' '), done, total_);
+    if (done == total_) fmt::print(stderr, "\n");
+  }
+
+ private:
+  std::size_t total_;
+  bool terminal_;
+  std::atomic<std::size_t> done_{0};
+  std::mutex mutex_;
+  std::size_t last_percent_ = 101;
+};
+
+void Run(const ScanOptions& o) {
+  std::vector<std::filesystem::path> directories(o.prior_path.begin(), o.prior_path.end());
+  for (const auto& d : dsl::PriorLibrary::EnvironmentPriorPath()) directories.push_back(d);
+  const dsl::CompiledPrior prior =
+      ValueOrThrow(dsl::PriorLibrary(std::move(directories)).Load(o.prior));
+  CarmenReadOptions carmen;
+  carmen.max_range = o.max_range;
+  const Log log = ValueOrThrow(ReadLog(o.input, std::nullopt, carmen));
+  if (log.scans.empty()) throw UserError(fmt::format("{}: the log has no scans", o.input));
+  if (o.all && o.index) throw UserError("--all and --index exclude each other");
+  const std::size_t index = o.index.value_or(0);
+  if (index >= log.scans.size()) {
+    throw UserError(
+        fmt::format("--index {}: {} has {}", index, o.input, Plural(log.scans.size(), "scan")));
+  }
+  priorlets::EngineOptions engine;
+  engine.beta = o.beta;
+  engine.refine_borders = !o.no_refine;
+  const auto solve = [&](std::size_t k) {
+    const Scan& scan = log.scans[k];
+    if (const std::vector<std::string> problems = scan.Problems(); !problems.empty()) {
+      throw UserError(fmt::format("scan {}: {}", k, problems.front()));
+    }
+    return priorlets::MapScanToJson(priorlets::EstimateMapScan(scan, prior, engine),
+                                    {k, prior.name(), o.input});
+  };
+  if (!o.all) {
+    WriteTextFileAtomically(o.out, solve(index) + "\n");
+    fmt::print("wrote {}\n", o.out);
+    return;
+  }
+  // Every scan, in parallel; a scan that fails is reported and written as an error record.
+  std::vector<std::string> lines(log.scans.size());
+  std::atomic<std::size_t> failures{0};
+  Progress progress(log.scans.size());
+  std::mutex report;
+  tbb::parallel_for(std::size_t{0}, log.scans.size(), [&](std::size_t k) {
+    try {
+      lines[k] = solve(k);
+    } catch (const std::exception& e) {
+      ++failures;
+      lines[k] = nlohmann::json{
+          {"format", "priormap.map_scan"},
+          {"version", 1},
+          {"scan_index", k},
+          {"error",
+           e.what()}}.dump();
+      std::lock_guard lock(report);
+      fmt::print(stderr, "\npriormap: scan {}: {}\n", k, e.what());
+    }
+    progress.Step();
+  });
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  WriteTextFileAtomically(o.out, text);
+  fmt::print("wrote {} ({}{})\n", o.out, Plural(lines.size(), "scan"),
+             failures ? fmt::format(", {} failed", failures.load()) : std::string());
+}
+
+}  // namespace
+
+void AddScanCommand(CLI::App& app) {
+  auto o = std::make_shared<ScanOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "scan", "MAP scan under a prior: corrected ranges and normals, regions, outliers");
+  cmd->add_option("--prior", o->prior,
+                  "Prior: a built-in name (see 'priormap prior list') or a .prior file")
+      ->required();
+  cmd->add_option("--prior-path", o->prior_path,
+                  "Directories searched for priors named by 'specializes:'");
+  cmd->add_option("-i,--input,--log", o->input, "Scan or log: priormap JSON or CARMEN (.gz too)")
+      ->required();
+  cmd->add_option("--index", o->index, "Which scan of the log (0-based; default 0)");
+  cmd->add_flag("--all", o->all, "Every scan of the log, in parallel, as JSON Lines");
+  cmd->add_option("-o,--out", o->out, "Output JSON (JSON Lines with --all)")->required();
+  cmd->add_option("--beta", o->beta, "Prior probability that a reading fits the prior")
+      ->check(CLI::Range(1e-6, 1.0 - 1e-6))
+      ->capture_default_str();
+  cmd->add_flag("--no-refine", o->no_refine, "Keep the greedy topology (no border refinement)");
+  cmd->add_option("--max-range", o->max_range,
+                  "CARMEN input: readings at or above this are max-range")
+      ->check(CLI::PositiveNumber);
+  cmd->callback([o] { Run(*o); });
+}
+
+}  // namespace priormap::app

@@ -1,0 +1,101 @@
+#pragma once
+/// MAP estimate of one scan under a user prior (de la Puente & Censi, Sec. III): corrected ranges
+/// and normals, the topology (regions and surfaces), and the outliers.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <priormap/core/scan.hpp>
+#include <priormap/dsl/prior.hpp>
+
+namespace priormap::priorlets {
+
+/// The relation between two consecutive in-model points (paper Sec. II-A).
+enum class Link : std::uint8_t { kSameRegion = 0, kDifferentRegion = 1, kDifferentSurface = 2 };
+
+/// "same_region", "different_region", "different_surface".
+[[nodiscard]] const char* ToString(Link link);
+
+struct EngineOptions {
+  /// Prior probability that a reading is described by the prior; gamma = log(beta / (1 - beta))
+  /// is the reward per in-model point.
+  double beta = 0.95;
+  /// Each range may move at most this many sigmas from its measurement (paper Sec. III-B).
+  double rho_bound_sigmas = 4.0;
+  /// A surface seen at more than this incidence (angle between its normal and the ray) is not
+  /// believed: consecutive readings that would need it are on different surfaces (Fig. 5a).
+  double max_incidence_deg = 85.0;
+  /// Normals stay this close to facing the sensor (the bounds on alpha).
+  double alpha_bound_deg = 89.0;
+  /// Regions with fewer points are clutter: their points leave INMODEL.
+  int min_region_points = 4;
+  /// Neighbours on each side used to estimate the initial normal of a point.
+  int normal_half_window = 4;
+  /// The initial normals enter as a weak prior with at least this standard deviation, rad; it
+  /// regularises normals no constraint or energy determines.
+  double alpha_prior_sigma_min = 0.2;
+  /// Feasible when every equality |f|, inequality max(0, g) and disjunction is below this.
+  double feasibility_tolerance = 1e-6;
+  /// Penalty homotopy: lambda from lambda_initial, times lambda_factor per stage, up to
+  /// lambda_max. The log barrier's weight 1/mu shrinks alongside (mu times mu_factor, capped).
+  double lambda_initial = 1.0;
+  double lambda_factor = 10.0;
+  double lambda_max = 1e12;
+  double mu_initial = 1.0;
+  double mu_factor = 10.0;
+  double mu_max = 1e6;
+  /// Newton steps per homotopy stage at most (fewer when a step changes little).
+  int max_newton_steps_per_stage = 2;
+  /// Outer rounds (topology changes) at most.
+  int max_outer_rounds = 400;
+  /// Links whose penalty is at least this fraction of the largest, and that are the largest
+  /// within `order` links on both sides, break in the same round (1 = the paper's one at a time).
+  double break_ratio = 0.5;
+  /// After a feasible topology is found, try moving every region border by a beam and merging
+  /// neighbouring regions again, keeping what stays feasible and fits better (backtracking over
+  /// the greedy decisions, the paper's future work).
+  bool refine_borders = true;
+};
+
+/// Where the time went, and how much work it took.
+struct EngineStats {
+  int outer_rounds = 0;
+  int inner_solves = 0;
+  int newton_steps = 0;
+  int refinement_trials = 0;
+  double seconds_total = 0.0;
+  double seconds_outer = 0.0;   ///< inner solves of the greedy relaxation
+  double seconds_refine = 0.0;  ///< inner solves of the border refinement
+};
+
+/// A contiguous range of beams [first, last] (scan indices, inclusive).
+struct BeamRange {
+  std::size_t first = 0;
+  std::size_t last = 0;
+};
+
+/// The MAP scan. Per-beam vectors have one entry per beam of the input scan; beams outside
+/// INMODEL keep their measured range and NaN normal.
+struct MapScan {
+  std::vector<double> rho;
+  std::vector<double> alpha;  ///< sensor frame, towards the sensor, unwrapped along the scan
+  std::vector<double> initial_alpha;  ///< the estimate the optimisation started from (NaN if none)
+  std::vector<double> alpha_lower, alpha_upper;  ///< bounds of the final solve (NaN if none)
+  std::vector<std::uint8_t> inmodel;
+  std::vector<std::size_t> inmodel_beams;  ///< the beams in INMODEL, in order
+  std::vector<Link> links;                 ///< links[j] relates inmodel_beams[j] and [j + 1]
+  std::vector<BeamRange> regions;          ///< maximal runs joined by same_region links
+  std::vector<BeamRange> surfaces;         ///< maximal runs not split by different_surface links
+  bool feasible = false;                   ///< the prior's constraints hold at the solution
+  double max_violation = 0.0;              ///< largest constraint residual at the solution
+  double objective = 0.0;  ///< data + prior energies - gamma |INMODEL| (smaller is better)
+  EngineStats stats;
+};
+
+/// Runs Algorithms 1 and 2 of the paper on the valid readings of `scan`.
+/// Preconditions: scan.Problems() is empty; the prior has order >= 1.
+[[nodiscard]] MapScan EstimateMapScan(const Scan& scan, const dsl::CompiledPrior& prior,
+                                      const EngineOptions& options = {});
+
+}  // namespace priormap::priorlets

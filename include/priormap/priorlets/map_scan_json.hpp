@@ -1,0 +1,20 @@
+#pragma once
+/// The `priormap.map_scan` JSON document of `priormap scan` (docs/formats.md).
+#include <cstddef>
+#include <string>
+
+#include <priormap/priorlets/engine.hpp>
+
+namespace priormap::priorlets {
+
+struct MapScanJsonContext {
+  std::size_t scan_index = 0;
+  std::string prior_name;
+  std::string input;
+};
+
+/// One JSON object on one line (so that a log's results form JSON Lines); per-beam arrays have
+/// one entry per beam, NaN as null.
+[[nodiscard]] std::string MapScanToJson(const MapScan& map, const MapScanJsonContext& context);
+
+}  // namespace priormap::priorlets

@@ -1,0 +1,116 @@
+#pragma once
+// Problem 4 of the paper for a fixed INMODEL and topology: the objective, its gradient and a
+// positive definite banded Hessian, the constraint violations, and the link penalties.
+//
+// Unknowns are interleaved per in-model point, x[2p] = rho_p and x[2p + 1] = alpha_p, so that a
+// window of k consecutive points touches 2k consecutive unknowns and every Hessian is banded.
+#include <array>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include <priormap/core/banded_matrix.hpp>
+#include <priormap/dsl/prior.hpp>
+#include <priormap/priorlets/engine.hpp>
+
+namespace priormap::priorlets {
+
+// What one in-model point brings to the problem.
+struct ProblemPoint {
+  double phi = 0.0;
+  double rho_measured = 0.0;
+  double rho_lower = 0.0, rho_upper = 0.0;
+  double alpha_initial = 0.0;
+  double alpha_sigma = 1.0;  // of the initial normal's weak prior
+  double alpha_lower = 0.0, alpha_upper = 0.0;
+};
+
+struct Violation {
+  double max_residual = 0.0;  // largest |f|, max(0, g), or disjunction branch residual
+  double penalty = 0.0;       // sum of the squared forms (unweighted)
+};
+
+// Objective pieces at one x; the weights of the homotopy stage are passed in.
+struct ObjectiveValue {
+  double data = 0.0;          // measurement term and the weak prior on the initial normals
+  double energy = 0.0;        // prior energies h
+  double penalty = 0.0;       // unweighted constraint penalty
+  double barrier = 0.0;       // -sum log of the bound slacks (unweighted); +inf outside the bounds
+  double max_residual = 0.0;  // of the constraints (see Violation)
+  [[nodiscard]] double Total(double lambda, double barrier_weight) const {
+    return data + energy + lambda * penalty + barrier_weight * barrier;
+  }
+};
+
+class InnerProblem {
+ public:
+  // `range_precision`: the information matrix of the in-model ranges (banded), or null for
+  // independent noise with the sigmas in `range_sigma`.
+  InnerProblem(const dsl::CompiledPrior& prior, std::vector<ProblemPoint> points,
+               std::vector<Link> links, std::vector<double> range_sigma,
+               std::optional<SymmetricBandedMatrix> range_precision);
+
+  [[nodiscard]] std::size_t num_points() const { return points_.size(); }
+  [[nodiscard]] std::size_t num_unknowns() const { return 2 * points_.size(); }
+  [[nodiscard]] const std::vector<ProblemPoint>& points() const { return points_; }
+  [[nodiscard]] const std::vector<Link>& links() const { return links_; }
+  [[nodiscard]] std::size_t hessian_bandwidth() const { return bandwidth_; }
+
+  // The measurements with the initial normals, pulled strictly inside the bounds.
+  [[nodiscard]] Eigen::VectorXd InitialPoint() const;
+  // True when x is strictly inside every bound.
+  [[nodiscard]] bool StrictlyInside(const Eigen::VectorXd& x) const;
+  // The largest t in (0, 1] with x + t d inside the bounds, times `fraction` when limited by them.
+  [[nodiscard]] double MaxStep(const Eigen::VectorXd& x, const Eigen::VectorXd& d,
+                               double fraction) const;
+
+  // Objective pieces; with `gradient`/`hessian`, also the derivatives of
+  // Total(lambda, barrier_weight): penalties in Gauss-Newton form, energies with each window's
+  // Hessian block made positive semi-definite, so the Hessian is positive definite.
+  ObjectiveValue Evaluate(const Eigen::VectorXd& x, double lambda, double barrier_weight,
+                          Eigen::VectorXd* gradient, SymmetricBandedMatrix* hessian);
+
+  [[nodiscard]] Violation Violations(const Eigen::VectorXd& x);
+  // Per link, the constraint penalty of the windows that contain it.
+  [[nodiscard]] std::vector<double> LinkPenalties(const Eigen::VectorXd& x);
+  // The rows of grad f_T at x (equalities, and the active branch of every disjunction), for the
+  // degrees-of-freedom analysis: first unknown index and 2k coefficients.
+  struct JacobianRow {
+    std::size_t first;
+    std::vector<double> coefficients;
+  };
+  [[nodiscard]] std::vector<JacobianRow> EqualityJacobian(const Eigen::VectorXd& x);
+  // The Hessian of the prior energies alone (no penalties, no data, no barrier), convexified
+  // per window: the extra information the covariance shrinking adds to the measurements'.
+  [[nodiscard]] SymmetricBandedMatrix EnergyHessian(const Eigen::VectorXd& x);
+  // The information of the data term (measurements and initial normals' weak prior).
+  [[nodiscard]] SymmetricBandedMatrix DataInformation() const;
+
+ private:
+  struct BlockWindows {
+    const dsl::CompiledBlock* block = nullptr;
+    std::unique_ptr<dsl::BlockEvaluator> evaluator;
+    std::vector<std::size_t> first_point;  // window w covers points first_point[w] .. + order - 1
+    std::vector<double> phi;               // windows x order
+    std::vector<double> x;                 // windows x 2 order, in the block's unknown order
+    std::vector<double> values, gradients, hessians;
+  };
+  // Fills every block's x from the global unknowns and evaluates up to `level` (0 values,
+  // 1 gradients, 2 Hessians).
+  void EvaluateWindows(const Eigen::VectorXd& x, int level);
+  // The global unknown index of a block unknown v of the window starting at point p.
+  [[nodiscard]] std::size_t GlobalIndex(std::size_t p, int v) const;
+
+  int order_;
+  std::vector<ProblemPoint> points_;
+  std::vector<Link> links_;
+  std::vector<double> range_sigma_;
+  std::optional<SymmetricBandedMatrix> range_precision_;
+  std::array<BlockWindows, 3> windows_;
+  std::size_t bandwidth_ = 1;
+  std::vector<std::size_t> global_index_;  // GlobalIndex(0, v) for the block unknowns v
+};
+
+}  // namespace priormap::priorlets

@@ -1,0 +1,30 @@
+#pragma once
+// Algorithm 2 of the paper: the continuous optimisation of x for a fixed INMODEL and topology,
+// by a penalty homotopy for the prior's constraints and a log-barrier homotopy for the bounds,
+// with damped Newton steps on a banded Hessian.
+#include <Eigen/Core>
+
+#include "inner_problem.hpp"
+
+namespace priormap::priorlets {
+
+struct InnerResult {
+  Eigen::VectorXd x;
+  bool feasible = false;
+  Violation violation;
+  int newton_steps = 0;
+  double lambda = 0.0;  // the penalty weight reached
+  // Link penalties at the end of the first stage, where x is still close to the data: there the
+  // penalty of a wrong link stays at that link, while at large lambda the solution bends the
+  // surfaces within the range bounds and spreads it over the links around.
+  std::vector<double> early_link_penalties;
+};
+
+// Starts from x0 when it is strictly inside the bounds (a warm start), else from the problem's
+// initial point.
+// `lambda_start` > 0 starts the penalty homotopy there (a warm start from a solution that was
+// already squeezed towards the constraints); otherwise where the penalties begin to matter.
+[[nodiscard]] InnerResult SolveInner(InnerProblem& problem, const Eigen::VectorXd* x0,
+                                     const EngineOptions& options, double lambda_start = 0.0);
+
+}  // namespace priormap::priorlets

@@ -1,0 +1,146 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/range_sensor.hpp>
+#include <priormap/core/rng.hpp>
+#include <priormap/core/scene.hpp>
+#include <priormap/core/scene_ray_caster.hpp>
+#include <priormap/core/simulate.hpp>
+#include <priormap/dsl/prior_library.hpp>
+#include <priormap/priorlets/engine.hpp>
+
+namespace priormap::priorlets {
+namespace {
+
+Scan Simulate(const std::string& scene_name, const std::string& sensor_name, const Se2& pose,
+              std::uint64_t seed) {
+  const Scene scene = BuiltinScene(scene_name).value();
+  const SceneRayCaster caster(scene);
+  const RangeSensor sensor = RangeSensor::Preset(sensor_name).value();
+  Rng rng(seed);
+  return SimulateScan(caster, sensor, pose, rng);
+}
+
+dsl::CompiledPrior Prior(const std::string& name) {
+  return dsl::PriorLibrary().Load(name).value();
+}
+
+// Links between beams i and i + 1 where the simulator's region changes.
+std::vector<std::size_t> TrueBorders(const Scan& scan) {
+  std::vector<std::size_t> borders;
+  for (std::size_t i = 0; i + 1 < scan.size(); ++i) {
+    if (scan.truth->region[i] != scan.truth->region[i + 1]) borders.push_back(i);
+  }
+  return borders;
+}
+
+std::vector<std::size_t> FoundBorders(const MapScan& map) {
+  std::vector<std::size_t> borders;
+  for (std::size_t r = 0; r + 1 < map.regions.size(); ++r) borders.push_back(map.regions[r].last);
+  return borders;
+}
+
+// Mean |normal error| in degrees over in-model beams, leaving out the beams next to a true
+// border when `skip_border_beams`: a beam within a beam spacing of a corner fits either wall
+// within the noise, so which wall it is given is a coin toss that says nothing about the
+// normals (it costs 90 deg / n of the mean when it goes wrong).
+double MeanNormalErrorDeg(const Scan& scan, const MapScan& map, bool skip_border_beams) {
+  std::set<std::size_t> skip;
+  if (skip_border_beams) {
+    for (std::size_t b : TrueBorders(scan)) {
+      skip.insert(b);
+      skip.insert(b + 1);
+    }
+  }
+  double sum = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!map.inmodel[i] || !std::isfinite(scan.truth->alpha[i]) || skip.count(i)) continue;
+    sum += std::abs(WrapAngle(map.alpha[i] - scan.truth->alpha[i]));
+    ++count;
+  }
+  return count ? sum / count * 180.0 / std::numbers::pi : std::numeric_limits<double>::infinity();
+}
+
+TEST(Engine, SquareRoomWithRectangularPriorFindsTheWallsAndTheirNormals) {
+  const dsl::CompiledPrior prior = Prior("rectangular");
+  for (std::uint64_t seed : {1, 2, 3}) {
+    SCOPED_TRACE(seed);
+    const Scan scan = Simulate("square", "utm30", Se2(0.3, -0.2, 0.4), seed);
+    const MapScan map = EstimateMapScan(scan, prior);
+    EXPECT_TRUE(map.feasible);
+    EXPECT_LT(map.max_violation, 1e-5);
+    const std::vector<std::size_t> truth = TrueBorders(scan), found = FoundBorders(map);
+    ASSERT_EQ(found.size(), truth.size());
+    for (std::size_t c = 0; c < truth.size(); ++c) {
+      EXPECT_LE(std::abs(static_cast<long>(found[c]) - static_cast<long>(truth[c])), 1)
+          << "corner " << c;
+    }
+    EXPECT_LT(MeanNormalErrorDeg(scan, map, true), 0.05);
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      ASSERT_TRUE(map.inmodel[i]) << i;
+      EXPECT_LE(std::abs(map.rho[i] - scan.ranges[i]), 4.0 * scan.sigma[i] + 1e-12) << i;
+      EXPECT_GT(map.alpha[i], map.alpha_lower[i]);
+      EXPECT_LT(map.alpha[i], map.alpha_upper[i]);
+    }
+    // Corrected ranges are closer to the truth than the measurements.
+    double measured = 0.0, corrected = 0.0;
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      measured += std::pow(scan.ranges[i] - scan.truth->range[i], 2);
+      corrected += std::pow(map.rho[i] - scan.truth->range[i], 2);
+    }
+    EXPECT_LT(corrected, 0.1 * measured);
+  }
+}
+
+TEST(Engine, TopologyDescribesRegionsAndSurfacesConsistently) {
+  const Scan scan = Simulate("l-room", "utm30", Se2(0.0, 0.0, 0.4), 1);
+  const MapScan map = EstimateMapScan(scan, Prior("polygonal"));
+  ASSERT_EQ(map.links.size() + 1, map.inmodel_beams.size());
+  std::size_t in_regions = 0;
+  for (const BeamRange& r : map.regions) {
+    EXPECT_LE(r.first, r.last);
+    for (std::size_t i = r.first; i <= r.last; ++i) in_regions += map.inmodel[i];
+  }
+  EXPECT_EQ(in_regions, map.inmodel_beams.size());
+  const std::size_t breaks = static_cast<std::size_t>(std::count_if(
+      map.links.begin(), map.links.end(), [](Link l) { return l != Link::kSameRegion; }));
+  EXPECT_EQ(map.regions.size(), breaks + 1);
+  EXPECT_LE(map.surfaces.size(), map.regions.size());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.IsValid(i)) {
+      EXPECT_FALSE(map.inmodel[i]);
+      EXPECT_TRUE(std::isnan(map.alpha[i]));
+    }
+  }
+}
+
+TEST(Engine, WithoutRefinementTheGreedyResultIsKeptAndStillFeasible) {
+  const Scan scan = Simulate("rectangle", "utm30", Se2(0.3, -0.2, 0.4), 4);
+  EngineOptions options;
+  options.refine_borders = false;
+  const MapScan greedy = EstimateMapScan(scan, Prior("polygonal"), options);
+  EXPECT_TRUE(greedy.feasible);
+  EXPECT_EQ(greedy.stats.refinement_trials, 0);
+  const MapScan refined = EstimateMapScan(scan, Prior("polygonal"));
+  EXPECT_TRUE(refined.feasible);
+  // Refinement only accepts changes that keep the scan feasible and fit at least as well.
+  EXPECT_LE(refined.regions.size(), greedy.regions.size());
+}
+
+TEST(Engine, SameInputGivesTheSameResult) {
+  const Scan scan = Simulate("square", "lms200", Se2(0.3, -0.2, 0.4), 7);
+  const MapScan a = EstimateMapScan(scan, Prior("rectangular"));
+  const MapScan b = EstimateMapScan(scan, Prior("rectangular"));
+  EXPECT_EQ(a.rho, b.rho);
+  EXPECT_EQ(a.links, b.links);
+}
+
+}  // namespace
+}  // namespace priormap::priorlets
