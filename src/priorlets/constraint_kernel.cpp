@@ -304,7 +304,7 @@ class UnionFind {
 std::vector<Component> BuildComponents(std::size_t n, std::span<const ConstraintRow> rows,
                                        double min_row_norm, std::vector<std::size_t>* free,
                                        std::size_t* num_rows_used) {
-  std::vector<double> inverse_norm(rows.size(), 0.0);
+  std::vector<double> norms(rows.size(), 0.0);  // 0: row not used
   std::vector<std::uint8_t> used(n, 0);
   UnionFind sets(n);
   for (std::size_t r = 0; r < rows.size(); ++r) {
@@ -322,7 +322,7 @@ std::vector<Component> BuildComponents(std::size_t n, std::span<const Constraint
     for (double c : row.coefficients) sum += (c / largest) * (c / largest);
     const double norm = largest * std::sqrt(sum);
     if (norm <= min_row_norm) continue;
-    inverse_norm[r] = 1.0 / norm;
+    norms[r] = norm;
     ++*num_rows_used;
     std::size_t previous = n;
     for (std::size_t j = 0; j < row.coefficients.size(); ++j) {
@@ -356,7 +356,7 @@ std::vector<Component> BuildComponents(std::size_t n, std::span<const Constraint
   }
   std::vector<double> row_sum_max(components.size(), 0.0);
   for (std::size_t r = 0; r < rows.size(); ++r) {
-    if (inverse_norm[r] == 0.0) continue;
+    if (norms[r] == 0.0) continue;
     const ConstraintRow& row = rows[r];
     std::size_t id = n;
     double row_sum = 0.0;
@@ -364,7 +364,7 @@ std::vector<Component> BuildComponents(std::size_t n, std::span<const Constraint
       if (row.coefficients[j] == 0.0) continue;
       const std::size_t v = row.first + j;
       if (id == n) id = component_of_root[sets.Find(v)];
-      const double value = row.coefficients[j] * inverse_norm[r];
+      const double value = row.coefficients[j] / norms[r];
       components[id].rows.index.push_back(local[v]);
       components[id].rows.value.push_back(value);
       column_sums[id][local[v]] += std::abs(value);
