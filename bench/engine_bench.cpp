@@ -1,0 +1,56 @@
+// The priorlets engine on simulated scans (issue 4's speed targets): one core, one scan per
+// iteration, the same scan every time. Counters split the time into outer rounds and border
+// refinement and count the work.
+#include <benchmark/benchmark.h>
+
+#include <priormap/core/range_sensor.hpp>
+#include <priormap/core/rng.hpp>
+#include <priormap/core/scene.hpp>
+#include <priormap/core/scene_ray_caster.hpp>
+#include <priormap/core/simulate.hpp>
+#include <priormap/dsl/prior_library.hpp>
+#include <priormap/priorlets/engine.hpp>
+
+namespace {
+
+using namespace priormap;
+
+void RunEngine(benchmark::State& state, const std::string& scene_name,
+               const std::string& sensor_name, const std::string& prior_name, const Se2& pose) {
+  const Scene scene = BuiltinScene(scene_name).value();
+  const SceneRayCaster caster(scene);
+  Rng rng(1);
+  const Scan scan = SimulateScan(caster, RangeSensor::Preset(sensor_name).value(), pose, rng);
+  const dsl::CompiledPrior prior = dsl::PriorLibrary().Load(prior_name).value();
+  priorlets::EngineStats stats;
+  for (auto _ : state) {
+    const priorlets::MapScan map = priorlets::EstimateMapScan(scan, prior);
+    benchmark::DoNotOptimize(map.rho.data());
+    stats = map.stats;
+  }
+  state.counters["rounds"] = stats.outer_rounds;
+  state.counters["newton_steps"] = stats.newton_steps;
+  state.counters["outer_ms"] = 1e3 * stats.seconds_outer;
+  state.counters["refine_ms"] = 1e3 * stats.seconds_refine;
+}
+
+void BM_SquareUtm30Rectangular(benchmark::State& state) {
+  RunEngine(state, "square", "utm30", "rectangular", Se2(0.3, -0.2, 0.4));
+}
+void BM_LRoomUtm30Polygonal(benchmark::State& state) {
+  RunEngine(state, "l-room", "utm30", "polygonal", Se2(0.0, 0.0, 0.4));
+}
+void BM_CircleUtm30Circular(benchmark::State& state) {
+  RunEngine(state, "circle", "utm30", "circular", Se2(0.3, -0.2, 0.4));
+}
+void BM_SquareLms200Rectangular(benchmark::State& state) {
+  RunEngine(state, "square", "lms200", "rectangular", Se2(0.3, -0.2, 0.4));
+}
+BENCHMARK(BM_SquareUtm30Rectangular)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LRoomUtm30Polygonal)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CircleUtm30Circular)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SquareLms200Rectangular)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
