@@ -38,6 +38,12 @@ Se2 ParsePose(const std::string& text) {
   throw UserError(fmt::format("--pose: expected x,y,theta (three numbers), got '{}'", text));
 }
 
+dsl::PriorLibrary MakePriorLibrary(const std::vector<std::string>& prior_path) {
+  std::vector<std::filesystem::path> directories(prior_path.begin(), prior_path.end());
+  for (const auto& d : dsl::PriorLibrary::EnvironmentPriorPath()) directories.push_back(d);
+  return dsl::PriorLibrary(std::move(directories));
+}
+
 Scene LoadScene(const std::string& name_or_path) {
   if (std::optional<Scene> builtin = BuiltinScene(name_or_path)) return *std::move(builtin);
   if (std::filesystem::exists(name_or_path)) return ValueOrThrow(ReadJsonScene(name_or_path));

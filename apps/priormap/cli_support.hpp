@@ -10,6 +10,7 @@
 #include <priormap/core/diagnostic.hpp>
 #include <priormap/core/scene.hpp>
 #include <priormap/core/se2.hpp>
+#include <priormap/dsl/prior_library.hpp>
 
 namespace priormap::app {
 
@@ -32,6 +33,10 @@ T ValueOrThrow(Result<T> result) {
 
 /// "x,y,theta" (theta in radians).
 [[nodiscard]] Se2 ParsePose(const std::string& text);
+
+/// The prior library searched in `prior_path` (--prior-path), then PRIORMAP_PRIOR_PATH, then
+/// the built-ins.
+[[nodiscard]] dsl::PriorLibrary MakePriorLibrary(const std::vector<std::string>& prior_path);
 
 /// A built-in scene name, or a priormap.scene JSON file.
 [[nodiscard]] Scene LoadScene(const std::string& name_or_path);

@@ -25,18 +25,12 @@ struct PriorOptions {
   std::uint64_t seed = 1;
 };
 
-dsl::PriorLibrary Library(const PriorOptions& o) {
-  std::vector<std::filesystem::path> directories(o.prior_path.begin(), o.prior_path.end());
-  for (const auto& d : dsl::PriorLibrary::EnvironmentPriorPath()) directories.push_back(d);
-  return dsl::PriorLibrary(std::move(directories));
-}
-
 dsl::CompiledPrior Load(const PriorOptions& o) {
-  return ValueOrThrow(Library(o).Load(o.prior));
+  return ValueOrThrow(MakePriorLibrary(o.prior_path).Load(o.prior));
 }
 
 void List(const PriorOptions& o) {
-  for (const dsl::PriorListing& p : Library(o).List()) {
+  for (const dsl::PriorListing& p : MakePriorLibrary(o.prior_path).List()) {
     fmt::print("{:<42} {}\n", p.name, p.description);
     fmt::print("{:<42} {}\n", "", p.path);
   }

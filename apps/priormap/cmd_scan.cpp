@@ -64,10 +64,7 @@ class Progress {
 };
 
 void Run(const ScanOptions& o) {
-  std::vector<std::filesystem::path> directories(o.prior_path.begin(), o.prior_path.end());
-  for (const auto& d : dsl::PriorLibrary::EnvironmentPriorPath()) directories.push_back(d);
-  const dsl::CompiledPrior prior =
-      ValueOrThrow(dsl::PriorLibrary(std::move(directories)).Load(o.prior));
+  const dsl::CompiledPrior prior = ValueOrThrow(MakePriorLibrary(o.prior_path).Load(o.prior));
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
   const Log log = ValueOrThrow(ReadLog(o.input, std::nullopt, carmen));

@@ -2,12 +2,12 @@
 // Lowering a resolved prior (a file and its ancestors) to scalar terms of an expression graph:
 // names, indices, shapes and constraint structure are checked here, with file:line:col errors.
 
-#include <priormap/core/diagnostic.hpp>
-#include <priormap/dsl/prior.hpp>
-
 #include <array>
 #include <memory>
 #include <vector>
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/dsl/prior.hpp>
 
 namespace priormap::dsl::detail {
 

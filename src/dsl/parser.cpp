@@ -225,11 +225,17 @@ class LineParser {
     return statement;
   }
 
-  ExprPtr Make(Expr::Kind kind, const Token& at, std::vector<ExprPtr> children = {}) const {
+  std::shared_ptr<Expr> Make(Expr::Kind kind, const Token& at,
+                             std::vector<ExprPtr> children = {}) const {
     auto e = std::make_shared<Expr>();
     e->kind = kind;
     e->loc = Location(at);
     e->children = std::move(children);
+    return e;
+  }
+  ExprPtr MakeBinary(BinaryOp op, const Token& at, ExprPtr left, ExprPtr right) const {
+    auto e = Make(Expr::Kind::kBinary, at, {std::move(left), std::move(right)});
+    e->binary = op;
     return e;
   }
 
@@ -270,11 +276,8 @@ class LineParser {
         return left;
     }
     const Token& at = Take();
-    auto e = std::make_shared<Expr>();
-    e->kind = Expr::Kind::kCompare;
-    e->loc = Location(at);
+    auto e = Make(Expr::Kind::kCompare, at, {left, Expression(false)});
     e->compare = op;
-    e->children = {left, Expression(false)};
     const TokenKind after = Peek().kind;
     if (after == TokenKind::kEqualEqual || after == TokenKind::kLessEqual ||
         after == TokenKind::kGreaterEqual || after == TokenKind::kLess ||
@@ -293,12 +296,8 @@ class LineParser {
       if (op.kind != TokenKind::kPlus && op.kind != TokenKind::kMinus) break;
       if (in_matrix && op.space_before && !op.space_after) break;
       Take();
-      auto e = std::make_shared<Expr>();
-      e->kind = Expr::Kind::kBinary;
-      e->loc = Location(op);
-      e->binary = op.kind == TokenKind::kPlus ? BinaryOp::kAdd : BinaryOp::kSubtract;
-      e->children = {left, Term(in_matrix)};
-      left = e;
+      left = MakeBinary(op.kind == TokenKind::kPlus ? BinaryOp::kAdd : BinaryOp::kSubtract, op,
+                        left, Term(in_matrix));
     }
     return left;
   }
@@ -320,12 +319,7 @@ class LineParser {
       else
         break;
       const Token& at = Take();
-      auto e = std::make_shared<Expr>();
-      e->kind = Expr::Kind::kBinary;
-      e->loc = Location(at);
-      e->binary = op;
-      e->children = {left, Unary(in_matrix)};
-      left = e;
+      left = MakeBinary(op, at, left, Unary(in_matrix));
     }
     return left;
   }
@@ -349,12 +343,8 @@ class LineParser {
     ExprPtr left = Postfix(in_matrix);
     while (Peek().kind == TokenKind::kCaret || Peek().kind == TokenKind::kDotCaret) {
       const Token& at = Take();
-      auto e = std::make_shared<Expr>();
-      e->kind = Expr::Kind::kBinary;
-      e->loc = Location(at);
-      e->binary = at.kind == TokenKind::kCaret ? BinaryOp::kPower : BinaryOp::kElementPower;
-      e->children = {left, PowerOperand(in_matrix)};
-      left = e;
+      left = MakeBinary(at.kind == TokenKind::kCaret ? BinaryOp::kPower : BinaryOp::kElementPower,
+                        at, left, PowerOperand(in_matrix));
     }
     return left;
   }
@@ -388,9 +378,7 @@ class LineParser {
     switch (t.kind) {
       case TokenKind::kNumber: {
         Take();
-        auto e = std::make_shared<Expr>();
-        e->kind = Expr::Kind::kNumber;
-        e->loc = Location(t);
+        auto e = Make(Expr::Kind::kNumber, t);
         e->number = t.number;
         return e;
       }
@@ -488,9 +476,7 @@ class LineParser {
     if (!rows.empty() && rows.back().empty() && rows.size() > 1) rows.pop_back();  // "[a; b;]"
     if (rows.size() == 1 && rows[0].empty()) Fail(open, "empty matrix '[]'");
     const std::size_t width = rows[0].size();
-    auto e = std::make_shared<Expr>();
-    e->kind = Expr::Kind::kMatrix;
-    e->loc = Location(open);
+    auto e = Make(Expr::Kind::kMatrix, open);
     e->rows = static_cast<int>(rows.size());
     for (std::size_t r = 0; r < rows.size(); ++r) {
       if (rows[r].size() != width) {

@@ -1,4 +1,6 @@
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
 
 #include <priormap/dsl/penalty.hpp>
@@ -21,11 +23,13 @@ void AddSquared(double weight, double r, const double* grad, const double* hess,
     for (std::size_t i = 0; i < n; ++i) gradient[i] += 2.0 * weight * r * grad[i];
   }
   if (hessian) {
+    // Symmetric (term Hessians are mirrored from one triangle): compute one triangle.
     for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t j = 0; j < n; ++j) {
+      for (std::size_t j = 0; j <= i; ++j) {
         double h = grad[i] * grad[j];
         if (!gauss_newton) h += r * hess[i * n + j];
         hessian[i * n + j] += 2.0 * weight * h;
+        if (j != i) hessian[j * n + i] += 2.0 * weight * h;
       }
     }
   }
@@ -43,33 +47,43 @@ PenaltyValue AccumulatePenalty(const CompiledBlock& block, const double* values,
   const auto hess_of = [&](std::size_t t) { return hessians ? hessians + t * n * n : nullptr; };
   PenaltyValue penalty;
 
-  // The smallest branch of every disjunction.
+  // The smallest branch of every disjunction. The engine calls this for every window in every
+  // Newton step, so nothing is allocated for the few disjunctions real priors have: branch
+  // sums are recomputed per branch instead of stored.
+  constexpr int kInlineDisjunctions = 16;
   const int groups = block.num_disjunctions();
-  std::vector<double> best(static_cast<std::size_t>(groups),
-                           std::numeric_limits<double>::infinity());
-  std::vector<int> best_branch(static_cast<std::size_t>(groups), 0);
-  {
-    std::vector<std::vector<double>> branch_sums(static_cast<std::size_t>(groups));
-    for (std::size_t t = 0; t < terms.size(); ++t) {
-      const Term& term = terms[t];
-      if (term.disjunction < 0) continue;
-      auto& sums = branch_sums[static_cast<std::size_t>(term.disjunction)];
-      if (sums.size() <= static_cast<std::size_t>(term.branch))
-        sums.resize(static_cast<std::size_t>(term.branch) + 1, 0.0);
-      const double r = Residual(term, values[t]);
-      sums[static_cast<std::size_t>(term.branch)] += r * r;
-    }
-    for (std::size_t g = 0; g < branch_sums.size(); ++g) {
-      for (std::size_t b = 0; b < branch_sums[g].size(); ++b) {
-        if (branch_sums[g][b] < best[g]) {
-          best[g] = branch_sums[g][b];
-          best_branch[g] = static_cast<int>(b);
-        }
-      }
-      penalty.constraint += best[g];
-    }
+  std::array<int, kInlineDisjunctions> inline_best;
+  std::vector<int> heap_best;
+  int* best_branch = inline_best.data();
+  if (groups > kInlineDisjunctions) {
+    heap_best.resize(static_cast<std::size_t>(groups));
+    best_branch = heap_best.data();
   }
-  if (active_branch) *active_branch = best_branch;
+  for (int g = 0; g < groups; ++g) {
+    int branches = 0;
+    for (const Term& term : terms) {
+      if (term.disjunction == g) branches = std::max(branches, term.branch + 1);
+    }
+    double best_sum = std::numeric_limits<double>::infinity(), best_worst = 0.0;
+    best_branch[g] = 0;
+    for (int b = 0; b < branches; ++b) {
+      double sum = 0.0, worst = 0.0;
+      for (std::size_t t = 0; t < terms.size(); ++t) {
+        if (terms[t].disjunction != g || terms[t].branch != b) continue;
+        const double r = Residual(terms[t], values[t]);
+        sum += r * r;
+        worst = std::max(worst, std::abs(r));
+      }
+      if (sum < best_sum) {
+        best_sum = sum;
+        best_worst = worst;
+        best_branch[g] = b;
+      }
+    }
+    penalty.constraint += best_sum;
+    penalty.max_residual = std::max(penalty.max_residual, best_worst);
+  }
+  if (active_branch) active_branch->assign(best_branch, best_branch + groups);
 
   for (std::size_t t = 0; t < terms.size(); ++t) {
     const Term& term = terms[t];
@@ -83,11 +97,12 @@ PenaltyValue AccumulatePenalty(const CompiledBlock& block, const double* values,
       }
       continue;
     }
-    if (term.disjunction >= 0 &&
-        term.branch != best_branch[static_cast<std::size_t>(term.disjunction)])
-      continue;
+    if (term.disjunction >= 0 && term.branch != best_branch[term.disjunction]) continue;
     const double r = Residual(term, values[t]);
-    if (term.disjunction < 0) penalty.constraint += r * r;
+    if (term.disjunction < 0) {
+      penalty.constraint += r * r;
+      penalty.max_residual = std::max(penalty.max_residual, std::abs(r));
+    }
     if (grad_of(t)) {
       AddSquared(options.lambda, r, grad_of(t), hess_of(t), n, options.gauss_newton, gradient,
                  hess_of(t) ? hessian : nullptr);

@@ -1,11 +1,11 @@
+#include <cmath>
+#include <map>
+
 #include <priormap/core/angles.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/core/se2.hpp>
 #include <priormap/core/types.hpp>
 #include <priormap/dsl/pose_independence.hpp>
-
-#include <cmath>
-#include <map>
 
 namespace priormap::dsl {
 namespace {
@@ -13,8 +13,8 @@ namespace {
 constexpr double kTolerance = 1e-7;
 
 // x = (rho, alpha) and phi of points p with normals alpha.
-void Configuration(const std::vector<Vec2>& points, const std::vector<double>& alpha, std::vector<double>& x,
-                   std::vector<double>& phi) {
+void Configuration(const std::vector<Vec2>& points, const std::vector<double>& alpha,
+                   std::vector<double>& x, std::vector<double>& phi) {
   const std::size_t k = points.size();
   x.assign(2 * k, 0.0);
   phi.assign(k, 0.0);
@@ -27,7 +27,8 @@ void Configuration(const std::vector<Vec2>& points, const std::vector<double>& a
 
 }  // namespace
 
-PoseIndependenceReport CheckPoseIndependence(const CompiledPrior& prior, int configurations, std::uint64_t seed) {
+PoseIndependenceReport CheckPoseIndependence(const CompiledPrior& prior, int configurations,
+                                             std::uint64_t seed) {
   PoseIndependenceReport report;
   report.configurations = configurations;
   Rng rng(seed);
@@ -47,7 +48,8 @@ PoseIndependenceReport CheckPoseIndependence(const CompiledPrior& prior, int con
         points[i] = rng.Uniform(0.5, 5.0) * UnitVector(rng.Uniform(-kPi / 2, kPi / 2));
         alpha[i] = rng.Uniform(-kPi, kPi);
       }
-      const double dx = rng.Uniform(-2, 2), dy = rng.Uniform(-2, 2), dtheta = rng.Uniform(-kPi, kPi);
+      const double dx = rng.Uniform(-2, 2), dy = rng.Uniform(-2, 2),
+                   dtheta = rng.Uniform(-kPi, kPi);
       Configuration(points, alpha, x, phi);
       evaluator.Evaluate(x, phi, before.data());
       const Se2 motion(dx, dy, dtheta);
@@ -63,7 +65,8 @@ PoseIndependenceReport CheckPoseIndependence(const CompiledPrior& prior, int con
         if (change <= kTolerance * (1.0 + std::abs(before[t]))) continue;
         auto [it, inserted] = worst.try_emplace(static_cast<int>(t));
         if (inserted || change > std::abs(it->second.value_after - it->second.value_before)) {
-          it->second = {static_cast<BlockKind>(b), static_cast<int>(t), before[t], after[t], dx, dy, dtheta};
+          it->second = {
+              static_cast<BlockKind>(b), static_cast<int>(t), before[t], after[t], dx, dy, dtheta};
         }
       }
     }

@@ -6,12 +6,13 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-
-#include <Eigen/Eigenvalues>
+#include <optional>
+#include <span>
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/check.hpp>
 #include <priormap/priorlets/engine.hpp>
+#include <priormap/priorlets/normal_baselines.hpp>
 
 #include "inner_problem.hpp"
 #include "inner_solver.hpp"
@@ -42,6 +43,20 @@ struct Topology {
   std::vector<std::size_t> beams;  // in-model beams, increasing
   std::vector<Link> links;         // links[j] between beams[j] and beams[j + 1]
 };
+
+// Maximal runs [first, last] of consecutive points whose links are all `joining` or stricter:
+// regions for kSameRegion, surfaces for kDifferentRegion.
+std::vector<std::pair<std::size_t, std::size_t>> Runs(const Topology& topology, Link joining) {
+  std::vector<std::pair<std::size_t, std::size_t>> runs;
+  const std::size_t m = topology.beams.size();
+  for (std::size_t j = 0; j < m;) {
+    std::size_t e = j;
+    while (e + 1 < m && topology.links[e] <= joining) ++e;
+    runs.emplace_back(j, e);
+    j = e + 1;
+  }
+  return runs;
+}
 
 class Engine {
  public:
@@ -74,8 +89,10 @@ class Engine {
   // Removes points of too-small regions; the link across a removed run is same_region again
   // unless geometry says otherwise.
   bool RemoveLonelyPoints(Topology& topology) const;
-  // Removes the points of the window with the largest penalty (when no link can relax).
+  // Removes the point after the link with the largest penalty (when no link can relax).
   void RemoveWorstPoints(Topology& topology, const std::vector<double>& penalties) const;
+  // The points with keep[j] set, bridged across removed runs as RemoveLonelyPoints says.
+  [[nodiscard]] Topology Keep(const Topology& topology, const std::vector<char>& keep) const;
   void RefineBorders(Topology& topology, InnerResult& solution);
   // Data and energy terms of the last solved problem at its solution.
   [[nodiscard]] double FitCost(const InnerResult& solution);
@@ -119,14 +136,11 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
   std::vector<ProblemPoint> points(m);
   // Region of each in-model point.
   std::vector<std::size_t> region_start(m), region_end(m);
-  for (std::size_t j = 0; j < m;) {
-    std::size_t e = j;
-    while (e + 1 < m && topology.links[e] == Link::kSameRegion) ++e;
-    for (std::size_t q = j; q <= e; ++q) {
-      region_start[q] = j;
-      region_end[q] = e;
-    }
-    j = e + 1;
+  for (const auto& [first, last] : Runs(topology, Link::kSameRegion)) {
+    std::fill(region_start.begin() + static_cast<long>(first),
+              region_start.begin() + static_cast<long>(last) + 1, first);
+    std::fill(region_end.begin() + static_cast<long>(first),
+              region_end.begin() + static_cast<long>(last) + 1, last);
   }
   const auto h = static_cast<std::size_t>(std::max(1, options_.normal_half_window));
   const double alpha_bound = DegToRad(options_.alpha_bound_deg);
@@ -146,22 +160,10 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
     const std::size_t hi = std::min(region_end[j], j + h);
     pt.alpha_initial = facing;
     pt.alpha_sigma = std::max(options_.alpha_prior_sigma_min, 0.5);
-    if (hi - lo + 1 >= 3) {
-      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-      for (std::size_t q = lo; q <= hi; ++q) mean += scan_.PointInSensorFrame(topology.beams[q]);
-      mean /= static_cast<double>(hi - lo + 1);
-      Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-      for (std::size_t q = lo; q <= hi; ++q) {
-        const Eigen::Vector2d d = scan_.PointInSensorFrame(topology.beams[q]) - mean;
-        scatter += d * d.transpose();
-      }
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
-      const Eigen::Vector2d normal = eig.eigenvectors().col(0);
-      pt.alpha_initial = facing + WrapAngle(std::atan2(normal.y(), normal.x()) - facing);
-      // The other orientation of the same line faces the sensor.
-      if (std::abs(pt.alpha_initial - facing) > 0.5 * std::numbers::pi) {
-        pt.alpha_initial = facing + WrapAngle(std::atan2(-normal.y(), -normal.x()) - facing);
-      }
+    if (hi - lo + 1 < 3) continue;
+    const std::span<const std::size_t> neighbours(topology.beams.data() + lo, hi - lo + 1);
+    if (const std::optional<double> normal = FitLineNormal(scan_, neighbours, beam)) {
+      pt.alpha_initial = facing + WrapAngle(*normal - facing);
       pt.alpha_sigma = options_.alpha_prior_sigma_min;
     }
   }
@@ -252,54 +254,41 @@ bool Engine::BreakLinks(Topology& topology, const std::vector<double>& penalties
   return changed;
 }
 
-bool Engine::RemoveLonelyPoints(Topology& topology) const {
-  const std::size_t m = topology.beams.size();
-  std::vector<char> keep(m, 1);
-  bool removed = false;
-  for (std::size_t j = 0; j < m;) {
-    std::size_t e = j;
-    while (e + 1 < m && topology.links[e] == Link::kSameRegion) ++e;
-    if (e - j + 1 < static_cast<std::size_t>(options_.min_region_points)) {
-      std::fill(keep.begin() + static_cast<long>(j), keep.begin() + static_cast<long>(e) + 1, 0);
-      removed = true;
-    }
-    j = e + 1;
-  }
-  if (!removed) return false;
+Topology Engine::Keep(const Topology& topology, const std::vector<char>& keep) const {
   Topology next;
-  for (std::size_t j = 0; j < m; ++j) {
+  for (std::size_t j = 0; j < topology.beams.size(); ++j) {
     if (!keep[j]) continue;
     if (!next.beams.empty()) {
       // Kept neighbours keep their link; across a removed run the strictest link is tried again.
-      const std::size_t prev = next.beams.back();
-      const bool adjacent = j > 0 && keep[j - 1] && topology.beams[j - 1] == prev;
-      next.links.push_back(adjacent ? topology.links[j - 1] : InitialLink(prev, topology.beams[j]));
+      next.links.push_back(keep[j - 1] ? topology.links[j - 1]
+                                       : InitialLink(next.beams.back(), topology.beams[j]));
     }
     next.beams.push_back(topology.beams[j]);
   }
-  topology = std::move(next);
-  return true;
+  return next;
+}
+
+bool Engine::RemoveLonelyPoints(Topology& topology) const {
+  std::vector<char> keep(topology.beams.size(), 1);
+  bool removed = false;
+  for (const auto& [first, last] : Runs(topology, Link::kSameRegion)) {
+    if (last - first + 1 >= static_cast<std::size_t>(options_.min_region_points)) continue;
+    std::fill(keep.begin() + static_cast<long>(first), keep.begin() + static_cast<long>(last) + 1,
+              0);
+    removed = true;
+  }
+  if (removed) topology = Keep(topology, keep);
+  return removed;
 }
 
 void Engine::RemoveWorstPoints(Topology& topology, const std::vector<double>& penalties) const {
   if (topology.beams.empty()) return;
-  std::size_t worst = 0;
-  for (std::size_t l = 1; l < penalties.size(); ++l) {
-    if (penalties[l] > penalties[worst]) worst = l;
-  }
-  // Drop the point of the worst link whose own region is smaller.
-  Topology next;
-  const std::size_t drop = topology.beams.size() == 1 ? 0 : worst + 1;
-  for (std::size_t j = 0; j < topology.beams.size(); ++j) {
-    if (j == drop) continue;
-    if (!next.beams.empty()) {
-      const bool adjacent = j > 0 && j - 1 != drop;
-      next.links.push_back(adjacent ? topology.links[j - 1]
-                                    : InitialLink(next.beams.back(), topology.beams[j]));
-    }
-    next.beams.push_back(topology.beams[j]);
-  }
-  topology = std::move(next);
+  // Drop the point after the link with the largest penalty.
+  const std::size_t worst = static_cast<std::size_t>(
+      std::max_element(penalties.begin(), penalties.end()) - penalties.begin());
+  std::vector<char> keep(topology.beams.size(), 1);
+  keep[topology.beams.size() == 1 ? 0 : worst + 1] = 0;
+  topology = Keep(topology, keep);
 }
 
 double Engine::FitCost(const InnerResult& solution) {
@@ -449,23 +438,16 @@ MapScan Engine::Run() {
     out.alpha_upper[beam] = pt.alpha_upper;
     out.inmodel[beam] = 1;
   }
-  for (std::size_t j = 0; j < solved.beams.size();) {
-    std::size_t e = j;
-    while (e + 1 < solved.beams.size() && solved.links[e] == Link::kSameRegion) ++e;
-    out.regions.push_back({solved.beams[j], solved.beams[e]});
-    j = e + 1;
+  for (const auto& [first, last] : Runs(solved, Link::kSameRegion)) {
+    out.regions.push_back({solved.beams[first], solved.beams[last]});
   }
-  for (std::size_t j = 0; j < solved.beams.size();) {
-    std::size_t e = j;
-    while (e + 1 < solved.beams.size() && solved.links[e] != Link::kDifferentSurface) ++e;
-    out.surfaces.push_back({solved.beams[j], solved.beams[e]});
-    j = e + 1;
+  for (const auto& [first, last] : Runs(solved, Link::kDifferentRegion)) {
+    out.surfaces.push_back({solved.beams[first], solved.beams[last]});
   }
   out.feasible = solution.feasible;
   out.max_violation = solution.violation.max_residual;
   const double gamma = std::log(options_.beta / (1.0 - options_.beta));
-  const ObjectiveValue value = problem_->Evaluate(solution.x, 0.0, 0.0, nullptr, nullptr);
-  out.objective = value.data + value.energy - gamma * static_cast<double>(solved.beams.size());
+  out.objective = FitCost(solution) - gamma * static_cast<double>(solved.beams.size());
   stats_.seconds_total = Seconds(start);
   out.stats = stats_;
   return out;

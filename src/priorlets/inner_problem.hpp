@@ -56,7 +56,6 @@ class InnerProblem {
   [[nodiscard]] std::size_t num_unknowns() const { return 2 * points_.size(); }
   [[nodiscard]] const std::vector<ProblemPoint>& points() const { return points_; }
   [[nodiscard]] const std::vector<Link>& links() const { return links_; }
-  [[nodiscard]] std::size_t hessian_bandwidth() const { return bandwidth_; }
 
   // The measurements with the initial normals, pulled strictly inside the bounds.
   [[nodiscard]] Eigen::VectorXd InitialPoint() const;
@@ -75,18 +74,8 @@ class InnerProblem {
   [[nodiscard]] Violation Violations(const Eigen::VectorXd& x);
   // Per link, the constraint penalty of the windows that contain it.
   [[nodiscard]] std::vector<double> LinkPenalties(const Eigen::VectorXd& x);
-  // The rows of grad f_T at x (equalities, and the active branch of every disjunction), for the
-  // degrees-of-freedom analysis: first unknown index and 2k coefficients.
-  struct JacobianRow {
-    std::size_t first;
-    std::vector<double> coefficients;
-  };
-  [[nodiscard]] std::vector<JacobianRow> EqualityJacobian(const Eigen::VectorXd& x);
-  // The Hessian of the prior energies alone (no penalties, no data, no barrier), convexified
-  // per window: the extra information the covariance shrinking adds to the measurements'.
-  [[nodiscard]] SymmetricBandedMatrix EnergyHessian(const Eigen::VectorXd& x);
-  // The information of the data term (measurements and initial normals' weak prior).
-  [[nodiscard]] SymmetricBandedMatrix DataInformation() const;
+  // The information of the data term (measurements and the initial normals' weak prior).
+  [[nodiscard]] const SymmetricBandedMatrix& data_information() const { return data_information_; }
 
  private:
   struct BlockWindows {
@@ -100,17 +89,16 @@ class InnerProblem {
   // Fills every block's x from the global unknowns and evaluates up to `level` (0 values,
   // 1 gradients, 2 Hessians).
   void EvaluateWindows(const Eigen::VectorXd& x, int level);
-  // The global unknown index of a block unknown v of the window starting at point p.
-  [[nodiscard]] std::size_t GlobalIndex(std::size_t p, int v) const;
-
   int order_;
   std::vector<ProblemPoint> points_;
   std::vector<Link> links_;
-  std::vector<double> range_sigma_;
-  std::optional<SymmetricBandedMatrix> range_precision_;
+  SymmetricBandedMatrix data_information_;
+  Eigen::VectorXd data_target_;  // measured ranges and initial normals, interleaved
   std::array<BlockWindows, 3> windows_;
   std::size_t bandwidth_ = 1;
-  std::vector<std::size_t> global_index_;  // GlobalIndex(0, v) for the block unknowns v
+  // Block unknown v (rho_1..rho_k, alpha_1..alpha_k) of the window starting at point p is
+  // global unknown 2 p + global_index_[v].
+  std::vector<std::size_t> global_index_;
 };
 
 }  // namespace priormap::priorlets

@@ -29,7 +29,7 @@ InnerResult SolveInner(InnerProblem& problem, const Eigen::VectorXd* x0,
   }
   // Penalties only matter once they outweigh the data; judge stalling from there on.
   double data_weight = 0.0;
-  const SymmetricBandedMatrix info = problem.DataInformation();
+  const SymmetricBandedMatrix& info = problem.data_information();
   for (std::size_t i = 0; i < info.size(); ++i) data_weight = std::max(data_weight, info(i, i));
   const double lambda_judged = 100.0 * data_weight;
 

@@ -145,6 +145,13 @@ bool PcaNormalOptions::IsValid(std::string* why) const {
   return reason.empty();
 }
 
+std::optional<double> FitLineNormal(const Scan& scan, std::span<const std::size_t> beams,
+                                    std::size_t facing_beam, LineFitModel model) {
+  const auto line = detail::FitLine(scan, beams, model);
+  if (!line) return std::nullopt;
+  return detail::NormalTowardsSensor(*line, scan.angles[facing_beam]);
+}
+
 std::vector<double> PcaNormals(const Scan& scan, const PcaNormalOptions& options) {
   std::string why;
   PRIORMAP_CHECK(options.IsValid(&why), why);
@@ -153,9 +160,7 @@ std::vector<double> PcaNormals(const Scan& scan, const PcaNormalOptions& options
   for (std::size_t i = 0; i < scan.size(); ++i) {
     if (!scan.IsValid(i)) continue;
     detail::CollectWindow(scan, i, options.k / 2, options.max_neighbour_distance, beams);
-    if (const auto line = detail::FitLine(scan, beams, options.model)) {
-      alpha[i] = detail::NormalTowardsSensor(*line, scan.angles[i]);
-    }
+    alpha[i] = FitLineNormal(scan, beams, i, options.model).value_or(detail::kNaN);
   }
   return alpha;
 }

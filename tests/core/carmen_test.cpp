@@ -410,7 +410,7 @@ TEST(Carmen, RobotLaserOwnMaxRangeWinsOverTheDetectedSentinel) {
   EXPECT_EQ(robot_laser.channel, "ROBOTLASER1");
   EXPECT_DOUBLE_EQ(robot_laser.max_range, 20.0);
   EXPECT_EQ(robot_laser.status[3], BeamStatus::kMaxRange);  // 25 m, beyond the record's 20 m
-  EXPECT_DOUBLE_EQ(log.scans.front().max_range, 81.33);      // the FLASER scans keep the sentinel
+  EXPECT_DOUBLE_EQ(log.scans.front().max_range, 81.33);     // the FLASER scans keep the sentinel
 }
 
 TEST(Carmen, NoSentinelAndNoOptionMeansNoMaxRange) {

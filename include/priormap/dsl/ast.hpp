@@ -18,10 +18,14 @@ struct SourceLocation {
 };
 
 enum class BinaryOp {
-  kAdd, kSubtract,
-  kMatrixMultiply, kDivide,  // * and / (MATLAB: matrix product, right division)
-  kElementMultiply, kElementDivide, kElementPower,  // .* ./ .^
-  kPower,  // ^
+  kAdd,
+  kSubtract,
+  kMatrixMultiply,
+  kDivide,  // * and / (MATLAB: matrix product, right division)
+  kElementMultiply,
+  kElementDivide,
+  kElementPower,  // .* ./ .^
+  kPower,         // ^
 };
 
 enum class CompareOp { kEqual, kLessEqual, kGreaterEqual, kLess, kGreater };
@@ -78,8 +82,8 @@ struct Block {
 
 /// `key: value` at file scope.
 struct HeaderEntry {
-  std::string key;    ///< name, order, max_curvature or specializes
-  std::string value;  ///< the rest of the line, trimmed, without its comment
+  std::string key;           ///< name, order, max_curvature or specializes
+  std::string value;         ///< the rest of the line, trimmed, without its comment
   SourceLocation loc;        ///< of the key
   SourceLocation value_loc;  ///< of the value
 };

@@ -2,12 +2,12 @@
 /// Parsing priorlet files into syntax trees. Only syntax is checked here; names, shapes and
 /// inheritance are checked when a prior is compiled (compile.hpp).
 
-#include <priormap/core/diagnostic.hpp>
-#include <priormap/dsl/ast.hpp>
-
 #include <filesystem>
 #include <string>
 #include <string_view>
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/dsl/ast.hpp>
 
 namespace priormap::dsl {
 

@@ -26,6 +26,9 @@ struct PenaltyValue {
   double constraint =
       0.0;  ///< sum of f^2, max(0, g)^2 and the disjunctions' smallest branches (unweighted)
   double energy = 0.0;  ///< sum of h
+  /// The largest residual: |f|, max(0, g), and within each disjunction its smallest branch's
+  /// largest (the feasibility measure, in the constraints' own units).
+  double max_residual = 0.0;
   /// lambda * constraint + energy.
   [[nodiscard]] double Total(double lambda) const { return lambda * constraint + energy; }
 };

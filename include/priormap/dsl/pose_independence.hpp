@@ -5,11 +5,11 @@
 /// Value invariance is sufficient, not necessary: a constraint can keep its zero set while its
 /// value changes, so a failure is a warning to read, not a proof.
 
-#include <priormap/dsl/prior.hpp>
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include <priormap/dsl/prior.hpp>
 
 namespace priormap::dsl {
 
@@ -22,13 +22,14 @@ struct PoseIndependenceViolation {
 };
 
 struct PoseIndependenceReport {
-  int configurations = 0;  ///< random configurations tried per block
+  int configurations = 0;                             ///< random configurations tried per block
   std::vector<PoseIndependenceViolation> violations;  ///< the worst one per term that changed
   [[nodiscard]] bool ok() const { return violations.empty(); }
 };
 
 /// Tries `configurations` random local maps and rigid motions per block (reproducible from `seed`).
-[[nodiscard]] PoseIndependenceReport CheckPoseIndependence(const CompiledPrior& prior, int configurations = 200,
+[[nodiscard]] PoseIndependenceReport CheckPoseIndependence(const CompiledPrior& prior,
+                                                           int configurations = 200,
                                                            std::uint64_t seed = 1);
 
 }  // namespace priormap::dsl

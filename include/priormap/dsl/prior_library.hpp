@@ -5,13 +5,13 @@
 /// library's directories (`--prior-path`, then PRIORMAP_PRIOR_PATH), and the built-in library
 /// (the files of priors/, compiled into priormap). Within one directory a name must be unique.
 
-#include <priormap/core/diagnostic.hpp>
-#include <priormap/dsl/ast.hpp>
-#include <priormap/dsl/prior.hpp>
-
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <priormap/core/diagnostic.hpp>
+#include <priormap/dsl/ast.hpp>
+#include <priormap/dsl/prior.hpp>
 
 namespace priormap::dsl {
 
@@ -37,12 +37,14 @@ class PriorLibrary {
   /// listed once.
   [[nodiscard]] std::vector<PriorListing> List() const;
 
-  /// Compiles the prior in file `file_or_name` when such a file exists, else the prior of that name.
+  /// Compiles the prior in file `file_or_name` when such a file exists, else the prior of that
+  /// name.
   [[nodiscard]] Result<CompiledPrior> Load(const std::string& file_or_name) const;
   /// Compiles an already parsed prior, resolving its `specializes:` chain.
   [[nodiscard]] Result<CompiledPrior> Compile(const PriorFile& file) const;
   /// Compiles prior text; `path` names it and locates its parents.
-  [[nodiscard]] Result<CompiledPrior> CompileText(std::string_view text, const std::string& path) const;
+  [[nodiscard]] Result<CompiledPrior> CompileText(std::string_view text,
+                                                  const std::string& path) const;
 
  private:
   struct Candidate;

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -48,6 +49,15 @@ struct PcaNormalOptions {
 
   [[nodiscard]] bool IsValid(std::string* why) const;
 };
+
+/// The normal of the line fitted to the valid readings `beams` (sensor frame, the direction
+/// that points back along beam `facing_beam`, wrapped to (-pi, pi] as ScanTruth::alpha);
+/// nullopt for fewer than two distinct points. The fit behind PcaNormals, and the engine's
+/// initial normals.
+[[nodiscard]] std::optional<double> FitLineNormal(const Scan& scan,
+                                                  std::span<const std::size_t> beams,
+                                                  std::size_t facing_beam,
+                                                  LineFitModel model = LineFitModel::kOrthogonal);
 
 /// One normal per beam from a line fitted to the valid readings in the beam's window (invalid
 /// beams in the window are skipped, not replaced). Size scan.size(); NaN for beams that are not
