@@ -16,9 +16,6 @@ double Residual(const Term& term, double value) {
 // Adds weight * (r^2) derivatives of term t: gradient 2 r grad, Hessian 2 (grad grad^T + r Hess).
 void AddSquared(double weight, double r, const double* grad, const double* hess, std::size_t n,
                 bool gauss_newton, double* gradient, double* hessian) {
-  if (r == 0.0)
-    return;  // max(0, g) inactive, or f exactly satisfied: nothing to add (r grad = 0 and,
-             // for an inactive inequality, no curvature either)
   if (gradient) {
     for (std::size_t i = 0; i < n; ++i) gradient[i] += 2.0 * weight * r * grad[i];
   }
@@ -103,7 +100,10 @@ PenaltyValue AccumulatePenalty(const CompiledBlock& block, const double* values,
       penalty.constraint += r * r;
       penalty.max_residual = std::max(penalty.max_residual, std::abs(r));
     }
-    if (grad_of(t)) {
+    // An inactive inequality (g < 0) adds nothing; a satisfied equality (f = 0) still adds its
+    // curvature 2 grad f grad f^T.
+    const bool inactive = term.kind == TermKind::kInequality && values[t] <= 0.0;
+    if (grad_of(t) && !inactive) {
       AddSquared(options.lambda, r, grad_of(t), hess_of(t), n, options.gauss_newton, gradient,
                  hess_of(t) ? hessian : nullptr);
     }

@@ -84,6 +84,23 @@ TEST(Penalty, EqualitiesAreSquared) {
   ExpectDerivativesMatch(block, x, phi);
 }
 
+// f = 0 exactly still curves f^2: its Hessian there is 2 grad f grad f^T, which Newton steps on
+// a satisfied constraint need (alpha_1 == alpha_2 holds exactly here).
+TEST(Penalty, SatisfiedEqualityKeepsItsCurvature) {
+  const CompiledPrior prior = Load("Polygonal prior");
+  const CompiledBlock& block = *prior.block(BlockKind::kSameRegion);
+  const std::vector<double> x = {1.0, 2.0, 0.3, 0.3}, phi = {0.0, 0.2};
+  const Evaluation e = Evaluate(block, x, phi);
+  ASSERT_EQ(e.values[0], 0.0);
+  // Gauss-Newton: (alpha_1 - alpha_2)^2 alone gives 2 on the alpha_1 diagonal.
+  std::vector<double> hessian(16, 0.0);
+  (void)AccumulatePenalty(block, e.values.data(), e.gradients.data(), e.hessians.data(),
+                          {1.0, true}, nullptr, hessian.data());
+  EXPECT_GE(hessian[2 * 4 + 2], 2.0);
+  // Exact: the finite differences of the gradient.
+  ExpectDerivativesMatch(block, x, phi);
+}
+
 TEST(Penalty, DisjunctionTakesTheSmallestBranch) {
   const CompiledPrior prior = Load("Rectangular prior");
   const CompiledBlock& block = *prior.block(BlockKind::kDifferentRegion);
