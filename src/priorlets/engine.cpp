@@ -423,6 +423,7 @@ MapScan Engine::Run() {
   out.rho = scan_.ranges;
   out.alpha.assign(n, std::numeric_limits<double>::quiet_NaN());
   out.initial_alpha = out.alpha;
+  out.initial_alpha_sigma = out.alpha;
   out.alpha_lower = out.alpha;
   out.alpha_upper = out.alpha;
   out.inmodel.assign(n, 0);
@@ -434,6 +435,7 @@ MapScan Engine::Run() {
     out.rho[beam] = solution.x[static_cast<Eigen::Index>(2 * j)];
     out.alpha[beam] = solution.x[static_cast<Eigen::Index>(2 * j + 1)];
     out.initial_alpha[beam] = pt.alpha_initial;
+    out.initial_alpha_sigma[beam] = pt.alpha_sigma;
     out.alpha_lower[beam] = pt.alpha_lower;
     out.alpha_upper[beam] = pt.alpha_upper;
     out.inmodel[beam] = 1;

@@ -81,6 +81,8 @@ struct MapScan {
   std::vector<double> rho;
   std::vector<double> alpha;  ///< sensor frame, towards the sensor, unwrapped along the scan
   std::vector<double> initial_alpha;  ///< the estimate the optimisation started from (NaN if none)
+  /// Standard deviation of the weak prior on initial_alpha, rad (NaN if none).
+  std::vector<double> initial_alpha_sigma;
   std::vector<double> alpha_lower, alpha_upper;  ///< bounds of the final solve (NaN if none)
   std::vector<std::uint8_t> inmodel;
   std::vector<std::size_t> inmodel_beams;  ///< the beams in INMODEL, in order
