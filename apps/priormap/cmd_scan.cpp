@@ -1,7 +1,9 @@
 // priormap scan: the MAP scan under a prior (priorlets engine) for one scan or every scan of a log.
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
 #include <mutex>
+#include <tuple>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -13,6 +15,8 @@
 #include <priormap/dsl/prior_library.hpp>
 #include <priormap/priorlets/engine.hpp>
 #include <priormap/priorlets/map_scan_json.hpp>
+#include <priormap/priorlets/posterior.hpp>
+#include <priormap/render/map_scan_figure.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -30,6 +34,11 @@ struct ScanOptions {
   double beta = priorlets::EngineOptions{}.beta;
   bool no_refine = false;
   std::optional<double> max_range;
+  std::string covariance = "conditional";
+  int eigenvariations = priorlets::PosteriorOptions{}.eigenvariations;
+  std::size_t max_free_dimension = priorlets::PosteriorOptions{}.max_free_dimension;
+  std::optional<std::string> png;
+  std::optional<std::string> svg;
 };
 
 // A progress bar on stderr, redrawn at most every percent on a terminal; elsewhere (CI logs,
@@ -63,7 +72,35 @@ class Progress {
   std::size_t last_percent_ = 101;
 };
 
+// --png / --svg: each names a file of its own format, written only for one scan.
+void CheckFigureOptions(const ScanOptions& o) {
+  for (const auto& [file, option, extension] :
+       {std::tuple(o.png, "--png", ".png"), std::tuple(o.svg, "--svg", ".svg")}) {
+    if (!file) continue;
+    if (o.all) {
+      throw UserError(fmt::format("{} draws one scan, not --all (choose it with --index)", option));
+    }
+    if (std::filesystem::path(*file).extension().string() != extension) {
+      throw UserError(fmt::format("{}: '{}' must end in {}", option, *file, extension));
+    }
+    RequireOutputDirectory(*file, option);
+  }
+}
+
+// The figure of the MAP scan and its posterior, in each requested format.
+void WriteFigures(const ScanOptions& o, const Scan& scan, const priorlets::MapScan& map,
+                  const priorlets::Posterior& posterior, const std::string& title) {
+  if (!o.png && !o.svg) return;
+  const render::MapScanFigure figure(scan, map, posterior, {.title = title});
+  for (const std::optional<std::string>& file : {o.png, o.svg}) {
+    if (!file) continue;
+    figure.Save(*file);
+    fmt::print("wrote {}\n", *file);
+  }
+}
+
 void Run(const ScanOptions& o) {
+  CheckFigureOptions(o);
   const dsl::CompiledPrior prior = ValueOrThrow(MakePriorLibrary(o.prior_path).Load(o.prior));
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
@@ -78,17 +115,36 @@ void Run(const ScanOptions& o) {
   priorlets::EngineOptions engine;
   engine.beta = o.beta;
   engine.refine_borders = !o.no_refine;
-  const auto solve = [&](std::size_t k) {
-    const Scan& scan = log.scans[k];
-    if (const std::vector<std::string> problems = scan.Problems(); !problems.empty()) {
+  const auto check = [&](std::size_t k) {
+    if (const std::vector<std::string> problems = log.scans[k].Problems(); !problems.empty()) {
       throw UserError(fmt::format("scan {}: {}", k, problems.front()));
     }
-    return priorlets::MapScanToJson(priorlets::EstimateMapScan(scan, prior, engine),
-                                    {k, prior.name(), o.input});
+  };
+  // Sec. IV; the m x m range covariance only for the figure (it is not written to JSON).
+  priorlets::PosteriorOptions posterior_options;
+  posterior_options.form = o.covariance == "projected" ? priorlets::CovarianceForm::kProjected
+                                                       : priorlets::CovarianceForm::kConditional;
+  posterior_options.eigenvariations = o.eigenvariations;
+  posterior_options.max_free_dimension = o.max_free_dimension;
+  const auto solve = [&](std::size_t k) {
+    check(k);
+    const priorlets::MapScan map = priorlets::EstimateMapScan(log.scans[k], prior, engine);
+    const priorlets::Posterior posterior =
+        priorlets::AnalysePosterior(log.scans[k], prior, map, engine, posterior_options);
+    return priorlets::MapScanToJson(map, {k, prior.name(), o.input}, &posterior);
   };
   if (!o.all) {
-    WriteTextFileAtomically(o.out, solve(index) + "\n");
+    check(index);
+    const Scan& scan = log.scans[index];
+    const priorlets::MapScan map = priorlets::EstimateMapScan(scan, prior, engine);
+    posterior_options.keep_range_covariance = o.png || o.svg;
+    const priorlets::Posterior posterior =
+        priorlets::AnalysePosterior(scan, prior, map, engine, posterior_options);
+    WriteTextFileAtomically(
+        o.out, priorlets::MapScanToJson(map, {index, prior.name(), o.input}, &posterior) + "\n");
     fmt::print("wrote {}\n", o.out);
+    WriteFigures(o, scan, map, posterior,
+                 fmt::format("{}: scan {}, {}", o.input, index, prior.name()));
     return;
   }
   // Every scan, in parallel; a scan that fails is reported and written as an error record.
@@ -142,6 +198,21 @@ void AddScanCommand(CLI::App& app) {
   cmd->add_option("--max-range", o->max_range,
                   "CARMEN input: readings at or above this are max-range")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--covariance", o->covariance,
+                  "Posterior covariance restricted to Free: 'conditional' N (N^T A N)^-1 N^T, or "
+                  "the paper's 'projected' P A^-1 P^T (docs/formats.md)")
+      ->check(CLI::IsMember({"conditional", "projected"}))
+      ->capture_default_str();
+  cmd->add_option("--eigenvariations", o->eigenvariations, "Scan eigenvariations reported")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  cmd->add_option("--max-free-dimension", o->max_free_dimension,
+                  "Above this dim(Free) no covariance matrix or eigenvariations (cost O(dim^3))")
+      ->capture_default_str();
+  cmd->add_option("--png", o->png,
+                  "One scan: a figure of the MAP scan, its normals, eigenvariations and "
+                  "posterior covariance (PNG)");
+  cmd->add_option("--svg", o->svg, "The same figure as SVG");
   cmd->callback([o] { Run(*o); });
 }
 

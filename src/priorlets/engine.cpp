@@ -6,13 +6,14 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <span>
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/check.hpp>
+#include <priormap/core/types.hpp>
 #include <priormap/priorlets/engine.hpp>
-#include <priormap/priorlets/normal_baselines.hpp>
 
 #include "inner_problem.hpp"
 #include "inner_solver.hpp"
@@ -32,17 +33,100 @@ double DegToRad(double deg) {
 
 // Links with a penalty above this fraction of the largest form the zones of BreakLinks.
 constexpr double kZoneFraction = 0.01;
+// An infeasible solve that brought the penalty below this fraction of its first stage's is
+// near a solution: what is left of the penalty points at what is wrong.
+constexpr double kNearlyFeasible = 0.01;
 // Border refinement: points on each side of a border in its local problem, and moves at most.
 constexpr int kRefineHalfWindow = 30;
 constexpr int kMaxBorderMoves = 8;
-// A warm-started solve resumes the penalty homotopy this factor below where the last ended.
+// A warm-started refinement solve resumes the penalty homotopy this factor below where the
+// greedy solution's ended.
 constexpr double kWarmLambdaBackoff = 1e-3;
+// The window of an initial normal grows from normal_half_window neighbours on each side up to
+// this many times as many while the points fit a line.
+constexpr std::size_t kMaxNormalHalfWindow = 16;
+
+// Total least squares lines through runs of consecutive points, from prefix sums of the
+// weighted moments (O(1) per window).
+class LineFitter {
+ public:
+  struct Fit {
+    double normal = 0.0;  // direction of the line's normal (either sense)
+    double ssr = 0.0;     // weighted sum of squared orthogonal residuals
+    std::size_t n = 0;
+    // The residual per degree of freedom (about 1 for points on a line).
+    [[nodiscard]] double NormalisedResidual() const {
+      return n > 2 ? ssr / static_cast<double>(n - 2) : 0.0;
+    }
+    // True when the residual is within the noise at the 99.9% level (chi-square with n - 2
+    // degrees of freedom, Wilson-Hilferty approximation of its quantile).
+    [[nodiscard]] bool Consistent() const {
+      if (n <= 2) return true;
+      const double k = static_cast<double>(n - 2), c = 2.0 / (9.0 * k);
+      return ssr <= k * std::pow(1.0 - c + 3.09 * std::sqrt(c), 3);
+    }
+  };
+
+  // Points in the sensor frame with weights 1 / sigma^2 (the noise is radial; its orthogonal
+  // part is smaller, which makes the test lenient at grazing incidence).
+  LineFitter(const std::vector<Vec2>& xy, const std::vector<double>& weight)
+      : sums_(xy.size() + 1, Moments{}) {
+    for (std::size_t j = 0; j < xy.size(); ++j) {
+      const double w = weight[j], x = xy[j].x(), y = xy[j].y();
+      const Moments& s = sums_[j];
+      sums_[j + 1] = {s.w + w,          s.x + w * x,      s.y + w * y,
+                      s.xx + w * x * x, s.xy + w * x * y, s.yy + w * y * y};
+    }
+  }
+
+  // The line through points lo..hi; nullopt for fewer than 3 points or coinciding ones.
+  [[nodiscard]] std::optional<Fit> operator()(std::size_t lo, std::size_t hi) const {
+    if (hi < lo + 2) return std::nullopt;
+    const Moments& a = sums_[lo];
+    const Moments& b = sums_[hi + 1];
+    const double w = b.w - a.w, cx = (b.x - a.x) / w, cy = (b.y - a.y) / w;
+    const double sxx = (b.xx - a.xx) - w * cx * cx;
+    const double sxy = (b.xy - a.xy) - w * cx * cy;
+    const double syy = (b.yy - a.yy) - w * cy * cy;
+    if (!(sxx + syy > 0.0)) return std::nullopt;
+    Fit fit;
+    fit.normal = 0.5 * std::atan2(2.0 * sxy, sxx - syy) + 0.5 * std::numbers::pi;
+    fit.ssr = std::max(0.0, 0.5 * (sxx + syy - std::hypot(sxx - syy, 2.0 * sxy)));
+    fit.n = hi - lo + 1;
+    return fit;
+  }
+
+ private:
+  struct Moments {
+    double w, x, y, xx, xy, yy;
+  };
+  std::vector<Moments> sums_;
+};
 
 // The state of Algorithm 1: which valid beams are in the model and how consecutive ones relate.
 struct Topology {
   std::vector<std::size_t> beams;  // in-model beams, increasing
   std::vector<Link> links;         // links[j] between beams[j] and beams[j + 1]
 };
+
+// How clearly the largest penalty of a relaxable link stands out: its ratio to the median.
+double Prominence(const std::vector<double>& penalties, const Topology& topology) {
+  std::vector<double> relaxable;
+  double worst = 0.0;
+  for (std::size_t l = 0; l < penalties.size(); ++l) {
+    if (topology.links[l] == Link::kDifferentSurface) continue;
+    relaxable.push_back(penalties[l]);
+    worst = std::max(worst, penalties[l]);
+  }
+  if (relaxable.empty() || !(worst > 0.0)) return 0.0;
+  const auto mid = relaxable.begin() + static_cast<long>(relaxable.size() / 2);
+  std::nth_element(relaxable.begin(), mid, relaxable.end());
+  return worst / std::max(*mid, std::numeric_limits<double>::min());
+}
+
+double Sum(const std::vector<double>& values) {
+  return std::accumulate(values.begin(), values.end(), 0.0);
+}
 
 // Maximal runs [first, last] of consecutive points whose links are all `joining` or stricter:
 // regions for kSameRegion, surfaces for kDifferentRegion.
@@ -61,7 +145,7 @@ std::vector<std::pair<std::size_t, std::size_t>> Runs(const Topology& topology, 
 class Engine {
  public:
   Engine(const Scan& scan, const dsl::CompiledPrior& prior, const EngineOptions& options)
-      : scan_(scan), prior_(prior), options_(options) {}
+      : scan_(scan), prior_(prior), options_(options), moved_(scan.size(), 0) {}
 
   MapScan Run();
 
@@ -79,16 +163,19 @@ class Engine {
   // Unknowns of `to` taken from a solution over `from` where the beams agree (else initial).
   [[nodiscard]] Eigen::VectorXd WarmStart(const Topology& from, const Eigen::VectorXd& x,
                                           const Topology& to, const InnerProblem& problem) const;
-  // `resume_homotopy`: start the penalty homotopy near where the last solve ended (border
-  // refinement) instead of from the data (the greedy rounds, which need the early link
-  // penalties).
+  // `control.lambda_start` > 0: start the penalty homotopy there, near where the solution
+  // warm starting it ended (border refinement), instead of from the data (the greedy rounds,
+  // which need the early link penalties).
   InnerResult Solve(const Topology& topology, const Topology* previous,
-                    const Eigen::VectorXd* previous_x, bool resume_homotopy);
+                    const Eigen::VectorXd* previous_x, const InnerControl& control = {});
   // Relaxes the links the penalties point at; false when none can be relaxed any more.
   bool BreakLinks(Topology& topology, const std::vector<double>& penalties) const;
   // Removes points of too-small regions; the link across a removed run is same_region again
-  // unless geometry says otherwise.
-  bool RemoveLonelyPoints(Topology& topology) const;
+  // unless geometry says otherwise. A small run cut off by a link broken this round (`before`:
+  // the topology before the breaks) next to an older border is not removed but joins the
+  // region across that border (the border moves), once per point: near a corner the first
+  // break is often a beam off.
+  bool RemoveLonelyPoints(Topology& topology, const Topology* before = nullptr);
   // Removes the point after the link with the largest penalty (when no link can relax).
   void RemoveWorstPoints(Topology& topology, const std::vector<double>& penalties) const;
   // The points with keep[j] set, bridged across removed runs as RemoveLonelyPoints says.
@@ -96,6 +183,12 @@ class Engine {
   void RefineBorders(Topology& topology, InnerResult& solution);
   // Data and energy terms of the last solved problem at its solution.
   [[nodiscard]] double FitCost(const InnerResult& solution);
+  // The measurement and energy terms: what border refinement compares. The weak prior on the
+  // initial normals is left out, as its targets are refitted for every topology.
+  [[nodiscard]] double ComparableCost(const InnerResult& solution) {
+    return ComparableCost(solution.x);
+  }
+  [[nodiscard]] double ComparableCost(const Eigen::VectorXd& x);
   // In-model points first..last with their links.
   [[nodiscard]] static Topology Slice(const Topology& topology, std::size_t first,
                                       std::size_t last);
@@ -105,7 +198,7 @@ class Engine {
   const EngineOptions& options_;
   EngineStats stats_;
   std::unique_ptr<InnerProblem> problem_;  // of the last solve
-  double previous_lambda_ = 0.0;           // where the last solve's homotopy ended
+  std::vector<char> moved_;                // per beam: moved across a border once already
 };
 
 bool Engine::GeometricBreak(std::size_t a, std::size_t b) const {
@@ -142,6 +235,13 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
     std::fill(region_end.begin() + static_cast<long>(first),
               region_end.begin() + static_cast<long>(last) + 1, last);
   }
+  std::vector<Vec2> xy(m);
+  std::vector<double> weight(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    xy[j] = scan_.PointInSensorFrame(topology.beams[j]);
+    weight[j] = 1.0 / (scan_.sigma[topology.beams[j]] * scan_.sigma[topology.beams[j]]);
+  }
+  const LineFitter line_fit(xy, weight);
   const auto h = static_cast<std::size_t>(std::max(1, options_.normal_half_window));
   const double alpha_bound = DegToRad(options_.alpha_bound_deg);
   for (std::size_t j = 0; j < m; ++j) {
@@ -155,17 +255,33 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
     const double facing = pt.phi + std::numbers::pi;  // the normal of a surface seen head-on
     pt.alpha_lower = facing - alpha_bound;
     pt.alpha_upper = facing + alpha_bound;
-    // Total least squares line through the region neighbours.
-    const std::size_t lo = std::max(region_start[j], j >= h ? j - h : 0);
-    const std::size_t hi = std::min(region_end[j], j + h);
     pt.alpha_initial = facing;
     pt.alpha_sigma = std::max(options_.alpha_prior_sigma_min, 0.5);
-    if (hi - lo + 1 < 3) continue;
-    const std::span<const std::size_t> neighbours(topology.beams.data() + lo, hi - lo + 1);
-    if (const std::optional<double> normal = FitLineNormal(scan_, neighbours, beam)) {
-      pt.alpha_initial = facing + WrapAngle(*normal - facing);
-      pt.alpha_sigma = options_.alpha_prior_sigma_min;
+    // The initial normal: a total least squares line through the region neighbours. The
+    // centred window grows while its points fit one line within the noise (a wall's normal,
+    // and on a curved wall the normal of the chord, which a centred window does not bias);
+    // when not even the smallest one fits (next to a corner or jump the topology does not know
+    // yet) the one-sided window that fits best, so that the normals do not smear across it.
+    const std::size_t rs = region_start[j], re = region_end[j];
+    const std::size_t reach = std::min(j - rs, re - j);
+    std::optional<LineFitter::Fit> fit;
+    for (std::size_t half = h; half <= std::min(reach, kMaxNormalHalfWindow * h); half *= 2) {
+      const std::optional<LineFitter::Fit> wider = line_fit(j - half, j + half);
+      if (!wider || !wider->Consistent()) break;
+      fit = wider;
     }
+    if (!fit) {
+      for (const auto& [lo, hi] : {std::pair{std::max(rs, j >= 2 * h ? j - 2 * h : 0), j},
+                                   std::pair{j, std::min(re, j + 2 * h)}}) {
+        const std::optional<LineFitter::Fit> side = line_fit(lo, hi);
+        if (side && (!fit || side->NormalisedResidual() < fit->NormalisedResidual())) fit = side;
+      }
+    }
+    if (!fit) continue;
+    double normal = fit->normal;
+    if (std::abs(WrapAngle(normal - facing)) > 0.5 * std::numbers::pi) normal += std::numbers::pi;
+    pt.alpha_initial = facing + WrapAngle(normal - facing);
+    pt.alpha_sigma = options_.alpha_prior_sigma_min;
   }
   return points;
 }
@@ -173,31 +289,31 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
 InnerProblem Engine::MakeProblem(const Topology& topology) const {
   std::vector<double> sigma(topology.beams.size());
   for (std::size_t j = 0; j < sigma.size(); ++j) sigma[j] = scan_.sigma[topology.beams[j]];
-  std::optional<SymmetricBandedMatrix> precision;
-  if (scan_.precision) {
-    // The precision of the in-model readings: the rows and columns of the scan's precision,
-    // which is the conditional model given the other readings (an outlier's noise says nothing
-    // about its neighbours'); its bandwidth in in-model indices is at most the scan's.
-    const std::size_t b = scan_.precision->bandwidth(), m = topology.beams.size();
-    SymmetricBandedMatrix sub(m, b);
-    for (std::size_t j = 0; j < m; ++j) {
-      for (std::size_t q = j; q < std::min(m, j + b + 1); ++q) {
-        sub.Set(q, j, (*scan_.precision)(topology.beams[q], topology.beams[j]));
-      }
-    }
-    precision = std::move(sub);
-  }
   return InnerProblem(prior_, MakePoints(topology), topology.links, std::move(sigma),
-                      std::move(precision));
+                      InModelRangePrecision(scan_, topology.beams));
 }
 
 Eigen::VectorXd Engine::WarmStart(const Topology& from, const Eigen::VectorXd& x,
                                   const Topology& to, const InnerProblem& problem) const {
   Eigen::VectorXd start = problem.InitialPoint();
+  // A point keeps its solution when its links are as they were; one whose region changed
+  // starts again from the data and the normal fitted in its new region (its old normal may be
+  // the neighbouring wall's, halfway between the branches of a corner constraint).
+  // (At the ends of `to`, a slice of `from` in border refinement, only the inner side counts.)
+  const auto same_link = [&](std::size_t i, std::size_t j, int side) {
+    if (side < 0) {
+      if (j == 0) return true;
+      return i > 0 && from.beams[i - 1] == to.beams[j - 1] && from.links[i - 1] == to.links[j - 1];
+    }
+    if (j + 1 == to.beams.size()) return true;
+    return i + 1 < from.beams.size() && from.beams[i + 1] == to.beams[j + 1] &&
+           from.links[i] == to.links[j];
+  };
   std::size_t i = 0;
   for (std::size_t j = 0; j < to.beams.size(); ++j) {
     while (i < from.beams.size() && from.beams[i] < to.beams[j]) ++i;
-    if (i < from.beams.size() && from.beams[i] == to.beams[j]) {
+    if (i < from.beams.size() && from.beams[i] == to.beams[j] && same_link(i, j, -1) &&
+        same_link(i, j, +1)) {
       start[static_cast<Eigen::Index>(2 * j)] = x[static_cast<Eigen::Index>(2 * i)];
       start[static_cast<Eigen::Index>(2 * j + 1)] = x[static_cast<Eigen::Index>(2 * i + 1)];
     }
@@ -206,15 +322,11 @@ Eigen::VectorXd Engine::WarmStart(const Topology& from, const Eigen::VectorXd& x
 }
 
 InnerResult Engine::Solve(const Topology& topology, const Topology* previous,
-                          const Eigen::VectorXd* previous_x, bool resume_homotopy) {
+                          const Eigen::VectorXd* previous_x, const InnerControl& control) {
   problem_ = std::make_unique<InnerProblem>(MakeProblem(topology));
   Eigen::VectorXd start;
   if (previous && previous_x) start = WarmStart(*previous, *previous_x, topology, *problem_);
-  // A warm start resumes the homotopy a few stages before where the last solve ended.
-  const double lambda_start =
-      resume_homotopy && previous_lambda_ > 0.0 ? previous_lambda_ * kWarmLambdaBackoff : 0.0;
-  InnerResult result = SolveInner(*problem_, previous ? &start : nullptr, options_, lambda_start);
-  previous_lambda_ = result.lambda;
+  InnerResult result = SolveInner(*problem_, previous ? &start : nullptr, options_, control);
   ++stats_.inner_solves;
   stats_.newton_steps += result.newton_steps;
   return result;
@@ -230,26 +342,39 @@ bool Engine::BreakLinks(Topology& topology, const std::vector<double>& penalties
     if (relaxable(l)) worst = std::max(worst, penalties[l]);
   }
   if (!(worst > 0.0)) return false;
+  const double threshold = kZoneFraction * worst;
   // The penalty of one wrong link spreads over the links around it (the penalty solution bends
   // the surface within the range bounds), so the links are grouped into zones of non-negligible
-  // penalty and only the largest link of a zone breaks. Zones whose peak is far below the
-  // largest wait for a later round.
-  bool changed = false;
+  // penalty and only the largest link of a zone breaks. A zone is weighed by its total penalty
+  // (how far it spreads depends on the geometry, what it adds up to much less); zones far below
+  // the heaviest wait for a later round.
+  struct Zone {
+    std::size_t peak;
+    double mass;
+  };
+  std::vector<Zone> zones;
   for (std::size_t l = 0; l < n;) {
-    if (!(penalties[l] > kZoneFraction * worst) || !relaxable(l)) {
+    if (!(penalties[l] > threshold) || !relaxable(l)) {
       ++l;
       continue;
     }
-    std::size_t peak = l, e = l;
-    while (e < n && penalties[e] > kZoneFraction * worst && relaxable(e)) {
-      if (penalties[e] > penalties[peak]) peak = e;
+    Zone zone{l, 0.0};
+    std::size_t e = l;
+    while (e < n && penalties[e] > threshold && relaxable(e)) {
+      if (penalties[e] > penalties[zone.peak]) zone.peak = e;
+      zone.mass += penalties[e];
       ++e;
     }
-    if (penalties[peak] >= options_.break_ratio * worst) {
-      topology.links[peak] = static_cast<Link>(static_cast<int>(topology.links[peak]) + 1);
-      changed = true;
-    }
+    zones.push_back(zone);
     l = e;
+  }
+  double heaviest = 0.0;
+  for (const Zone& zone : zones) heaviest = std::max(heaviest, zone.mass);
+  bool changed = false;
+  for (const Zone& zone : zones) {
+    if (zone.mass < options_.break_ratio * heaviest) continue;
+    topology.links[zone.peak] = static_cast<Link>(static_cast<int>(topology.links[zone.peak]) + 1);
+    changed = true;
   }
   return changed;
 }
@@ -268,17 +393,51 @@ Topology Engine::Keep(const Topology& topology, const std::vector<char>& keep) c
   return next;
 }
 
-bool Engine::RemoveLonelyPoints(Topology& topology) const {
+bool Engine::RemoveLonelyPoints(Topology& topology, const Topology* before) {
+  const auto min_points = static_cast<std::size_t>(options_.min_region_points);
+  const std::vector<std::pair<std::size_t, std::size_t>> runs = Runs(topology, Link::kSameRegion);
+  const auto is_new = [&](std::size_t l) {
+    return before != nullptr && before->links[l] != topology.links[l];
+  };
+  // An older border l that may move: not one geometry demands.
+  const auto movable = [&](std::size_t l) {
+    return !is_new(l) && topology.links[l] != Link::kSameRegion &&
+           !GeometricBreak(topology.beams[l], topology.beams[l + 1]);
+  };
   std::vector<char> keep(topology.beams.size(), 1);
-  bool removed = false;
-  for (const auto& [first, last] : Runs(topology, Link::kSameRegion)) {
-    if (last - first + 1 >= static_cast<std::size_t>(options_.min_region_points)) continue;
+  bool changed = false;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const auto [first, last] = runs[r];
+    if (last - first + 1 >= min_points) continue;
+    changed = true;
+    bool moved_before = false;
+    for (std::size_t j = first; j <= last; ++j)
+      moved_before = moved_before || moved_[topology.beams[j]];
+    // The run joins its neighbour across an older border when the other side is new.
+    std::optional<std::size_t> old_border, new_border;
+    if (first > 0 && r > 0 && last + 1 < topology.beams.size() && r + 1 < runs.size()) {
+      if (is_new(first - 1) && movable(last) &&
+          runs[r + 1].second - runs[r + 1].first + 1 >= min_points) {
+        new_border = first - 1;
+        old_border = last;
+      } else if (is_new(last) && movable(first - 1) &&
+                 runs[r - 1].second - runs[r - 1].first + 1 >= min_points) {
+        new_border = last;
+        old_border = first - 1;
+      }
+    }
+    if (old_border && !moved_before) {
+      topology.links[*new_border] =
+          std::max(topology.links[*new_border], topology.links[*old_border]);
+      topology.links[*old_border] = Link::kSameRegion;
+      for (std::size_t j = first; j <= last; ++j) moved_[topology.beams[j]] = 1;
+      continue;
+    }
     std::fill(keep.begin() + static_cast<long>(first), keep.begin() + static_cast<long>(last) + 1,
               0);
-    removed = true;
   }
-  if (removed) topology = Keep(topology, keep);
-  return removed;
+  if (std::find(keep.begin(), keep.end(), 0) != keep.end()) topology = Keep(topology, keep);
+  return changed;
 }
 
 void Engine::RemoveWorstPoints(Topology& topology, const std::vector<double>& penalties) const {
@@ -296,6 +455,16 @@ double Engine::FitCost(const InnerResult& solution) {
   return v.data + v.energy;
 }
 
+double Engine::ComparableCost(const Eigen::VectorXd& x) {
+  Eigen::VectorXd residual = Eigen::VectorXd::Zero(x.size());
+  for (std::size_t j = 0; j < problem_->num_points(); ++j) {
+    const auto r = static_cast<Eigen::Index>(2 * j);
+    residual[r] = x[r] - problem_->points()[j].rho_measured;
+  }
+  const double ranges = 0.5 * residual.dot(problem_->data_information().Multiply(residual));
+  return ranges + problem_->Evaluate(x, 0.0, 0.0, nullptr, nullptr).energy;
+}
+
 Topology Engine::Slice(const Topology& topology, std::size_t first, std::size_t last) {
   Topology sub;
   sub.beams.assign(topology.beams.begin() + static_cast<long>(first),
@@ -309,13 +478,18 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
   // Each border is judged on the points around it alone (a local problem of the two regions'
   // nearest points): cheap, and a merge that is infeasible locally is infeasible globally.
   const Topology before = topology;
+  // Every trial starts from the greedy solution: its homotopy resumes a few stages before
+  // where that one ended.
+  InnerControl resume;
+  resume.lambda_start = solution.lambda * kWarmLambdaBackoff;
   const auto local_solve = [&](const Topology& sub, const Topology& warm_topology,
-                               const Eigen::VectorXd& warm_x, double* cost) {
+                               const Eigen::VectorXd& warm_x, const InnerControl& control) {
     ++stats_.refinement_trials;
-    InnerResult r = Solve(sub, &warm_topology, &warm_x, true);
-    if (cost) *cost = FitCost(r);
-    return r;
+    return Solve(sub, &warm_topology, &warm_x, control);
   };
+  // The greedy solution with the local solutions of changed borders pasted in: where the final
+  // solve starts.
+  Eigen::VectorXd pasted = solution.x;
   const auto half = static_cast<std::size_t>(kRefineHalfWindow);
   for (std::size_t l = 0; l < topology.links.size(); ++l) {
     if (topology.links[l] == Link::kSameRegion) continue;
@@ -327,9 +501,14 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
     const std::size_t last = std::min(topology.beams.size() - 1, l + half);
     Topology local = Slice(topology, first, last);
     const std::size_t at = l - first;
-    double cost = 0.0;
-    InnerResult current = local_solve(local, topology, solution.x, &cost);
+    // The local problem's own minimum, so that its fit compares with those of the trials,
+    // which reach theirs (at the final penalty weight, where it stays feasible).
+    InnerControl settle;
+    settle.lambda_start = solution.lambda;
+    settle.settle = true;
+    InnerResult current = local_solve(local, topology, solution.x, settle);
     if (!current.feasible) continue;
+    double cost = ComparableCost(current);
     // Merge back: a feasible stricter topology explains the scan with fewer regions. The
     // strictest is tried first: a wall split by a wrong different_surface link is one region.
     bool merged_back = false;
@@ -337,40 +516,70 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
          ++stricter) {
       Topology merged = local;
       merged.links[at] = static_cast<Link>(stricter);
-      if (local_solve(merged, local, current.x, nullptr).feasible) {
+      InnerResult r = local_solve(merged, local, current.x, resume);
+      if (r.feasible) {
         local = std::move(merged);
+        current = std::move(r);
         merged_back = true;
       }
     }
     if (merged_back) {
       topology.links[l] = local.links[at];
+      pasted.segment(static_cast<Eigen::Index>(2 * first), current.x.size()) = current.x;
       continue;
     }
-    // Move the border while the fit improves.
+    // Move the border while the fit improves. A trial is abandoned as soon as its fit is
+    // worse than the current one (the fit only worsens as the constraints tighten).
+    InnerControl move = resume;
+    move.abandon = [&](const Eigen::VectorXd& x) { return ComparableCost(x) >= cost; };
+    // A one-beam move that fits worse is looked past once: two beams near a corner can each fit
+    // the other wall only together (one alone lands on neither line).
     std::size_t border = at;
     for (int direction : {-1, +1}) {
       for (int moves = 0; moves < kMaxBorderMoves; ++moves) {
-        const long to = static_cast<long>(border) + direction;
-        if (to < 0 || to >= static_cast<long>(local.links.size())) break;
-        const auto t = static_cast<std::size_t>(to);
-        if (local.links[t] != Link::kSameRegion) break;
-        Topology moved = local;
-        moved.links[t] = local.links[border];
-        moved.links[border] = Link::kSameRegion;
-        double moved_cost = 0.0;
-        InnerResult r = local_solve(moved, local, current.x, &moved_cost);
-        if (!r.feasible || !(moved_cost < cost - 1e-9 * (1.0 + std::abs(cost)))) break;
-        local = std::move(moved);
-        current = std::move(r);
-        cost = moved_cost;
-        border = t;
+        bool improved = false;
+        for (int reach = 1; reach <= 2 && !improved; ++reach) {
+          const long to = static_cast<long>(border) + direction * reach;
+          if (to < 0 || to >= static_cast<long>(local.links.size())) break;
+          const auto t = static_cast<std::size_t>(to);
+          bool crosses = false;  // another border on the way
+          for (long k = 1; k <= reach; ++k) {
+            crosses =
+                crosses ||
+                local.links[static_cast<std::size_t>(static_cast<long>(border) + direction * k)] !=
+                    Link::kSameRegion;
+          }
+          if (crosses) break;
+          Topology moved = local;
+          moved.links[t] = local.links[border];
+          moved.links[border] = Link::kSameRegion;
+          InnerResult r = local_solve(moved, local, current.x, move);
+          const double moved_cost = r.feasible ? ComparableCost(r) : 0.0;
+          if (!r.feasible && !r.abandoned)
+            break;  // the move breaks the prior: so would a longer one
+          if (!r.feasible || !(moved_cost < cost - 1e-9 * (1.0 + std::abs(cost)))) continue;
+          local = std::move(moved);
+          current = std::move(r);
+          cost = moved_cost;
+          border = t;
+          improved = true;
+        }
+        if (!improved) break;
       }
+      if (border != at) break;  // moved one way: the other way leads back
     }
     for (std::size_t j = 0; j < local.links.size(); ++j) topology.links[first + j] = local.links[j];
+    if (border != at)
+      pasted.segment(static_cast<Eigen::Index>(2 * first), current.x.size()) = current.x;
     l = std::max(l, first + border);
   }
   if (topology.links == before.links) return;
-  InnerResult refined = Solve(topology, &before, &solution.x, true);
+  // Only the seams of the pasted pieces are off the constraints: resume at the final weight.
+  InnerControl final_solve;
+  final_solve.lambda_start = solution.lambda;
+  InnerResult refined = Solve(topology, &topology, &pasted, final_solve);
+  // Else from the greedy solution, resuming the homotopy earlier.
+  if (!refined.feasible) refined = Solve(topology, &before, &solution.x, resume);
   if (refined.feasible) {
     solution = std::move(refined);
   } else {
@@ -395,15 +604,27 @@ MapScan Engine::Run() {
   const Clock::time_point outer_start = Clock::now();
   for (int round = 0; round < options_.max_outer_rounds; ++round) {
     ++stats_.outer_rounds;
-    InnerResult result = Solve(topology, have_solution ? &solved : nullptr,
-                               have_solution ? &solution.x : nullptr, false);
+    InnerResult result =
+        Solve(topology, have_solution ? &solved : nullptr, have_solution ? &solution.x : nullptr);
     solution = std::move(result);
     solved = topology;
     have_solution = true;
-    const std::vector<double>& penalties = solution.early_link_penalties;
+    // Where to break: the link penalties after the first stage (a wrong link stands out there
+    // while the rest still fits) or at the end of the solve (a misplaced point stands out there
+    // once the rest has been made to fit): the latter when the solve came near a solution or
+    // they peak more clearly.
+    std::vector<double> late;
+    bool use_late = false;
+    if (!solution.feasible) {
+      late = problem_->LinkPenalties(solution.x);
+      const std::vector<double>& early = solution.early_link_penalties;
+      use_late = Sum(late) < kNearlyFeasible * Sum(early) ||
+                 Prominence(late, topology) > Prominence(early, topology);
+    }
+    const std::vector<double>& penalties = use_late ? late : solution.early_link_penalties;
     if (solution.feasible || topology.beams.empty()) break;
     bool changed = BreakLinks(topology, penalties);
-    changed = RemoveLonelyPoints(topology) || changed;
+    changed = RemoveLonelyPoints(topology, &solved) || changed;
     if (!changed) RemoveWorstPoints(topology, penalties);
   }
   stats_.seconds_outer = Seconds(outer_start);

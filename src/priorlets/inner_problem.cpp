@@ -259,6 +259,12 @@ Violation InnerProblem::Violations(const Eigen::VectorXd& x) {
   return {value.max_residual, value.penalty};
 }
 
+bool InnerProblem::HasEnergyTerms() const {
+  return std::any_of(windows_.begin(), windows_.end(), [](const BlockWindows& bw) {
+    return !bw.first_point.empty() && HasEnergies(*bw.block);
+  });
+}
+
 std::vector<double> InnerProblem::LinkPenalties(const Eigen::VectorXd& x) {
   EvaluateWindows(x, 0);
   std::vector<double> penalties(links_.size(), 0.0);
@@ -280,6 +286,54 @@ std::vector<double> InnerProblem::LinkPenalties(const Eigen::VectorXd& x) {
     }
   }
   return penalties;
+}
+
+std::vector<ConstraintRow> InnerProblem::EqualityRows(const Eigen::VectorXd& x) {
+  EvaluateWindows(x, 1);
+  const std::size_t nv = 2 * static_cast<std::size_t>(order_);
+  std::vector<ConstraintRow> rows;
+  std::vector<int> active_branch;
+  for (BlockWindows& bw : windows_) {
+    if (bw.first_point.empty()) continue;
+    const std::size_t nt = static_cast<std::size_t>(bw.block->num_terms());
+    const std::vector<dsl::Term>& terms = bw.block->terms();
+    for (std::size_t w = 0; w < bw.first_point.size(); ++w) {
+      const double* values = bw.values.data() + w * nt;
+      const double* grads = bw.gradients.data() + w * nt * nv;
+      if (bw.block->num_disjunctions() > 0) {
+        (void)dsl::AccumulatePenalty(*bw.block, values, nullptr, nullptr, {}, nullptr, nullptr,
+                                     &active_branch);
+      }
+      for (std::size_t t = 0; t < nt; ++t) {
+        const dsl::Term& term = terms[t];
+        if (term.kind != dsl::TermKind::kEquality) continue;
+        if (term.disjunction >= 0 &&
+            active_branch[static_cast<std::size_t>(term.disjunction)] != term.branch) {
+          continue;
+        }
+        ConstraintRow row;
+        row.first = 2 * bw.first_point[w];
+        row.coefficients.assign(nv, 0.0);
+        for (std::size_t v = 0; v < nv; ++v) row.coefficients[global_index_[v]] = grads[t * nv + v];
+        rows.push_back(std::move(row));
+      }
+    }
+  }
+  return rows;
+}
+
+std::optional<SymmetricBandedMatrix> InModelRangePrecision(const Scan& scan,
+                                                           std::span<const std::size_t> beams) {
+  if (!scan.precision) return std::nullopt;
+  // Its bandwidth in in-model indices is at most the scan's.
+  const std::size_t b = scan.precision->bandwidth(), m = beams.size();
+  SymmetricBandedMatrix sub(m, b);
+  for (std::size_t j = 0; j < m; ++j) {
+    for (std::size_t q = j; q < std::min(m, j + b + 1); ++q) {
+      sub.Set(q, j, (*scan.precision)(beams[q], beams[j]));
+    }
+  }
+  return sub;
 }
 
 }  // namespace priormap::priorlets

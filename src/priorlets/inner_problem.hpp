@@ -7,12 +7,15 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include <priormap/core/banded_matrix.hpp>
 #include <priormap/dsl/prior.hpp>
+#include <priormap/core/scan.hpp>
+#include <priormap/priorlets/constraint_kernel.hpp>
 #include <priormap/priorlets/engine.hpp>
 
 namespace priormap::priorlets {
@@ -44,6 +47,12 @@ struct ObjectiveValue {
   }
 };
 
+// The information matrix of the ranges of `beams` (increasing) when the scan's readings are
+// correlated, else nullopt: the rows and columns of the scan's precision, i.e. the conditional
+// model given the other readings (an outlier's noise says nothing about its neighbours').
+[[nodiscard]] std::optional<SymmetricBandedMatrix> InModelRangePrecision(
+    const Scan& scan, std::span<const std::size_t> beams);
+
 class InnerProblem {
  public:
   // `range_precision`: the information matrix of the in-model ranges (banded), or null for
@@ -74,8 +83,13 @@ class InnerProblem {
   [[nodiscard]] Violation Violations(const Eigen::VectorXd& x);
   // Per link, the constraint penalty of the windows that contain it.
   [[nodiscard]] std::vector<double> LinkPenalties(const Eigen::VectorXd& x);
+  // The rows of grad_x f_T at x (Sec. IV-B): every equality of every window, and within a
+  // disjunction those of its smallest branch (inequalities leave directions free).
+  [[nodiscard]] std::vector<ConstraintRow> EqualityRows(const Eigen::VectorXd& x);
   // The information of the data term (measurements and the initial normals' weak prior).
   [[nodiscard]] const SymmetricBandedMatrix& data_information() const { return data_information_; }
+  // True when a window's block has energy terms (h_T), whose size no bound limits.
+  [[nodiscard]] bool HasEnergyTerms() const;
 
  private:
   struct BlockWindows {

@@ -2,6 +2,9 @@
 // Algorithm 2 of the paper: the continuous optimisation of x for a fixed INMODEL and topology,
 // by a penalty homotopy for the prior's constraints and a log-barrier homotopy for the bounds,
 // with damped Newton steps on a banded Hessian.
+#include <functional>
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "inner_problem.hpp"
@@ -18,13 +21,26 @@ struct InnerResult {
   // penalty of a wrong link stays at that link, while at large lambda the solution bends the
   // surfaces within the range bounds and spreads it over the links around.
   std::vector<double> early_link_penalties;
+  bool abandoned = false;  // stopped by InnerControl::abandon
+};
+
+struct InnerControl {
+  // > 0: start the penalty homotopy there (a warm start from a solution that was already
+  // squeezed towards the constraints); otherwise where the penalties begin to matter.
+  double lambda_start = 0.0;
+  // Take the first stage's Newton steps even when the start is feasible: a warm start from a
+  // larger problem's solution then reaches this problem's own minimum, so that its cost
+  // compares with that of other problems solved from the same start.
+  bool settle = false;
+  // Asked after every stage that ends infeasible; true stops the solve (e.g. a border move
+  // whose fit is already worse than the current one: along the homotopy the fit only worsens).
+  std::function<bool(const Eigen::VectorXd& x)> abandon;
 };
 
 // Starts from x0 when it is strictly inside the bounds (a warm start), else from the problem's
 // initial point.
-// `lambda_start` > 0 starts the penalty homotopy there (a warm start from a solution that was
-// already squeezed towards the constraints); otherwise where the penalties begin to matter.
 [[nodiscard]] InnerResult SolveInner(InnerProblem& problem, const Eigen::VectorXd* x0,
-                                     const EngineOptions& options, double lambda_start = 0.0);
+                                     const EngineOptions& options,
+                                     const InnerControl& control = {});
 
 }  // namespace priormap::priorlets

@@ -25,9 +25,44 @@ nlohmann::json Ranges(const std::vector<BeamRange>& ranges) {
   return array;
 }
 
+nlohmann::json EigenvariationsJson(const std::vector<Eigenvariation>& eigenvariations) {
+  nlohmann::json array = nlohmann::json::array();
+  for (const Eigenvariation& ev : eigenvariations) {
+    array.push_back({{"sigma", ev.sigma},
+                     {"intrinsic_fraction", ev.intrinsic_fraction},
+                     {"rho", Numbers(ev.rho)},
+                     {"alpha", Numbers(ev.alpha)}});
+  }
+  return array;
+}
+
+void AddPosterior(const Posterior& p, nlohmann::json& j) {
+  j["dof"] = {{"free", p.dof.free},
+              {"extrinsic", p.dof.extrinsic},
+              {"intrinsic", p.dof.intrinsic},
+              {"pose_independent", p.dof.pose_independent},
+              {"min_extrinsic_cosine", p.dof.min_extrinsic_cosine},
+              {"largest_null_singular_value", p.dof.kernel.largest_null_singular_value},
+              {"smallest_kept_singular_value",
+               std::isfinite(p.dof.kernel.smallest_kept_singular_value)
+                   ? nlohmann::json(p.dof.kernel.smallest_kept_singular_value)
+                   : nlohmann::json(nullptr)}};
+  j["posterior"] = {
+      {"computed", p.computed},
+      {"note", p.note},
+      {"covariance", p.form == CovarianceForm::kConditional ? "conditional" : "projected"}};
+  j["prior_std"] = Numbers(p.prior_std_rho);
+  j["prior_std_alpha"] = Numbers(p.prior_std_alpha);
+  j["posterior_std"] = Numbers(p.posterior_std_rho);
+  j["posterior_std_alpha"] = Numbers(p.posterior_std_alpha);
+  j["eigenvariations"] = EigenvariationsJson(p.eigenvariations);
+  j["intrinsic_eigenvariations"] = EigenvariationsJson(p.intrinsic_eigenvariations);
+}
+
 }  // namespace
 
-std::string MapScanToJson(const MapScan& map, const MapScanJsonContext& context) {
+std::string MapScanToJson(const MapScan& map, const MapScanJsonContext& context,
+                          const Posterior* posterior) {
   nlohmann::json j;
   j["format"] = "priormap.map_scan";
   j["version"] = 1;
@@ -56,6 +91,10 @@ std::string MapScanToJson(const MapScan& map, const MapScanJsonContext& context)
                 {"seconds", map.stats.seconds_total},
                 {"seconds_outer", map.stats.seconds_outer},
                 {"seconds_refine", map.stats.seconds_refine}};
+  if (posterior) {
+    AddPosterior(*posterior, j);
+    j["stats"]["seconds_dof"] = posterior->seconds;
+  }
   return j.dump();
 }
 

@@ -800,9 +800,31 @@ TEST_F(Cli, ScanWritesTheMapScanOfOneScan) {
   EXPECT_TRUE(map["feasible"].get<bool>());
   for (const char* key : {"rho", "alpha", "inmodel"}) EXPECT_EQ(map[key].size(), 181u) << key;
   EXPECT_EQ(map["topology"].size() + 1, map["inmodel_beams"].size());
-  EXPECT_GE(map["regions"].size(), 2u);
   EXPECT_GT(map["stats"]["newton_steps"].get<int>(), 0);
   EXPECT_EQ(WorkFiles(), (std::set<std::string>{"s.json", "map.json"}));
+  // Sec. IV: one orientation and an offset per wall in view (the lms200's 180 degrees see three
+  // of the four), 3 of them a sensor motion.
+  const std::size_t walls = map["regions"].size();
+  EXPECT_EQ(walls, 3u);
+  EXPECT_EQ(map["dof"]["free"], walls + 1);
+  EXPECT_EQ(map["dof"]["extrinsic"], 3);
+  EXPECT_EQ(map["dof"]["intrinsic"], walls - 2);
+  EXPECT_TRUE(map["posterior"]["computed"].get<bool>());
+  EXPECT_EQ(map["posterior"]["covariance"], "conditional");
+  for (const char* key : {"posterior_std", "prior_std", "posterior_std_alpha"}) {
+    EXPECT_EQ(map[key].size(), 181u) << key;
+  }
+  ASSERT_EQ(map["eigenvariations"].size(), walls + 1);
+  EXPECT_EQ(map["eigenvariations"][0]["rho"].size(), 181u);
+  EXPECT_EQ(map["intrinsic_eigenvariations"].size(), walls - 2);
+  const std::size_t beam = map["inmodel_beams"][90].get<std::size_t>();
+  EXPECT_LT(map["posterior_std"][beam].get<double>(), map["prior_std"][beam].get<double>());
+
+  Ok({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "projected.json", "--covariance",
+      "projected", "--eigenvariations", "2"});
+  const nlohmann::json projected = nlohmann::json::parse(ReadAll(Work("projected.json")));
+  EXPECT_EQ(projected["posterior"]["covariance"], "projected");
+  EXPECT_EQ(projected["eigenvariations"].size(), 2u);
 }
 
 TEST_F(Cli, ScanAllWritesJsonLinesForEveryScanOfALog) {
@@ -825,6 +847,41 @@ TEST_F(Cli, ScanAllWritesJsonLinesForEveryScanOfALog) {
     ++lines;
   }
   EXPECT_EQ(lines, scans);
+}
+
+TEST_F(Cli, ScanDrawsTheFigureOfOneScanAsPngAndSvg) {
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "--seed", "2", "-o", "s.json"});
+  const RunResult r = Ok({"scan", "--prior", "rectangular", "--input", "s.json", "-o", "out.json",
+                          "--png", "fig.png", "--svg", "fig.svg"});
+  EXPECT_THAT(r.out, HasSubstr("wrote fig.png"));
+  EXPECT_THAT(r.out, HasSubstr("wrote fig.svg"));
+  EXPECT_EQ(WorkFiles(), (std::set<std::string>{"s.json", "out.json", "fig.png", "fig.svg"}));
+  const std::string png = ReadAll(Work("fig.png"));
+  EXPECT_TRUE(IsPng(png));
+  EXPECT_EQ(PngSize(png).first, 1400);
+  const std::string svg = ReadAll(Work("fig.svg"));
+  EXPECT_THAT(svg, StartsWith("<?xml"));
+  EXPECT_THAT(svg, ContainsRegex("<svg[ >]"));
+  EXPECT_THAT(svg, HasSubstr("</svg>"));
+  // The JSON is the same as without a figure.
+  EXPECT_EQ(nlohmann::json::parse(ReadAll(Work("out.json")))["format"], "priormap.map_scan");
+}
+
+TEST_F(Cli, ScanFigureErrorsNameTheProblem) {
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "--log", "--seed", "3", "-o",
+      "run.json"});
+  EXPECT_THAT(Fails({"scan", "--prior", "rectangular", "-i", "run.json", "--all", "-o", "m.jsonl",
+                     "--png", "fig.png"})
+                  .err,
+              HasSubstr("--png draws one scan, not --all"));
+  EXPECT_THAT(
+      Fails({"scan", "--prior", "rectangular", "-i", "run.json", "-o", "m.json", "--svg", "f.png"})
+          .err,
+      HasSubstr("--svg: 'f.png' must end in .svg"));
+  EXPECT_THAT(Fails({"scan", "--prior", "rectangular", "-i", "run.json", "-o", "m.json", "--png",
+                     "missing/f.png"})
+                  .err,
+              HasSubstr("directory missing does not exist"));
 }
 
 TEST_F(Cli, ScanErrorsNameTheProblem) {

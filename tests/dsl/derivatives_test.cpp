@@ -409,17 +409,24 @@ double HalfCurvature(const Configuration& c, std::size_t i, std::size_t j) {
 TEST(PriorValues, CircularSameRegionComparesTheHalfCurvaturesOfThePairs) {
   const Configuration c{{2.0, 2.5, 3.0}, {0.1, 0.5, 1.2}, {-0.3, 0.0, 0.4}};
   const Evaluated e = EvaluateBuiltin("circular", BlockKind::kSameRegion, c);
-  ASSERT_EQ(e.values.size(), 2u);
+  ASSERT_EQ(e.values.size(), 3u);
   const double r12 = HalfCurvature(c, 0, 1), r23 = HalfCurvature(c, 1, 2),
                r13 = HalfCurvature(c, 0, 2);
   EXPECT_NEAR(e.values[0], r12 - r23, kExact);
   EXPECT_NEAR(e.values[1], r23 - r13, kExact);
+  // The chord p_1 p_3 against the mean normal of its ends.
+  const double mean_normal = (c.alpha[0] + c.alpha[2]) / 2;
+  const double chord_x = c.rho[2] * std::cos(c.phi[2]) - c.rho[0] * std::cos(c.phi[0]);
+  const double chord_y = c.rho[2] * std::sin(c.phi[2]) - c.rho[0] * std::sin(c.phi[0]);
+  EXPECT_NEAR(e.values[2], chord_x * std::cos(mean_normal) + chord_y * std::sin(mean_normal),
+              kExact);
 
   const Evaluated radius = EvaluateBuiltin("circular-radius", BlockKind::kSameRegion, c);
-  ASSERT_EQ(radius.values.size(), 3u);
+  ASSERT_EQ(radius.values.size(), 4u);
   EXPECT_NEAR(radius.values[0], r12 - r23, kExact);
   EXPECT_NEAR(radius.values[1], r23 - r13, kExact);
-  EXPECT_NEAR(radius.values[2], std::pow(1 / (2 * std::abs(r13)) - 2.0, 2), kExact);
+  EXPECT_NEAR(radius.values[2], e.values[2], kExact);
+  EXPECT_NEAR(radius.values[3], std::pow(1 / (2 * std::abs(r13)) - 2.0, 2), kExact);
 }
 
 TEST(PriorValues, CircularSameRegionVanishesOnACircle) {
@@ -433,10 +440,17 @@ TEST(PriorValues, CircularSameRegionVanishesOnACircle) {
     c.alpha.push_back(t);
   }
   const Evaluated e = EvaluateBuiltin("circular-radius", BlockKind::kSameRegion, c);
-  ASSERT_EQ(e.values.size(), 3u);
+  ASSERT_EQ(e.values.size(), 4u);
   EXPECT_NEAR(e.values[0], 0.0, kExact);
   EXPECT_NEAR(e.values[1], 0.0, kExact);
-  EXPECT_NEAR(e.values[2], 0.0, 1e-10);  // the radius is 2
+  EXPECT_NEAR(e.values[2], 0.0, kExact);
+  EXPECT_NEAR(e.values[3], 0.0, 1e-10);  // the radius is 2
+  // Normals all turned by the same angle keep the radii equal but leave the circle.
+  for (double& a : c.alpha) a += 0.1;
+  const Evaluated turned = EvaluateBuiltin("circular", BlockKind::kSameRegion, c);
+  EXPECT_NEAR(turned.values[0], 0.0, kExact);
+  EXPECT_NEAR(turned.values[1], 0.0, kExact);
+  EXPECT_GT(std::abs(turned.values[2]), 0.1);
 }
 
 TEST(PriorValues, StraightOrCircularBranchesAreTheLineAndTheCircleConditions) {
@@ -445,17 +459,21 @@ TEST(PriorValues, StraightOrCircularBranchesAreTheLineAndTheCircleConditions) {
   const CompiledBlock* block = prior.block(BlockKind::kSameRegion);
   ASSERT_NE(block, nullptr);
   const Evaluated e = EvaluateBuiltin("straight-or-circular", BlockKind::kSameRegion, c);
-  ASSERT_EQ(e.values.size(), 6u);
+  ASSERT_EQ(e.values.size(), 7u);
   const auto p = [&](std::size_t i) {
     return Eigen::Vector2d(c.rho[i] * std::cos(c.phi[i]), c.rho[i] * std::sin(c.phi[i]));
   };
   const Eigen::Vector2d n1(std::cos(c.alpha[0]), std::sin(c.alpha[0]));
-  const std::vector<double> expected = {c.alpha[1] - c.alpha[0],
-                                        c.alpha[2] - c.alpha[0],
-                                        (p(1) - p(0)).dot(n1),
-                                        (p(2) - p(0)).dot(n1),
-                                        HalfCurvature(c, 0, 1) - HalfCurvature(c, 1, 2),
-                                        HalfCurvature(c, 1, 2) - HalfCurvature(c, 0, 2)};
+  const std::vector<double> expected = {
+      c.alpha[1] - c.alpha[0],
+      c.alpha[2] - c.alpha[0],
+      (p(1) - p(0)).dot(n1),
+      (p(2) - p(0)).dot(n1),
+      HalfCurvature(c, 0, 1) - HalfCurvature(c, 1, 2),
+      HalfCurvature(c, 1, 2) - HalfCurvature(c, 0, 2),
+      (p(2) - p(0))
+          .dot(Eigen::Vector2d(std::cos((c.alpha[0] + c.alpha[2]) / 2),
+                               std::sin((c.alpha[0] + c.alpha[2]) / 2)))};
   for (std::size_t t = 0; t < expected.size(); ++t) {
     EXPECT_NEAR(e.values[t], expected[t], kExact) << "term " << t;
     EXPECT_EQ(block->terms()[t].disjunction, 0);

@@ -138,7 +138,7 @@ TEST(Penalty, EnergiesAreAddedUnweighted) {
   const Evaluation e = Evaluate(block, x, phi);
   const PenaltyValue p =
       AccumulatePenalty(block, e.values.data(), nullptr, nullptr, {7.0, false}, nullptr, nullptr);
-  EXPECT_DOUBLE_EQ(p.energy, e.values[2]);
+  EXPECT_DOUBLE_EQ(p.energy, e.values[3]);  // after the three equalities
   EXPECT_DOUBLE_EQ(p.Total(7.0), 7.0 * p.constraint + p.energy);
   ExpectDerivativesMatch(block, x, phi);
 }

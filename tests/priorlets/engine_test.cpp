@@ -2,7 +2,10 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <cstdio>
+#include <cstdlib>
 #include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -142,5 +145,169 @@ TEST(Engine, SameInputGivesTheSameResult) {
   EXPECT_EQ(a.links, b.links);
 }
 
+
+// The indices of the valid beams.
+std::vector<std::size_t> ValidBeams(const Scan& scan) {
+  std::vector<std::size_t> beams;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.IsValid(i)) beams.push_back(i);
+  }
+  return beams;
+}
+
+TEST(Engine, CircularPriorTakesTheWholeCircularWallAsOneRegion) {
+  const dsl::CompiledPrior prior = Prior("circular");
+  for (std::uint64_t seed : {1, 2, 3, 4}) {
+    SCOPED_TRACE(seed);
+    const Scan scan = Simulate("circle", "utm30", Se2(0.3, -0.2, 0.4), seed);
+    const MapScan map = EstimateMapScan(scan, prior);
+    EXPECT_TRUE(map.feasible);
+    EXPECT_LT(map.max_violation, 1e-5);
+    const std::vector<std::size_t> valid = ValidBeams(scan);
+    ASSERT_FALSE(valid.empty());
+    EXPECT_EQ(map.inmodel_beams, valid) << "every reading of the wall is in the model";
+    ASSERT_EQ(map.regions.size(), 1u);
+    EXPECT_EQ(map.regions[0].first, valid.front());
+    EXPECT_EQ(map.regions[0].last, valid.back());
+    EXPECT_LT(MeanNormalErrorDeg(scan, map, false), 0.2);
+  }
+}
+
+TEST(Engine, CircularPriorGivesEachOfTwoPillarsItsOwnRegions) {
+  const dsl::CompiledPrior prior = Prior("circular");
+  const Scene scene = BuiltinScene("two-circles").value();
+  ASSERT_TRUE(scene.default_pose.has_value());
+  for (std::uint64_t seed : {1, 2, 3, 4}) {
+    SCOPED_TRACE(seed);
+    const Scan scan = Simulate("two-circles", "utm30", *scene.default_pose, seed);
+    const MapScan map = EstimateMapScan(scan, prior);
+    EXPECT_TRUE(map.feasible);
+    EXPECT_LT(map.max_violation, 1e-5);
+    // No region mixes the pillars, and each pillar has a region.
+    std::set<int> pillars_with_a_region;
+    for (const BeamRange& r : map.regions) {
+      std::set<int> surfaces;
+      for (std::size_t i = r.first; i <= r.last; ++i) {
+        if (map.inmodel[i]) surfaces.insert(scan.truth->surface[i]);
+      }
+      EXPECT_EQ(surfaces.size(), 1u) << "region " << r.first << ".." << r.last;
+      pillars_with_a_region.insert(surfaces.begin(), surfaces.end());
+    }
+    EXPECT_EQ(pillars_with_a_region.size(), 2u);
+    // Next to no reading of a pillar is left out.
+    const std::vector<std::size_t> valid = ValidBeams(scan);
+    EXPECT_GE(map.inmodel_beams.size() + 2, valid.size());
+    EXPECT_LT(MeanNormalErrorDeg(scan, map, false), 0.5);
+  }
+}
+
+TEST(Engine, SquareRoomSeenByAnLms200FindsItsFourWallsAndTheirCorners) {
+  const dsl::CompiledPrior prior = Prior("rectangular");
+  // From near a corner, looking at the opposite one: all four walls are in the 180-degree view.
+  for (std::uint64_t seed : {1, 2, 3, 4}) {
+    SCOPED_TRACE(seed);
+    const Scan scan = Simulate("square", "lms200", Se2(-1.0, -1.0, std::numbers::pi / 4), seed);
+    const std::vector<std::size_t> truth = TrueBorders(scan);
+    ASSERT_EQ(truth.size(), 3u) << "the pose sees four walls";
+    const MapScan map = EstimateMapScan(scan, prior);
+    EXPECT_TRUE(map.feasible);
+    EXPECT_LT(map.max_violation, 1e-5);
+    ASSERT_EQ(map.regions.size(), 4u);
+    const std::vector<std::size_t> found = FoundBorders(map);
+    for (std::size_t c = 0; c < truth.size(); ++c) {
+      EXPECT_LE(std::abs(static_cast<long>(found[c]) - static_cast<long>(truth[c])), 1)
+          << "corner " << c;
+    }
+    EXPECT_EQ(map.inmodel_beams, ValidBeams(scan));
+    EXPECT_LT(MeanNormalErrorDeg(scan, map, true), 0.1);
+  }
+}
+
+TEST(Engine, StatsAccountForTheWork) {
+  const Scan scan = Simulate("square", "lms200", Se2(0.3, -0.2, 0.4), 1);
+  const MapScan map = EstimateMapScan(scan, Prior("rectangular"));
+  const EngineStats& s = map.stats;
+  EXPECT_GE(s.outer_rounds, 1);
+  EXPECT_GE(s.inner_solves, s.outer_rounds + s.refinement_trials);
+  EXPECT_GT(s.newton_steps, 0);
+  EXPECT_GE(s.seconds_total, s.seconds_outer + s.seconds_refine);
+}
+
+}  // namespace
+}  // namespace priormap::priorlets
+
+// TEMP DEBUG
+namespace priormap::priorlets {
+namespace {
+TEST(EngineDebug, DISABLED_Run) {
+  const char* sc = std::getenv("SC");
+  const char* se = std::getenv("SE");
+  const char* pr = std::getenv("PR");
+  const char* sd = std::getenv("SEED");
+  const std::string scene = sc ? sc : "circle";
+  Se2 pose(0.3, -0.2, 0.4);
+  if (scene == "two-circles") pose = *BuiltinScene("two-circles").value().default_pose;
+  if (scene == "l-room") pose = Se2(0.0, 0.0, 0.4);
+  if (std::getenv("POSE4")) pose = Se2(-1.0, -1.0, std::numbers::pi / 4);
+  const Scan scan = Simulate(scene, se ? se : "utm30", pose, sd ? std::stoul(sd) : 1);
+  EngineOptions options;
+  if (std::getenv("NOREFINE")) options.refine_borders = false;
+  if (const char* v = std::getenv("NSTEPS")) options.max_newton_steps_per_stage = std::stoi(v);
+  if (const char* v = std::getenv("LFACTOR")) options.lambda_factor = std::stod(v);
+  const std::string prname = pr ? pr : "circular";
+  const dsl::CompiledPrior prior = prname.find('/') != std::string::npos
+                                       ? dsl::PriorLibrary().Load(prname).value()
+                                       : Prior(prname);
+  const MapScan map = EstimateMapScan(scan, prior, options);
+  std::printf("feasible %d viol %.3g regions %zu inmodel %zu/%zu err %.4f (all %.4f) total %.2f ms outer %.2f refine %.2f rounds %d solves %d newton %d trials %d\n",
+              map.feasible, map.max_violation, map.regions.size(), map.inmodel_beams.size(), scan.size(),
+              MeanNormalErrorDeg(scan, map, true), MeanNormalErrorDeg(scan, map, false),
+              1e3 * map.stats.seconds_total, 1e3 * map.stats.seconds_outer,
+              1e3 * map.stats.seconds_refine, map.stats.outer_rounds, map.stats.inner_solves,
+              map.stats.newton_steps, map.stats.refinement_trials);
+  {
+    double e0 = 0, e1 = 0; int c = 0;
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      if (!map.inmodel[i] || !std::isfinite(scan.truth->alpha[i])) continue;
+      e0 += std::abs(WrapAngle(map.initial_alpha[i] - scan.truth->alpha[i]));
+      e1 += std::abs(WrapAngle(map.alpha[i] - scan.truth->alpha[i]));
+      ++c;
+    }
+    if (std::getenv("DUMP")) {
+      for (std::size_t i = 0; i < scan.size(); i += std::stoul(std::getenv("DUMP"))) {
+        if (!map.inmodel[i]) continue;
+        std::printf("    beam %zu rho-true %.4f meas-true %.4f alpha-true %.3f deg init-true %.3f deg\n", i,
+                    map.rho[i] - scan.truth->range[i], scan.ranges[i] - scan.truth->range[i],
+                    WrapAngle(map.alpha[i] - scan.truth->alpha[i]) * 180 / std::numbers::pi,
+                    WrapAngle(map.initial_alpha[i] - scan.truth->alpha[i]) * 180 / std::numbers::pi);
+      }
+    }
+    std::printf("initial alpha err %.4f deg, final %.4f deg\n", e0 / c * 180 / std::numbers::pi, e1 / c * 180 / std::numbers::pi);
+  }
+  for (const BeamRange& r : map.regions) {
+    double e = 0; int c = 0;
+    for (std::size_t i = r.first; i <= r.last; ++i) {
+      if (!map.inmodel[i] || !std::isfinite(scan.truth->alpha[i])) continue;
+      e += WrapAngle(map.alpha[i] - scan.truth->alpha[i]); ++c;
+    }
+    std::printf("  region %zu..%zu  mean signed err %.3f deg\n", r.first, r.last, c ? e / c * 180 / std::numbers::pi : 0.0);
+  }
+  if (std::getenv("CORNERS")) {
+    auto truept = [&](std::size_t i) { return Vec2(std::cos(scan.angles[i]) * scan.truth->range[i], std::sin(scan.angles[i]) * scan.truth->range[i]); };
+    for (std::size_t b : TrueBorders(scan)) {
+      if (b < 12 || b + 12 >= scan.size()) continue;
+      const Vec2 l0 = truept(b - 10), l1 = truept(b - 5), r0 = truept(b + 6), r1 = truept(b + 11);
+      auto dist = [](Vec2 a, Vec2 c, Vec2 p) { Vec2 d = (c - a).normalized(); return (p - a).x() * d.y() - (p - a).y() * d.x(); };
+      for (std::size_t i = b - 3; i <= b + 4; ++i) {
+        const Vec2 p = scan.PointInSensorFrame(i);
+        std::printf("  beam %zu (truth region %d, inmodel %d): dist left %.2f sigma, right %.2f sigma\n", i, scan.truth->region[i], map.inmodel[i],
+                    dist(l0, l1, p) / scan.sigma[i], dist(r0, r1, p) / scan.sigma[i]);
+      }
+    }
+  }
+  std::printf("true borders:");
+  for (std::size_t b : TrueBorders(scan)) std::printf(" %zu", b);
+  std::printf("\n");
+}
 }  // namespace
 }  // namespace priormap::priorlets

@@ -4,6 +4,7 @@
 #include <string>
 
 #include <priormap/priorlets/engine.hpp>
+#include <priormap/priorlets/posterior.hpp>
 
 namespace priormap::priorlets {
 
@@ -14,7 +15,9 @@ struct MapScanJsonContext {
 };
 
 /// One JSON object on one line (so that a log's results form JSON Lines); per-beam arrays have
-/// one entry per beam, NaN as null.
-[[nodiscard]] std::string MapScanToJson(const MapScan& map, const MapScanJsonContext& context);
+/// one entry per beam, NaN as null. With `posterior`, also the degrees of freedom, the posterior
+/// standard deviations and the eigenvariations.
+[[nodiscard]] std::string MapScanToJson(const MapScan& map, const MapScanJsonContext& context,
+                                        const Posterior* posterior = nullptr);
 
 }  // namespace priormap::priorlets

@@ -36,9 +36,10 @@ struct PosteriorOptions {
   /// solution's largest constraint residual when that is larger (a redundancy that holds only
   /// on the constraint manifold shows singular values of the order of the residual).
   double kernel_tolerance = 1e-9;
-  /// The covariance is dense in Free: above this dim(Free) only the degrees of freedom are
-  /// computed (e.g. a prior of energies only leaves all 2n unknowns free).
-  std::size_t max_free_dimension = 2500;
+  /// The covariance is dense in Free (d x d, eigen-decomposed: O(d^3)): above this dim(Free) only
+  /// the degrees of freedom are computed, and, when nothing is constrained (a prior of energies
+  /// only: Free is everything, Sigma_x = A^-1, banded), the per-beam standard deviations.
+  std::size_t max_free_dimension = 600;
   /// Extr is inside Free when every cosine between them is at least this (Prop. 2 of the paper).
   double pose_independence_cosine = 0.999;
   /// Keep the in-model range covariance (m x m, for figures); not written to JSON.

@@ -1,0 +1,361 @@
+// Sec. IV of the paper at the MAP scan: Free from the constraint Jacobian (constraint_kernel),
+// Extr in closed form (extrinsic), Intr, and the covariance restricted to Free.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <fmt/format.h>
+
+#include <priormap/core/check.hpp>
+#include <priormap/priorlets/extrinsic.hpp>
+#include <priormap/priorlets/posterior.hpp>
+
+#include "inner_problem.hpp"
+
+namespace priormap::priorlets {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Singular values of grad_q r (columns scaled to unit norm) below this fraction of the largest
+// are rank deficiency: a motion that moves the readings by less than 1 % of what the strongest
+// does is not observable. The closed form is evaluated at the MAP normals, not the true ones: for
+// a circle seen from off its centre the rotation is a combination of the translations (exactly,
+// by ray casting: 4e-11), up to the normals' error, which leaves 1e-4..1e-3; a genuine third
+// direction (any corner in view) is > 0.1.
+constexpr double kExtrinsicRankTolerance = 1e-2;
+
+// The problem of the final topology, rebuilt from the map: the same data, initial normals and
+// their weak prior the last solve used.
+InnerProblem MakeFinalProblem(const Scan& scan, const dsl::CompiledPrior& prior,
+                              const MapScan& map) {
+  const std::vector<std::size_t>& beams = map.inmodel_beams;
+  std::vector<ProblemPoint> points(beams.size());
+  std::vector<double> sigma(beams.size());
+  for (std::size_t j = 0; j < beams.size(); ++j) {
+    const std::size_t b = beams[j];
+    ProblemPoint& pt = points[j];
+    pt.phi = scan.angles[b];
+    pt.rho_measured = scan.ranges[b];
+    pt.rho_lower = -std::numeric_limits<double>::infinity();
+    pt.rho_upper = std::numeric_limits<double>::infinity();
+    pt.alpha_initial = map.initial_alpha[b];
+    pt.alpha_sigma = map.initial_alpha_sigma[b];
+    pt.alpha_lower = pt.rho_lower;
+    pt.alpha_upper = pt.rho_upper;
+    sigma[j] = scan.sigma[b];
+  }
+  return InnerProblem(prior, std::move(points), map.links, std::move(sigma),
+                      InModelRangePrecision(scan, beams));
+}
+
+// Curvature d alpha / d s of one region's points by central differences over up to
+// kCurvatureReach points on each side: the MAP normals lie on the prior's surface to ~1e-7, and a
+// difference between neighbours 0.25 deg apart would amplify that to ~1e-3 relative error in
+// kappa (enough to make a circle's rotation look independent of its translations).
+constexpr std::size_t kCurvatureReach = 8;
+
+void RegionCurvature(std::span<const double> rho, std::span<const double> alpha,
+                     std::span<const double> phi, std::span<double> kappa) {
+  const std::size_t count = rho.size();
+  std::vector<double> arc(count, 0.0);  // polyline length from the first point
+  for (std::size_t j = 1; j < count; ++j) {
+    arc[j] = arc[j - 1] + std::hypot(rho[j] * std::cos(phi[j]) - rho[j - 1] * std::cos(phi[j - 1]),
+                                     rho[j] * std::sin(phi[j]) - rho[j - 1] * std::sin(phi[j - 1]));
+  }
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t lo = j >= kCurvatureReach ? j - kCurvatureReach : 0;
+    const std::size_t hi = std::min(count - 1, j + kCurvatureReach);
+    const double ds = arc[hi] - arc[lo];
+    // alpha grows with s where the surface is concave as seen from the sensor (extrinsic.hpp).
+    kappa[j] = hi > lo && ds > 0.0 ? (alpha[hi] - alpha[lo]) / ds : 0.0;
+  }
+}
+
+// d x / d q in the engine's interleaved order, curvature estimated per region from the MAP
+// normals (which the prior has made smooth).
+Eigen::MatrixXd InterleavedExtrinsicJacobian(const Scan& scan, const MapScan& map) {
+  const std::vector<std::size_t>& beams = map.inmodel_beams;
+  const std::size_t m = beams.size();
+  std::vector<double> rho(m), alpha(m), phi(m), curvature(m, 0.0);
+  for (std::size_t j = 0; j < m; ++j) {
+    rho[j] = map.rho[beams[j]];
+    alpha[j] = map.alpha[beams[j]];
+    phi[j] = scan.angles[beams[j]];
+  }
+  for (std::size_t j = 0; j < m;) {
+    std::size_t e = j;
+    while (e + 1 < m && map.links[e] == Link::kSameRegion) ++e;
+    const std::size_t count = e - j + 1;
+    RegionCurvature(std::span(rho).subspan(j, count), std::span(alpha).subspan(j, count),
+                    std::span(phi).subspan(j, count), std::span(curvature).subspan(j, count));
+    j = e + 1;
+  }
+  const Eigen::Matrix<double, Eigen::Dynamic, 3> stacked =
+      ExtrinsicJacobian(rho, alpha, phi, curvature);
+  Eigen::MatrixXd e(static_cast<Eigen::Index>(2 * m), 3);
+  for (std::size_t j = 0; j < m; ++j) {
+    const auto r = static_cast<Eigen::Index>(j);
+    e.row(2 * r) = stacked.row(r);
+    e.row(2 * r + 1) = stacked.row(static_cast<Eigen::Index>(m) + r);
+  }
+  return e;
+}
+
+// An orthonormal basis of the column span of e, rank decided relative to its largest singular
+// value after scaling the columns (metres and radians) to unit norm.
+Eigen::MatrixXd OrthonormalColumnSpan(const Eigen::MatrixXd& e) {
+  Eigen::MatrixXd scaled = e;
+  for (Eigen::Index c = 0; c < scaled.cols(); ++c) {
+    const double norm = scaled.col(c).norm();
+    if (norm > 0.0) scaled.col(c) /= norm;
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinU);
+  const Eigen::VectorXd& s = svd.singularValues();
+  Eigen::Index rank = 0;
+  while (rank < s.size() && s[rank] > kExtrinsicRankTolerance * s[0]) ++rank;
+  return svd.matrixU().leftCols(rank);
+}
+
+// Per-beam entries of an interleaved vector over the in-model unknowns.
+void Scatter(const MapScan& map, const Eigen::Ref<const Eigen::VectorXd>& v,
+             std::vector<double>& rho, std::vector<double>& alpha) {
+  rho.assign(map.rho.size(), kNaN);
+  alpha.assign(map.rho.size(), kNaN);
+  for (std::size_t j = 0; j < map.inmodel_beams.size(); ++j) {
+    rho[map.inmodel_beams[j]] = v[static_cast<Eigen::Index>(2 * j)];
+    alpha[map.inmodel_beams[j]] = v[static_cast<Eigen::Index>(2 * j + 1)];
+  }
+}
+
+// The largest `count` eigenpairs of the symmetric c (coordinates in the basis n) as
+// eigenvariations; `extrinsic_coordinates` (N^T D) gives their intrinsic fraction.
+std::vector<Eigenvariation> Eigenvariations(const MapScan& map, const Eigen::MatrixXd& n,
+                                            const Eigen::MatrixXd& c,
+                                            const Eigen::MatrixXd& extrinsic_coordinates,
+                                            int count) {
+  std::vector<Eigenvariation> out;
+  if (c.rows() == 0) return out;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(c);
+  for (Eigen::Index k = c.rows() - 1; k >= 0 && static_cast<int>(out.size()) < count; --k) {
+    const double variance = eig.eigenvalues()[k];
+    if (!(variance > 0.0)) break;
+    const Eigen::VectorXd u = eig.eigenvectors().col(k);
+    Eigenvariation ev;
+    ev.sigma = std::sqrt(variance);
+    Eigen::VectorXd v = n * u;
+    // A sign convention, so that the output does not flip with rounding: the largest entry > 0.
+    Eigen::Index largest = 0;
+    v.cwiseAbs().maxCoeff(&largest);
+    if (v[largest] < 0.0) v = -v;
+    Scatter(map, v, ev.rho, ev.alpha);
+    const double extrinsic = extrinsic_coordinates.cols() > 0
+                                 ? (extrinsic_coordinates.transpose() * u).squaredNorm()
+                                 : 0.0;
+    ev.intrinsic_fraction = std::clamp(1.0 - extrinsic, 0.0, 1.0);
+    out.push_back(std::move(ev));
+  }
+  return out;
+}
+
+// sqrt of the diagonal of the inverse of a banded precision (marginal standard deviations).
+std::vector<double> MarginalStd(const SymmetricBandedMatrix& precision) {
+  const std::size_t m = precision.size();
+  std::vector<double> out(m, kNaN);
+  const std::optional<BandedCholesky> chol = BandedCholesky::Factor(precision);
+  if (!chol) return out;
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto r = static_cast<Eigen::Index>(i);
+    e[r] = 1.0;
+    out[i] = std::sqrt(chol->Solve(e)[r]);
+    e[r] = 0.0;
+  }
+  return out;
+}
+
+// The Jacobian's rank is decided at a point feasible to ~1e-7; constraints that are redundant
+// only on the constraint manifold (three per window of a circle, with rank 2n - 3) show singular
+// values of that order there, as large as those of weakly constrained directions. A few Newton
+// steps on data + energies + lambda penalty at large lambda (the end of the solver's homotopy)
+// take x to feasibility ~1e-12 near the same optimum, where the two are orders of magnitude
+// apart. Returns x unchanged when that does not lower the violation.
+Eigen::VectorXd Tighten(InnerProblem& problem, const Eigen::VectorXd& start, double* violation) {
+  double data_weight = 0.0;
+  const SymmetricBandedMatrix& info = problem.data_information();
+  for (std::size_t i = 0; i < info.size(); ++i) data_weight = std::max(data_weight, info(i, i));
+  Eigen::VectorXd x = start, gradient;
+  SymmetricBandedMatrix hessian;
+  double best = problem.Violations(x).max_residual;
+  Eigen::VectorXd best_x = x;
+  for (double scale : {1e6, 1e8, 1e10}) {
+    const double lambda = scale * data_weight;
+    for (int step = 0; step < 3; ++step) {
+      const double current =
+          problem.Evaluate(x, lambda, 0.0, &gradient, &hessian).Total(lambda, 0.0);
+      const std::optional<BandedCholesky> chol = BandedCholesky::Factor(hessian);
+      if (!chol) break;
+      const Eigen::VectorXd direction = -chol->Solve(gradient);
+      const double slope = gradient.dot(direction);
+      if (!(slope < 0.0)) break;
+      double t = 1.0;
+      bool accepted = false;
+      for (int halving = 0; halving < 30 && !accepted; ++halving, t *= 0.5) {
+        const Eigen::VectorXd trial = x + t * direction;
+        const ObjectiveValue next = problem.Evaluate(trial, lambda, 0.0, nullptr, nullptr);
+        if (next.Total(lambda, 0.0) <= current + 1e-4 * t * slope) {
+          x = trial;
+          accepted = true;
+        }
+      }
+      if (!accepted) break;
+    }
+    const double v = problem.Violations(x).max_residual;
+    if (v < best) {
+      best = v;
+      best_x = x;
+    }
+  }
+  *violation = best;
+  return best_x;
+}
+
+}  // namespace
+
+Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, const MapScan& map,
+                           const EngineOptions& /*engine_options*/,
+                           const PosteriorOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  Posterior out;
+  out.form = options.form;
+  const std::size_t n = scan.size(), m = map.inmodel_beams.size();
+  PRIORMAP_CHECK(map.rho.size() == n && map.links.size() + 1 == std::max<std::size_t>(m, 1),
+                 "a MapScan of this scan");
+  out.prior_std_rho.assign(n, kNaN);
+  out.prior_std_alpha.assign(n, kNaN);
+  out.posterior_std_rho.assign(n, kNaN);
+  out.posterior_std_alpha.assign(n, kNaN);
+  const auto finish = [&] {
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  };
+  if (m == 0) {
+    out.note = "no in-model points";
+    return finish();
+  }
+
+  InnerProblem problem = MakeFinalProblem(scan, prior, map);
+  Eigen::VectorXd x(static_cast<Eigen::Index>(2 * m));
+  for (std::size_t j = 0; j < m; ++j) {
+    x[static_cast<Eigen::Index>(2 * j)] = map.rho[map.inmodel_beams[j]];
+    x[static_cast<Eigen::Index>(2 * j + 1)] = map.alpha[map.inmodel_beams[j]];
+  }
+
+  // Free = ker grad f_T.
+  double violation = map.max_violation;
+  x = Tighten(problem, x, &violation);
+  KernelOptions kernel_options;
+  kernel_options.relative_tolerance = std::max(options.kernel_tolerance, 100.0 * violation);
+  const std::vector<ConstraintRow> rows = problem.EqualityRows(x);
+  ConstraintKernel kernel = ComputeKernel(2 * m, rows, kernel_options);
+  out.dof.kernel = kernel.summary();
+  out.dof.free = kernel.dimension();
+
+  // Extr = span grad_q r; Intr = Free minus what Extr sees of it.
+  const Eigen::MatrixXd extrinsic = OrthonormalColumnSpan(InterleavedExtrinsicJacobian(scan, map));
+  out.dof.extrinsic = static_cast<std::size_t>(extrinsic.cols());
+  const IntrinsicSubspace intrinsic(std::move(kernel), extrinsic, kernel_options);
+  out.dof.intrinsic = intrinsic.dimension();
+  const Eigen::VectorXd& cosines = intrinsic.cosines();
+  out.dof.min_extrinsic_cosine =
+      cosines.size() < extrinsic.cols() ? 0.0 : (cosines.size() ? cosines.minCoeff() : 1.0);
+  out.dof.pose_independent = out.dof.min_extrinsic_cosine >= options.pose_independence_cosine;
+  if (!out.dof.pose_independent) {
+    out.note = fmt::format(
+        "the prior is not pose-independent here: Extr is not inside Free (smallest cosine {:.3g})",
+        out.dof.min_extrinsic_cosine);
+  }
+
+  // Prior standard deviations: the sensor's noise model and the initial normals' weak prior.
+  const std::optional<SymmetricBandedMatrix> precision =
+      InModelRangePrecision(scan, map.inmodel_beams);
+  const std::vector<double> range_std = precision ? MarginalStd(*precision) : std::vector<double>{};
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t b = map.inmodel_beams[j];
+    out.prior_std_rho[b] = precision ? range_std[j] : scan.sigma[b];
+    out.prior_std_alpha[b] = map.initial_alpha_sigma[b];
+  }
+
+  // A = Sigma_0^-1 + Hess h (energies made convex per window, as in the solve).
+  SymmetricBandedMatrix information;
+  (void)problem.Evaluate(x, 0.0, 0.0, nullptr, &information);
+
+  const ConstraintKernel& free = intrinsic.free();
+  if (free.dimension() > options.max_free_dimension) {
+    if (!out.note.empty()) out.note += "; ";
+    out.note += fmt::format("dim Free = {} > {}: no eigenvariations or covariance matrix",
+                            free.dimension(), options.max_free_dimension);
+    if (free.dimension() == free.num_variables()) {
+      // Nothing constrained: Sigma_x = A^-1, whose diagonal banded solves give in O(n^2 b).
+      const std::vector<double> std_x = MarginalStd(information);
+      for (std::size_t j = 0; j < m; ++j) {
+        out.posterior_std_rho[map.inmodel_beams[j]] = std_x[2 * j];
+        out.posterior_std_alpha[map.inmodel_beams[j]] = std_x[2 * j + 1];
+      }
+    } else {
+      out.note += " nor standard deviations";
+    }
+    return finish();
+  }
+  const Eigen::MatrixXd basis = free.ToDense();  // N, 2m x d
+  const auto d = static_cast<Eigen::Index>(free.dimension());
+  Eigen::MatrixXd c(d, d);  // Sigma_x = N c N^T
+  if (options.form == CovarianceForm::kConditional) {
+    Eigen::MatrixXd an(basis.rows(), d);
+    for (Eigen::Index k = 0; k < d; ++k) an.col(k) = information.Multiply(basis.col(k));
+    const Eigen::MatrixXd reduced = basis.transpose() * an;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(reduced);
+    c = ldlt.solve(Eigen::MatrixXd::Identity(d, d));
+  } else {
+    const std::optional<BandedCholesky> chol = BandedCholesky::Factor(information);
+    PRIORMAP_CHECK(chol.has_value(), "the data information is positive definite");
+    Eigen::MatrixXd solved(basis.rows(), d);
+    for (Eigen::Index k = 0; k < d; ++k) solved.col(k) = chol->Solve(basis.col(k));
+    c = basis.transpose() * solved;
+  }
+  c = 0.5 * (c + c.transpose());
+
+  const Eigen::MatrixXd nc = basis * c;
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t b = map.inmodel_beams[j];
+    const auto r = static_cast<Eigen::Index>(2 * j);
+    out.posterior_std_rho[b] = std::sqrt(std::max(0.0, nc.row(r).dot(basis.row(r))));
+    out.posterior_std_alpha[b] = std::sqrt(std::max(0.0, nc.row(r + 1).dot(basis.row(r + 1))));
+  }
+
+  // Eigenvariations of Sigma_x, and of its intrinsic part Q c Q (Q = I - G G^T, G = N^T D the
+  // extrinsic directions inside Free in coordinates).
+  const Eigen::MatrixXd g = free.Coordinates(intrinsic.extrinsic_in_free());
+  out.eigenvariations = Eigenvariations(map, basis, c, g, options.eigenvariations);
+  const Eigen::MatrixXd q = Eigen::MatrixXd::Identity(d, d) - g * g.transpose();
+  // Q c Q has rank dim Intr; its other eigenvalues are rounding.
+  out.intrinsic_eigenvariations =
+      Eigenvariations(map, basis, q * c * q, g,
+                      std::min(options.eigenvariations, static_cast<int>(out.dof.intrinsic)));
+
+  if (options.keep_range_covariance) {
+    Eigen::MatrixXd ranges(static_cast<Eigen::Index>(m), d);
+    for (std::size_t j = 0; j < m; ++j) {
+      ranges.row(static_cast<Eigen::Index>(j)) = basis.row(static_cast<Eigen::Index>(2 * j));
+    }
+    out.range_covariance = ranges * c * ranges.transpose();
+  }
+  out.computed = true;
+  return finish();
+}
+
+}  // namespace priormap::priorlets

@@ -1,0 +1,156 @@
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/check.hpp>
+#include <priormap/render/map_scan_figure.hpp>
+
+#include "testing/png_image.hpp"
+#include "testing/temp_dir.hpp"
+
+namespace priormap::render {
+namespace {
+
+using priorlets::Link;
+using priormap::testing::HasTemporaryFile;
+using priormap::testing::Like;
+using priormap::testing::PngImage;
+using priormap::testing::ReadAll;
+using priormap::testing::TempDir;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A corner seen from the origin: the wall x = 2 (beams below 30 deg), then the wall y = 1.15;
+// beam 5 is an outlier, kept out of the model.
+struct Synthetic {
+  Scan scan;
+  priorlets::MapScan map;
+  priorlets::Posterior posterior;
+};
+
+Synthetic MakeSynthetic(std::size_t n = 41) {
+  Synthetic s;
+  Scan& scan = s.scan;
+  scan.angles = EvenlySpacedAngles(n, DegToRad(-40), DegToRad(80));
+  scan.sigma.assign(n, 0.01);
+  scan.status.assign(n, BeamStatus::kValid);
+  priorlets::MapScan& map = s.map;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double phi = scan.angles[i];
+    const bool wall_x = phi < DegToRad(30);
+    const double range = wall_x ? 2.0 / std::cos(phi) : 1.15 / std::sin(phi);
+    const double normal = wall_x ? kPi : -kPi / 2;  // towards the sensor
+    const double facing = phi + kPi;
+    scan.ranges.push_back(range + 0.01 * std::sin(7.0 * static_cast<double>(i)));
+    const bool inmodel = i != 5;
+    map.rho.push_back(inmodel ? range : scan.ranges.back());
+    map.alpha.push_back(inmodel ? facing + WrapAngle(normal - facing) : kNaN);
+    map.initial_alpha.push_back(inmodel ? map.alpha.back() + 0.05 * std::cos(3.0 * phi) : kNaN);
+    map.initial_alpha_sigma.push_back(inmodel ? 0.2 : kNaN);
+    map.alpha_lower.push_back(inmodel ? facing - DegToRad(89) : kNaN);
+    map.alpha_upper.push_back(inmodel ? facing + DegToRad(89) : kNaN);
+    map.inmodel.push_back(inmodel ? 1 : 0);
+    if (inmodel) map.inmodel_beams.push_back(i);
+  }
+  scan.ranges[5] = 0.8;
+  for (std::size_t j = 0; j + 1 < map.inmodel_beams.size(); ++j) {
+    const bool corner = scan.angles[map.inmodel_beams[j]] < DegToRad(30) &&
+                        scan.angles[map.inmodel_beams[j + 1]] >= DegToRad(30);
+    map.links.push_back(corner ? Link::kDifferentRegion : Link::kSameRegion);
+  }
+  map.feasible = true;
+
+  priorlets::Posterior& post = s.posterior;
+  const std::size_t m = map.inmodel_beams.size();
+  post.computed = true;
+  post.dof.free = 3;
+  post.dof.extrinsic = 3;
+  post.dof.intrinsic = 2;
+  post.prior_std_rho.assign(n, kNaN);
+  post.posterior_std_rho.assign(n, kNaN);
+  priorlets::Eigenvariation v;
+  v.sigma = 0.01;
+  v.rho.assign(n, kNaN);
+  v.alpha = v.rho;
+  v.intrinsic_fraction = 1.0;
+  for (std::size_t b : map.inmodel_beams) {
+    post.prior_std_rho[b] = 0.01;
+    post.posterior_std_rho[b] = 0.002 + 0.001 * std::cos(scan.angles[b]);
+    v.rho[b] = 1.0 / std::sqrt(static_cast<double>(m));
+  }
+  post.intrinsic_eigenvariations = {v, v};
+  post.range_covariance =
+      Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m), 2e-6);
+  post.range_covariance.diagonal().array() += 4e-6;
+  return s;
+}
+
+// Pixels of the heat map's top colour: only panel (e) and its colour bar use the colour map.
+int HeatMapPixels(const PngImage& image) {
+  return image.Count(Like(MapColor(Colormap::kViridis, 1.0)));
+}
+
+TEST(MapScanFigure, SavesPngSvgAndPdfOfItsSize) {
+  const TempDir dir;
+  const Synthetic s = MakeSynthetic();
+  const MapScanFigure figure(s.scan, s.map, s.posterior, {.width_px = 1000, .title = "test"});
+  figure.Save(dir / "f.png");
+  figure.Save(dir / "f.svg");
+  figure.Save(dir / "f.pdf");
+  const PngImage png(dir / "f.png");
+  ASSERT_TRUE(png.ok());
+  EXPECT_EQ(png.width(), 1000);
+  EXPECT_EQ(png.height(), figure.height_px());
+  EXPECT_GT(figure.height_px(), figure.width_px());  // three rows of two panels
+  EXPECT_TRUE(ReadAll(dir / "f.svg").starts_with("<?xml"));
+  EXPECT_NE(ReadAll(dir / "f.svg").find("<svg"), std::string::npos);
+  EXPECT_TRUE(ReadAll(dir / "f.pdf").starts_with("%PDF"));
+  EXPECT_FALSE(HasTemporaryFile(dir.path()));
+}
+
+TEST(MapScanFigure, DrawsTheCovarianceOnlyWhenThePosteriorWasComputed) {
+  const TempDir dir;
+  Synthetic s = MakeSynthetic();
+  MapScanFigure(s.scan, s.map, s.posterior).Save(dir / "with.png");
+  s.posterior = priorlets::Posterior{};
+  s.posterior.note = "dim Free 5000 > max_free_dimension";
+  MapScanFigure(s.scan, s.map, s.posterior).Save(dir / "without.png");
+  EXPECT_GT(HeatMapPixels(PngImage(dir / "with.png")), 500);
+  EXPECT_EQ(HeatMapPixels(PngImage(dir / "without.png")), 0);
+}
+
+TEST(MapScanFigure, DownsamplesALargeCovariance) {
+  const TempDir dir;
+  const Synthetic s = MakeSynthetic(701);
+  ASSERT_EQ(s.posterior.range_covariance.rows(), 700);
+  const MapScanFigure figure(s.scan, s.map, s.posterior, {.max_heat_map_cells = 100});
+  figure.Save(dir / "large.png");
+  EXPECT_GT(HeatMapPixels(PngImage(dir / "large.png")), 500);
+}
+
+TEST(MapScanFigure, DrawsWithoutInModelPointsOrGroundTruth) {
+  const TempDir dir;
+  Synthetic s = MakeSynthetic();
+  s.map.inmodel.assign(s.scan.size(), 0);
+  s.map.inmodel_beams.clear();
+  s.map.links.clear();
+  s.posterior = priorlets::Posterior{};
+  MapScanFigure(s.scan, s.map, s.posterior).Save(dir / "empty.png");
+  EXPECT_TRUE(PngImage(dir / "empty.png").ok());
+}
+
+TEST(MapScanFigure, RejectsAMapScanOfAnotherScan) {
+  Synthetic s = MakeSynthetic();
+  s.map.rho.pop_back();
+  EXPECT_THROW(MapScanFigure(s.scan, s.map, s.posterior), ContractError);
+  s = MakeSynthetic();
+  s.posterior.posterior_std_rho.pop_back();
+  EXPECT_THROW(MapScanFigure(s.scan, s.map, s.posterior), ContractError);
+}
+
+}  // namespace
+}  // namespace priormap::render
