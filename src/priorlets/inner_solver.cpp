@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <tuple>
@@ -260,7 +258,6 @@ InnerResult SolveInner(InnerProblem& problem, const Eigen::VectorXd* x0,
          ++step) {
       if (!newton_step(barrier_weight, step + 1 < options.max_newton_steps_per_stage)) break;
     }
-    if (std::getenv("INNERDBG")) std::fprintf(stderr, "  n %zu stage %d lambda %.3g viol %.3g pen %.3g steps %d given_up %d\n", problem.num_points(), stage, lambda, result.violation.max_residual, result.violation.penalty, result.newton_steps, int(given_up()));
     if (given_up()) return infeasible();
     if (stage == 0) {
       result.early_link_penalties = feasible() ? std::vector<double>(problem.links().size(), 0.0)
@@ -297,7 +294,7 @@ InnerResult SolveInner(InnerProblem& problem, const Eigen::VectorXd* x0,
     // Once the violation falls as 1 / lambda (the penalty dominates), the weight that makes it
     // feasible can be predicted: go there directly, up to lambda_factor^2 at once.
     double factor = options.lambda_factor;
-    if (!std::getenv("NOJUMP") && lambda >= lambda_judged && result.violation.max_residual <= kAsymptoticRatio /
+    if (lambda >= lambda_judged && result.violation.max_residual <= kAsymptoticRatio /
                                                                         options.lambda_factor *
                                                                         previous_violation) {
       const double needed =

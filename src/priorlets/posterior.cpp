@@ -149,9 +149,11 @@ std::vector<Eigenvariation> Eigenvariations(const MapScan& map, const Eigen::Mat
     ev.sigma = std::sqrt(variance);
     Eigen::VectorXd v = n * u;
     // A sign convention, so that the output does not flip with rounding: the largest entry > 0.
-    Eigen::Index largest = 0;
-    v.cwiseAbs().maxCoeff(&largest);
-    if (v[largest] < 0.0) v = -v;
+    double largest = 0.0;
+    for (const double entry : v) {
+      if (std::abs(entry) > std::abs(largest)) largest = entry;
+    }
+    if (largest < 0.0) v = -v;
     Scatter(map, v, ev.rho, ev.alpha);
     const double extrinsic = extrinsic_coordinates.cols() > 0
                                  ? (extrinsic_coordinates.transpose() * u).squaredNorm()
@@ -194,7 +196,7 @@ Eigen::VectorXd Tighten(InnerProblem& problem, const Eigen::VectorXd& start, dou
   Eigen::VectorXd best_x = x;
   for (double scale : {1e6, 1e8, 1e10}) {
     const double lambda = scale * data_weight;
-    for (int step = 0; step < 3; ++step) {
+    for (int step = 0; step < 2; ++step) {
       const double current =
           problem.Evaluate(x, lambda, 0.0, &gradient, &hessian).Total(lambda, 0.0);
       const std::optional<BandedCholesky> chol = BandedCholesky::Factor(hessian);
@@ -255,13 +257,24 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
     x[static_cast<Eigen::Index>(2 * j + 1)] = map.alpha[map.inmodel_beams[j]];
   }
 
-  // Free = ker grad f_T.
-  double violation = map.max_violation;
-  x = Tighten(problem, x, &violation);
+  // Free = ker grad f_T. When the decision is not clear-cut (a null and a kept singular value
+  // within 100x), it is taken again at a tighter solution (see Tighten): that costs about as
+  // much as the engine's last solve, so only then.
+  const auto kernel_at = [&](const Eigen::VectorXd& at, double violation, KernelOptions* used) {
+    used->relative_tolerance = std::max(options.kernel_tolerance, 100.0 * violation);
+    return ComputeKernel(2 * m, problem.EqualityRows(at), *used);
+  };
   KernelOptions kernel_options;
-  kernel_options.relative_tolerance = std::max(options.kernel_tolerance, 100.0 * violation);
-  const std::vector<ConstraintRow> rows = problem.EqualityRows(x);
-  ConstraintKernel kernel = ComputeKernel(2 * m, rows, kernel_options);
+  ConstraintKernel kernel = kernel_at(x, map.max_violation, &kernel_options);
+  const KernelSummary& first = kernel.summary();
+  if (first.largest_null_singular_value > 1e-2 * first.smallest_kept_singular_value) {
+    double violation = map.max_violation;
+    const Eigen::VectorXd tight = Tighten(problem, x, &violation);
+    if (violation < map.max_violation) {
+      x = tight;
+      kernel = kernel_at(x, violation, &kernel_options);
+    }
+  }
   out.dof.kernel = kernel.summary();
   out.dof.free = kernel.dimension();
 

@@ -2,10 +2,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <cstdio>
-#include <cstdlib>
 #include <set>
-#include <string>
 
 #include <gtest/gtest.h>
 
@@ -145,7 +142,6 @@ TEST(Engine, SameInputGivesTheSameResult) {
   EXPECT_EQ(a.links, b.links);
 }
 
-
 // The indices of the valid beams.
 std::vector<std::size_t> ValidBeams(const Scan& scan) {
   std::vector<std::size_t> beams;
@@ -233,81 +229,5 @@ TEST(Engine, StatsAccountForTheWork) {
   EXPECT_GE(s.seconds_total, s.seconds_outer + s.seconds_refine);
 }
 
-}  // namespace
-}  // namespace priormap::priorlets
-
-// TEMP DEBUG
-namespace priormap::priorlets {
-namespace {
-TEST(EngineDebug, DISABLED_Run) {
-  const char* sc = std::getenv("SC");
-  const char* se = std::getenv("SE");
-  const char* pr = std::getenv("PR");
-  const char* sd = std::getenv("SEED");
-  const std::string scene = sc ? sc : "circle";
-  Se2 pose(0.3, -0.2, 0.4);
-  if (scene == "two-circles") pose = *BuiltinScene("two-circles").value().default_pose;
-  if (scene == "l-room") pose = Se2(0.0, 0.0, 0.4);
-  if (std::getenv("POSE4")) pose = Se2(-1.0, -1.0, std::numbers::pi / 4);
-  const Scan scan = Simulate(scene, se ? se : "utm30", pose, sd ? std::stoul(sd) : 1);
-  EngineOptions options;
-  if (std::getenv("NOREFINE")) options.refine_borders = false;
-  if (const char* v = std::getenv("NSTEPS")) options.max_newton_steps_per_stage = std::stoi(v);
-  if (const char* v = std::getenv("LFACTOR")) options.lambda_factor = std::stod(v);
-  const std::string prname = pr ? pr : "circular";
-  const dsl::CompiledPrior prior = prname.find('/') != std::string::npos
-                                       ? dsl::PriorLibrary().Load(prname).value()
-                                       : Prior(prname);
-  const MapScan map = EstimateMapScan(scan, prior, options);
-  std::printf("feasible %d viol %.3g regions %zu inmodel %zu/%zu err %.4f (all %.4f) total %.2f ms outer %.2f refine %.2f rounds %d solves %d newton %d trials %d\n",
-              map.feasible, map.max_violation, map.regions.size(), map.inmodel_beams.size(), scan.size(),
-              MeanNormalErrorDeg(scan, map, true), MeanNormalErrorDeg(scan, map, false),
-              1e3 * map.stats.seconds_total, 1e3 * map.stats.seconds_outer,
-              1e3 * map.stats.seconds_refine, map.stats.outer_rounds, map.stats.inner_solves,
-              map.stats.newton_steps, map.stats.refinement_trials);
-  {
-    double e0 = 0, e1 = 0; int c = 0;
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      if (!map.inmodel[i] || !std::isfinite(scan.truth->alpha[i])) continue;
-      e0 += std::abs(WrapAngle(map.initial_alpha[i] - scan.truth->alpha[i]));
-      e1 += std::abs(WrapAngle(map.alpha[i] - scan.truth->alpha[i]));
-      ++c;
-    }
-    if (std::getenv("DUMP")) {
-      for (std::size_t i = 0; i < scan.size(); i += std::stoul(std::getenv("DUMP"))) {
-        if (!map.inmodel[i]) continue;
-        std::printf("    beam %zu rho-true %.4f meas-true %.4f alpha-true %.3f deg init-true %.3f deg\n", i,
-                    map.rho[i] - scan.truth->range[i], scan.ranges[i] - scan.truth->range[i],
-                    WrapAngle(map.alpha[i] - scan.truth->alpha[i]) * 180 / std::numbers::pi,
-                    WrapAngle(map.initial_alpha[i] - scan.truth->alpha[i]) * 180 / std::numbers::pi);
-      }
-    }
-    std::printf("initial alpha err %.4f deg, final %.4f deg\n", e0 / c * 180 / std::numbers::pi, e1 / c * 180 / std::numbers::pi);
-  }
-  for (const BeamRange& r : map.regions) {
-    double e = 0; int c = 0;
-    for (std::size_t i = r.first; i <= r.last; ++i) {
-      if (!map.inmodel[i] || !std::isfinite(scan.truth->alpha[i])) continue;
-      e += WrapAngle(map.alpha[i] - scan.truth->alpha[i]); ++c;
-    }
-    std::printf("  region %zu..%zu  mean signed err %.3f deg\n", r.first, r.last, c ? e / c * 180 / std::numbers::pi : 0.0);
-  }
-  if (std::getenv("CORNERS")) {
-    auto truept = [&](std::size_t i) { return Vec2(std::cos(scan.angles[i]) * scan.truth->range[i], std::sin(scan.angles[i]) * scan.truth->range[i]); };
-    for (std::size_t b : TrueBorders(scan)) {
-      if (b < 12 || b + 12 >= scan.size()) continue;
-      const Vec2 l0 = truept(b - 10), l1 = truept(b - 5), r0 = truept(b + 6), r1 = truept(b + 11);
-      auto dist = [](Vec2 a, Vec2 c, Vec2 p) { Vec2 d = (c - a).normalized(); return (p - a).x() * d.y() - (p - a).y() * d.x(); };
-      for (std::size_t i = b - 3; i <= b + 4; ++i) {
-        const Vec2 p = scan.PointInSensorFrame(i);
-        std::printf("  beam %zu (truth region %d, inmodel %d): dist left %.2f sigma, right %.2f sigma\n", i, scan.truth->region[i], map.inmodel[i],
-                    dist(l0, l1, p) / scan.sigma[i], dist(r0, r1, p) / scan.sigma[i]);
-      }
-    }
-  }
-  std::printf("true borders:");
-  for (std::size_t b : TrueBorders(scan)) std::printf(" %zu", b);
-  std::printf("\n");
-}
 }  // namespace
 }  // namespace priormap::priorlets

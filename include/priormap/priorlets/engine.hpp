@@ -30,7 +30,8 @@ struct EngineOptions {
   double alpha_bound_deg = 89.0;
   /// Regions with fewer points are clutter: their points leave INMODEL.
   int min_region_points = 4;
-  /// Neighbours on each side used to estimate the initial normal of a point.
+  /// Neighbours on each side used to estimate the initial normal of a point, at least: the
+  /// window grows (up to 16 times) while its points fit a line, and is one-sided next to a border.
   int normal_half_window = 4;
   /// The initial normals enter as a weak prior with at least this standard deviation, rad; it
   /// regularises normals no constraint or energy determines.
@@ -45,12 +46,14 @@ struct EngineOptions {
   double mu_initial = 1.0;
   double mu_factor = 10.0;
   double mu_max = 1e6;
-  /// Newton steps per homotopy stage at most (fewer when a step changes little).
+  /// Newton steps per homotopy stage (fewer when a step changes little; up to 8 more when the
+  /// stage looks stalled, so that infeasibility is judged on a converged stage).
   int max_newton_steps_per_stage = 2;
   /// Outer rounds (topology changes) at most.
   int max_outer_rounds = 400;
-  /// Links whose penalty is at least this fraction of the largest, and that are the largest
-  /// within `order` links on both sides, break in the same round (1 = the paper's one at a time).
+  /// Links are grouped into zones of non-negligible penalty; the peak link of every zone whose
+  /// total penalty is at least this fraction of the largest zone's breaks in the same round
+  /// (1 = one at a time, as in the paper).
   double break_ratio = 0.5;
   /// After a feasible topology is found, try moving every region border by a beam and merging
   /// neighbouring regions again, keeping what stays feasible and fits better (backtracking over
