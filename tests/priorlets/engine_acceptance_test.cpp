@@ -536,7 +536,7 @@ priorlet different_surface:
       Case("Circular", "circular", false, BuiltinScene("circle").value(), off_centre),
       Case("CircularRadius", "circular-radius", false, BuiltinScene("circle").value(), off_centre,
            "commit 3e7db5e: 34 regions instead of 1, 153 of 1081 readings out of the model, "
-           "2.6 deg, 10 s (the circular prior alone: 1 region, 0.010 deg, 22 ms; at 535d2c5 no "
+           "2.6 deg, 6-10 s (the circular prior alone: 1 region, 0.010 deg, 22 ms; at 535d2c5 no "
            "reading stayed in the model); the radius energy (1/(2|r13|) - 2)^2 is singular at "
            "r13 = 0, which is probably what breaks the circle up"),
       Case("Splines", "splines", false, BuiltinScene("circle").value(), off_centre,
@@ -545,7 +545,7 @@ priorlet different_surface:
            "stay the initial line-fit normals, smoothed"),
       Case("StraightOrCircular", "straight-or-circular", false, RoomWithPillar(),
            Se2(-1.0, -0.5, 0.3),
-           "commit 3e7db5e: 8 regions instead of 5, 31 readings out of the model, 1.06 deg, 2 s: "
+           "commit 3e7db5e: 8 regions instead of 5, 31 readings out of the model, 1.06 deg, 1-2 s: "
            "the pillar (r = 0.5 m at about 2.3 m) splits into several regions with normals "
            "6-17 deg off and the wall next to it into pieces (the polygonal prior on the same "
            "scan: 8 regions in 0.1 s)"),
