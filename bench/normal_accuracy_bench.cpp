@@ -38,112 +38,26 @@
 #include <priormap/core/range_sensor.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/core/scene.hpp>
-#include <priormap/core/scene_ray_caster.hpp>
-#include <priormap/core/simulate.hpp>
 #include <priormap/dsl/prior_library.hpp>
 #include <priormap/priorlets/engine.hpp>
 #include <priormap/priorlets/normal_baselines.hpp>
+
+#include "testing/scan_truth.hpp"
 
 namespace {
 
 using namespace priormap;
 using namespace priormap::priorlets;
+using priormap::testing::BorderError;
+using priormap::testing::FoundBorder;
+using priormap::testing::FoundBorders;
+using priormap::testing::NearestBorder;
+using priormap::testing::TrueBorders;
+using priormap::testing::TrueCorners;
+using priormap::testing::TruthMask;
+using Pool = priormap::testing::ErrorPool;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-Scan Simulate(const Scene& scene, const RangeSensor& sensor, const Se2& pose, std::uint64_t seed) {
-  Rng rng(seed);
-  return SimulateScan(SceneRayCaster(scene), sensor, pose, rng);
-}
-
-// Links i | i + 1 between two valid beams that hit different primitives of one surface: the
-// corners (occlusion jumps between surfaces are not corners).
-std::vector<std::size_t> TrueCorners(const Scan& scan) {
-  std::vector<std::size_t> corners;
-  const ScanTruth& t = *scan.truth;
-  for (std::size_t i = 0; i + 1 < scan.size(); ++i) {
-    if (scan.IsValid(i) && scan.IsValid(i + 1) && t.region[i] >= 0 && t.region[i + 1] >= 0 &&
-        t.outlier[i] == 0 && t.outlier[i + 1] == 0 && t.surface[i] == t.surface[i + 1] &&
-        t.region[i] != t.region[i + 1]) {
-      corners.push_back(i);
-    }
-  }
-  return corners;
-}
-
-// Every link i | i + 1 where the simulator's region changes.
-std::vector<std::size_t> TrueBorders(const Scan& scan) {
-  std::vector<std::size_t> borders;
-  for (std::size_t i = 0; i + 1 < scan.size(); ++i) {
-    if (scan.truth->region[i] != scan.truth->region[i + 1]) borders.push_back(i);
-  }
-  return borders;
-}
-
-// A border the engine found: the last in-model beam of a region and the first of the next.
-struct FoundBorder {
-  std::size_t last = 0, first = 0;
-};
-
-std::vector<FoundBorder> FoundBorders(const MapScan& map) {
-  std::vector<FoundBorder> borders;
-  for (std::size_t r = 0; r + 1 < map.regions.size(); ++r) {
-    borders.push_back({map.regions[r].last, map.regions[r + 1].first});
-  }
-  return borders;
-}
-
-// How many beams a found border is from the true one between beams c and c + 1: 0 when it is
-// that very link; beams left out of the model between the two regions count against it (the
-// border is then somewhere in the gap).
-long BorderError(std::size_t c, const FoundBorder& b) {
-  const auto d = [](std::size_t x, std::size_t y) {
-    return std::abs(static_cast<long>(x) - static_cast<long>(y));
-  };
-  return std::max(d(b.last, c), d(b.first, c + 1));
-}
-
-// The error of the found border nearest to the true border after beam c.
-long NearestBorder(std::size_t c, const std::vector<FoundBorder>& found) {
-  long best = std::numeric_limits<long>::max();
-  for (const FoundBorder& b : found) best = std::min(best, BorderError(c, b));
-  return best;
-}
-
-// 1 for valid, genuine readings, 0 for the others and, when `skip_borders`, for both beams of
-// every true region change.
-std::vector<std::uint8_t> Mask(const Scan& scan, bool skip_borders) {
-  std::vector<std::uint8_t> mask(scan.size(), 0);
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    mask[i] = scan.IsValid(i) && !scan.truth->outlier[i];
-  }
-  if (skip_borders) {
-    for (std::size_t b : TrueBorders(scan)) mask[b] = mask[b + 1] = 0;
-  }
-  return mask;
-}
-
-// Sum of errors and count, so that means can be pooled over seeds.
-struct Pool {
-  double sum = 0.0;
-  std::size_t count = 0;
-  std::size_t missing = 0;  // masked-in beams without an estimate
-  double worst_seed = 0.0;
-  void Add(const std::vector<double>& estimate, const Scan& scan,
-           const std::vector<std::uint8_t>& mask) {
-    const NormalErrorStats s = CompareNormals(estimate, scan.truth->alpha, mask);
-    std::size_t masked_in = 0;
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      masked_in += mask[i] != 0 && std::isfinite(scan.truth->alpha[i]);
-    }
-    missing += masked_in - s.count;
-    if (s.count == 0) return;
-    sum += s.mean_deg * static_cast<double>(s.count);
-    count += s.count;
-    worst_seed = std::max(worst_seed, s.mean_deg);
-  }
-  [[nodiscard]] double Mean() const { return count ? sum / static_cast<double>(count) : kNaN; }
-};
 
 void Accuracy(int seeds) {
   const Scene scene = *BuiltinScene("square");
@@ -169,13 +83,14 @@ void Accuracy(int seeds) {
   const dsl::CompiledPrior polygonal = dsl::PriorLibrary().Load("polygonal").value();
   Pool poly_all, poly_excl;
   for (int seed = 1; seed <= seeds; ++seed) {
-    const Scan scan = Simulate(scene, sensor, pose, static_cast<std::uint64_t>(seed));
+    const Scan scan =
+        priormap::testing::SimulateScene(scene, sensor, pose, static_cast<std::uint64_t>(seed));
     const auto t0 = std::chrono::steady_clock::now();
     const MapScan map = EstimateMapScan(scan, prior);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     total_ms += ms;
-    const std::vector<std::uint8_t> all = Mask(scan, false), excl = Mask(scan, true);
+    const std::vector<std::uint8_t> all = TruthMask(scan, false), excl = TruthMask(scan, true);
     Pool seed_all, seed_excl;
     seed_all.Add(map.alpha, scan, all);
     seed_excl.Add(map.alpha, scan, excl);
@@ -225,7 +140,7 @@ void Accuracy(int seeds) {
              "worst seed*", "missing");
   const auto row = [](const std::string& name, const Pool& a, const Pool& e) {
     fmt::print("{:<28} {:>10.4f} {:>10.4f} {:>12.4f} {:>8}\n", name, a.Mean(), e.Mean(),
-               e.worst_seed, a.missing);
+               e.worst_scan, a.missing);
   };
   row("ours (engine, rectangular)", ours_all, ours_excl);
   row("ours (engine, polygonal)", poly_all, poly_excl);
@@ -291,7 +206,8 @@ void Outliers(int seeds, double outlier_probability, bool verbose) {
   double worst_precision = 1.0, worst_recall = 1.0;
   for (const Se2& pose : poses) {
     for (int seed = 1; seed <= seeds; ++seed) {
-      const Scan scan = Simulate(scene, sensor, pose, static_cast<std::uint64_t>(seed));
+      const Scan scan =
+          priormap::testing::SimulateScene(scene, sensor, pose, static_cast<std::uint64_t>(seed));
       const MapScan map = EstimateMapScan(scan, prior);
       const std::vector<int> label = TrueInModel(scan, bin_surface, 4.0);
       std::size_t tp = 0, est = 0, truth = 0, bin_in = 0, bin_beams = 0;
@@ -435,7 +351,7 @@ void Greedy(int cases_per_config, bool verbose) {
       Rng pose_rng = Rng::ForStream(2024, static_cast<std::uint64_t>(k));
       const Se2 pose = RandomPose(scene, pose_rng, 0.4);
       const auto seed = static_cast<std::uint64_t>(k + 1);
-      const Scan scan = Simulate(scene, sensor, pose, seed);
+      const Scan scan = priormap::testing::SimulateScene(scene, sensor, pose, seed);
       const MapScan greedy = EstimateMapScan(scan, prior, greedy_options);
       const MapScan refined = EstimateMapScan(scan, prior);
       infeasible += !greedy.feasible + !refined.feasible;

@@ -13,8 +13,8 @@
 #include <Eigen/Core>
 
 #include <priormap/core/banded_matrix.hpp>
-#include <priormap/dsl/prior.hpp>
 #include <priormap/core/scan.hpp>
+#include <priormap/dsl/prior.hpp>
 #include <priormap/priorlets/constraint_kernel.hpp>
 #include <priormap/priorlets/engine.hpp>
 

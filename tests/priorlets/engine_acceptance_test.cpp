@@ -23,23 +23,24 @@
 #include <priormap/core/angles.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/core/range_sensor.hpp>
-#include <priormap/core/rng.hpp>
 #include <priormap/core/scene.hpp>
-#include <priormap/core/scene_ray_caster.hpp>
-#include <priormap/core/simulate.hpp>
 #include <priormap/dsl/prior_library.hpp>
 #include <priormap/priorlets/engine.hpp>
 #include <priormap/priorlets/normal_baselines.hpp>
 
+#include "testing/scan_truth.hpp"
+
 namespace priormap::priorlets {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-Scan Simulate(const Scene& scene, const RangeSensor& sensor, const Se2& pose, std::uint64_t seed) {
-  Rng rng(seed);
-  return SimulateScan(SceneRayCaster(scene), sensor, pose, rng);
-}
+using priormap::testing::BorderError;
+using priormap::testing::ErrorPool;
+using priormap::testing::FoundBorder;
+using priormap::testing::FoundBorders;
+using priormap::testing::NearestBorder;
+using priormap::testing::TrueBorders;
+using priormap::testing::TrueCorners;
+using priormap::testing::TruthMask;
 
 RangeSensor Sensor(const std::string& name) {
   return RangeSensor::Preset(name).value();
@@ -48,94 +49,6 @@ RangeSensor Sensor(const std::string& name) {
 dsl::CompiledPrior Prior(const std::string& name) {
   return dsl::PriorLibrary().Load(name).value();
 }
-
-// Links i | i + 1 where the simulator's region changes (corners and occlusions).
-std::vector<std::size_t> TrueBorders(const Scan& scan) {
-  std::vector<std::size_t> borders;
-  for (std::size_t i = 0; i + 1 < scan.size(); ++i) {
-    if (scan.truth->region[i] != scan.truth->region[i + 1]) borders.push_back(i);
-  }
-  return borders;
-}
-
-// Links i | i + 1 between valid, genuine readings of two primitives of one surface: corners.
-std::vector<std::size_t> TrueCorners(const Scan& scan) {
-  std::vector<std::size_t> corners;
-  const ScanTruth& t = *scan.truth;
-  for (std::size_t i = 0; i + 1 < scan.size(); ++i) {
-    if (scan.IsValid(i) && scan.IsValid(i + 1) && t.region[i] >= 0 && t.region[i + 1] >= 0 &&
-        t.outlier[i] == 0 && t.outlier[i + 1] == 0 && t.surface[i] == t.surface[i + 1] &&
-        t.region[i] != t.region[i + 1]) {
-      corners.push_back(i);
-    }
-  }
-  return corners;
-}
-
-// A border the engine found: the last in-model beam of a region and the first of the next.
-struct FoundBorder {
-  std::size_t last = 0, first = 0;
-};
-
-std::vector<FoundBorder> FoundBorders(const MapScan& map) {
-  std::vector<FoundBorder> borders;
-  for (std::size_t r = 0; r + 1 < map.regions.size(); ++r) {
-    borders.push_back({map.regions[r].last, map.regions[r + 1].first});
-  }
-  return borders;
-}
-
-// How many beams a found border is from the true one between beams c and c + 1: 0 when it is
-// that very link; beams left out of the model between the two regions count against it (the
-// border is then somewhere in the gap).
-long BorderError(std::size_t c, const FoundBorder& b) {
-  const auto d = [](std::size_t x, std::size_t y) {
-    return std::abs(static_cast<long>(x) - static_cast<long>(y));
-  };
-  return std::max(d(b.last, c), d(b.first, c + 1));
-}
-
-// The error of the found border nearest to the true border after beam c.
-long NearestBorder(std::size_t c, const std::vector<FoundBorder>& found) {
-  long best = std::numeric_limits<long>::max();
-  for (const FoundBorder& b : found) best = std::min(best, BorderError(c, b));
-  return best;
-}
-
-// Valid beams; with `skip_borders`, without the two beams of every true region change: a beam
-// within a beam spacing of a corner fits either wall within the noise, so which wall it gets is
-// a coin toss (the "+-1 beam" the issue grants corner location), and a wrong toss costs about
-// 90 deg / n of the mean without saying anything about the normals.
-std::vector<std::uint8_t> Mask(const Scan& scan, bool skip_borders) {
-  std::vector<std::uint8_t> mask(scan.size(), 0);
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    mask[i] = scan.IsValid(i) && !scan.truth->outlier[i];
-  }
-  if (skip_borders) {
-    for (std::size_t b : TrueBorders(scan)) mask[b] = mask[b + 1] = 0;
-  }
-  return mask;
-}
-
-// Pooled mean |normal error| over several scans, degrees.
-struct ErrorPool {
-  double sum = 0.0;
-  std::size_t count = 0;
-  std::size_t missing = 0;  // beams of the mask without an estimate
-  void Add(const std::vector<double>& estimate, const Scan& scan,
-           const std::vector<std::uint8_t>& mask) {
-    const NormalErrorStats s = CompareNormals(estimate, scan.truth->alpha, mask);
-    std::size_t in_mask = 0;
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      in_mask += mask[i] != 0 && std::isfinite(scan.truth->alpha[i]);
-    }
-    missing += in_mask - s.count;
-    if (s.count == 0) return;
-    sum += s.mean_deg * static_cast<double>(s.count);
-    count += s.count;
-  }
-  [[nodiscard]] double Mean() const { return count ? sum / static_cast<double>(count) : kNaN; }
-};
 
 // Expected number of regions: maximal runs of one true region among the genuine valid readings
 // in scan order (beams without a genuine reading do not split a run).
@@ -179,9 +92,9 @@ class EngineAcceptanceAccuracy : public ::testing::Test {
     sensor.sigma = 0.01;  // the preset's value; set so that the test says what it measures
     const dsl::CompiledPrior prior = Prior("rectangular");
     for (std::uint64_t seed = 1; seed <= 20; ++seed) {
-      const Scan scan = Simulate(scene, sensor, Se2(0.3, -0.2, 0.4), seed);
+      const Scan scan = priormap::testing::SimulateScene(scene, sensor, Se2(0.3, -0.2, 0.4), seed);
       const MapScan map = EstimateMapScan(scan, prior);
-      const std::vector<std::uint8_t> all = Mask(scan, false), excl = Mask(scan, true);
+      const std::vector<std::uint8_t> all = TruthMask(scan, false), excl = TruthMask(scan, true);
       r.ours_all.Add(map.alpha, scan, all);
       r.ours_excl.Add(map.alpha, scan, excl);
       for (int k : {11, 21, 31}) {
@@ -338,7 +251,7 @@ class EngineAcceptanceOutliers : public ::testing::Test {
         OutlierCase c;
         c.pose = pose;
         c.seed = seed;
-        const Scan scan = Simulate(scene, sensor, pose, seed);
+        const Scan scan = priormap::testing::SimulateScene(scene, sensor, pose, seed);
         const MapScan map = EstimateMapScan(scan, prior, options);
         const std::vector<int> label = TrueInModel(scan, options.rho_bound_sigmas);
         for (std::size_t i = 0; i < scan.size(); ++i) {
@@ -567,11 +480,11 @@ TEST_P(EngineAcceptanceGenerality, FeasibleAccurateAndFindsTheRegions) {
       c.prior_is_text ? library.CompileText(c.prior, c.name + ".prior") : library.Load(c.prior);
   ASSERT_TRUE(compiled.ok()) << compiled.error();
   const dsl::CompiledPrior& prior = compiled.value();
-  const Scan scan = Simulate(c.scene, Sensor("utm30"), c.pose, 1);
+  const Scan scan = priormap::testing::SimulateScene(c.scene, Sensor("utm30"), c.pose, 1);
   const MapScan map = EstimateMapScan(scan, prior);
   ErrorPool excl, all;
-  excl.Add(map.alpha, scan, Mask(scan, true));
-  all.Add(map.alpha, scan, Mask(scan, false));
+  excl.Add(map.alpha, scan, TruthMask(scan, true));
+  all.Add(map.alpha, scan, TruthMask(scan, false));
   std::cout << fmt::format(
       "[ generality ] {} on {}: feasible {}, violation {:.2e}, regions {} (expected {}), mean "
       "error {:.4f} deg without corner beams ({:.4f} all; {} beams without a normal), {:.1f} "
@@ -614,8 +527,8 @@ TEST(EngineAcceptanceLibrary, EveryBuiltinPriorHasAGeneralityCase) {
 // feasible, so refinement puts every corner where it is.
 
 TEST(EngineAcceptanceGreedy, RefinementRepairsACornerThatTheGreedyOrderMisplaces) {
-  const Scan scan = Simulate(BuiltinScene("rectangle").value(), Sensor("utm30"),
-                             Se2(-0.402812, -0.568978, -1.810382), 14);
+  const Scan scan = priormap::testing::SimulateScene(
+      BuiltinScene("rectangle").value(), Sensor("utm30"), Se2(-0.402812, -0.568978, -1.810382), 14);
   const dsl::CompiledPrior prior = Prior("rectangular");
   EngineOptions greedy_options;
   greedy_options.refine_borders = false;
@@ -635,8 +548,8 @@ TEST(EngineAcceptanceGreedy, RefinementRepairsACornerThatTheGreedyOrderMisplaces
   EXPECT_EQ(refined.regions.size(), 4u);
   EXPECT_LE(refined.objective, greedy.objective);
   ErrorPool greedy_error, refined_error;
-  greedy_error.Add(greedy.alpha, scan, Mask(scan, true));
-  refined_error.Add(refined.alpha, scan, Mask(scan, true));
+  greedy_error.Add(greedy.alpha, scan, TruthMask(scan, true));
+  refined_error.Add(refined.alpha, scan, TruthMask(scan, true));
   std::cout << fmt::format(
       "[ greedy ] worst greedy corner {} beams off; mean error without corner beams: greedy "
       "{:.4f} deg, refined {:.4f} deg; objective {:.3f} -> {:.3f}\n",

@@ -8,37 +8,26 @@
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/range_sensor.hpp>
-#include <priormap/core/rng.hpp>
 #include <priormap/core/scene.hpp>
-#include <priormap/core/scene_ray_caster.hpp>
-#include <priormap/core/simulate.hpp>
 #include <priormap/dsl/prior_library.hpp>
 #include <priormap/priorlets/engine.hpp>
+
+#include "testing/scan_truth.hpp"
 
 namespace priormap::priorlets {
 namespace {
 
 Scan Simulate(const std::string& scene_name, const std::string& sensor_name, const Se2& pose,
               std::uint64_t seed) {
-  const Scene scene = BuiltinScene(scene_name).value();
-  const SceneRayCaster caster(scene);
-  const RangeSensor sensor = RangeSensor::Preset(sensor_name).value();
-  Rng rng(seed);
-  return SimulateScan(caster, sensor, pose, rng);
+  return testing::SimulateScene(BuiltinScene(scene_name).value(),
+                                RangeSensor::Preset(sensor_name).value(), pose, seed);
 }
 
 dsl::CompiledPrior Prior(const std::string& name) {
   return dsl::PriorLibrary().Load(name).value();
 }
 
-// Links between beams i and i + 1 where the simulator's region changes.
-std::vector<std::size_t> TrueBorders(const Scan& scan) {
-  std::vector<std::size_t> borders;
-  for (std::size_t i = 0; i + 1 < scan.size(); ++i) {
-    if (scan.truth->region[i] != scan.truth->region[i + 1]) borders.push_back(i);
-  }
-  return borders;
-}
+using testing::TrueBorders;
 
 std::vector<std::size_t> FoundBorders(const MapScan& map) {
   std::vector<std::size_t> borders;

@@ -7,21 +7,16 @@
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/range_sensor.hpp>
-#include <priormap/core/rng.hpp>
 #include <priormap/core/scene.hpp>
-#include <priormap/core/scene_ray_caster.hpp>
-#include <priormap/core/simulate.hpp>
 #include <priormap/dsl/prior_library.hpp>
 #include <priormap/priorlets/posterior.hpp>
+
+#include "testing/scan_truth.hpp"
 
 namespace priormap::priorlets {
 namespace {
 
-Scan Simulate(const Scene& scene, const RangeSensor& sensor, const Se2& pose, std::uint64_t seed) {
-  const SceneRayCaster caster(scene);
-  Rng rng(seed);
-  return SimulateScan(caster, sensor, pose, rng);
-}
+using testing::SimulateScene;
 
 RangeSensor Sensor(const std::string& name) {
   return RangeSensor::Preset(name).value();
@@ -40,8 +35,8 @@ std::size_t FiniteDifferenceExtrinsicRank(const Scene& scene, const RangeSensor&
   for (int c = 0; c < 3; ++c) {
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
     d[c] = h;
-    const Scan plus = Simulate(scene, sensor, pose.Compose(Se2(d[0], d[1], d[2])), 1);
-    const Scan minus = Simulate(scene, sensor, pose.Compose(Se2(-d[0], -d[1], -d[2])), 1);
+    const Scan plus = SimulateScene(scene, sensor, pose.Compose(Se2(d[0], d[1], d[2])), 1);
+    const Scan minus = SimulateScene(scene, sensor, pose.Compose(Se2(-d[0], -d[1], -d[2])), 1);
     const ScanTruth& up = plus.truth.value();
     const ScanTruth& down = minus.truth.value();
     for (std::size_t k = 0; k < map.inmodel_beams.size(); ++k) {
@@ -71,7 +66,7 @@ void CheckDegreesOfFreedom(const DofCase& c) {
   const Se2 pose = scene.default_pose.value();  // it sees every surface
   for (std::uint64_t seed : {1, 2}) {
     SCOPED_TRACE(seed);
-    const Scan scan = Simulate(scene, sensor, pose, seed);
+    const Scan scan = SimulateScene(scene, sensor, pose, seed);
     const dsl::CompiledPrior prior = Prior(c.prior);
     const MapScan map = EstimateMapScan(scan, prior);
     ASSERT_TRUE(map.feasible);
@@ -127,7 +122,7 @@ TEST(Posterior, StandardDeviationsMatchTheSpreadOfTheEstimate) {
   std::vector<double> sum_sq(n, 0.0), predicted(n, 0.0);
   std::vector<int> count(n, 0);
   for (int k = 0; k < draws; ++k) {
-    const Scan scan = Simulate(scene, sensor, pose, 1000 + static_cast<std::uint64_t>(k));
+    const Scan scan = SimulateScene(scene, sensor, pose, 1000 + static_cast<std::uint64_t>(k));
     const MapScan map = EstimateMapScan(scan, prior);
     ASSERT_TRUE(map.feasible);
     const Posterior post = AnalysePosterior(scan, prior, map, {});
@@ -160,7 +155,7 @@ TEST(Posterior, CorrelatedNoiseShrinksAndCorrelatesAlongWalls) {
   const Scene scene = BuiltinScene("square").value();
   RangeSensor sensor = Sensor("utm30");
   sensor.correlation = 0.3;
-  const Scan scan = Simulate(scene, sensor, Se2(0.3, -0.2, 0.4), 3);
+  const Scan scan = SimulateScene(scene, sensor, Se2(0.3, -0.2, 0.4), 3);
   ASSERT_TRUE(scan.precision.has_value());
   const dsl::CompiledPrior prior = Prior("rectangular");
   const MapScan map = EstimateMapScan(scan, prior);
@@ -211,7 +206,7 @@ TEST(Posterior, CorrelatedNoiseShrinksAndCorrelatesAlongWalls) {
 
 TEST(Posterior, EigenvariationsAreUnitAndOrderedAndIntrinsicOnesChangeTheMap) {
   const Scene scene = BuiltinScene("rectangle").value();
-  const Scan scan = Simulate(scene, Sensor("utm30"), Se2(0.3, -0.2, 0.4), 5);
+  const Scan scan = SimulateScene(scene, Sensor("utm30"), Se2(0.3, -0.2, 0.4), 5);
   const dsl::CompiledPrior prior = Prior("rectangular");
   const MapScan map = EstimateMapScan(scan, prior);
   ASSERT_TRUE(map.feasible);
@@ -239,7 +234,7 @@ TEST(Posterior, ProjectedFormIsNeverNarrowerOnTheRangesOfStraightWalls) {
   // The paper's P A^-1 P^T is wider than the conditional covariance in general (it mixes
   // metres and radians), and never narrower on the ranges of a straight wall.
   const Scene scene = BuiltinScene("square").value();
-  const Scan scan = Simulate(scene, Sensor("lms200"), Se2(0.3, -0.2, 0.4), 2);
+  const Scan scan = SimulateScene(scene, Sensor("lms200"), Se2(0.3, -0.2, 0.4), 2);
   const dsl::CompiledPrior prior = Prior("rectangular");
   const MapScan map = EstimateMapScan(scan, prior);
   PosteriorOptions projected;
@@ -255,7 +250,7 @@ TEST(Posterior, ProjectedFormIsNeverNarrowerOnTheRangesOfStraightWalls) {
 
 TEST(Posterior, APriorOfEnergiesOnlyLeavesEverythingFreeButStillGivesStandardDeviations) {
   const Scene scene = BuiltinScene("circle").value();
-  const Scan scan = Simulate(scene, Sensor("lms200"), Se2(0.3, -0.2, 0.4), 4);
+  const Scan scan = SimulateScene(scene, Sensor("lms200"), Se2(0.3, -0.2, 0.4), 4);
   const dsl::CompiledPrior prior = Prior("splines");
   const MapScan map = EstimateMapScan(scan, prior);
   PosteriorOptions options;
