@@ -53,7 +53,7 @@ void RunEngine(benchmark::State& state, const std::string& scene_name,
   std::vector<double> dof_seconds;
   priorlets::Posterior posterior;
   for (int run = 0; run < 5; ++run) {
-    posterior = priorlets::AnalysePosterior(scan, prior, map, {});
+    posterior = priorlets::AnalysePosterior(scan, prior, map);
     dof_seconds.push_back(posterior.seconds);
   }
   std::nth_element(dof_seconds.begin(), dof_seconds.begin() + 2, dof_seconds.end());

@@ -115,35 +115,34 @@ void Run(const ScanOptions& o) {
   priorlets::EngineOptions engine;
   engine.beta = o.beta;
   engine.refine_borders = !o.no_refine;
-  const auto check = [&](std::size_t k) {
-    if (const std::vector<std::string> problems = log.scans[k].Problems(); !problems.empty()) {
-      throw UserError(fmt::format("scan {}: {}", k, problems.front()));
-    }
-  };
   // Sec. IV; the m x m range covariance only for the figure (it is not written to JSON).
   priorlets::PosteriorOptions posterior_options;
   posterior_options.form = o.covariance == "projected" ? priorlets::CovarianceForm::kProjected
                                                        : priorlets::CovarianceForm::kConditional;
   posterior_options.eigenvariations = o.eigenvariations;
   posterior_options.max_free_dimension = o.max_free_dimension;
-  const auto solve = [&](std::size_t k) {
-    check(k);
-    const priorlets::MapScan map = priorlets::EstimateMapScan(log.scans[k], prior, engine);
-    const priorlets::Posterior posterior =
-        priorlets::AnalysePosterior(log.scans[k], prior, map, engine, posterior_options);
-    return priorlets::MapScanToJson(map, {k, prior.name(), o.input}, &posterior);
+  posterior_options.keep_range_covariance = o.png || o.svg;
+  struct Estimate {
+    priorlets::MapScan map;
+    priorlets::Posterior posterior;
+    std::string json;
+  };
+  const auto estimate = [&](std::size_t k) {
+    const Scan& scan = log.scans[k];
+    if (const std::vector<std::string> problems = scan.Problems(); !problems.empty()) {
+      throw UserError(fmt::format("scan {}: {}", k, problems.front()));
+    }
+    Estimate e;
+    e.map = priorlets::EstimateMapScan(scan, prior, engine);
+    e.posterior = priorlets::AnalysePosterior(scan, prior, e.map, posterior_options);
+    e.json = priorlets::MapScanToJson(e.map, {k, prior.name(), o.input}, &e.posterior);
+    return e;
   };
   if (!o.all) {
-    check(index);
-    const Scan& scan = log.scans[index];
-    const priorlets::MapScan map = priorlets::EstimateMapScan(scan, prior, engine);
-    posterior_options.keep_range_covariance = o.png || o.svg;
-    const priorlets::Posterior posterior =
-        priorlets::AnalysePosterior(scan, prior, map, engine, posterior_options);
-    WriteTextFileAtomically(
-        o.out, priorlets::MapScanToJson(map, {index, prior.name(), o.input}, &posterior) + "\n");
+    const Estimate e = estimate(index);
+    WriteTextFileAtomically(o.out, e.json + "\n");
     fmt::print("wrote {}\n", o.out);
-    WriteFigures(o, scan, map, posterior,
+    WriteFigures(o, log.scans[index], e.map, e.posterior,
                  fmt::format("{}: scan {}, {}", o.input, index, prior.name()));
     return;
   }
@@ -154,7 +153,7 @@ void Run(const ScanOptions& o) {
   std::mutex report;
   tbb::parallel_for(std::size_t{0}, log.scans.size(), [&](std::size_t k) {
     try {
-      lines[k] = solve(k);
+      lines[k] = estimate(k).json;
     } catch (const std::exception& e) {
       ++failures;
       lines[k] = nlohmann::json{

@@ -108,6 +108,14 @@ InnerProblem::InnerProblem(const dsl::CompiledPrior& prior, std::vector<ProblemP
   }
 }
 
+double InnerProblem::data_weight() const {
+  double weight = 0.0;
+  for (std::size_t i = 0; i < data_information_.size(); ++i) {
+    weight = std::max(weight, data_information_(i, i));
+  }
+  return weight;
+}
+
 Eigen::VectorXd InnerProblem::InitialPoint() const {
   Eigen::VectorXd x(static_cast<Eigen::Index>(num_unknowns()));
   const auto inside = [](double v, double lo, double hi) {

@@ -88,6 +88,8 @@ class InnerProblem {
   [[nodiscard]] std::vector<ConstraintRow> EqualityRows(const Eigen::VectorXd& x);
   // The information of the data term (measurements and the initial normals' weak prior).
   [[nodiscard]] const SymmetricBandedMatrix& data_information() const { return data_information_; }
+  // Its largest diagonal entry: the scale at which penalties start to outweigh the data.
+  [[nodiscard]] double data_weight() const;
   // True when a window's block has energy terms (h_T), whose size no bound limits.
   [[nodiscard]] bool HasEnergyTerms() const;
 

@@ -130,9 +130,7 @@ InnerResult SolveInner(InnerProblem& problem, const Eigen::VectorXd* x0,
     return result;
   }
   // Penalties only matter once they outweigh the data; judge stalling from there on.
-  double data_weight = 0.0;
-  const SymmetricBandedMatrix& info = problem.data_information();
-  for (std::size_t i = 0; i < info.size(); ++i) data_weight = std::max(data_weight, info(i, i));
+  const double data_weight = problem.data_weight();
   const double lambda_judged = 100.0 * data_weight;
 
   Eigen::VectorXd gradient, trial;
@@ -306,6 +304,45 @@ InnerResult SolveInner(InnerProblem& problem, const Eigen::VectorXd* x0,
       mu = std::min(mu * options.mu_factor, options.mu_max);
     lambda = std::min(lambda * factor, options.lambda_max);
   }
+}
+
+Eigen::VectorXd TightenFeasibility(InnerProblem& problem, const Eigen::VectorXd& start,
+                                   double* violation) {
+  const double data_weight = problem.data_weight();
+  Eigen::VectorXd x = start, gradient;
+  SymmetricBandedMatrix hessian;
+  double best = problem.Violations(x).max_residual;
+  Eigen::VectorXd best_x = x;
+  for (double scale : {1e6, 1e8, 1e10}) {
+    const double lambda = scale * data_weight;
+    for (int step = 0; step < 2; ++step) {
+      const double current =
+          problem.Evaluate(x, lambda, 0.0, &gradient, &hessian).Total(lambda, 0.0);
+      const std::optional<BandedCholesky> chol = BandedCholesky::Factor(hessian);
+      if (!chol) break;
+      const Eigen::VectorXd direction = -chol->Solve(gradient);
+      const double slope = gradient.dot(direction);
+      if (!(slope < 0.0)) break;
+      bool accepted = false;
+      double t = 1.0;
+      for (int halving = 0; halving < kMaxHalvings && !accepted; ++halving, t *= 0.5) {
+        const Eigen::VectorXd trial = x + t * direction;
+        const ObjectiveValue next = problem.Evaluate(trial, lambda, 0.0, nullptr, nullptr);
+        if (next.Total(lambda, 0.0) <= current + kArmijo * t * slope) {
+          x = trial;
+          accepted = true;
+        }
+      }
+      if (!accepted) break;
+    }
+    const double v = problem.Violations(x).max_residual;
+    if (v < best) {
+      best = v;
+      best_x = x;
+    }
+  }
+  *violation = best;
+  return best_x;
 }
 
 }  // namespace priormap::priorlets

@@ -43,4 +43,14 @@ struct InnerControl {
                                      const EngineOptions& options,
                                      const InnerControl& control = {});
 
+// A few Newton steps on data + energies + lambda penalty at large lambda (no barrier: the
+// bounds play no part), from `start`: feasibility ~1e-12 near the same optimum. The degrees of
+// freedom are decided on the constraints' Jacobian; at a point feasible to ~1e-7 constraints
+// that are redundant only on the constraint manifold (three per window of a circle, rank
+// 2n - 3) show singular values of that order, as large as those of weakly constrained
+// directions; here they are orders of magnitude apart. Returns the point of smallest violation
+// seen (`start` when nothing lowered it) and that violation.
+[[nodiscard]] Eigen::VectorXd TightenFeasibility(InnerProblem& problem,
+                                                 const Eigen::VectorXd& start, double* violation);
+
 }  // namespace priormap::priorlets

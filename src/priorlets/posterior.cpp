@@ -15,6 +15,7 @@
 #include <priormap/priorlets/posterior.hpp>
 
 #include "inner_problem.hpp"
+#include "inner_solver.hpp"
 
 namespace priormap::priorlets {
 namespace {
@@ -180,56 +181,9 @@ std::vector<double> MarginalStd(const SymmetricBandedMatrix& precision) {
   return out;
 }
 
-// The Jacobian's rank is decided at a point feasible to ~1e-7; constraints that are redundant
-// only on the constraint manifold (three per window of a circle, with rank 2n - 3) show singular
-// values of that order there, as large as those of weakly constrained directions. A few Newton
-// steps on data + energies + lambda penalty at large lambda (the end of the solver's homotopy)
-// take x to feasibility ~1e-12 near the same optimum, where the two are orders of magnitude
-// apart. Returns x unchanged when that does not lower the violation.
-Eigen::VectorXd Tighten(InnerProblem& problem, const Eigen::VectorXd& start, double* violation) {
-  double data_weight = 0.0;
-  const SymmetricBandedMatrix& info = problem.data_information();
-  for (std::size_t i = 0; i < info.size(); ++i) data_weight = std::max(data_weight, info(i, i));
-  Eigen::VectorXd x = start, gradient;
-  SymmetricBandedMatrix hessian;
-  double best = problem.Violations(x).max_residual;
-  Eigen::VectorXd best_x = x;
-  for (double scale : {1e6, 1e8, 1e10}) {
-    const double lambda = scale * data_weight;
-    for (int step = 0; step < 2; ++step) {
-      const double current =
-          problem.Evaluate(x, lambda, 0.0, &gradient, &hessian).Total(lambda, 0.0);
-      const std::optional<BandedCholesky> chol = BandedCholesky::Factor(hessian);
-      if (!chol) break;
-      const Eigen::VectorXd direction = -chol->Solve(gradient);
-      const double slope = gradient.dot(direction);
-      if (!(slope < 0.0)) break;
-      double t = 1.0;
-      bool accepted = false;
-      for (int halving = 0; halving < 30 && !accepted; ++halving, t *= 0.5) {
-        const Eigen::VectorXd trial = x + t * direction;
-        const ObjectiveValue next = problem.Evaluate(trial, lambda, 0.0, nullptr, nullptr);
-        if (next.Total(lambda, 0.0) <= current + 1e-4 * t * slope) {
-          x = trial;
-          accepted = true;
-        }
-      }
-      if (!accepted) break;
-    }
-    const double v = problem.Violations(x).max_residual;
-    if (v < best) {
-      best = v;
-      best_x = x;
-    }
-  }
-  *violation = best;
-  return best_x;
-}
-
 }  // namespace
 
 Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, const MapScan& map,
-                           const EngineOptions& /*engine_options*/,
                            const PosteriorOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   Posterior out;
@@ -258,7 +212,7 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
   }
 
   // Free = ker grad f_T. When the decision is not clear-cut (a null and a kept singular value
-  // within 100x), it is taken again at a tighter solution (see Tighten): that costs about as
+  // within 100x), it is taken again at a tighter solution (TightenFeasibility): that costs about as
   // much as the engine's last solve, so only then.
   const auto kernel_at = [&](const Eigen::VectorXd& at, double violation, KernelOptions* used) {
     used->relative_tolerance = std::max(options.kernel_tolerance, 100.0 * violation);
@@ -269,7 +223,7 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
   const KernelSummary& first = kernel.summary();
   if (first.largest_null_singular_value > 1e-2 * first.smallest_kept_singular_value) {
     double violation = map.max_violation;
-    const Eigen::VectorXd tight = Tighten(problem, x, &violation);
+    const Eigen::VectorXd tight = TightenFeasibility(problem, x, &violation);
     if (violation < map.max_violation) {
       x = tight;
       kernel = kernel_at(x, violation, &kernel_options);

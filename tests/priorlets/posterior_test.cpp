@@ -70,7 +70,7 @@ void CheckDegreesOfFreedom(const DofCase& c) {
     const dsl::CompiledPrior prior = Prior(c.prior);
     const MapScan map = EstimateMapScan(scan, prior);
     ASSERT_TRUE(map.feasible);
-    const Posterior post = AnalysePosterior(scan, prior, map, {});
+    const Posterior post = AnalysePosterior(scan, prior, map);
     EXPECT_EQ(post.dof.free, c.free) << map.regions.size() << " regions";
     EXPECT_EQ(post.dof.extrinsic, c.extrinsic);
     EXPECT_EQ(post.dof.intrinsic, c.intrinsic);
@@ -125,7 +125,7 @@ TEST(Posterior, StandardDeviationsMatchTheSpreadOfTheEstimate) {
     const Scan scan = SimulateScene(scene, sensor, pose, 1000 + static_cast<std::uint64_t>(k));
     const MapScan map = EstimateMapScan(scan, prior);
     ASSERT_TRUE(map.feasible);
-    const Posterior post = AnalysePosterior(scan, prior, map, {});
+    const Posterior post = AnalysePosterior(scan, prior, map);
     ASSERT_TRUE(post.computed);
     for (std::size_t b : map.inmodel_beams) {
       // Only beams clear of the corners, whose wall is the true one in every draw.
@@ -163,7 +163,7 @@ TEST(Posterior, CorrelatedNoiseShrinksAndCorrelatesAlongWalls) {
   ASSERT_EQ(map.regions.size(), 4u);
   PosteriorOptions options;
   options.keep_range_covariance = true;
-  const Posterior post = AnalysePosterior(scan, prior, map, {}, options);
+  const Posterior post = AnalysePosterior(scan, prior, map, options);
   ASSERT_TRUE(post.computed);
   const auto shrink = [&](std::size_t b) {
     return post.prior_std_rho[b] / post.posterior_std_rho[b];
@@ -210,7 +210,7 @@ TEST(Posterior, EigenvariationsAreUnitAndOrderedAndIntrinsicOnesChangeTheMap) {
   const dsl::CompiledPrior prior = Prior("rectangular");
   const MapScan map = EstimateMapScan(scan, prior);
   ASSERT_TRUE(map.feasible);
-  const Posterior post = AnalysePosterior(scan, prior, map, {});
+  const Posterior post = AnalysePosterior(scan, prior, map);
   ASSERT_TRUE(post.computed);
   ASSERT_EQ(post.eigenvariations.size(), 5u);  // dim Free = 5
   ASSERT_EQ(post.intrinsic_eigenvariations.size(), 2u);
@@ -239,8 +239,8 @@ TEST(Posterior, ProjectedFormIsNeverNarrowerOnTheRangesOfStraightWalls) {
   const MapScan map = EstimateMapScan(scan, prior);
   PosteriorOptions projected;
   projected.form = CovarianceForm::kProjected;
-  const Posterior a = AnalysePosterior(scan, prior, map, {});
-  const Posterior b = AnalysePosterior(scan, prior, map, {}, projected);
+  const Posterior a = AnalysePosterior(scan, prior, map);
+  const Posterior b = AnalysePosterior(scan, prior, map, projected);
   ASSERT_TRUE(a.computed && b.computed);
   EXPECT_EQ(a.dof.free, b.dof.free);
   for (std::size_t beam : map.inmodel_beams) {
@@ -255,7 +255,7 @@ TEST(Posterior, APriorOfEnergiesOnlyLeavesEverythingFreeButStillGivesStandardDev
   const MapScan map = EstimateMapScan(scan, prior);
   PosteriorOptions options;
   options.max_free_dimension = 100;
-  const Posterior post = AnalysePosterior(scan, prior, map, {}, options);
+  const Posterior post = AnalysePosterior(scan, prior, map, options);
   EXPECT_EQ(post.dof.free, 2 * map.inmodel_beams.size());
   EXPECT_FALSE(post.computed);
   EXPECT_TRUE(post.eigenvariations.empty());
@@ -266,7 +266,7 @@ TEST(Posterior, APriorOfEnergiesOnlyLeavesEverythingFreeButStillGivesStandardDev
     EXPECT_LT(post.posterior_std_alpha[b], post.prior_std_alpha[b]) << b;
   }
   // The full computation agrees where it runs.
-  const Posterior full = AnalysePosterior(scan, prior, map, {});
+  const Posterior full = AnalysePosterior(scan, prior, map);
   ASSERT_TRUE(full.computed);
   for (std::size_t b : map.inmodel_beams) {
     EXPECT_NEAR(full.posterior_std_alpha[b], post.posterior_std_alpha[b], 1e-9) << b;
@@ -281,7 +281,7 @@ TEST(Posterior, WithoutInModelPointsReportsWhy) {
   scan.status = {BeamStatus::kMaxRange, BeamStatus::kMaxRange};
   const dsl::CompiledPrior prior = Prior("polygonal");
   const MapScan map = EstimateMapScan(scan, prior);
-  const Posterior post = AnalysePosterior(scan, prior, map, {});
+  const Posterior post = AnalysePosterior(scan, prior, map);
   EXPECT_FALSE(post.computed);
   EXPECT_EQ(post.dof.free, 0u);
   EXPECT_FALSE(post.note.empty());

@@ -84,10 +84,10 @@ struct Posterior {
   double seconds = 0.0;
 };
 
-/// Sec. IV at the solution `map` of EstimateMapScan(scan, prior, engine_options).
-/// Preconditions: `map` came from that call.
+/// Sec. IV at the solution `map` of EstimateMapScan(scan, prior, ...) (the map carries what the
+/// engine's options decided: bounds, the initial normals and their weak prior).
+/// Preconditions: `map` came from such a call.
 [[nodiscard]] Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior,
-                                         const MapScan& map, const EngineOptions& engine_options,
-                                         const PosteriorOptions& options = {});
+                                         const MapScan& map, const PosteriorOptions& options = {});
 
 }  // namespace priormap::priorlets
