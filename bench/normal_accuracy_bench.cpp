@@ -13,7 +13,7 @@
 //           Also the engine with the polygonal prior, the like-for-like match for the oracle.
 // outliers  l-room (walls, box, round bin), utm30 with 5 % spurious short readings, polygonal
 //           prior, 5 poses x min(N, 4) seeds: precision and recall of INMODEL against the truth
-//           (see TrueInModel in tests/priorlets/engine_acceptance_test.cpp for the definition),
+//           (see TrueInModel in tests/testing/scan_truth.hpp for the definition),
 //           wall/box topology errors; --verbose: kept readings per true region, found regions.
 // greedy    random poses in square, rectangle (rectangular prior) and l-room (polygonal prior)
 //           with utm30 and lms200: how often the greedy topology (refine_borders = false) puts a
@@ -54,6 +54,7 @@ using priormap::testing::FoundBorders;
 using priormap::testing::NearestBorder;
 using priormap::testing::TrueBorders;
 using priormap::testing::TrueCorners;
+using priormap::testing::TrueInModel;
 using priormap::testing::TruthMask;
 using Pool = priormap::testing::ErrorPool;
 
@@ -167,24 +168,6 @@ void Accuracy(int seeds) {
       ours_all.Mean(), ours_all.Mean() <= 0.10 ? "PASS" : "FAIL", pca_all[best].Mean(),
       ours_all.Mean() < pca_all[best].Mean() ? "PASS" : "FAIL",
       ours_all.Mean() / oracle_all.Mean());
-}
-
-// See TrueInModel in tests/priorlets/engine_acceptance_test.cpp: 1 = in the model, 0 = not,
-// -1 = not scored (the round bin, and spurious readings within rho_bound_sigmas of the surface).
-std::vector<int> TrueInModel(const Scan& scan, int bin_surface, double bound_sigmas) {
-  const ScanTruth& t = *scan.truth;
-  std::vector<int> label(scan.size(), 0);
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan.IsValid(i) || t.surface[i] < 0) continue;
-    if (t.surface[i] == bin_surface) {
-      label[i] = -1;
-    } else if (t.outlier[i] != 0) {
-      label[i] = std::abs(scan.ranges[i] - t.range[i]) <= bound_sigmas * scan.sigma[i] ? -1 : 0;
-    } else {
-      label[i] = 1;
-    }
-  }
-  return label;
 }
 
 void Outliers(int seeds, double outlier_probability, bool verbose) {

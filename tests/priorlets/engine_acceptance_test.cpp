@@ -40,6 +40,7 @@ using priormap::testing::FoundBorders;
 using priormap::testing::NearestBorder;
 using priormap::testing::TrueBorders;
 using priormap::testing::TrueCorners;
+using priormap::testing::TrueInModel;
 using priormap::testing::TruthMask;
 
 RangeSensor Sensor(const std::string& name) {
@@ -192,36 +193,9 @@ TEST_F(EngineAcceptanceAccuracy, FindsFourRegionsAndEveryCornerWithinOneBeamForE
 // 2. Outliers and clutter: the l-room (walls; a box and a round bin, both marked clutter in the
 // scene), utm30 with 5 % spurious short readings, polygonal prior, several poses and seeds.
 //
-// Ground truth of INMODEL, per beam (ScanTruth: `outlier` marks the simulator's spurious
-// readings, `surface` / `region` say what a genuine reading hit):
-//   1  a valid, genuine reading of a wall or of the box: straight surfaces the polygonal prior
-//      describes (the scene's `clutter` flag on the box says that no *structural* prior is
-//      meant to explain it, but a polygonal prior does, so it belongs in the model);
-//   0  a spurious reading (truth.outlier), whose range is uniform between the sensor and the
-//      surface;
-//  -1  not scored: readings of the round bin (radius 0.15 m): the prior cannot describe a
-//      circle, but at a few metres a run of utm30 beams on it lies on short straight pieces
-//      within the noise, so keeping it (as small regions) and dropping it are both right; and
-//      spurious readings that happen to land within rho_bound_sigmas of the surface, which no
-//      estimator can tell from genuine ones.
-
+// Ground truth of INMODEL in the l-room: see testing::TrueInModel; the round bin (radius
+// 0.15 m) is the surface not scored.
 constexpr int kWallSurface = 0, kBoxSurface = 1, kBinSurface = 2;
-
-std::vector<int> TrueInModel(const Scan& scan, double bound_sigmas) {
-  const ScanTruth& t = *scan.truth;
-  std::vector<int> label(scan.size(), 0);
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan.IsValid(i) || t.surface[i] < 0) continue;
-    if (t.surface[i] == kBinSurface) {
-      label[i] = -1;
-    } else if (t.outlier[i] != 0) {
-      label[i] = std::abs(scan.ranges[i] - t.range[i]) <= bound_sigmas * scan.sigma[i] ? -1 : 0;
-    } else {
-      label[i] = 1;
-    }
-  }
-  return label;
-}
 
 struct OutlierCase {
   Se2 pose;
@@ -253,7 +227,7 @@ class EngineAcceptanceOutliers : public ::testing::Test {
         c.seed = seed;
         const Scan scan = priormap::testing::SimulateScene(scene, sensor, pose, seed);
         const MapScan map = EstimateMapScan(scan, prior, options);
-        const std::vector<int> label = TrueInModel(scan, options.rho_bound_sigmas);
+        const std::vector<int> label = TrueInModel(scan, kBinSurface, options.rho_bound_sigmas);
         for (std::size_t i = 0; i < scan.size(); ++i) {
           if (label[i] < 0) continue;
           c.true_inmodel += label[i] == 1;

@@ -70,6 +70,22 @@ std::vector<std::uint8_t> TruthMask(const Scan& scan, bool skip_borders) {
   return mask;
 }
 
+std::vector<int> TrueInModel(const Scan& scan, int unscored_surface, double bound_sigmas) {
+  const ScanTruth& t = *scan.truth;
+  std::vector<int> label(scan.size(), 0);
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.IsValid(i) || t.surface[i] < 0) continue;
+    if (t.surface[i] == unscored_surface) {
+      label[i] = -1;
+    } else if (t.outlier[i] != 0) {
+      label[i] = std::abs(scan.ranges[i] - t.range[i]) <= bound_sigmas * scan.sigma[i] ? -1 : 0;
+    } else {
+      label[i] = 1;
+    }
+  }
+  return label;
+}
+
 void ErrorPool::Add(const std::vector<double>& estimate, const Scan& scan,
                     const std::vector<std::uint8_t>& mask) {
   const priorlets::NormalErrorStats s =

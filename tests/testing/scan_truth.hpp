@@ -45,6 +45,20 @@ struct FoundBorder {
 // toss costs about 90 deg / n of the mean without saying anything about the normals.
 [[nodiscard]] std::vector<std::uint8_t> TruthMask(const Scan& scan, bool skip_borders);
 
+// Ground truth of INMODEL per beam (ScanTruth: `outlier` marks the simulator's spurious
+// readings, `surface` what a genuine reading hit):
+//   1  a valid, genuine reading of a straight surface (walls, and clutter such as a box: the
+//      scene's `clutter` flag says no *structural* prior is meant to explain it, but a polygonal
+//      prior does, so it belongs in the model);
+//   0  a spurious reading, whose range is uniform between the sensor and the surface;
+//  -1  not scored: readings of `unscored_surface` (e.g. a small round bin: a polygonal prior
+//      cannot describe a circle, but at a few metres a run of beams on it lies on short straight
+//      pieces within the noise, so keeping it and dropping it are both right), and spurious
+//      readings that land within bound_sigmas of the surface, which no estimator can tell from
+//      genuine ones.
+[[nodiscard]] std::vector<int> TrueInModel(const Scan& scan, int unscored_surface,
+                                           double bound_sigmas);
+
 // Mean |normal error| in degrees pooled over several scans.
 struct ErrorPool {
   double sum = 0.0;
