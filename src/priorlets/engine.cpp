@@ -13,6 +13,7 @@
 #include <priormap/core/angles.hpp>
 #include <priormap/core/check.hpp>
 #include <priormap/core/types.hpp>
+#include <priormap/priorlets/corner_geometry.hpp>
 #include <priormap/priorlets/engine.hpp>
 
 #include "inner_problem.hpp"
@@ -39,6 +40,13 @@ constexpr double kNearlyFeasible = 0.01;
 // Border refinement: points on each side of a border in its local problem, and moves at most.
 constexpr int kRefineHalfWindow = 30;
 constexpr int kMaxBorderMoves = 8;
+// A corner's border moves at most this many beams to where the regions' lines meet, and the fit
+// may worsen by this much per moved reading (a reading a few millimetres from the corner is
+// within about 2 sigma of both lines: up to 2 nats, doubled for the lines' own adjustment).
+constexpr int kMaxCornerShift = 3;
+constexpr double kCornerCostSlack = 4.0;
+// Settling the corners moves lines a little, which may move a corner again: passes at most.
+constexpr int kCornerPasses = 2;
 // A warm-started refinement solve resumes the penalty homotopy this factor below where the
 // greedy solution's ended.
 constexpr double kWarmLambdaBackoff = 1e-3;
@@ -181,6 +189,19 @@ class Engine {
   // The points with keep[j] set, bridged across removed runs as RemoveLonelyPoints says.
   [[nodiscard]] Topology Keep(const Topology& topology, const std::vector<char>& keep) const;
   void RefineBorders(Topology& topology, InnerResult& solution);
+  // CheckCorner for the border after point `at` of the slice first..last of `topology`, solved
+  // as x.
+  [[nodiscard]] CornerCheck CheckCorner(const Topology& topology, const Eigen::VectorXd& x,
+                                        std::size_t first, std::size_t last, std::size_t at) const;
+  // Every different_region link claims a corner: its border moves to where the two regions'
+  // lines meet (corner_geometry.hpp), or, when they meet nowhere near it, it becomes
+  // different_surface (one region hides the other, Fig. 5b); then the whole scan is solved
+  // again, and kept when the prior allows it and the fit stays within the noise. Judged on the
+  // whole solution: a local problem's lines rest on a few dozen points and place a corner less
+  // than a beam precisely, the whole scan's on hundreds.
+  void SettleCorners(Topology& topology, InnerResult& solution);
+  // The problem of `topology` in problem_ (after local solves it may hold another).
+  void UseProblemOf(const Topology& topology);
   // Data and energy terms of the last solved problem at its solution.
   [[nodiscard]] double FitCost(const InnerResult& solution);
   // The measurement and energy terms: what border refinement compares. The weak prior on the
@@ -212,16 +233,19 @@ bool Engine::GeometricBreak(std::size_t a, std::size_t b) const {
   const double near = (a_near ? scan_.ranges[a] + slack_a : scan_.ranges[b] + slack_b);
   const double far = (a_near ? scan_.ranges[b] - slack_b : scan_.ranges[a] - slack_a);
   if (far <= near) return false;
-  // A straight surface seen at incidence theta at the far reading and theta - dphi at the near
-  // one has far / near = cos(theta - dphi) / cos(theta); curvature lets the surface turn by
-  // up to the angle its chord subtends.
-  const double chord = std::hypot(far - near, near * dphi);
-  const double turn = prior_.max_curvature() > 0.0
-                          ? 2.0 * std::asin(std::min(1.0, 0.5 * prior_.max_curvature() * chord))
-                          : 0.0;
-  const double theta = std::min(DegToRad(options_.max_incidence_deg) + turn, DegToRad(89.9));
+  // Readings come from where a surface is seen at an incidence of at most max_incidence, and
+  // one surface between two rays that is seen so everywhere has d(ln r)/d(phi) = tan(incidence)
+  // <= tan(theta): far / near <= exp(tan(theta) dphi) (a logarithmic spiral; a straight surface,
+  // all a prior of curvature 0 allows, reaches only cos(theta - dphi) / cos(theta)). A curved
+  // surface could bridge any jump by turning to grazing incidence between the rays, where it
+  // returns nothing: that is an unseen stretch, a border of what the scan sees, whatever the
+  // prior's max_curvature (with it, the jump at a pillar's edge would be left to the penalties,
+  // which on a curvature prior the noise of the normals drowns).
+  const double theta = DegToRad(options_.max_incidence_deg);
   if (dphi >= theta) return false;
-  return far / near > std::cos(theta - dphi) / std::cos(theta);
+  const double ratio = prior_.max_curvature() > 0.0 ? std::exp(std::tan(theta) * dphi)
+                                                    : std::cos(theta - dphi) / std::cos(theta);
+  return far / near > ratio;
 }
 
 std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
@@ -487,8 +511,9 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
     ++stats_.refinement_trials;
     return Solve(sub, &warm_topology, &warm_x, control);
   };
-  // The greedy solution with the local solutions of changed borders pasted in: where the final
-  // solve starts.
+  // The greedy solution with the local solutions of changed borders pasted in: where the next
+  // border's local problem and the final solve start (the greedy solution no longer fits the
+  // points a moved border handed to the next region).
   Eigen::VectorXd pasted = solution.x;
   const auto half = static_cast<std::size_t>(kRefineHalfWindow);
   for (std::size_t l = 0; l < topology.links.size(); ++l) {
@@ -506,7 +531,7 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
     InnerControl settle;
     settle.lambda_start = solution.lambda;
     settle.settle = true;
-    InnerResult current = local_solve(local, topology, solution.x, settle);
+    InnerResult current = local_solve(local, topology, pasted, settle);
     if (!current.feasible) continue;
     double cost = ComparableCost(current);
     // Merge back: a feasible stricter topology explains the scan with fewer regions. The
@@ -587,6 +612,78 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
   }
 }
 
+CornerCheck Engine::CheckCorner(const Topology& topology, const Eigen::VectorXd& x,
+                                std::size_t first, std::size_t last, std::size_t at) const {
+  const std::size_t m = last - first + 1;
+  std::vector<double> phi(m), rho(m), alpha(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    const auto k = static_cast<Eigen::Index>(2 * (first + j));
+    phi[j] = scan_.angles[topology.beams[first + j]];
+    rho[j] = x[k];
+    alpha[j] = x[k + 1];
+  }
+  return priorlets::CheckCorner(phi, rho, alpha, at);
+}
+
+void Engine::UseProblemOf(const Topology& topology) {
+  if (!problem_ || problem_->num_points() != topology.beams.size() ||
+      problem_->links() != topology.links) {
+    problem_ = std::make_unique<InnerProblem>(MakeProblem(topology));
+  }
+}
+
+void Engine::SettleCorners(Topology& topology, InnerResult& solution) {
+  const std::size_t half = kRefineHalfWindow;
+  for (int pass = 0; pass < kCornerPasses; ++pass) {
+    Topology settled = topology;
+    long moved_beams = 0;
+    for (std::size_t l = 0; l < topology.links.size(); ++l) {
+      if (topology.links[l] != Link::kDifferentRegion) continue;
+      const std::size_t first = l >= half ? l - half + 1 : 0;
+      const std::size_t last = std::min(topology.beams.size() - 1, l + half);
+      const CornerCheck corner = CheckCorner(topology, solution.x, first, last, l - first);
+      if (corner.step ||
+          (corner.turned && (!corner.corner || std::abs(corner.shift) > kMaxCornerShift))) {
+        settled.links[l] = Link::kDifferentSurface;
+        ++moved_beams;
+        continue;
+      }
+      if (!corner.corner || corner.shift == 0) continue;
+      // No other border on the way.
+      const long to = static_cast<long>(l) + corner.shift;
+      if (to < 0 || to >= static_cast<long>(topology.links.size())) continue;
+      const long step = corner.shift > 0 ? 1 : -1;
+      bool clear = true;
+      for (long k = static_cast<long>(l) + step; k != to + step; k += step) {
+        clear = clear && settled.links[static_cast<std::size_t>(k)] == Link::kSameRegion;
+      }
+      if (!clear) continue;
+      settled.links[static_cast<std::size_t>(to)] = Link::kDifferentRegion;
+      settled.links[l] = Link::kSameRegion;
+      moved_beams += std::abs(corner.shift);
+    }
+    if (settled.links == topology.links) return;
+    UseProblemOf(topology);
+    const double cost = ComparableCost(solution);
+    // The lines hardly move: resume at the final weight (a few Newton steps), else earlier.
+    InnerControl resume;
+    resume.lambda_start = solution.lambda;
+    ++stats_.refinement_trials;
+    InnerResult r = Solve(settled, &topology, &solution.x, resume);
+    if (!r.feasible) {
+      resume.lambda_start = solution.lambda * kWarmLambdaBackoff;
+      ++stats_.refinement_trials;
+      r = Solve(settled, &topology, &solution.x, resume);
+    }
+    if (!r.feasible ||
+        !(ComparableCost(r) <= cost + kCornerCostSlack * static_cast<double>(moved_beams))) {
+      return;
+    }
+    topology = std::move(settled);
+    solution = std::move(r);
+  }
+}
+
 MapScan Engine::Run() {
   const Clock::time_point start = Clock::now();
   Topology topology;
@@ -631,13 +728,11 @@ MapScan Engine::Run() {
   if (solution.feasible && options_.refine_borders) {
     const Clock::time_point refine_start = Clock::now();
     RefineBorders(solved, solution);
+    SettleCorners(solved, solution);
     stats_.seconds_refine = Seconds(refine_start);
   }
   // The problem of the final topology, for the objective.
-  if (!problem_ || problem_->num_points() != solved.beams.size() ||
-      problem_->links() != solved.links) {
-    problem_ = std::make_unique<InnerProblem>(MakeProblem(solved));
-  }
+  UseProblemOf(solved);
 
   MapScan out;
   const std::size_t n = scan_.size();

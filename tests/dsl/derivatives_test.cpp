@@ -84,10 +84,10 @@ Point RandomPoint(Rng& rng, int order) {
 using Guard = std::function<bool(const Point&)>;
 
 // Per prior, whether a point is far enough from the non-smooth places of its terms.
-//  - circular-radius: its energy uses radius = 1 / (2 abs(r13)), where
-//    r13 = sin((alpha_3 - alpha_1)/2) / |p_3 - p_1|. abs switches, and the radius is singular,
-//    where sin((alpha_3 - alpha_1)/2) = 0. Keeping |sin(...)| >= 0.05 (radius <= ~100 m) keeps
-//    the finite-difference stencil on one side of the switch.
+//  - circular-radius: its energy uses the curvature 2 abs(r13), where
+//    r13 = sin((alpha_3 - alpha_1)/2) / |p_3 - p_1|. abs switches where
+//    sin((alpha_3 - alpha_1)/2) = 0. Keeping |sin(...)| >= 0.05 keeps the finite-difference
+//    stencil on one side of the switch.
 const std::map<std::string, Guard>& KinkGuards() {
   static const std::map<std::string, Guard> guards = {
       {"circular-radius",
@@ -392,11 +392,17 @@ TEST(PriorValues, EnergiesAreTheExpressionAsWritten) {
       EvaluateBuiltin("rectangular-relaxed-alternative", BlockKind::kDifferentRegion, c);
   ASSERT_EQ(alternative.values.size(), 1u);
   EXPECT_NEAR(alternative.values[0], std::pow(std::cos(0.8), 2), kExact);
+  // The splines prior: the bending energy stiffness * (alpha_2 - alpha_1)^2 / |p_2 - p_1|,
+  // then the chord perpendicular to the mean normal.
   const Evaluated splines = EvaluateBuiltin("splines", BlockKind::kSameRegion, c);
-  ASSERT_EQ(splines.values.size(), 1u);
-  EXPECT_NEAR(splines.values[0], 0.8 * 0.8, kExact);
-  EXPECT_NEAR(splines.gradients[2], -2 * 0.8, kExact);
-  EXPECT_NEAR(splines.gradients[3], 2 * 0.8, kExact);
+  ASSERT_EQ(splines.values.size(), 2u);
+  const double chord_x = 1.5 * std::cos(0.1) - 1.0 * std::cos(-0.1);
+  const double chord_y = 1.5 * std::sin(0.1) - 1.0 * std::sin(-0.1);
+  const double chord = std::hypot(chord_x, chord_y);
+  EXPECT_NEAR(splines.values[0], 1000 * 0.8 * 0.8 / chord, 1e-9);
+  EXPECT_NEAR(splines.gradients[2], -1000 * 2 * 0.8 / chord, 1e-9);
+  EXPECT_NEAR(splines.gradients[3], 1000 * 2 * 0.8 / chord, 1e-9);
+  EXPECT_NEAR(splines.values[1], chord_x * std::cos(0.7) + chord_y * std::sin(0.7), kExact);
 }
 
 // r_ij = sin((alpha_j - alpha_i)/2) / |p_i - p_j| for the circular priors.
@@ -426,7 +432,7 @@ TEST(PriorValues, CircularSameRegionComparesTheHalfCurvaturesOfThePairs) {
   EXPECT_NEAR(radius.values[0], r12 - r23, kExact);
   EXPECT_NEAR(radius.values[1], r23 - r13, kExact);
   EXPECT_NEAR(radius.values[2], e.values[2], kExact);
-  EXPECT_NEAR(radius.values[3], std::pow(1 / (2 * std::abs(r13)) - 2.0, 2), kExact);
+  EXPECT_NEAR(radius.values[3], 0.5 * std::pow((2 * std::abs(r13) - 0.5) / 0.1, 2), kExact);
 }
 
 TEST(PriorValues, CircularSameRegionVanishesOnACircle) {
@@ -444,7 +450,7 @@ TEST(PriorValues, CircularSameRegionVanishesOnACircle) {
   EXPECT_NEAR(e.values[0], 0.0, kExact);
   EXPECT_NEAR(e.values[1], 0.0, kExact);
   EXPECT_NEAR(e.values[2], 0.0, kExact);
-  EXPECT_NEAR(e.values[3], 0.0, 1e-10);  // the radius is 2
+  EXPECT_NEAR(e.values[3], 0.0, 1e-9);  // the radius is 2
   // Normals all turned by the same angle keep the radii equal but leave the circle.
   for (double& a : c.alpha) a += 0.1;
   const Evaluated turned = EvaluateBuiltin("circular", BlockKind::kSameRegion, c);
@@ -465,12 +471,11 @@ TEST(PriorValues, StraightOrCircularBranchesAreTheLineAndTheCircleConditions) {
   };
   const Eigen::Vector2d n1(std::cos(c.alpha[0]), std::sin(c.alpha[0]));
   const std::vector<double> expected = {
-      c.alpha[1] - c.alpha[0],
-      c.alpha[2] - c.alpha[0],
-      (p(1) - p(0)).dot(n1),
+      c.alpha[1] - c.alpha[0], c.alpha[2] - c.alpha[0], (p(1) - p(0)).dot(n1),
       (p(2) - p(0)).dot(n1),
-      HalfCurvature(c, 0, 1) - HalfCurvature(c, 1, 2),
-      HalfCurvature(c, 1, 2) - HalfCurvature(c, 0, 2),
+      // The circle branch's half-curvature differences are scaled by the chord p_1 p_3.
+      (HalfCurvature(c, 0, 1) - HalfCurvature(c, 1, 2)) * (p(2) - p(0)).norm(),
+      (HalfCurvature(c, 1, 2) - HalfCurvature(c, 0, 2)) * (p(2) - p(0)).norm(),
       (p(2) - p(0))
           .dot(Eigen::Vector2d(std::cos((c.alpha[0] + c.alpha[2]) / 2),
                                std::sin((c.alpha[0] + c.alpha[2]) / 2)))};

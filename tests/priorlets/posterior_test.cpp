@@ -251,7 +251,17 @@ TEST(Posterior, ProjectedFormIsNeverNarrowerOnTheRangesOfStraightWalls) {
 TEST(Posterior, APriorOfEnergiesOnlyLeavesEverythingFreeButStillGivesStandardDeviations) {
   const Scene scene = BuiltinScene("circle").value();
   const Scan scan = SimulateScene(scene, Sensor("lms200"), Se2(0.3, -0.2, 0.4), 4);
-  const dsl::CompiledPrior prior = Prior("splines");
+  // The splines prior as Fig. 2g of the paper writes it: a cost on the normals' turn, nothing
+  // else (the library's splines prior also ties the normals to the chords).
+  const dsl::CompiledPrior prior = dsl::PriorLibrary()
+                                       .CompileText(R"(name: Smooth normals
+order: 2
+max_curvature: 10
+priorlet same_region:
+  model_likelihood ( alpha_2 - alpha_1 )^2
+)",
+                                                    "smooth-normals.prior")
+                                       .value();
   const MapScan map = EstimateMapScan(scan, prior);
   PosteriorOptions options;
   options.max_free_dimension = 100;
