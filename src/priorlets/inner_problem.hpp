@@ -42,8 +42,11 @@ struct ObjectiveValue {
   double penalty = 0.0;       // unweighted constraint penalty
   double barrier = 0.0;       // -sum log of the bound slacks (unweighted); +inf outside the bounds
   double max_residual = 0.0;  // of the constraints (see Violation)
+  // A weight of 0 means no barrier, also where the barrier is infinite (0 * inf is NaN, which
+  // no line search accepts).
   [[nodiscard]] double Total(double lambda, double barrier_weight) const {
-    return data + energy + lambda * penalty + barrier_weight * barrier;
+    return data + energy + lambda * penalty +
+           (barrier_weight == 0.0 ? 0.0 : barrier_weight * barrier);
   }
 };
 

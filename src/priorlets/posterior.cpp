@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <limits>
+#include <optional>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -24,11 +28,18 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Singular values of grad_q r (columns scaled to unit norm) below this fraction of the largest
 // are rank deficiency: a motion that moves the readings by less than 1 % of what the strongest
-// does is not observable. The closed form is evaluated at the MAP normals, not the true ones: for
-// a circle seen from off its centre the rotation is a combination of the translations (exactly,
-// by ray casting: 4e-11), up to the normals' error, which leaves 1e-4..1e-3; a genuine third
-// direction (any corner in view) is > 0.1.
+// does is not observable. The closed form is evaluated at the estimate, not the true scan: for a
+// circle seen from off its centre the rotation is a combination of the translations (exactly, by
+// ray casting: 4e-11), up to the estimate's error, which leaves 1e-6 at the tightened solution
+// (1e-4 at the engine's, feasible to ~1e-7); a genuine third direction is > 0.05 (two circles:
+// 0.07, any corner in view: > 0.1).
 constexpr double kExtrinsicRankTolerance = 1e-2;
+
+// Bounds that bound nothing. Finite so that the barrier -sum log((x - lower) (upper - x)) stays
+// finite wherever it is evaluated (with infinite bounds it is -inf, and before
+// ObjectiveValue::Total skipped a weight-0 barrier, 0 * -inf = NaN kept TightenFeasibility from
+// ever moving). 1e100: the product of two slacks stays finite.
+constexpr double kUnbounded = 1e100;
 
 // The problem of the final topology, rebuilt from the map: the same data, initial normals and
 // their weak prior the last solve used.
@@ -42,8 +53,8 @@ InnerProblem MakeFinalProblem(const Scan& scan, const dsl::CompiledPrior& prior,
     ProblemPoint& pt = points[j];
     pt.phi = scan.angles[b];
     pt.rho_measured = scan.ranges[b];
-    pt.rho_lower = -std::numeric_limits<double>::infinity();
-    pt.rho_upper = std::numeric_limits<double>::infinity();
+    pt.rho_lower = -kUnbounded;
+    pt.rho_upper = kUnbounded;
     pt.alpha_initial = map.initial_alpha[b];
     pt.alpha_sigma = map.initial_alpha_sigma[b];
     pt.alpha_lower = pt.rho_lower;
@@ -55,9 +66,10 @@ InnerProblem MakeFinalProblem(const Scan& scan, const dsl::CompiledPrior& prior,
 }
 
 // Curvature d alpha / d s of one region's points by central differences over up to
-// kCurvatureReach points on each side: the MAP normals lie on the prior's surface to ~1e-7, and a
-// difference between neighbours 0.25 deg apart would amplify that to ~1e-3 relative error in
-// kappa (enough to make a circle's rotation look independent of its translations).
+// kCurvatureReach points on each side: the normals lie on the prior's surface only to the
+// solution's feasibility (~1e-7 as the engine leaves it), and a difference between neighbours
+// 0.25 deg apart would amplify that to ~1e-3 relative error in kappa (enough to make a circle's
+// rotation look independent of its translations).
 constexpr std::size_t kCurvatureReach = 8;
 
 void RegionCurvature(std::span<const double> rho, std::span<const double> alpha,
@@ -77,15 +89,19 @@ void RegionCurvature(std::span<const double> rho, std::span<const double> alpha,
   }
 }
 
-// d x / d q in the engine's interleaved order, curvature estimated per region from the MAP
-// normals (which the prior has made smooth).
-Eigen::MatrixXd InterleavedExtrinsicJacobian(const Scan& scan, const MapScan& map) {
+// d x / d q at x (interleaved in-model unknowns, the point where Free is decided) in the same
+// order, curvature estimated per region from x's normals (which the prior has made smooth).
+// Evaluated at the same point as Free, Extr is inside Free up to that point's feasibility: on the
+// circle scene at 1 - cos = 7e-13 at the tightened solution, against 1e-8 when evaluated at the
+// engine's solution (feasible to ~1e-7) with Free at the tightened one.
+Eigen::MatrixXd InterleavedExtrinsicJacobian(const Scan& scan, const MapScan& map,
+                                             const Eigen::VectorXd& x) {
   const std::vector<std::size_t>& beams = map.inmodel_beams;
   const std::size_t m = beams.size();
   std::vector<double> rho(m), alpha(m), phi(m), curvature(m, 0.0);
   for (std::size_t j = 0; j < m; ++j) {
-    rho[j] = map.rho[beams[j]];
-    alpha[j] = map.alpha[beams[j]];
+    rho[j] = x[static_cast<Eigen::Index>(2 * j)];
+    alpha[j] = x[static_cast<Eigen::Index>(2 * j + 1)];
     phi[j] = scan.angles[beams[j]];
   }
   for (std::size_t j = 0; j < m;) {
@@ -120,6 +136,57 @@ Eigen::MatrixXd OrthonormalColumnSpan(const Eigen::MatrixXd& e) {
   Eigen::Index rank = 0;
   while (rank < s.size() && s[rank] > kExtrinsicRankTolerance * s[0]) ++rank;
   return svd.matrixU().leftCols(rank);
+}
+
+// A rank decision of Free at one point.
+struct KernelDecision {
+  Eigen::VectorXd x;
+  KernelOptions options;
+  ConstraintKernel kernel;
+
+  /// Largest null over smallest kept singular value (0 when either side is empty).
+  [[nodiscard]] double Overlap() const {
+    const KernelSummary& s = kernel.summary();
+    return s.largest_null_singular_value / s.smallest_kept_singular_value;
+  }
+  /// Orders of magnitude either side of the tolerance: a null and a kept singular value are more
+  /// than 100x apart.
+  [[nodiscard]] bool ClearCut() const { return Overlap() < 1e-2; }
+};
+
+// True when some set of unknowns that the rows couple has at least as many rows as unknowns.
+// Unknowns are grouped by overlapping runs [first nonzero, last nonzero] of the rows: a coarsening
+// of ComputeKernel's components (rows that overlap without sharing an unknown are joined), so
+// a `true` is certain (rows >= unknowns summed over a group means the same in one of its
+// components) and a `false` may miss one.
+bool HasOverdeterminedComponent(std::size_t num_unknowns, const std::vector<ConstraintRow>& rows) {
+  struct Run {
+    std::size_t first, last;
+  };
+  std::vector<Run> runs;
+  std::vector<std::uint8_t> used(num_unknowns, 0);
+  for (const ConstraintRow& row : rows) {
+    std::optional<Run> run;
+    for (std::size_t j = 0; j < row.coefficients.size(); ++j) {
+      if (row.coefficients[j] == 0.0) continue;
+      used[row.first + j] = 1;
+      if (!run) run = Run{row.first + j, row.first + j};
+      run->last = row.first + j;
+    }
+    if (run) runs.push_back(*run);
+  }
+  std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.first < b.first; });
+  for (std::size_t i = 0; i < runs.size();) {
+    const std::size_t first = runs[i].first;
+    std::size_t last = runs[i].last, count = 0;
+    for (; i < runs.size() && runs[i].first <= last; ++i, ++count)
+      last = std::max(last, runs[i].last);
+    const auto unknowns = static_cast<std::size_t>(
+        std::count(used.begin() + static_cast<std::ptrdiff_t>(first),
+                   used.begin() + static_cast<std::ptrdiff_t>(last) + 1, std::uint8_t{1}));
+    if (count >= unknowns) return true;
+  }
+  return false;
 }
 
 // Per-beam entries of an interleaved vector over the in-model unknowns.
@@ -211,29 +278,61 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
     x[static_cast<Eigen::Index>(2 * j + 1)] = map.alpha[map.inmodel_beams[j]];
   }
 
-  // Free = ker grad f_T. When the decision is not clear-cut (a null and a kept singular value
-  // within 100x), it is taken again at a tighter solution (TightenFeasibility): that costs about as
-  // much as the engine's last solve, so only then.
-  const auto kernel_at = [&](const Eigen::VectorXd& at, double violation, KernelOptions* used) {
-    used->relative_tolerance = std::max(options.kernel_tolerance, 100.0 * violation);
-    return ComputeKernel(2 * m, problem.EqualityRows(at), *used);
+  // Free = ker grad f_T at a point feasible to v, null below relative_tolerance = max(1e-9, 100 v)
+  // (see PosteriorOptions::kernel_tolerance). Directions that are null only because rows are
+  // redundant on the constraint manifold (a circle: three rows per window, rank 2m - 3) are not
+  // null off it: the subproblems of ComputeKernel see them at up to ~100 v (2.8e-5 at the
+  // engine's v = 3.7e-7 on the circle scene), while genuinely weak directions, deformations of a
+  // long smooth region whose rows see them only through differences between neighbours, have
+  // singular values that fall as (beam spacing / region length)^2: 3e-5 in the subproblems (6.5e-6
+  // in the whole J) for 1081 points of a circle. At the engine's feasibility the two overlap, and
+  // the rank decision takes a weak deformation for a kernel direction (the circle's Free then
+  // missed Extr by cos 0.95). TightenFeasibility takes x to v ~ 1e-11 near the same optimum; there
+  // the null ones are ~10 v (6e-11) and the tolerance, 1e-9, sits more than 10x above them and
+  // 10^4 below the weak ones. It costs about as much as one kernel, so it is done first when a
+  // group of coupled unknowns has at least as many rows as unknowns (then any kernel there is a
+  // redundancy, almost always one that holds only on the manifold), and otherwise only when the
+  // decision at the engine's point is not clear-cut. The tightened point is kept only when its
+  // decision is clear-cut: a prior that does not fit the scene (circles on straight walls) has a
+  // continuum of singular values that no point separates, and its decision at the tighter
+  // tolerance is as arbitrary, so the engine's point, which the JSON's max_violation describes,
+  // is kept for it.
+  const auto decide = [&](Eigen::VectorXd at, double violation,
+                          const std::vector<ConstraintRow>& rows) {
+    KernelDecision d{std::move(at), {}, {}};
+    d.options.relative_tolerance = std::max(options.kernel_tolerance, 100.0 * violation);
+    d.kernel = ComputeKernel(2 * m, rows, d.options);
+    return d;
   };
-  KernelOptions kernel_options;
-  ConstraintKernel kernel = kernel_at(x, map.max_violation, &kernel_options);
-  const KernelSummary& first = kernel.summary();
-  if (first.largest_null_singular_value > 1e-2 * first.smallest_kept_singular_value) {
+  bool tried_tightening = false;
+  const auto decide_tightened = [&]() -> std::optional<KernelDecision> {
+    tried_tightening = true;
     double violation = map.max_violation;
-    const Eigen::VectorXd tight = TightenFeasibility(problem, x, &violation);
-    if (violation < map.max_violation) {
-      x = tight;
-      kernel = kernel_at(x, violation, &kernel_options);
+    Eigen::VectorXd tight = TightenFeasibility(problem, x, &violation);
+    if (!(violation < map.max_violation)) return std::nullopt;
+    const std::vector<ConstraintRow> rows = problem.EqualityRows(tight);
+    return decide(std::move(tight), violation, rows);
+  };
+  const std::vector<ConstraintRow> rows = problem.EqualityRows(x);
+  std::optional<KernelDecision> decision;
+  if (HasOverdeterminedComponent(2 * m, rows)) decision = decide_tightened();
+  if (decision && !decision->ClearCut()) decision.reset();
+  if (!decision) {
+    decision = decide(x, map.max_violation, rows);
+    if (!decision->ClearCut() && !tried_tightening) {
+      std::optional<KernelDecision> tightened = decide_tightened();
+      if (tightened && tightened->ClearCut()) decision = std::move(tightened);
     }
   }
+  x = std::move(decision->x);
+  ConstraintKernel kernel = std::move(decision->kernel);
+  const KernelOptions kernel_options = decision->options;
   out.dof.kernel = kernel.summary();
   out.dof.free = kernel.dimension();
 
   // Extr = span grad_q r; Intr = Free minus what Extr sees of it.
-  const Eigen::MatrixXd extrinsic = OrthonormalColumnSpan(InterleavedExtrinsicJacobian(scan, map));
+  const Eigen::MatrixXd extrinsic =
+      OrthonormalColumnSpan(InterleavedExtrinsicJacobian(scan, map, x));
   out.dof.extrinsic = static_cast<std::size_t>(extrinsic.cols());
   const IntrinsicSubspace intrinsic(std::move(kernel), extrinsic, kernel_options);
   out.dof.intrinsic = intrinsic.dimension();

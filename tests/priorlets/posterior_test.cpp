@@ -96,18 +96,9 @@ TEST_P(DegreesOfFreedom, MatchThePaper) {
 INSTANTIATE_TEST_SUITE_P(Paper, DegreesOfFreedom,
                          ::testing::Values(DofCase{"rectangle", "rectangular", 5, 3, 2},
                                            DofCase{"rectangle", "polygonal", 8, 3, 5},
-                                           DofCase{"two-circles", "circular", 6, 3, 3}),
+                                           DofCase{"two-circles", "circular", 6, 3, 3},
+                                           DofCase{"circle", "circular", 3, 2, 1}),
                          DofName);
-
-// Known failure, issue 4 still open: on the circle the counts come out right (3, 2, 1) but not
-// robustly: the rank decision of Free is not clear-cut (a null singular value 2.8e-5 against a
-// kept 6.8e-5), and Extr, evaluated at the MAP normals, is only at cosine 0.95 inside Free.
-class DegreesOfFreedomOfACircle : public ::testing::TestWithParam<DofCase> {};
-TEST_P(DegreesOfFreedomOfACircle, DISABLED_MatchThePaper) {
-  CheckDegreesOfFreedom(GetParam());
-}
-INSTANTIATE_TEST_SUITE_P(Paper, DegreesOfFreedomOfACircle,
-                         ::testing::Values(DofCase{"circle", "circular", 3, 2, 1}), DofName);
 
 // The covariance is that of the estimator: over many noise draws, the MAP ranges scatter around
 // the truth as posterior_std says (linear-Gaussian on straight walls, so it should be exact up to
