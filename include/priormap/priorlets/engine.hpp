@@ -57,7 +57,9 @@ struct EngineOptions {
   double break_ratio = 0.5;
   /// After a feasible topology is found, try moving every region border by a beam and merging
   /// neighbouring regions again, keeping what stays feasible and fits better (backtracking over
-  /// the greedy decisions, the paper's future work).
+  /// the greedy decisions, the paper's future work); then move every corner's border to where
+  /// its two regions' lines meet, or make it a surface border where they meet nowhere near
+  /// (CheckCorner).
   bool refine_borders = true;
 };
 
