@@ -28,10 +28,6 @@ double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
 
-double DegToRad(double deg) {
-  return deg * std::numbers::pi / 180.0;
-}
-
 // Links with a penalty above this fraction of the largest form the zones of BreakLinks.
 constexpr double kZoneFraction = 0.01;
 // An infeasible solve that brought the penalty below this fraction of its first stage's is
@@ -150,6 +146,19 @@ std::vector<std::pair<std::size_t, std::size_t>> Runs(const Topology& topology, 
   return runs;
 }
 
+// Moves the border at links[from] to links[to], of the same kind; false (links untouched) when
+// `to` is outside the links or another border lies on the way.
+bool MoveBorder(std::vector<Link>& links, std::size_t from, long to) {
+  if (to < 0 || to >= static_cast<long>(links.size())) return false;
+  const long step = to > static_cast<long>(from) ? 1 : -1;
+  for (long k = static_cast<long>(from) + step; k != to + step; k += step) {
+    if (links[static_cast<std::size_t>(k)] != Link::kSameRegion) return false;
+  }
+  links[static_cast<std::size_t>(to)] = links[from];
+  links[from] = Link::kSameRegion;
+  return true;
+}
+
 class Engine {
  public:
   Engine(const Scan& scan, const dsl::CompiledPrior& prior, const EngineOptions& options)
@@ -191,8 +200,8 @@ class Engine {
   void RefineBorders(Topology& topology, InnerResult& solution);
   // CheckCorner for the border after point `at` of the slice first..last of `topology`, solved
   // as x.
-  [[nodiscard]] CornerCheck CheckCorner(const Topology& topology, const Eigen::VectorXd& x,
-                                        std::size_t first, std::size_t last, std::size_t at) const;
+  [[nodiscard]] CornerCheck CornerAt(const Topology& topology, const Eigen::VectorXd& x,
+                                     std::size_t first, std::size_t last, std::size_t at) const;
   // Every different_region link claims a corner: its border moves to where the two regions'
   // lines meet (corner_geometry.hpp), or, when they meet nowhere near it, it becomes
   // different_surface (one region hides the other, Fig. 5b); then the whole scan is solved
@@ -565,19 +574,8 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
         bool improved = false;
         for (int reach = 1; reach <= 2 && !improved; ++reach) {
           const long to = static_cast<long>(border) + direction * reach;
-          if (to < 0 || to >= static_cast<long>(local.links.size())) break;
-          const auto t = static_cast<std::size_t>(to);
-          bool crosses = false;  // another border on the way
-          for (long k = 1; k <= reach; ++k) {
-            crosses =
-                crosses ||
-                local.links[static_cast<std::size_t>(static_cast<long>(border) + direction * k)] !=
-                    Link::kSameRegion;
-          }
-          if (crosses) break;
           Topology moved = local;
-          moved.links[t] = local.links[border];
-          moved.links[border] = Link::kSameRegion;
+          if (!MoveBorder(moved.links, border, to)) break;
           InnerResult r = local_solve(moved, local, current.x, move);
           const double moved_cost = r.feasible ? ComparableCost(r) : 0.0;
           if (!r.feasible && !r.abandoned)
@@ -586,7 +584,7 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
           local = std::move(moved);
           current = std::move(r);
           cost = moved_cost;
-          border = t;
+          border = static_cast<std::size_t>(to);
           improved = true;
         }
         if (!improved) break;
@@ -612,8 +610,8 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
   }
 }
 
-CornerCheck Engine::CheckCorner(const Topology& topology, const Eigen::VectorXd& x,
-                                std::size_t first, std::size_t last, std::size_t at) const {
+CornerCheck Engine::CornerAt(const Topology& topology, const Eigen::VectorXd& x, std::size_t first,
+                             std::size_t last, std::size_t at) const {
   const std::size_t m = last - first + 1;
   std::vector<double> phi(m), rho(m), alpha(m);
   for (std::size_t j = 0; j < m; ++j) {
@@ -622,7 +620,7 @@ CornerCheck Engine::CheckCorner(const Topology& topology, const Eigen::VectorXd&
     rho[j] = x[k];
     alpha[j] = x[k + 1];
   }
-  return priorlets::CheckCorner(phi, rho, alpha, at);
+  return CheckCorner(phi, rho, alpha, at);
 }
 
 void Engine::UseProblemOf(const Topology& topology) {
@@ -641,7 +639,7 @@ void Engine::SettleCorners(Topology& topology, InnerResult& solution) {
       if (topology.links[l] != Link::kDifferentRegion) continue;
       const std::size_t first = l >= half ? l - half + 1 : 0;
       const std::size_t last = std::min(topology.beams.size() - 1, l + half);
-      const CornerCheck corner = CheckCorner(topology, solution.x, first, last, l - first);
+      const CornerCheck corner = CornerAt(topology, solution.x, first, last, l - first);
       if (corner.step ||
           (corner.turned && (!corner.corner || std::abs(corner.shift) > kMaxCornerShift))) {
         settled.links[l] = Link::kDifferentSurface;
@@ -649,18 +647,8 @@ void Engine::SettleCorners(Topology& topology, InnerResult& solution) {
         continue;
       }
       if (!corner.corner || corner.shift == 0) continue;
-      // No other border on the way.
-      const long to = static_cast<long>(l) + corner.shift;
-      if (to < 0 || to >= static_cast<long>(topology.links.size())) continue;
-      const long step = corner.shift > 0 ? 1 : -1;
-      bool clear = true;
-      for (long k = static_cast<long>(l) + step; k != to + step; k += step) {
-        clear = clear && settled.links[static_cast<std::size_t>(k)] == Link::kSameRegion;
-      }
-      if (!clear) continue;
-      settled.links[static_cast<std::size_t>(to)] = Link::kDifferentRegion;
-      settled.links[l] = Link::kSameRegion;
-      moved_beams += std::abs(corner.shift);
+      if (MoveBorder(settled.links, l, static_cast<long>(l) + corner.shift))
+        moved_beams += std::abs(corner.shift);
     }
     if (settled.links == topology.links) return;
     UseProblemOf(topology);

@@ -35,12 +35,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // 0.07, any corner in view: > 0.1).
 constexpr double kExtrinsicRankTolerance = 1e-2;
 
-// Bounds that bound nothing. Finite so that the barrier -sum log((x - lower) (upper - x)) stays
-// finite wherever it is evaluated (with infinite bounds it is -inf, and before
-// ObjectiveValue::Total skipped a weight-0 barrier, 0 * -inf = NaN kept TightenFeasibility from
-// ever moving). 1e100: the product of two slacks stays finite.
-constexpr double kUnbounded = 1e100;
-
 // The problem of the final topology, rebuilt from the map: the same data, initial normals and
 // their weak prior the last solve used.
 InnerProblem MakeFinalProblem(const Scan& scan, const dsl::CompiledPrior& prior,
@@ -53,8 +47,9 @@ InnerProblem MakeFinalProblem(const Scan& scan, const dsl::CompiledPrior& prior,
     ProblemPoint& pt = points[j];
     pt.phi = scan.angles[b];
     pt.rho_measured = scan.ranges[b];
-    pt.rho_lower = -kUnbounded;
-    pt.rho_upper = kUnbounded;
+    // Unbounded: TightenFeasibility weighs the barrier by 0 (ObjectiveValue::Total skips it).
+    pt.rho_lower = -std::numeric_limits<double>::infinity();
+    pt.rho_upper = std::numeric_limits<double>::infinity();
     pt.alpha_initial = map.initial_alpha[b];
     pt.alpha_sigma = map.initial_alpha_sigma[b];
     pt.alpha_lower = pt.rho_lower;
@@ -304,9 +299,7 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
     d.kernel = ComputeKernel(2 * m, rows, d.options);
     return d;
   };
-  bool tried_tightening = false;
   const auto decide_tightened = [&]() -> std::optional<KernelDecision> {
-    tried_tightening = true;
     double violation = map.max_violation;
     Eigen::VectorXd tight = TightenFeasibility(problem, x, &violation);
     if (!(violation < map.max_violation)) return std::nullopt;
@@ -314,19 +307,18 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
     return decide(std::move(tight), violation, rows);
   };
   const std::vector<ConstraintRow> rows = problem.EqualityRows(x);
-  std::optional<KernelDecision> decision;
-  if (HasOverdeterminedComponent(2 * m, rows)) decision = decide_tightened();
-  if (decision && !decision->ClearCut()) decision.reset();
-  if (!decision) {
-    decision = decide(x, map.max_violation, rows);
-    if (!decision->ClearCut() && !tried_tightening) {
-      std::optional<KernelDecision> tightened = decide_tightened();
-      if (tightened && tightened->ClearCut()) decision = std::move(tightened);
-    }
+  const bool tighten_first = HasOverdeterminedComponent(2 * m, rows);
+  std::optional<KernelDecision> tightened;
+  if (tighten_first) tightened = decide_tightened();
+  KernelDecision decision = tightened && tightened->ClearCut() ? std::move(*tightened)
+                                                               : decide(x, map.max_violation, rows);
+  if (!decision.ClearCut() && !tighten_first) {
+    tightened = decide_tightened();
+    if (tightened && tightened->ClearCut()) decision = std::move(*tightened);
   }
-  x = std::move(decision->x);
-  ConstraintKernel kernel = std::move(decision->kernel);
-  const KernelOptions kernel_options = decision->options;
+  x = std::move(decision.x);
+  ConstraintKernel kernel = std::move(decision.kernel);
+  const KernelOptions kernel_options = decision.options;
   out.dof.kernel = kernel.summary();
   out.dof.free = kernel.dimension();
 
