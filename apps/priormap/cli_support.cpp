@@ -1,7 +1,10 @@
 #include "cli_support.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -72,6 +75,29 @@ void EnsureDirectory(const std::filesystem::path& directory) {
   if (ec)
     throw UserError(
         fmt::format("cannot create directory {}: {}", directory.string(), ec.message()));
+}
+
+Progress::Progress(std::size_t total, std::string unit)
+    : total_(std::max<std::size_t>(total, 1)),
+      unit_(std::move(unit)),
+      terminal_(isatty(fileno(stderr)) != 0) {}
+
+void Progress::Step() {
+  const std::size_t done = ++done_;
+  const std::size_t percent = 100 * done / total_;
+  std::lock_guard lock(mutex_);
+  if (percent == last_percent_ && done != total_) return;
+  if (!terminal_) {
+    if (percent / 10 != last_percent_ / 10 || done == total_)
+      fmt::print(stderr, "{}/{} {}\n", done, total_, unit_);
+    last_percent_ = percent;
+    return;
+  }
+  last_percent_ = percent;
+  const std::size_t filled = percent * 30 / 100;
+  fmt::print(stderr, "\r[{}{}] {}/{} {}", std::string(filled, '#'), std::string(30 - filled, ' '),
+             done, total_, unit_);
+  if (done == total_) fmt::print(stderr, "\n");
 }
 
 std::string Plural(std::size_t n, const std::string& word) {

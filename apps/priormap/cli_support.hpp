@@ -1,7 +1,9 @@
 #pragma once
 // Shared pieces of the subcommands: user-facing errors, option parsing, output checks.
 
+#include <atomic>
 #include <filesystem>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -50,6 +52,23 @@ void RequireOutputDirectory(const std::filesystem::path& path, const std::string
 
 /// Creates `directory` (and parents) when missing; throws UserError when that fails.
 void EnsureDirectory(const std::filesystem::path& directory);
+
+/// A progress bar on stderr, redrawn at most every percent on a terminal; elsewhere (CI logs,
+/// files) a line every 10 %. Step() may be called from several threads.
+class Progress {
+ public:
+  /// `unit`: what is counted, plural ("scans").
+  Progress(std::size_t total, std::string unit);
+  void Step();
+
+ private:
+  std::size_t total_;
+  std::string unit_;
+  bool terminal_;
+  std::atomic<std::size_t> done_{0};
+  std::mutex mutex_;
+  std::size_t last_percent_ = 101;
+};
 
 /// "1 scan" / "3 scans".
 [[nodiscard]] std::string Plural(std::size_t n, const std::string& word);

@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <mutex>
 #include <tuple>
-#include <unistd.h>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -39,37 +38,6 @@ struct ScanOptions {
   std::size_t max_free_dimension = priorlets::PosteriorOptions{}.max_free_dimension;
   std::optional<std::string> png;
   std::optional<std::string> svg;
-};
-
-// A progress bar on stderr, redrawn at most every percent on a terminal; elsewhere (CI logs,
-// files) a line every 10 %.
-class Progress {
- public:
-  explicit Progress(std::size_t total) : total_(total), terminal_(isatty(fileno(stderr)) != 0) {}
-  void Step() {
-    const std::size_t done = ++done_;
-    const std::size_t percent = 100 * done / total_;
-    std::lock_guard lock(mutex_);
-    if (percent == last_percent_ && done != total_) return;
-    if (!terminal_) {
-      if (percent / 10 != last_percent_ / 10 || done == total_)
-        fmt::print(stderr, "{}/{} scans\n", done, total_);
-      last_percent_ = percent;
-      return;
-    }
-    last_percent_ = percent;
-    const std::size_t filled = percent * 30 / 100;
-    fmt::print(stderr, "\r[{}{}] {}/{} scans", std::string(filled, '#'),
-               std::string(30 - filled, ' '), done, total_);
-    if (done == total_) fmt::print(stderr, "\n");
-  }
-
- private:
-  std::size_t total_;
-  bool terminal_;
-  std::atomic<std::size_t> done_{0};
-  std::mutex mutex_;
-  std::size_t last_percent_ = 101;
 };
 
 // --png / --svg: each names a file of its own format, written only for one scan.
@@ -149,7 +117,7 @@ void Run(const ScanOptions& o) {
   // Every scan, in parallel; a scan that fails is reported and written as an error record.
   std::vector<std::string> lines(log.scans.size());
   std::atomic<std::size_t> failures{0};
-  Progress progress(log.scans.size());
+  Progress progress(log.scans.size(), "scans");
   std::mutex report;
   tbb::parallel_for(std::size_t{0}, log.scans.size(), [&](std::size_t k) {
     try {

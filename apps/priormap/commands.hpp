@@ -10,6 +10,7 @@ void AddConvertCommand(CLI::App& app);
 void AddPlotCommand(CLI::App& app);
 void AddPriorCommand(CLI::App& app);
 void AddScanCommand(CLI::App& app);
+void AddSlamCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);
 

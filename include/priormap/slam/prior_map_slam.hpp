@@ -1,0 +1,154 @@
+#pragma once
+/// EKF-SLAM of point landmarks with a heterogeneous prior map (Parsley & Julier): a
+/// full-covariance EKF over the vehicle pose and landmarks (steered bicycle or odometry
+/// increments; range-bearing observations; association by known ids or by individually
+/// compatible nearest neighbour; a sliding window that drops landmarks unseen for W seconds),
+/// joined with the prior map's wall segments once relations couple them. Each frame it infers
+/// which landmarks lie on which segments (association_hypotheses.hpp) and applies the accepted
+/// relations 0 = theta(point, segment) as pseudo-observations of the joint state.
+///
+/// Beyond the paper: accepted relations are re-checked every frame. An EKF cannot take an update
+/// back, so a relation whose innovation becomes implausible (normalised innovation squared above
+/// `recheck_chi2` on `recheck_frames` consecutive frames) is reported (`RelationRecord::flagged`)
+/// and its segment quarantined: no new relation is accepted to it.
+///
+/// A segment leaves the state when the window has dropped every landmark related to it, and is
+/// retired: re-inserting it later with its prior (or its last marginal without the correlations
+/// it had with the pose) would count its information twice, so it is not used again.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <priormap/slam/association_hypotheses.hpp>
+#include <priormap/slam/joint_state.hpp>
+#include <priormap/slam/prior_map.hpp>
+#include <priormap/slam/slam_input.hpp>
+
+namespace priormap::slam {
+
+enum class AssociationMode {
+  kKnownIds,         ///< observations carry landmark ids (the paper's simulation)
+  kNearestNeighbour  ///< individual compatibility: nearest landmark by Mahalanobis distance
+};
+
+/// p(theta | d = 0), the likelihood of a pair that is not related.
+enum class NullDensity {
+  kConstant,        ///< StructurePriors::unrelated_density (the paper: 1 per metre)
+  kUniformOverGate  ///< uniform over the gate, 1 / (2 sqrt(gate_chi2 S)): free of units
+};
+
+struct SlamOptions {
+  bool use_prior_map = true;
+  double window_s = 6.0;    ///< drop landmarks not seen for this long; <= 0 keeps them all
+  double max_range = 30.0;  ///< only for nearest-neighbour candidates: landmarks this near
+
+  AssociationMode association = AssociationMode::kKnownIds;
+  double nn_gate_chi2 = 9.21;          ///< accept an association below this (chi2, 2 dof, 99 %)
+  double nn_new_landmark_chi2 = 18.4;  ///< a new landmark only above this from every landmark
+
+  StructurePriors priors;
+  NullDensity null_density = NullDensity::kConstant;
+  double wall_std = 0.01;    ///< p(theta | d = 1) = N(0, wall_std^2): walls are not flat, m
+  double gate_chi2 = 10.83;  ///< relation gate on theta^2 / S (chi2, 1 dof, 99.9 %)
+  double endpoint_margin_sigmas = 3.0;  ///< the point's projection may pass an end by this
+  int max_cluster_pairs = 8;            ///< larger clusters drop their least certain points
+  bool accept_marginals = true;  ///< below p_accept for D_MAP, accept pairs with P(D_j) > p_accept
+  double recheck_chi2 = 10.83;   ///< flag an applied relation above this ...
+  int recheck_frames = 3;        ///< ... on this many consecutive frames
+};
+
+/// What the filter knows about the world's truth, to score relations (simulation only).
+struct RelationTruth {
+  std::vector<int> landmark_wall;      ///< per landmark id: the wall it is on or next to
+  std::vector<bool> landmark_on_wall;  ///< per landmark id
+  std::vector<int> segment_wall;       ///< per prior segment: its true wall, -1 if spurious
+
+  [[nodiscard]] bool Correct(int landmark, int segment) const;
+  [[nodiscard]] bool Spurious(int segment) const;
+};
+
+struct RelationRecord {
+  int landmark = -1;
+  int segment = -1;
+  double time = 0.0;     ///< when it was applied
+  bool flagged = false;  ///< its innovation became implausible
+  double flagged_time = 0.0;
+  std::optional<bool> correct;    ///< with RelationTruth
+  bool spurious_segment = false;  ///< with RelationTruth
+};
+
+struct FrameRecord {
+  double time = 0.0;
+  Se2 estimate;
+  Mat3 covariance = Mat3::Zero();
+  int landmarks = 0;  ///< in the state after the frame
+  int segments = 0;
+  // Relations applied to landmarks that are in the state after the frame (paper Fig. 5).
+  int relations_in_state = 0;
+  int relations_correct = 0;
+  int relations_incorrect = 0;
+  int relations_spurious = 0;
+  int accepted = 0;  ///< relations accepted in this frame
+};
+
+struct InferenceStats {
+  std::size_t clusters = 0;         ///< enumerated
+  std::size_t deferred_points = 0;  ///< points left out of over-large clusters (decided later)
+  std::size_t largest_cluster = 0;  ///< most gated pairs seen in one cluster (before capping)
+  std::size_t hypotheses = 0;       ///< enumerated in all
+};
+
+struct LandmarkEstimate {
+  int id = -1;
+  Vec2 position = Vec2::Zero();
+  Mat2 covariance = Mat2::Zero();
+};
+
+struct SegmentEstimate {
+  int segment = -1;
+  Vec2 a = Vec2::Zero(), b = Vec2::Zero();
+  Mat4 covariance = Mat4::Zero();
+};
+
+struct SlamResult {
+  std::vector<FrameRecord> frames;
+  std::vector<RelationRecord> relations;
+  std::vector<LandmarkEstimate> landmarks;  ///< in the state at the end
+  std::vector<SegmentEstimate> segments;    ///< in the state at the end
+  InferenceStats inference;
+  std::size_t rejected_updates = 0;  ///< innovation covariance not positive definite
+  std::size_t landmarks_created = 0;
+};
+
+class PriorMapSlam {
+ public:
+  /// `prior_map` and `truth` (both optional) must outlive the filter.
+  PriorMapSlam(const Se2& initial_pose, double start_time, const MotionNoise& motion_noise,
+               const SensorNoise& sensor_noise, const PriorMap* prior_map, SlamOptions options,
+               const RelationTruth* truth = nullptr);
+  ~PriorMapSlam();
+  PriorMapSlam(PriorMapSlam&&) noexcept;
+  PriorMapSlam& operator=(PriorMapSlam&&) noexcept;
+
+  void Predict(const MotionStep& step);
+  /// Updates with a frame's observations, then (with a prior map) re-checks, infers and applies
+  /// relations, then slides the window. Returns the frame's record.
+  FrameRecord Observe(const ObservationFrame& frame);
+
+  [[nodiscard]] const JointState& state() const;
+  [[nodiscard]] SlamResult Finish() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The whole input: motion steps and frames merged by time (a frame is processed after every
+/// step that ends no later than it; bicycle steps that straddle a frame are split there).
+[[nodiscard]] SlamResult RunSlam(const SlamInput& input, const PriorMap* prior_map,
+                                 const SlamOptions& options, const RelationTruth* truth = nullptr);
+
+}  // namespace priormap::slam

@@ -1,0 +1,413 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/check.hpp>
+#include <priormap/core/segment.hpp>
+#include <priormap/slam/prior_map_slam.hpp>
+#include <priormap/slam/pseudo_observation.hpp>
+#include <priormap/slam/range_bearing.hpp>
+#include <priormap/slam/vehicle_model.hpp>
+
+#include "structure_inference.hpp"
+
+namespace priormap::slam {
+
+bool RelationTruth::Correct(int landmark, int segment) const {
+  if (landmark < 0 || segment < 0 || static_cast<std::size_t>(landmark) >= landmark_wall.size() ||
+      static_cast<std::size_t>(segment) >= segment_wall.size()) {
+    return false;
+  }
+  return landmark_on_wall[landmark] && segment_wall[segment] >= 0 &&
+         segment_wall[segment] == landmark_wall[landmark];
+}
+
+bool RelationTruth::Spurious(int segment) const {
+  return segment >= 0 && static_cast<std::size_t>(segment) < segment_wall.size() &&
+         segment_wall[segment] < 0;
+}
+
+struct PriorMapSlam::Impl {
+  Impl(const Se2& initial_pose, double start_time, const MotionNoise& motion_noise_,
+       const SensorNoise& sensor_noise_, const PriorMap* prior_map_, SlamOptions options_,
+       const RelationTruth* truth_)
+      : state(initial_pose, Mat3::Zero()),
+        time(start_time),
+        motion_noise(motion_noise_),
+        sensor_noise(sensor_noise_),
+        prior_map(prior_map_ && options_.use_prior_map && !prior_map_->empty() ? prior_map_
+                                                                               : nullptr),
+        options(std::move(options_)),
+        truth(truth_) {
+    if (prior_map) {
+      inference.emplace(*prior_map, options);
+      book.segments.resize(prior_map->segments.size());
+    }
+  }
+
+  // A landmark of the state: its id there, its external id (the observations'), when last seen.
+  struct Landmark {
+    int external = -1;
+    double last_seen = 0.0;
+  };
+
+  JointState state;
+  double time = 0.0;
+  MotionNoise motion_noise;
+  SensorNoise sensor_noise;
+  const PriorMap* prior_map;
+  SlamOptions options;
+  const RelationTruth* truth;
+  std::optional<detail::StructureInference> inference;
+  detail::RelationBook book;
+  std::vector<int> bad_frames;  // per book.applied: consecutive implausible re-checks
+
+  std::unordered_map<int, Landmark> landmarks;  // by state id
+  std::unordered_map<int, int> state_id_of;     // external id -> state id (in the state now)
+  int next_state_id = 0;
+  int next_external_id = 0;  // nearest neighbour: ids given to new landmarks
+  SlamResult result;
+
+  [[nodiscard]] Mat2 MeasurementNoise() const {
+    return Eigen::Vector2d(sensor_noise.range_std * sensor_noise.range_std,
+                           sensor_noise.bearing_std * sensor_noise.bearing_std)
+        .asDiagonal();
+  }
+
+  void Predict(const MotionStep& step) {
+    Mat3 F;
+    Mat3 Q;
+    Se2 next;
+    if (const auto* control = std::get_if<BicycleControl>(&step.motion)) {
+      Mat32 G;
+      next = BicycleMotion(state.pose(), *control, step.dt, motion_noise.wheelbase, &F, &G);
+      const Eigen::Vector2d var(motion_noise.speed_std * motion_noise.speed_std,
+                                motion_noise.steer_std * motion_noise.steer_std);
+      Q = G * var.asDiagonal() * G.transpose();
+    } else {
+      const Se2& increment = std::get<Se2>(step.motion);
+      Mat3 G;
+      next = IncrementMotion(state.pose(), increment, &F, &G);
+      Vec3 std = step.increment_std;
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(std[k])) std[k] = motion_noise.increment_std[k];
+      }
+      Q = G * std.cwiseAbs2().asDiagonal() * G.transpose();
+    }
+    state.PredictPose(next, F, Q);
+    time = step.time;
+  }
+
+  // Nearest neighbour by Mahalanobis distance among the landmarks in range; each landmark
+  // takes at most one observation of a frame (the closest). Returns state ids, -1 for a new
+  // landmark, -2 for an ambiguous observation (dropped).
+  std::vector<int> AssociateNearest(const std::vector<RangeBearing>& observations) {
+    struct Candidate {
+      double d2;
+      std::size_t obs;
+      int landmark;
+    };
+    std::vector<Candidate> candidates;
+    std::vector<double> best(observations.size(), std::numeric_limits<double>::infinity());
+    const Se2 pose = state.pose();
+    const Mat2 R = MeasurementNoise();
+    for (const StateBlock& block : state.blocks()) {
+      if (block.kind != BlockKind::kLandmark) continue;
+      const Vec2 p = state.mean().segment<2>(block.offset);
+      if ((p - pose.translation()).norm() > options.max_range + 5.0) continue;
+      Mat23 Hp;
+      Mat2 Hl;
+      const Vec2 predicted = ObserveRangeBearing(pose, p, &Hp, &Hl);
+      Eigen::Matrix<double, 2, 5> H;
+      H << Hp, Hl;
+      std::array<int, 5> idx{0, 1, 2, block.offset, block.offset + 1};
+      Eigen::Matrix<double, 5, 5> C;
+      for (int i = 0; i < 5; ++i) {
+        for (int j = 0; j < 5; ++j) C(i, j) = state.covariance()(idx[i], idx[j]);
+      }
+      const Mat2 S = H * C * H.transpose() + R;
+      const Eigen::LLT<Mat2> chol(S);
+      for (std::size_t o = 0; o < observations.size(); ++o) {
+        Vec2 nu(observations[o].range - predicted.x(),
+                WrapAngle(observations[o].bearing - predicted.y()));
+        const double d2 = chol.matrixL().solve(nu).squaredNorm();
+        best[o] = std::min(best[o], d2);
+        if (d2 < options.nn_gate_chi2) candidates.push_back({d2, o, block.id});
+      }
+    }
+    std::sort(candidates.begin(), candidates.end(),
+              [](const Candidate& a, const Candidate& b) { return a.d2 < b.d2; });
+    std::vector<int> assigned(observations.size(), -3);
+    std::vector<int> taken;
+    for (const Candidate& c : candidates) {
+      if (assigned[c.obs] != -3 || std::find(taken.begin(), taken.end(), c.landmark) != taken.end())
+        continue;
+      assigned[c.obs] = c.landmark;
+      taken.push_back(c.landmark);
+    }
+    for (std::size_t o = 0; o < observations.size(); ++o) {
+      if (assigned[o] == -3) assigned[o] = best[o] > options.nn_new_landmark_chi2 ? -1 : -2;
+    }
+    return assigned;
+  }
+
+  void UpdateLandmarks(const std::vector<std::pair<int, Vec2>>& updates) {
+    if (updates.empty()) return;
+    const Se2 pose = state.pose();
+    Linearization m;
+    const auto rows = static_cast<Eigen::Index>(2 * updates.size());
+    m.H.resize(rows, state.dim());
+    m.innovation.resize(rows);
+    m.R = Eigen::MatrixXd::Zero(rows, rows);
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(10 * updates.size());
+    const Mat2 R = MeasurementNoise();
+    for (std::size_t k = 0; k < updates.size(); ++k) {
+      const int offset = *state.Offset(BlockKind::kLandmark, updates[k].first);
+      Mat23 Hp;
+      Mat2 Hl;
+      const Vec2 predicted = ObserveRangeBearing(pose, state.mean().segment<2>(offset), &Hp, &Hl);
+      const auto r = static_cast<Eigen::Index>(2 * k);
+      m.innovation[r] = updates[k].second.x() - predicted.x();
+      m.innovation[r + 1] = WrapAngle(updates[k].second.y() - predicted.y());
+      m.R.block<2, 2>(r, r) = R;
+      for (int i = 0; i < 2; ++i) {
+        for (int j = 0; j < 3; ++j) triplets.emplace_back(r + i, j, Hp(i, j));
+        for (int j = 0; j < 2; ++j) triplets.emplace_back(r + i, offset + j, Hl(i, j));
+      }
+    }
+    m.H.setFromTriplets(triplets.begin(), triplets.end());
+    if (!state.Update(m)) ++result.rejected_updates;
+  }
+
+  void AddLandmark(int external, const Vec2& z) {
+    Mat23 Jp;
+    Mat2 Jz;
+    const Vec2 position = RangeBearingToPoint(state.pose(), z, &Jp, &Jz);
+    const int id = next_state_id++;
+    state.AddLandmark(id, position, Jp, Jz, MeasurementNoise());
+    landmarks[id] = {external, time};
+    state_id_of[external] = id;
+    ++result.landmarks_created;
+  }
+
+  void ApplyRelations(const std::vector<std::pair<int, int>>& relations) {
+    if (relations.empty()) return;
+    for (const auto& [landmark, segment] : relations) {
+      if (!state.Contains(BlockKind::kSegment, segment)) {
+        const PriorSegment& s = prior_map->segments[segment];
+        state.AddSegment(segment, s.a, s.b, Mat4::Identity() * (s.std * s.std));
+      }
+    }
+    const Linearization m = PointOnSegmentObservation(state, relations, options.wall_std);
+    if (!state.Update(m)) {
+      ++result.rejected_updates;
+      return;
+    }
+    for (const auto& [landmark, segment] : relations) {
+      book.applied.emplace_back(landmark, segment);
+      bad_frames.push_back(0);
+      book.segments[segment].known_real = true;
+      RelationRecord record;
+      record.landmark = landmarks.at(landmark).external;
+      record.segment = segment;
+      record.time = time;
+      if (truth) {
+        record.correct = truth->Correct(record.landmark, segment);
+        record.spurious_segment = truth->Spurious(segment);
+      }
+      result.relations.push_back(record);
+    }
+  }
+
+  // Applied relations whose landmark and segment are both still in the state, re-tested. The
+  // relations of a segment are coupled through it, so one bad relation makes its neighbours look
+  // bad too: per segment only the most implausible is flagged, and the segment quarantined.
+  void RecheckRelations() {
+    std::unordered_map<int, std::pair<std::size_t, double>> worst;  // segment -> (relation, nis)
+    for (std::size_t k = 0; k < book.applied.size(); ++k) {
+      const auto [landmark, segment] = book.applied[k];
+      if (book.segments[segment].quarantined || !state.Contains(BlockKind::kLandmark, landmark) ||
+          !state.Contains(BlockKind::kSegment, segment)) {
+        continue;
+      }
+      const std::pair<int, int> relation(landmark, segment);
+      const Linearization m =
+          PointOnSegmentObservation(state, std::span(&relation, 1), options.wall_std);
+      const double nis = m.innovation[0] * m.innovation[0] / state.InnovationCovariance(m)(0, 0);
+      bad_frames[k] = nis > options.recheck_chi2 ? bad_frames[k] + 1 : 0;
+      if (bad_frames[k] < options.recheck_frames) continue;
+      auto [it, inserted] = worst.try_emplace(segment, k, nis);
+      if (!inserted && nis > it->second.second) it->second = {k, nis};
+    }
+    for (const auto& [segment, flagged] : worst) {
+      result.relations[flagged.first].flagged = true;
+      result.relations[flagged.first].flagged_time = time;
+      book.segments[segment].quarantined = true;
+    }
+  }
+
+  void SlideWindow() {
+    if (options.window_s <= 0.0) return;
+    std::vector<int> expired;
+    for (const auto& [id, landmark] : landmarks) {
+      if (time - landmark.last_seen > options.window_s) expired.push_back(id);
+    }
+    std::sort(expired.begin(), expired.end());
+    for (int id : expired) {
+      state.Remove(BlockKind::kLandmark, id);
+      const int external = landmarks.at(id).external;
+      if (auto it = state_id_of.find(external); it != state_id_of.end() && it->second == id) {
+        state_id_of.erase(it);
+      }
+      landmarks.erase(id);
+    }
+    if (expired.empty() || !prior_map) return;
+    // Segments with no related landmark left are marginalised out and retired.
+    std::vector<int> in_use;
+    for (const auto& [landmark, segment] : book.applied) {
+      if (state.Contains(BlockKind::kLandmark, landmark)) in_use.push_back(segment);
+    }
+    std::vector<int> retire;
+    for (const StateBlock& block : state.blocks()) {
+      if (block.kind == BlockKind::kSegment &&
+          std::find(in_use.begin(), in_use.end(), block.id) == in_use.end()) {
+        retire.push_back(block.id);
+      }
+    }
+    for (int segment : retire) {
+      state.Remove(BlockKind::kSegment, segment);
+      book.segments[segment].retired = true;
+    }
+  }
+
+  FrameRecord Observe(const ObservationFrame& frame) {
+    time = std::max(time, frame.time);
+    std::vector<std::pair<int, Vec2>> updates;
+    std::vector<std::pair<int, Vec2>> fresh;  // (external id, z)
+    if (options.association == AssociationMode::kKnownIds) {
+      for (const RangeBearing& z : frame.observations) {
+        PRIORMAP_CHECK(z.id >= 0, "known-id association needs ids on every observation");
+        const auto it = state_id_of.find(z.id);
+        if (it != state_id_of.end()) {
+          updates.emplace_back(it->second, Vec2(z.range, z.bearing));
+        } else {
+          fresh.emplace_back(z.id, Vec2(z.range, z.bearing));
+        }
+      }
+    } else {
+      const std::vector<int> assigned = AssociateNearest(frame.observations);
+      for (std::size_t o = 0; o < assigned.size(); ++o) {
+        const Vec2 z(frame.observations[o].range, frame.observations[o].bearing);
+        if (assigned[o] >= 0) {
+          updates.emplace_back(assigned[o], z);
+        } else if (assigned[o] == -1) {
+          fresh.emplace_back(next_external_id++, z);
+        }
+      }
+    }
+    UpdateLandmarks(updates);
+    for (const auto& [id, z] : updates) landmarks[id].last_seen = time;
+    for (const auto& [external, z] : fresh) AddLandmark(external, z);
+
+    FrameRecord record;
+    if (prior_map) {
+      RecheckRelations();
+      const auto accepted = inference->Infer(state, book, result.inference);
+      ApplyRelations(accepted);
+      record.accepted = static_cast<int>(accepted.size());
+    }
+    SlideWindow();
+
+    record.time = time;
+    record.estimate = state.pose();
+    record.covariance = state.pose_covariance();
+    record.landmarks = state.NumLandmarks();
+    record.segments = state.NumSegments();
+    for (std::size_t k = 0; k < book.applied.size(); ++k) {
+      if (!state.Contains(BlockKind::kLandmark, book.applied[k].first)) continue;
+      ++record.relations_in_state;
+      const RelationRecord& r = result.relations[k];
+      if (r.correct) (*r.correct ? record.relations_correct : record.relations_incorrect)++;
+      if (r.spurious_segment) ++record.relations_spurious;
+    }
+    result.frames.push_back(record);
+    return record;
+  }
+
+  SlamResult Finish() const {
+    SlamResult out = result;
+    for (const StateBlock& block : state.blocks()) {
+      if (block.kind == BlockKind::kLandmark) {
+        out.landmarks.push_back({landmarks.at(block.id).external,
+                                 state.mean().segment<2>(block.offset),
+                                 state.covariance().block<2, 2>(block.offset, block.offset)});
+      } else {
+        out.segments.push_back({block.id, state.mean().segment<2>(block.offset),
+                                state.mean().segment<2>(block.offset + 2),
+                                state.covariance().block<4, 4>(block.offset, block.offset)});
+      }
+    }
+    return out;
+  }
+};
+
+PriorMapSlam::PriorMapSlam(const Se2& initial_pose, double start_time,
+                           const MotionNoise& motion_noise, const SensorNoise& sensor_noise,
+                           const PriorMap* prior_map, SlamOptions options,
+                           const RelationTruth* truth)
+    : impl_(std::make_unique<Impl>(initial_pose, start_time, motion_noise, sensor_noise, prior_map,
+                                   std::move(options), truth)) {}
+PriorMapSlam::~PriorMapSlam() = default;
+PriorMapSlam::PriorMapSlam(PriorMapSlam&&) noexcept = default;
+PriorMapSlam& PriorMapSlam::operator=(PriorMapSlam&&) noexcept = default;
+
+void PriorMapSlam::Predict(const MotionStep& step) {
+  impl_->Predict(step);
+}
+FrameRecord PriorMapSlam::Observe(const ObservationFrame& frame) {
+  return impl_->Observe(frame);
+}
+const JointState& PriorMapSlam::state() const {
+  return impl_->state;
+}
+SlamResult PriorMapSlam::Finish() const {
+  return impl_->Finish();
+}
+
+SlamResult RunSlam(const SlamInput& input, const PriorMap* prior_map, const SlamOptions& options,
+                   const RelationTruth* truth) {
+  PriorMapSlam slam(input.initial_pose, input.start_time, input.motion_noise, input.sensor_noise,
+                    prior_map, options, truth);
+  constexpr double kTimeTolerance = 1e-9;
+  std::size_t f = 0;
+  for (const MotionStep& step : input.motion) {
+    MotionStep rest = step;
+    // Frames inside a bicycle step: split the step there (its controls are held over it).
+    while (f < input.frames.size() && input.frames[f].time < rest.time - kTimeTolerance &&
+           std::holds_alternative<BicycleControl>(rest.motion)) {
+      const double begin = rest.time - rest.dt;
+      const double part = input.frames[f].time - begin;
+      if (part > kTimeTolerance) {
+        MotionStep first = rest;
+        first.time = input.frames[f].time;
+        first.dt = part;
+        slam.Predict(first);
+        rest.dt -= part;
+      }
+      slam.Observe(input.frames[f++]);
+    }
+    // Frames that came before this step's end (odometry increments cannot be split).
+    while (f < input.frames.size() && input.frames[f].time < rest.time - rest.dt - kTimeTolerance)
+      slam.Observe(input.frames[f++]);
+    slam.Predict(rest);
+    while (f < input.frames.size() && input.frames[f].time <= rest.time + kTimeTolerance)
+      slam.Observe(input.frames[f++]);
+  }
+  while (f < input.frames.size()) slam.Observe(input.frames[f++]);
+  return slam.Finish();
+}
+
+}  // namespace priormap::slam

@@ -1,0 +1,213 @@
+// The filter on small worlds whose answers are known, and on the urban study's data.
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/rng.hpp>
+#include <priormap/slam/prior_map_slam.hpp>
+#include <priormap/slam/range_bearing.hpp>
+#include <priormap/slam/study.hpp>
+#include <priormap/slam/urban_scenario.hpp>
+
+namespace priormap::slam {
+namespace {
+
+// A vehicle standing still at the origin facing +x, a wall ahead: five beacons on the wall
+// x = 10 (y = -6 .. 6), and the prior map's segment for that wall 0.8 m off.
+struct WallWorld {
+  std::vector<Vec2> beacons{{10.0, -6.0}, {10.0, -3.0}, {10.0, 0.0}, {10.0, 3.0}, {10.0, 6.0}};
+  PriorMap map;
+  WallWorld() {
+    map.segments.push_back({Vec2(10.8, -10.0), Vec2(10.8, 10.0), 1.0, 0});
+    map.buildings.push_back("building 0");
+  }
+};
+
+ObservationFrame Observe(const std::vector<Vec2>& beacons, double time, Rng& rng,
+                         const SensorNoise& noise) {
+  ObservationFrame frame;
+  frame.time = time;
+  for (std::size_t i = 0; i < beacons.size(); ++i) {
+    const Vec2 z = ObserveRangeBearing(Se2(), beacons[i]);
+    frame.observations.push_back({static_cast<int>(i), z.x() + rng.Normal(0.0, noise.range_std),
+                                  WrapAngle(z.y() + rng.Normal(0.0, noise.bearing_std))});
+  }
+  return frame;
+}
+
+MotionStep StandStill(double time, double dt) {
+  return {time, dt, BicycleControl{0.0, 0.0}};
+}
+
+TEST(PriorMapSlam, PointsOnAWallPullTheNoisyPriorSegmentOntoIt) {
+  const WallWorld world;
+  MotionNoise motion;
+  motion.speed_std = 1e-3;
+  motion.steer_std = 1e-3;
+  const SensorNoise sensor;
+  PriorMapSlam slam(Se2(), 0.0, motion, sensor, &world.map, SlamOptions{});
+  Rng rng(4);
+  int accepted = 0;
+  for (int f = 1; f <= 20; ++f) {
+    slam.Predict(StandStill(0.2 * f, 0.2));
+    accepted += slam.Observe(Observe(world.beacons, 0.2 * f, rng, sensor)).accepted;
+  }
+  const SlamResult result = slam.Finish();
+  EXPECT_EQ(accepted, 5);
+  ASSERT_EQ(result.relations.size(), 5u);
+  ASSERT_EQ(result.segments.size(), 1u);
+  // The segment now lies on the points' line, x = 10, within their uncertainty, far inside its
+  // prior error of 0.8 m.
+  EXPECT_NEAR(result.segments[0].a.x(), 10.0, 0.05);
+  EXPECT_NEAR(result.segments[0].b.x(), 10.0, 0.05);
+  for (const RelationRecord& r : result.relations) EXPECT_FALSE(r.flagged);
+}
+
+TEST(PriorMapSlam, FlagsARelationWhoseLandmarkTurnsOutOffTheWall) {
+  WallWorld world;
+  MotionNoise motion;
+  motion.speed_std = 1e-3;
+  motion.steer_std = 1e-3;
+  const SensorNoise sensor;
+  PriorMapSlam slam(Se2(), 0.0, motion, sensor, &world.map, SlamOptions{});
+  Rng rng(5);
+  int f = 1;
+  for (; f <= 10; ++f) {
+    slam.Predict(StandStill(0.2 * f, 0.2));
+    (void)slam.Observe(Observe(world.beacons, 0.2 * f, rng, sensor));
+  }
+  ASSERT_EQ(slam.Finish().relations.size(), 5u);
+  // Beacon 2 was a sign 1.5 m in front of the wall all along, wrongly related; its range now
+  // says so (as if it had been misread before).
+  world.beacons[2].x() = 8.5;
+  for (; f <= 40; ++f) {
+    slam.Predict(StandStill(0.2 * f, 0.2));
+    (void)slam.Observe(Observe(world.beacons, 0.2 * f, rng, sensor));
+  }
+  const SlamResult result = slam.Finish();
+  int flagged = 0;
+  for (const RelationRecord& r : result.relations) {
+    if (r.flagged) {
+      ++flagged;
+      EXPECT_EQ(r.landmark, 2);
+    }
+  }
+  EXPECT_EQ(flagged, 1);
+}
+
+TEST(PriorMapSlam, WithoutAPriorMapItIsPlainEkfSlam) {
+  const WallWorld world;
+  const SensorNoise sensor;
+  PriorMapSlam slam(Se2(), 0.0, MotionNoise{}, sensor, nullptr, SlamOptions{});
+  Rng rng(6);
+  for (int f = 1; f <= 5; ++f) {
+    slam.Predict(StandStill(0.2 * f, 0.2));
+    const FrameRecord record = slam.Observe(Observe(world.beacons, 0.2 * f, rng, sensor));
+    EXPECT_EQ(record.accepted, 0);
+    EXPECT_EQ(record.segments, 0);
+    EXPECT_EQ(record.landmarks, 5);
+  }
+}
+
+class UrbanRunTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    world_ = new UrbanWorld(MakeUrbanWorld(options_, 1));
+    run_ = new UrbanRun(SimulateUrbanRun(*world_, options_, 1, 0));
+  }
+  static void TearDownTestSuite() {
+    delete run_;
+    delete world_;
+  }
+  static inline UrbanScenarioOptions options_{};
+  static inline UrbanWorld* world_ = nullptr;
+  static inline UrbanRun* run_ = nullptr;
+};
+
+TEST_F(UrbanRunTest, CovarianceStaysSymmetricPositiveSemiDefiniteOverAWholeRun) {
+  const SlamInput& input = run_->input;
+  PriorMapSlam slam(input.initial_pose, input.start_time, input.motion_noise, input.sensor_noise,
+                    &run_->prior_map, SlamOptions{});
+  std::size_t f = 0, checked = 0;
+  double worst = 0.0;
+  for (const MotionStep& step : input.motion) {
+    slam.Predict(step);
+    while (f < input.frames.size() && input.frames[f].time <= step.time + 1e-9) {
+      (void)slam.Observe(input.frames[f++]);
+      const Eigen::MatrixXd& P = slam.state().covariance();
+      ASSERT_TRUE(P.isApprox(P.transpose(), 0.0)) << "asymmetric at frame " << f;
+      if (f % 10 == 0) {
+        const double smallest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P).eigenvalues()(0);
+        worst = std::min(worst, smallest / P.diagonal().maxCoeff());
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 40u);
+  EXPECT_GT(worst, -1e-12) << "most negative eigenvalue relative to the largest variance";
+  EXPECT_GT(slam.Finish().relations.size(), 30u);  // pseudo-observations were exercised
+}
+
+TEST_F(UrbanRunTest, NearestNeighbourAssociationFindsTheSameMapAsKnownIds) {
+  SlamInput blind = run_->input;
+  for (ObservationFrame& frame : blind.frames) {
+    for (RangeBearing& z : frame.observations) z.id = -1;
+  }
+  SlamOptions nn;
+  nn.association = AssociationMode::kNearestNeighbour;
+  nn.use_prior_map = false;
+  SlamOptions known;
+  known.use_prior_map = false;
+  const RunTrace a = ScoreRun(RunSlam(run_->input, nullptr, known), run_->frame_truth);
+  const RunTrace b = ScoreRun(RunSlam(blind, nullptr, nn), run_->frame_truth);
+  const double known_rms = Summarise({a}, 0.0, 1e9).rms_position_m;
+  const double nn_rms = Summarise({b}, 0.0, 1e9).rms_position_m;
+  EXPECT_LT(nn_rms, 1.5 * known_rms + 0.5) << "known ids " << known_rms << " m";
+  // About as many landmarks as beacons were initialised (a few extra from ambiguous starts).
+  EXPECT_NEAR(static_cast<double>(b.result.landmarks_created),
+              static_cast<double>(a.result.landmarks_created),
+              0.1 * static_cast<double>(a.result.landmarks_created));
+}
+
+TEST_F(UrbanRunTest, SlidingWindowDropsLandmarksUnseenForItsLength) {
+  SlamOptions keep_all;
+  keep_all.use_prior_map = false;
+  keep_all.window_s = 0.0;
+  SlamOptions window;
+  window.use_prior_map = false;
+  const SlamResult all = RunSlam(run_->input, nullptr, keep_all);
+  const SlamResult windowed = RunSlam(run_->input, nullptr, window);
+  std::vector<int> seen;
+  for (const ObservationFrame& frame : run_->input.frames) {
+    for (const RangeBearing& z : frame.observations) seen.push_back(z.id);
+  }
+  std::sort(seen.begin(), seen.end());
+  seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+  EXPECT_EQ(all.landmarks.size(), seen.size());
+  EXPECT_LT(windowed.landmarks.size(), all.landmarks.size() / 4);
+  EXPECT_GT(windowed.landmarks_created, seen.size());  // re-initialised when seen again
+}
+
+TEST(RunSlam, FramesInsideABicycleStepSplitIt) {
+  SlamInput split, whole;
+  for (SlamInput* input : {&split, &whole}) {
+    input->initial_pose = Se2(0.0, 0.0, 0.0);
+    input->frames.push_back({0.3, {{0, 10.0, 0.1}}});
+  }
+  whole.motion.push_back({0.5, 0.5, BicycleControl{2.0, 0.1}});
+  split.motion.push_back({0.3, 0.3, BicycleControl{2.0, 0.1}});
+  split.motion.push_back({0.5, 0.2, BicycleControl{2.0, 0.1}});
+  SlamOptions options;
+  options.use_prior_map = false;
+  const SlamResult a = RunSlam(split, nullptr, options);
+  const SlamResult b = RunSlam(whole, nullptr, options);
+  ASSERT_EQ(a.frames.size(), 1u);
+  ASSERT_EQ(b.frames.size(), 1u);
+  EXPECT_TRUE(IsApprox(a.frames[0].estimate, b.frames[0].estimate, 1e-12));
+  EXPECT_NEAR(a.frames[0].time, 0.3, 1e-12);
+  ASSERT_EQ(a.landmarks.size(), 1u);
+  EXPECT_TRUE(a.landmarks[0].position.isApprox(b.landmarks[0].position, 1e-12));
+}
+
+}  // namespace
+}  // namespace priormap::slam
