@@ -17,42 +17,21 @@
 #include "fuzz_check.hpp"
 
 using priormap::fuzz::Check;
+using priormap::fuzz::CheckLocated;
+using priormap::fuzz::SameBits;
 using priormap::slam::PriorMap;
 using priormap::slam::PriorSegment;
 
 namespace {
-
-// A rejected input has diagnostics, each of `name` and at a line and column inside `text`.
-void CheckLocated(const std::vector<priormap::Diagnostic>& diagnostics, std::string_view text,
-                  const std::string& name) {
-  Check(!diagnostics.empty(), "a failed read has diagnostics");
-  for (const priormap::Diagnostic& d : diagnostics) {
-    Check(d.file == name && !d.message.empty(), "a diagnostic names the file and the problem",
-          d.ToString());
-    Check(d.line >= 1 && d.col >= 1, "a diagnostic is located", d.ToString());
-    std::size_t start = 0;
-    for (int line = 1; line < d.line; ++line) {
-      start = text.find('\n', start);
-      Check(start != std::string_view::npos, "a diagnostic's line is in the text", d.ToString());
-      ++start;
-    }
-    const std::size_t end = std::min(text.find('\n', start), text.size());
-    Check(static_cast<std::size_t>(d.col) <= end - start + 1,
-          "a diagnostic's column is in its line", d.ToString());
-  }
-}
-
-bool Same(double a, double b) {
-  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-}
 
 bool SameMap(const PriorMap& a, const PriorMap& b) {
   if (a.buildings != b.buildings || a.segments.size() != b.segments.size()) return false;
   for (std::size_t i = 0; i < a.segments.size(); ++i) {
     const PriorSegment& sa = a.segments[i];
     const PriorSegment& sb = b.segments[i];
-    if (!Same(sa.a.x(), sb.a.x()) || !Same(sa.a.y(), sb.a.y()) || !Same(sa.b.x(), sb.b.x()) ||
-        !Same(sa.b.y(), sb.b.y()) || !Same(sa.std, sb.std) || sa.building != sb.building) {
+    if (!SameBits(sa.a.x(), sb.a.x()) || !SameBits(sa.a.y(), sb.a.y()) ||
+        !SameBits(sa.b.x(), sb.b.x()) || !SameBits(sa.b.y(), sb.b.y()) ||
+        !SameBits(sa.std, sb.std) || sa.building != sb.building) {
       return false;
     }
   }

@@ -15,43 +15,21 @@
 #include "fuzz_check.hpp"
 
 using priormap::fuzz::Check;
+using priormap::fuzz::CheckLocated;
+using priormap::fuzz::SameBits;
 using priormap::slam::ObservationFrame;
 
 namespace {
 
-// A rejected input has diagnostics, each of `name` and at a line and column inside `text`.
-void CheckLocated(const std::vector<priormap::Diagnostic>& diagnostics, std::string_view text,
-                  const std::string& name) {
-  Check(!diagnostics.empty(), "a failed read has diagnostics");
-  for (const priormap::Diagnostic& d : diagnostics) {
-    Check(d.file == name && !d.message.empty(), "a diagnostic names the file and the problem",
-          d.ToString());
-    Check(d.line >= 1 && d.col >= 1, "a diagnostic is located", d.ToString());
-    std::size_t start = 0;
-    for (int line = 1; line < d.line; ++line) {
-      start = text.find('\n', start);
-      Check(start != std::string_view::npos, "a diagnostic's line is in the text", d.ToString());
-      ++start;
-    }
-    const std::size_t end = std::min(text.find('\n', start), text.size());
-    Check(static_cast<std::size_t>(d.col) <= end - start + 1,
-          "a diagnostic's column is in its line", d.ToString());
-  }
-}
-
-bool Same(double a, double b) {
-  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-}
-
 bool SameFrames(const std::vector<ObservationFrame>& a, const std::vector<ObservationFrame>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t f = 0; f < a.size(); ++f) {
-    if (!Same(a[f].time, b[f].time) || a[f].observations.size() != b[f].observations.size())
+    if (!SameBits(a[f].time, b[f].time) || a[f].observations.size() != b[f].observations.size())
       return false;
     for (std::size_t i = 0; i < a[f].observations.size(); ++i) {
       const auto& oa = a[f].observations[i];
       const auto& ob = b[f].observations[i];
-      if (oa.id != ob.id || !Same(oa.range, ob.range) || !Same(oa.bearing, ob.bearing))
+      if (oa.id != ob.id || !SameBits(oa.range, ob.range) || !SameBits(oa.bearing, ob.bearing))
         return false;
     }
   }

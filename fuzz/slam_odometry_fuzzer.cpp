@@ -16,35 +16,17 @@
 #include "fuzz_check.hpp"
 
 using priormap::fuzz::Check;
+using priormap::fuzz::CheckLocated;
+using priormap::fuzz::SameBits;
 using priormap::slam::BicycleControl;
 using priormap::slam::MotionStep;
 using priormap::slam::Odometry;
 
 namespace {
 
-// A rejected input has diagnostics, each of `name` and at a line and column inside `text`.
-void CheckLocated(const std::vector<priormap::Diagnostic>& diagnostics, std::string_view text,
-                  const std::string& name) {
-  Check(!diagnostics.empty(), "a failed read has diagnostics");
-  for (const priormap::Diagnostic& d : diagnostics) {
-    Check(d.file == name && !d.message.empty(), "a diagnostic names the file and the problem",
-          d.ToString());
-    Check(d.line >= 1 && d.col >= 1, "a diagnostic is located", d.ToString());
-    std::size_t start = 0;
-    for (int line = 1; line < d.line; ++line) {
-      start = text.find('\n', start);
-      Check(start != std::string_view::npos, "a diagnostic's line is in the text", d.ToString());
-      ++start;
-    }
-    const std::size_t end = std::min(text.find('\n', start), text.size());
-    Check(static_cast<std::size_t>(d.col) <= end - start + 1,
-          "a diagnostic's column is in its line", d.ToString());
-  }
-}
-
+// Increment standard deviations may be NaN ("use the default"), of any payload.
 bool Same(double a, double b) {
-  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b) ||
-         (std::isnan(a) && std::isnan(b));
+  return SameBits(a, b) || (std::isnan(a) && std::isnan(b));
 }
 
 bool SameStep(const MotionStep& a, const MotionStep& b) {

@@ -34,26 +34,6 @@ const std::vector<double> kDotted{1.5, 3.0};
 
 // --- statistics over runs, per frame ------------------------------------------------------------
 
-// sqrt(mean over runs of value(run, frame)^2) at each frame; NaN where no run has a finite value.
-template <typename Value>
-std::vector<double> RmsOverRuns(const std::vector<RunTrace>& runs, std::size_t frames,
-                                const Value& value) {
-  std::vector<double> out(frames, kNaN);
-  for (std::size_t f = 0; f < frames; ++f) {
-    double sum = 0.0;
-    int count = 0;
-    for (const RunTrace& run : runs) {
-      if (f >= run.error.size()) continue;
-      const double v = value(run, f);
-      if (!std::isfinite(v)) continue;
-      sum += v * v;
-      ++count;
-    }
-    if (count > 0) out[f] = std::sqrt(sum / count);
-  }
-  return out;
-}
-
 // The mean over runs of value(run, frame) at each frame, NaN where no run has a finite value.
 template <typename Value>
 std::vector<double> MeanOverRuns(const std::vector<RunTrace>& runs, std::size_t frames,
@@ -63,7 +43,7 @@ std::vector<double> MeanOverRuns(const std::vector<RunTrace>& runs, std::size_t 
     double sum = 0.0;
     int count = 0;
     for (const RunTrace& run : runs) {
-      if (f >= run.nees.size()) continue;
+      if (f >= run.nees.size()) continue;  // every trace has one entry per frame
       const double v = value(run, f);
       if (!std::isfinite(v)) continue;
       sum += v;
@@ -71,6 +51,18 @@ std::vector<double> MeanOverRuns(const std::vector<RunTrace>& runs, std::size_t 
     }
     if (count > 0) out[f] = sum / count;
   }
+  return out;
+}
+
+// sqrt(mean over runs of value(run, frame)^2) at each frame; NaN where no run has a finite value.
+template <typename Value>
+std::vector<double> RmsOverRuns(const std::vector<RunTrace>& runs, std::size_t frames,
+                                const Value& value) {
+  std::vector<double> out = MeanOverRuns(runs, frames, [&](const RunTrace& run, std::size_t f) {
+    const double v = value(run, f);
+    return v * v;
+  });
+  for (double& x : out) x = std::sqrt(x);
   return out;
 }
 

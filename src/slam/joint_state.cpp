@@ -94,7 +94,11 @@ void JointState::ReindexFrom(std::size_t first_block) {
 }
 
 Eigen::MatrixXd JointState::InnovationCovariance(const Linearization& m) const {
-  const Eigen::MatrixXd PHt = covariance_ * m.H.transpose();
+  return InnovationCovariance(m, covariance_ * m.H.transpose());
+}
+
+Eigen::MatrixXd JointState::InnovationCovariance(const Linearization& m,
+                                                 const Eigen::MatrixXd& PHt) const {
   Eigen::MatrixXd S = m.H * PHt;
   S += m.R;
   return 0.5 * (S + S.transpose());
@@ -106,10 +110,7 @@ bool JointState::Update(const Linearization& m) {
                  "measurement dimensions do not match the state");
   if (m.H.rows() == 0) return true;
   const Eigen::MatrixXd PHt = covariance_ * m.H.transpose();
-  Eigen::MatrixXd S = m.H * PHt;
-  S += m.R;
-  S = 0.5 * (S + S.transpose());
-  const Eigen::LLT<Eigen::MatrixXd> chol(S);
+  const Eigen::LLT<Eigen::MatrixXd> chol(InnovationCovariance(m, PHt));
   if (chol.info() != Eigen::Success) return false;
   // W = P H^T L^-T; K = W L^-1; x += W (L^-1 nu); P -= W W^T.
   const Eigen::MatrixXd Wt = chol.matrixL().solve(PHt.transpose());

@@ -207,9 +207,8 @@ struct PriorMapSlam::Impl {
       return;
     }
     for (const auto& [landmark, segment] : relations) {
-      book.applied.emplace_back(landmark, segment);
+      book.Apply(landmark, segment);
       bad_frames.push_back(0);
-      book.segments[segment].known_real = true;
       RelationRecord record;
       record.landmark = landmarks.at(landmark).external;
       record.segment = segment;

@@ -35,9 +35,10 @@ double Theta(const Vec2& p, const SegmentBelief& s, Row2* J_p, Eigen::RowVector4
 
 }  // namespace
 
-bool RelationBook::IsApplied(int landmark, int segment) const {
-  return std::find(applied.begin(), applied.end(), std::make_pair(landmark, segment)) !=
-         applied.end();
+void RelationBook::Apply(int landmark, int segment) {
+  applied.emplace_back(landmark, segment);
+  applied_set_.emplace(landmark, segment);
+  segments[segment].known_real = true;
 }
 
 SegmentBelief BeliefOf(const JointState& state, const PriorMap& map, int segment) {

@@ -2,6 +2,7 @@
 // Sec. V-A per frame: gate (landmark, segment) pairs, group them into independent clusters, cap
 // the clusters, enumerate each one's hypotheses and decide which relations to accept.
 
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -20,11 +21,18 @@ struct RelationBook {
     bool retired = false;      // left the state; never used again
   };
   std::vector<SegmentStatus> segments;       // per prior segment
-  std::vector<std::pair<int, int>> applied;  // (state landmark id, segment)
-  [[nodiscard]] bool IsApplied(int landmark, int segment) const;
+  std::vector<std::pair<int, int>> applied;  // (state landmark id, segment), in order applied
+  void Apply(int landmark, int segment);
+  // Asked for every gated pair of every frame: a set, not a scan of `applied`.
+  [[nodiscard]] bool IsApplied(int landmark, int segment) const {
+    return applied_set_.contains({landmark, segment});
+  }
   [[nodiscard]] bool Usable(int segment) const {
     return !segments[segment].quarantined && !segments[segment].retired;
   }
+
+ private:
+  std::set<std::pair<int, int>> applied_set_;
 };
 
 /// A segment's current estimate: from the state when it is there, else from the prior map.

@@ -100,6 +100,7 @@ StudyResult RunStudy(const StudyOptions& options) {
   study.without_prior.resize(runs);
   std::mutex progress_mutex;
   int done = 0;
+  std::size_t prior_segments = 0;  // written by task 0 only
   // Task 2r filters run r with the prior map, task 2r + 1 without; each simulates its run from
   // (seed, r), so both see the same noise and no task depends on another.
   tbb::parallel_for(0, 2 * runs, [&](int task) {
@@ -107,6 +108,7 @@ StudyResult RunStudy(const StudyOptions& options) {
     const bool with_prior = task % 2 == 0;
     const UrbanRun run = SimulateUrbanRun(world, options.scenario, options.seed, r);
     const RelationTruth truth = TruthOf(world, run);
+    if (task == 0) prior_segments = run.prior_map.segments.size();
     SlamOptions slam = options.slam;
     slam.use_prior_map = with_prior;
     RunTrace trace = ScoreRun(RunSlam(run.input, &run.prior_map, slam, &truth), run.frame_truth);
@@ -141,10 +143,7 @@ StudyResult RunStudy(const StudyOptions& options) {
   study.path_length_m = world.PathLength();
   study.duration_s = world.Duration();
   study.beacons = world.beacons.size();
-  study.prior_segments =
-      runs > 0
-          ? SimulateUrbanRun(world, options.scenario, options.seed, 0).prior_map.segments.size()
-          : 0;
+  study.prior_segments = prior_segments;
   study.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return study;

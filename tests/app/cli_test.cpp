@@ -7,7 +7,6 @@
 #include <limits>
 #include <set>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
 
 #include <gmock/gmock.h>
@@ -22,6 +21,7 @@
 #include <priormap/core/scene_ray_caster.hpp>
 #include <priormap/core/simulate.hpp>
 
+#include "testing/process.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap {
@@ -37,37 +37,14 @@ using ::testing::MatchesRegex;
 using ::testing::Not;
 using ::testing::StartsWith;
 
-struct RunResult {
-  int status = -1;  ///< exit status; -1 when the process did not exit normally
-  std::string out;
-  std::string err;
-};
-
-std::string Quote(const std::string& s) {
-  std::string quoted = "'";
-  for (char c : s) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
+using RunResult = priormap::testing::ProcessResult;
 
 // Runs the binary in `work` (its current directory), capturing stdout and stderr in files
 // of a separate directory, so that `work` holds only what priormap wrote.
 class Cli : public ::testing::Test {
  protected:
   RunResult Run(const std::vector<std::string>& args) const {
-    // (Appending piecewise: GCC 12 gives a false -Wrestrict for "literal" + std::string&&.)
-    std::string command = "cd ";
-    command += Quote(work_.path().string());
-    command += " && ";
-    command += Quote(PRIORMAP_BINARY);
-    for (const std::string& arg : args) command.append(" ").append(Quote(arg));
-    command.append(" >").append(Quote((io_ / "stdout").string()));
-    command.append(" 2>").append(Quote((io_ / "stderr").string()));
-    const int raw = std::system(command.c_str());
-    RunResult result;
-    result.status = raw != -1 && WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    result.out = ReadAll(io_ / "stdout");
-    result.err = ReadAll(io_ / "stderr");
-    return result;
+    return priormap::testing::RunProgram(PRIORMAP_BINARY, work_.path(), io_.path(), args);
   }
 
   /// Runs and expects success with nothing on stderr.
@@ -93,11 +70,7 @@ class Cli : public ::testing::Test {
 
   /// Every file and directory under the working directory, relative to it.
   [[nodiscard]] std::set<std::string> WorkFiles() const {
-    std::set<std::string> files;
-    for (const auto& entry : fs::recursive_directory_iterator(work_.path())) {
-      files.insert(fs::relative(entry.path(), work_.path()).string());
-    }
-    return files;
+    return priormap::testing::FilesUnder(work_.path());
   }
 
   [[nodiscard]] fs::path Work(const std::string& name) const { return work_ / name; }

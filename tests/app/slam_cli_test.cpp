@@ -7,13 +7,13 @@
 #include <set>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "testing/process.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap {
@@ -28,17 +28,7 @@ using ::testing::ContainsRegex;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-struct RunResult {
-  int status = -1;  ///< exit status; -1 when the process did not exit normally
-  std::string out;
-  std::string err;
-};
-
-std::string Quote(const std::string& s) {
-  std::string quoted = "'";
-  for (char c : s) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
+using RunResult = priormap::testing::ProcessResult;
 
 std::vector<std::string> Lines(const std::string& text) {
   std::vector<std::string> lines;
@@ -55,19 +45,7 @@ bool IsPng(const std::string& bytes) {
 class SlamCli : public ::testing::Test {
  protected:
   RunResult Run(const std::vector<std::string>& args) const {
-    std::string command = "cd ";
-    command += Quote(work_.path().string());
-    command += " && ";
-    command += Quote(PRIORMAP_BINARY);
-    for (const std::string& arg : args) command.append(" ").append(Quote(arg));
-    command.append(" >").append(Quote((io_ / "stdout").string()));
-    command.append(" 2>").append(Quote((io_ / "stderr").string()));
-    const int raw = std::system(command.c_str());
-    RunResult result;
-    result.status = raw != -1 && WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    result.out = ReadAll(io_ / "stdout");
-    result.err = ReadAll(io_ / "stderr");
-    return result;
+    return priormap::testing::RunProgram(PRIORMAP_BINARY, work_.path(), io_.path(), args);
   }
 
   /// Success; stderr holds at most the progress bar.
@@ -90,10 +68,7 @@ class SlamCli : public ::testing::Test {
   }
 
   [[nodiscard]] std::set<std::string> WorkFiles() const {
-    std::set<std::string> files;
-    for (const auto& entry : fs::recursive_directory_iterator(work_.path()))
-      files.insert(fs::relative(entry.path(), work_.path()).string());
-    return files;
+    return priormap::testing::FilesUnder(work_.path());
   }
 
   [[nodiscard]] fs::path Work(const std::string& name) const { return work_ / name; }

@@ -83,6 +83,9 @@ class JointState {
   bool Update(const Linearization& m);
 
  private:
+  // H P H^T + R given P H^T, which the update needs too.
+  [[nodiscard]] Eigen::MatrixXd InnovationCovariance(const Linearization& m,
+                                                     const Eigen::MatrixXd& PHt) const;
   void Append(const StateBlock& block, const Eigen::VectorXd& mean,
               const Eigen::MatrixXd& cross_covariance, const Eigen::MatrixXd& covariance);
   void ReindexFrom(std::size_t first_block);
