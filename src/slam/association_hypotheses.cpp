@@ -67,7 +67,15 @@ class Enumerator {
         row_(n_ * n_, 0.0),
         active_count_(lines_.factor.size(), 0),
         inactive_count_(lines_.factor.size(), 0),
-        leaf_log_(std::size_t{1} << n_, kMinusInf) {
+        leaf_log_(std::size_t{1} << n_, kMinusInf),
+        one_line_per_point_(priors.one_line_per_point) {
+    std::vector<int> points;
+    for (const auto& pair : problem.pairs) {
+      auto it = std::find(points.begin(), points.end(), pair.point);
+      if (it == points.end()) it = points.insert(points.end(), pair.point);
+      point_of_pair_.push_back(static_cast<int>(it - points.begin()));
+    }
+    point_active_.assign(points.size(), false);
     for (int j = 0; j < n_; ++j) {
       const double density =
           problem.null_density.empty() ? priors.unrelated_density : problem.null_density[j];
@@ -115,6 +123,8 @@ class Enumerator {
     Recurse(j + 1, rank, mask, quad, log_det, log_null + log_null_[j]);
     --inactive_count_[line];
 
+    const int point = point_of_pair_[j];
+    if (one_line_per_point_ && point_active_[point]) return;
     // Active: grow the Cholesky factor of S over the active pairs by pair j.
     double* row = &row_[static_cast<std::size_t>(rank) * n_];
     double norm = 0.0;
@@ -135,8 +145,10 @@ class Enumerator {
     whitened_[rank] = e;
     order_[rank] = j;
     ++active_count_[line];
+    point_active_[point] = true;
     Recurse(j + 1, rank + 1, mask | std::size_t{1} << j, quad + e * e,
             log_det + 2.0 * std::log(diag), log_null);
+    point_active_[point] = false;
     --active_count_[line];
   }
 
@@ -159,6 +171,9 @@ class Enumerator {
   std::vector<int> active_count_, inactive_count_;
   std::vector<double> log_null_;
   std::vector<double> leaf_log_;
+  bool one_line_per_point_;
+  std::vector<int> point_of_pair_;
+  std::vector<bool> point_active_;
   std::size_t count_ = 0;
 };
 

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 
 #include <priormap/core/angles.hpp>
@@ -51,9 +52,12 @@ struct PriorMapSlam::Impl {
   struct Landmark {
     int external = -1;
     double last_seen = 0.0;
+    Vec2 first_estimate = Vec2::Zero();  // its measurement Jacobians' linearisation point (FEJ)
   };
 
   JointState state;
+  // FEJ: the pose the last prediction produced, before any update moved it.
+  std::optional<Se2> predicted_pose;
   double time = 0.0;
   MotionNoise motion_noise;
   SensorNoise sensor_noise;
@@ -95,6 +99,13 @@ struct PriorMapSlam::Impl {
         if (!std::isfinite(std[k])) std[k] = motion_noise.increment_std[k];
       }
       Q = G * std.cwiseAbs2().asDiagonal() * G.transpose();
+    }
+    if (options.first_estimates_jacobians) {
+      // dg/dtheta = J (next - pose) for both models; FEJ takes the pose before the update.
+      const Vec2 from = predicted_pose ? predicted_pose->translation() : state.pose().translation();
+      F(0, 2) = -(next.y() - from.y());
+      F(1, 2) = next.x() - from.x();
+      predicted_pose = next;
     }
     state.PredictPose(next, F, Q);
     time = step.time;
@@ -166,13 +177,26 @@ struct PriorMapSlam::Impl {
     const Mat2 R = MeasurementNoise();
     for (std::size_t k = 0; k < updates.size(); ++k) {
       const int offset = *state.Offset(BlockKind::kLandmark, updates[k].first);
+      const Vec2 landmark = state.mean().segment<2>(offset);
       Mat23 Hp;
       Mat2 Hl;
-      const Vec2 predicted = ObserveRangeBearing(pose, state.mean().segment<2>(offset), &Hp, &Hl);
+      const Vec2 predicted = ObserveRangeBearing(pose, landmark, &Hp, &Hl);
+      if (options.first_estimates_jacobians) {
+        (void)ObserveRangeBearing(pose, landmarks.at(updates[k].first).first_estimate, &Hp, &Hl);
+      }
       const auto r = static_cast<Eigen::Index>(2 * k);
       m.innovation[r] = updates[k].second.x() - predicted.x();
       m.innovation[r + 1] = WrapAngle(updates[k].second.y() - predicted.y());
       m.R.block<2, 2>(r, r) = R;
+      if (options.second_order_range) {
+        const Eigen::MatrixXd& P = state.covariance();
+        const Mat2 relative_covariance = P.block<2, 2>(offset, offset) + P.topLeftCorner<2, 2>() -
+                                         P.block<2, 2>(offset, 0) - P.block<2, 2>(0, offset);
+        const RangeCurvature curvature =
+            RangeSecondOrder(landmark - pose.translation(), relative_covariance);
+        m.innovation[r] -= curvature.mean_offset;
+        m.R(r, r) += curvature.variance;
+      }
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < 3; ++j) triplets.emplace_back(r + i, j, Hp(i, j));
         for (int j = 0; j < 2; ++j) triplets.emplace_back(r + i, offset + j, Hl(i, j));
@@ -186,9 +210,16 @@ struct PriorMapSlam::Impl {
     Mat23 Jp;
     Mat2 Jz;
     const Vec2 position = RangeBearingToPoint(state.pose(), z, &Jp, &Jz);
+    Mat2 R = MeasurementNoise();
+    if (options.second_order_range) {
+      // The measured range is the point's range; the Gaussian over the point (a line across the
+      // line of sight) holds ranges longer by the curvature term, so its range spread gains it.
+      const Mat2 C = Jp * state.pose_covariance() * Jp.transpose() + Jz * R * Jz.transpose();
+      R(0, 0) += RangeSecondOrder(position - state.pose().translation(), C).variance;
+    }
     const int id = next_state_id++;
-    state.AddLandmark(id, position, Jp, Jz, MeasurementNoise());
-    landmarks[id] = {external, time};
+    state.AddLandmark(id, position, Jp, Jz, R);
+    landmarks[id] = {external, time, position};
     state_id_of[external] = id;
     ++result.landmarks_created;
   }

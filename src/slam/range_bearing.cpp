@@ -37,4 +37,11 @@ Vec2 RangeBearingToPoint(const Se2& pose, const Vec2& range_bearing, Mat23* J_po
   return pose.translation() + r * Vec2(c, s);
 }
 
+RangeCurvature RangeSecondOrder(const Vec2& relative, const Mat2& C) {
+  const double r = relative.norm();
+  const Vec2 across(-relative.y() / r, relative.x() / r);
+  const double var_across = across.dot(C * across);
+  return {var_across / (2.0 * r), 0.5 * (var_across / r) * (var_across / r)};
+}
+
 }  // namespace priormap::slam

@@ -27,9 +27,16 @@ double Normal(double x, double variance) {
   return std::exp(-0.5 * x * x / variance) / std::sqrt(2.0 * std::numbers::pi * variance);
 }
 
+// The paper's model: per-line priors, independent across lines, so point 2 may be on both.
+StructurePriors PapersPriors() {
+  StructurePriors priors;
+  priors.one_line_per_point = false;
+  return priors;
+}
+
 TEST(AssociationHypotheses, TwoPointsTwoLinesMatchesTheHandComputedPosterior) {
   const HypothesisProblem problem = TwoPointsTwoLines();
-  const HypothesisPosterior posterior = EnumerateHypotheses(problem, StructurePriors{});
+  const HypothesisPosterior posterior = EnumerateHypotheses(problem, PapersPriors());
   EXPECT_EQ(posterior.num_hypotheses, 8u);
   // Unnormalised: D = 000: 0.2524 * 0.466; D = 110: 0.3204 * 0.466 * 0.7821 * 0.7365; ...
   const double l1 = Normal(0.1, 0.25), l2 = Normal(0.2, 0.25), l3 = Normal(1.5, 0.25);
@@ -49,6 +56,58 @@ TEST(AssociationHypotheses, TwoPointsTwoLinesMatchesTheHandComputedPosterior) {
   EXPECT_NEAR(posterior.marginals[2], 0.010055, 1e-6);
   // One point on one line of a 1 m-noisy map cannot be decided: nothing exceeds p_accept.
   EXPECT_LT(posterior.map_probability, StructurePriors{}.p_accept);
+}
+
+// One line per point: the two hypotheses with point 2 on both A and B (D = 011, 111) have no
+// mass, and the other six keep their weights, renormalised.
+TEST(AssociationHypotheses, OneLinePerPointDropsTheHypothesesThatShareAPoint) {
+  const HypothesisProblem problem = TwoPointsTwoLines();
+  const HypothesisPosterior posterior = EnumerateHypotheses(problem, StructurePriors{});
+  EXPECT_EQ(posterior.num_hypotheses, 6u);
+  const double l1 = Normal(0.1, 0.25), l2 = Normal(0.2, 0.25), l3 = Normal(1.5, 0.25);
+  const double a0 = 0.11 + 0.89 * 0.16, a1 = 0.89 * 0.6 * 0.4, a2 = 0.89 * 0.36;
+  const double b0 = 0.11 + 0.89 * 0.4, b1 = 0.89 * 0.6;
+  const double w000 = a0 * b0, w001 = a0 * b1 * l3, w010 = a1 * b0 * l2, w100 = a1 * b0 * l1,
+               w101 = a1 * b1 * l1 * l3, w110 = a2 * b0 * l1 * l2;
+  const double total = w000 + w001 + w010 + w100 + w101 + w110;
+  EXPECT_NEAR(posterior.map_probability, w000 / total, 1e-12);
+  EXPECT_NEAR(posterior.marginals[0], (w100 + w101 + w110) / total, 1e-12);
+  EXPECT_NEAR(posterior.marginals[1], (w010 + w110) / total, 1e-12);
+  EXPECT_NEAR(posterior.marginals[2], (w001 + w101) / total, 1e-12);
+}
+
+// A wall and a spurious copy of it 3 m out, three collinear points on the wall: under the
+// paper's independent priors "on both" costs only the copy's offset, which its 1 m endpoint
+// noise largely pays for, and each point is more likely than not on the copy too (0.6-0.7);
+// with one line per point they go to the wall (> 0.95) and not to the copy (< 0.04).
+TEST(AssociationHypotheses, OneLinePerPointKeepsPointsOffAParallelCopy) {
+  HypothesisProblem problem;
+  const std::vector<double> xs{0.0, 10.0, 20.0};
+  const auto n = static_cast<Eigen::Index>(2 * xs.size());
+  problem.S.resize(n, n);
+  problem.theta.resize(n);
+  // Rows 2i: point i with the wall (line 0), 2i+1: with the copy (line 1). Each line: offset
+  // variance 1, slope variance 0.01; the point noise 0.05 m is shared by its two rows.
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double xi = xs[i / 2], xj = xs[j / 2];
+      const double line = i % 2 == j % 2 ? 1.0 + 0.01 * xi * xj : 0.0;
+      problem.S(i, j) = line + (i / 2 == j / 2 ? 0.05 * 0.05 : 0.0);
+    }
+    problem.pairs.push_back({static_cast<int>(i / 2), static_cast<int>(i % 2)});
+    problem.theta[i] = i % 2 == 0 ? 0.3 : -2.7;
+  }
+  StructurePriors priors;  // SlamOptions' null density
+  priors.unrelated_density = 0.05;
+  StructurePriors papers = priors;
+  papers.one_line_per_point = false;
+  const HypothesisPosterior exclusive = EnumerateHypotheses(problem, priors);
+  const HypothesisPosterior independent = EnumerateHypotheses(problem, papers);
+  for (Eigen::Index i = 0; i < n; i += 2) {
+    EXPECT_GT(exclusive.marginals[i], 0.9) << i;
+    EXPECT_LT(exclusive.marginals[i + 1], 0.05) << i;
+    EXPECT_GT(independent.marginals[i + 1], 0.5) << i;
+  }
 }
 
 TEST(AssociationHypotheses, LogPriorIsThePapersProductOverLines) {
