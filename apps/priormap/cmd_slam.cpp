@@ -45,6 +45,11 @@ void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str()
       ->group(group);
+  cmd->add_option("--null-density", o.priors.unrelated_density,
+                  "p(theta | d = 0): density of an unrelated pair's distance, per metre")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str()
+      ->group(group);
   cmd->add_option("--wall-std", o.wall_std, "How far a landmark on a wall may be off it, m")
       ->check(CLI::PositiveNumber)
       ->capture_default_str()
@@ -66,6 +71,14 @@ void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
   cmd->add_option("--recheck-frames", o.recheck_frames, "... on this many consecutive frames")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str()
+      ->group(group);
+  cmd->add_flag_callback(
+         "--first-order-ekf",
+         [&o] {
+           o.first_estimates_jacobians = false;
+           o.second_order_range = false;
+         },
+         "Textbook EKF: Jacobians at the current estimate, first-order range (overconfident)")
       ->group(group);
 }
 

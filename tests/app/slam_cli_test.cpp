@@ -217,6 +217,23 @@ TEST_F(SlamCli, TheSameSeedGivesTheSameNumbersWithAnyNumberOfThreads) {
   EXPECT_FALSE(fs::exists(Work("a/figures")));
 }
 
+// --first-order-ekf is the textbook filter, overconfident on the same data; the algorithm's
+// options reach the filter (a different p_accept changes the relations).
+TEST_F(SlamCli, AlgorithmOptionsReachTheFilter) {
+  Ok({"slam", "simulate", "--runs", "2", "--seed", "1", "--no-figures", "-o", "default"});
+  Ok({"slam", "simulate", "--runs", "2", "--seed", "1", "--no-figures", "--first-order-ekf", "-o",
+      "textbook"});
+  Ok({"slam", "simulate", "--runs", "2", "--seed", "1", "--no-figures", "--p-accept", "0.7",
+      "--null-density", "1", "-o", "papers"});
+  const json consistent = ReadJson("default/summary.json");
+  const json textbook = ReadJson("textbook/summary.json");
+  const json papers = ReadJson("papers/summary.json");
+  EXPECT_GT(textbook["without_prior"]["mean_nees"].get<double>(),
+            5.0 * consistent["without_prior"]["mean_nees"].get<double>());
+  EXPECT_NE(papers["constraints"]["correct"], consistent["constraints"]["correct"]);
+  EXPECT_EQ(papers["without_prior"], consistent["without_prior"]);
+}
+
 TEST_F(SlamCli, RunFiltersSmallHandWrittenInputsWithAndWithoutThePriorMap) {
   WriteSmallInputs();
   Ok(RunArgs("observations.csv", "odometry.csv", "map.geojson"));

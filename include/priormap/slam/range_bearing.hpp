@@ -18,9 +18,9 @@ namespace priormap::slam {
 /// The second-order terms of the range to a point whose position relative to the sensor is
 /// Gaussian with mean `relative` and covariance `C`. Range is convex across the line of sight, so
 /// its mean exceeds |relative| by var_t / (2 r) and its variance gains (var_t / r)^2 / 2, where
-/// var_t is C's variance across the line of sight (the second-order EKF, Gelb 1974, Sec. 6.1).
-/// With a 1 cm range sensor and a landmark spread 0.5 m across by its bearing at 30 m, the
-/// variance term is as large as the sensor's: the first-order EKF ignores it and becomes
+/// var_t is C's variance across the line of sight (the second-order EKF; Gelb, Applied Optimal
+/// Estimation, 1974). With a 1 cm range sensor and a landmark spread 0.5 m across by its bearing at
+/// 30 m, the variance term is as large as the sensor's: the first-order EKF ignores it and becomes
 /// overconfident. Precondition: relative is not zero.
 struct RangeCurvature {
   double mean_offset = 0.0;  ///< E[range] - |relative|, m
