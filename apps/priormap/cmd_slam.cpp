@@ -72,6 +72,9 @@ void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str()
       ->group(group);
+  cmd->add_flag("--building-relations", o.building_relations,
+                "Relate a landmark at a corner to some wall of its building (eq. 3 mixture)")
+      ->group(group);
   cmd->add_flag_callback(
          "--first-order-ekf",
          [&o] {

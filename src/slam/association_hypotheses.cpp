@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include <priormap/core/check.hpp>
 #include <priormap/slam/association_hypotheses.hpp>
@@ -107,6 +108,7 @@ class Enumerator {
       out.map[j] = (best_mask >> j & 1u) != 0;
       out.marginals[j] = marginal[j] / total;
     }
+    out.structure_marginals = StructureMarginals(best, total);
     return out;
   }
 
@@ -150,6 +152,37 @@ class Enumerator {
             log_det + 2.0 * std::log(diag), log_null);
     point_active_[point] = false;
     --active_count_[line];
+  }
+
+  // Per (point, structure) with two or more pairs: the mass of the leaves with any of them active
+  // (exact whether or not one_line_per_point makes them exclusive).
+  std::vector<StructureMarginal> StructureMarginals(double best, double total) const {
+    std::vector<StructureMarginal> out;
+    for (int j = 0; j < n_; ++j) {
+      const auto& pair = problem_.pairs[j];
+      if (pair.structure < 0) continue;
+      auto it = std::find_if(out.begin(), out.end(), [&](const StructureMarginal& m) {
+        return m.point == pair.point && m.structure == pair.structure;
+      });
+      if (it == out.end()) it = out.insert(out.end(), {pair.point, pair.structure, {}, 0.0});
+      it->pairs.push_back(j);
+    }
+    std::erase_if(out, [](const StructureMarginal& m) { return m.pairs.size() < 2; });
+    for (StructureMarginal& m : out) {
+      std::size_t any = 0;
+      for (int j : m.pairs) any |= std::size_t{1} << j;
+      double mass = 0.0;
+      for (std::size_t mask = 0; mask < leaf_log_.size(); ++mask) {
+        if ((mask & any) != 0 && leaf_log_[mask] != kMinusInf) {
+          mass += std::exp(leaf_log_[mask] - best);
+        }
+      }
+      m.probability = mass / total;
+    }
+    std::sort(out.begin(), out.end(), [](const StructureMarginal& a, const StructureMarginal& b) {
+      return std::tie(a.point, a.structure) < std::tie(b.point, b.structure);
+    });
+    return out;
   }
 
   void Leaf(int rank, std::size_t mask, double quad, double log_det, double log_null) {

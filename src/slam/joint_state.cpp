@@ -1,3 +1,6 @@
+#include <cmath>
+#include <limits>
+
 #include <Eigen/Cholesky>
 
 #include <priormap/core/angles.hpp>
@@ -120,6 +123,61 @@ bool JointState::Update(const Linearization& m) {
   covariance_.selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
   covariance_.triangularView<Eigen::StrictlyUpper>() = covariance_.transpose();
   return true;
+}
+
+std::optional<std::vector<double>> JointState::UpdateMixture(
+    std::span<const Linearization> components, std::span<const double> weights) {
+  PRIORMAP_CHECK(!components.empty() && components.size() == weights.size(),
+                 "a mixture update needs one weight per component");
+  constexpr double kLog2Pi = 1.8378770664093454836;
+  struct Component {
+    Eigen::MatrixXd Wt;    // L^-1 H P: the update subtracts Wt^T Wt
+    Eigen::VectorXd step;  // K nu
+    double log_weight;
+  };
+  std::vector<Component> parts;
+  parts.reserve(components.size());
+  double best = -std::numeric_limits<double>::infinity();
+  for (std::size_t s = 0; s < components.size(); ++s) {
+    const Linearization& m = components[s];
+    PRIORMAP_CHECK(m.H.cols() == dim() && m.H.rows() == m.innovation.size() &&
+                       m.R.rows() == m.H.rows() && m.R.cols() == m.H.rows(),
+                   "measurement dimensions do not match the state");
+    const Eigen::MatrixXd PHt = covariance_ * m.H.transpose();
+    const Eigen::LLT<Eigen::MatrixXd> chol(InnovationCovariance(m, PHt));
+    if (chol.info() != Eigen::Success) return std::nullopt;
+    Component c;
+    c.Wt = chol.matrixL().solve(PHt.transpose());
+    const Eigen::VectorXd whitened = chol.matrixL().solve(m.innovation);
+    c.step = c.Wt.transpose() * whitened;
+    const double log_det = 2.0 * chol.matrixLLT().diagonal().array().log().sum();
+    c.log_weight =
+        weights[s] > 0.0
+            ? std::log(weights[s]) - 0.5 * (whitened.squaredNorm() + log_det + m.H.rows() * kLog2Pi)
+            : -std::numeric_limits<double>::infinity();
+    best = std::max(best, c.log_weight);
+    parts.push_back(std::move(c));
+  }
+  if (!std::isfinite(best)) return std::nullopt;
+  std::vector<double> posterior;
+  double total = 0.0;
+  for (const Component& c : parts) total += posterior.emplace_back(std::exp(c.log_weight - best));
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(dim());
+  for (std::size_t s = 0; s < parts.size(); ++s) {
+    posterior[s] /= total;
+    step += posterior[s] * parts[s].step;
+  }
+  // P - sum_s a_s K_s S_s K_s^T + sum_s a_s (step_s - step)(step_s - step)^T, lower triangle.
+  auto lower = covariance_.selfadjointView<Eigen::Lower>();
+  for (std::size_t s = 0; s < parts.size(); ++s) {
+    if (posterior[s] == 0.0) continue;
+    lower.rankUpdate(parts[s].Wt.transpose(), -posterior[s]);
+    lower.rankUpdate(parts[s].step - step, posterior[s]);
+  }
+  covariance_.triangularView<Eigen::StrictlyUpper>() = covariance_.transpose();
+  mean_ += step;
+  mean_[2] = WrapAngle(mean_[2]);
+  return posterior;
 }
 
 }  // namespace priormap::slam

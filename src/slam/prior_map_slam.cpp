@@ -224,58 +224,120 @@ struct PriorMapSlam::Impl {
     ++result.landmarks_created;
   }
 
-  void ApplyRelations(const std::vector<std::pair<int, int>>& relations) {
+  void ApplyRelations(const std::vector<detail::Relation>& relations) {
     if (relations.empty()) return;
-    for (const auto& [landmark, segment] : relations) {
-      if (!state.Contains(BlockKind::kSegment, segment)) {
+    std::vector<int> added;
+    for (const detail::Relation& relation : relations) {
+      for (int segment : relation.segments) {
+        if (state.Contains(BlockKind::kSegment, segment)) continue;
         const PriorSegment& s = prior_map->segments[segment];
         state.AddSegment(segment, s.a, s.b, Mat4::Identity() * (s.std * s.std));
+        added.push_back(segment);
       }
     }
-    const Linearization m = PointOnSegmentObservation(state, relations, options.wall_std);
-    if (!state.Update(m)) {
-      ++result.rejected_updates;
-      return;
+    // Relations to single segments: one update (they are sorted first).
+    std::vector<std::pair<int, int>> single;
+    for (const detail::Relation& relation : relations) {
+      if (relation.building < 0) single.emplace_back(relation.landmark, relation.segments.front());
     }
-    for (const auto& [landmark, segment] : relations) {
-      book.Apply(landmark, segment);
-      bad_frames.push_back(0);
-      RelationRecord record;
-      record.landmark = landmarks.at(landmark).external;
-      record.segment = segment;
-      record.time = time;
-      if (truth) {
-        record.correct = truth->Correct(record.landmark, segment);
-        record.spurious_segment = truth->Spurious(segment);
+    if (!single.empty()) {
+      if (state.Update(PointOnSegmentObservation(state, single, options.wall_std))) {
+        for (std::size_t k = 0; k < single.size(); ++k) Record(relations[k], single[k].second);
+      } else {
+        ++result.rejected_updates;
       }
-      result.relations.push_back(record);
+    }
+    // Relations to buildings: each a mixture over its walls, one after another.
+    for (std::size_t k = single.size(); k < relations.size(); ++k) {
+      const detail::Relation& relation = relations[k];
+      const auto posterior =
+          state.UpdateMixture(PointOnSomeSegmentObservation(state, relation.landmark,
+                                                            relation.segments, options.wall_std),
+                              relation.weights);
+      if (!posterior) {
+        ++result.rejected_updates;
+        continue;
+      }
+      const auto most = std::max_element(posterior->begin(), posterior->end()) - posterior->begin();
+      Record(relation, relation.segments[static_cast<std::size_t>(most)]);
+      ++result.building_relations;
+    }
+    RemoveUnrelatedSegments(added);
+  }
+
+  // Segments that entered the state for relations that were then not applied (an update
+  // rejected) leave it again, untouched and still independent of everything, not retired.
+  void RemoveUnrelatedSegments(const std::vector<int>& segments) {
+    for (int segment : segments) {
+      const bool related =
+          std::any_of(book.applied.begin(), book.applied.end(), [&](const detail::Relation& r) {
+            return std::find(r.segments.begin(), r.segments.end(), segment) != r.segments.end();
+          });
+      if (!related && state.Contains(BlockKind::kSegment, segment)) {
+        state.Remove(BlockKind::kSegment, segment);
+      }
     }
   }
 
-  // Applied relations whose landmark and segment are both still in the state, re-tested. The
+  void Record(const detail::Relation& relation, int most_probable_segment) {
+    book.Apply(relation);
+    bad_frames.push_back(0);
+    RelationRecord record;
+    record.landmark = landmarks.at(relation.landmark).external;
+    record.segment = most_probable_segment;
+    record.time = time;
+    if (relation.building >= 0) {
+      record.building = relation.building;
+      record.walls = relation.segments;
+    }
+    if (truth) {
+      record.correct = std::any_of(relation.segments.begin(), relation.segments.end(),
+                                   [&](int s) { return truth->Correct(record.landmark, s); });
+      record.spurious_segment = std::any_of(relation.segments.begin(), relation.segments.end(),
+                                            [&](int s) { return truth->Spurious(s); });
+    }
+    result.relations.push_back(record);
+  }
+
+  // The normalised innovation squared of an applied relation: for one to a building, that of
+  // its most plausible wall.
+  [[nodiscard]] double RelationNis(const detail::Relation& relation) const {
+    double nis = std::numeric_limits<double>::infinity();
+    for (int segment : relation.segments) {
+      const std::pair<int, int> pair(relation.landmark, segment);
+      const Linearization m =
+          PointOnSegmentObservation(state, std::span(&pair, 1), options.wall_std);
+      nis = std::min(nis, m.innovation[0] * m.innovation[0] / state.InnovationCovariance(m)(0, 0));
+    }
+    return nis;
+  }
+
+  // Applied relations whose landmark and segments are all still in the state, re-tested. The
   // relations of a segment are coupled through it, so one bad relation makes its neighbours look
-  // bad too: per segment only the most implausible is flagged, and the segment quarantined.
+  // bad too: per segment only the most implausible is flagged, and its segments quarantined.
   void RecheckRelations() {
     std::unordered_map<int, std::pair<std::size_t, double>> worst;  // segment -> (relation, nis)
     for (std::size_t k = 0; k < book.applied.size(); ++k) {
-      const auto [landmark, segment] = book.applied[k];
-      if (book.segments[segment].quarantined || !state.Contains(BlockKind::kLandmark, landmark) ||
-          !state.Contains(BlockKind::kSegment, segment)) {
-        continue;
-      }
-      const std::pair<int, int> relation(landmark, segment);
-      const Linearization m =
-          PointOnSegmentObservation(state, std::span(&relation, 1), options.wall_std);
-      const double nis = m.innovation[0] * m.innovation[0] / state.InnovationCovariance(m)(0, 0);
+      const detail::Relation& relation = book.applied[k];
+      const bool testable =
+          state.Contains(BlockKind::kLandmark, relation.landmark) &&
+          std::all_of(relation.segments.begin(), relation.segments.end(), [&](int segment) {
+            return !book.segments[segment].quarantined &&
+                   state.Contains(BlockKind::kSegment, segment);
+          });
+      if (!testable) continue;
+      const double nis = RelationNis(relation);
       bad_frames[k] = nis > options.recheck_chi2 ? bad_frames[k] + 1 : 0;
       if (bad_frames[k] < options.recheck_frames) continue;
-      auto [it, inserted] = worst.try_emplace(segment, k, nis);
-      if (!inserted && nis > it->second.second) it->second = {k, nis};
+      for (int segment : relation.segments) {
+        auto [it, inserted] = worst.try_emplace(segment, k, nis);
+        if (!inserted && nis > it->second.second) it->second = {k, nis};
+      }
     }
     for (const auto& [segment, flagged] : worst) {
       result.relations[flagged.first].flagged = true;
       result.relations[flagged.first].flagged_time = time;
-      book.segments[segment].quarantined = true;
+      for (int s : book.applied[flagged.first].segments) book.segments[s].quarantined = true;
     }
   }
 
@@ -297,8 +359,10 @@ struct PriorMapSlam::Impl {
     if (expired.empty() || !prior_map) return;
     // Segments with no related landmark left are marginalised out and retired.
     std::vector<int> in_use;
-    for (const auto& [landmark, segment] : book.applied) {
-      if (state.Contains(BlockKind::kLandmark, landmark)) in_use.push_back(segment);
+    for (const detail::Relation& relation : book.applied) {
+      if (state.Contains(BlockKind::kLandmark, relation.landmark)) {
+        in_use.insert(in_use.end(), relation.segments.begin(), relation.segments.end());
+      }
     }
     std::vector<int> retire;
     for (const StateBlock& block : state.blocks()) {
@@ -357,7 +421,7 @@ struct PriorMapSlam::Impl {
     record.landmarks = state.NumLandmarks();
     record.segments = state.NumSegments();
     for (std::size_t k = 0; k < book.applied.size(); ++k) {
-      if (!state.Contains(BlockKind::kLandmark, book.applied[k].first)) continue;
+      if (!state.Contains(BlockKind::kLandmark, book.applied[k].landmark)) continue;
       ++record.relations_in_state;
       const RelationRecord& r = result.relations[k];
       if (r.correct) (*r.correct ? record.relations_correct : record.relations_incorrect)++;

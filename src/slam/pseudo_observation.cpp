@@ -36,4 +36,16 @@ Linearization PointOnSegmentObservation(const JointState& state,
   return m;
 }
 
+std::vector<Linearization> PointOnSomeSegmentObservation(const JointState& state, int landmark,
+                                                         std::span<const int> segments,
+                                                         double wall_std) {
+  std::vector<Linearization> components;
+  components.reserve(segments.size());
+  for (int segment : segments) {
+    const std::pair<int, int> relation(landmark, segment);
+    components.push_back(PointOnSegmentObservation(state, std::span(&relation, 1), wall_std));
+  }
+  return components;
+}
+
 }  // namespace priormap::slam

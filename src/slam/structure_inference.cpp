@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numeric>
+#include <tuple>
 #include <unordered_map>
 
 #include <priormap/core/segment.hpp>
+#include <priormap/slam/structure_hierarchy.hpp>
 
 namespace priormap::slam::detail {
 namespace {
@@ -35,10 +38,11 @@ double Theta(const Vec2& p, const SegmentBelief& s, Row2* J_p, Eigen::RowVector4
 
 }  // namespace
 
-void RelationBook::Apply(int landmark, int segment) {
-  applied.emplace_back(landmark, segment);
-  applied_set_.emplace(landmark, segment);
-  segments[segment].known_real = true;
+void RelationBook::Apply(const Relation& relation) {
+  applied.push_back(relation);
+  for (int segment : relation.segments) applied_set_.emplace(relation.landmark, segment);
+  // Which of a building's walls the point is on stays unknown, so none of them is known real.
+  if (relation.building < 0) segments[relation.segments.front()].known_real = true;
 }
 
 SegmentBelief BeliefOf(const JointState& state, const PriorMap& map, int segment) {
@@ -58,7 +62,12 @@ SegmentBelief BeliefOf(const JointState& state, const PriorMap& map, int segment
 }
 
 StructureInference::StructureInference(const PriorMap& map, const SlamOptions& options)
-    : map_(map), options_(options), grid_(map, kGridCell, kGridPad) {}
+    : map_(map), options_(options), grid_(map, kGridCell, kGridPad) {
+  const PriorMapStructures structures = StructuresOf(map);
+  for (std::size_t segment = 0; segment < map.segments.size(); ++segment) {
+    building_of_segment_.push_back(structures.BuildingOf(static_cast<int>(segment)).value_or(-1));
+  }
+}
 
 std::vector<StructureInference::Pair> StructureInference::Gate(const JointState& state,
                                                                const RelationBook& book) const {
@@ -153,7 +162,9 @@ HypothesisProblem StructureInference::Problem(const JointState& state,
     problem.theta[j] = Theta(p, s, &J_p, &J_ab);
     J.block<1, 2>(j, row_offsets[j].first) = J_p;
     J.block<1, 4>(j, row_offsets[j].second) = J_ab;
-    problem.pairs.push_back({pair.landmark, pair.segment});
+    problem.pairs.push_back(
+        {pair.landmark, pair.segment,
+         options_.building_relations ? building_of_segment_[pair.segment] : -1});
     if (book.segments[pair.segment].known_real) problem.lines_known_real.push_back(pair.segment);
   }
   problem.S = J * C * J.transpose();
@@ -167,11 +178,38 @@ HypothesisProblem StructureInference::Problem(const JointState& state,
   return problem;
 }
 
-std::vector<std::pair<int, int>> StructureInference::Infer(const JointState& state,
-                                                           const RelationBook& book,
-                                                           InferenceStats& stats) const {
+void StructureInference::AcceptBuildingRelations(const std::vector<Pair>& members,
+                                                 const HypothesisProblem& problem,
+                                                 const HypothesisPosterior& posterior,
+                                                 std::vector<Relation>& accepted) const {
+  for (const StructureMarginal& marginal : posterior.structure_marginals) {
+    if (!(marginal.probability > options_.priors.p_accept)) continue;
+    const int landmark = marginal.point;
+    if (std::any_of(accepted.begin(), accepted.end(),
+                    [&](const Relation& r) { return r.landmark == landmark; })) {
+      continue;
+    }
+    Relation relation{
+        .landmark = landmark, .segments = {}, .building = marginal.structure, .weights = {}};
+    for (int j : marginal.pairs) {
+      const int segment = members[j].segment;
+      relation.segments.push_back(segment);
+      // p(d_s = 1 | d_S = 1) as the enumeration's prior has it for one point: P(on s, on no
+      // other line) is proportional to p(d_n = 1 on s) / P(no point of these from s), so
+      // p_real / (1 - p_real p_point_on_line), with p_real = 1 for a line known to be real.
+      const bool known = std::find(problem.lines_known_real.begin(), problem.lines_known_real.end(),
+                                   segment) != problem.lines_known_real.end();
+      const double p_real = known ? 1.0 : options_.priors.p_line_real;
+      relation.weights.push_back(p_real / (1.0 - p_real * options_.priors.p_point_on_line));
+    }
+    accepted.push_back(std::move(relation));
+  }
+}
+
+std::vector<Relation> StructureInference::Infer(const JointState& state, const RelationBook& book,
+                                                InferenceStats& stats) const {
   std::vector<Pair> pairs = Gate(state, book);
-  std::vector<std::pair<int, int>> accepted;
+  std::vector<Relation> accepted;
   if (pairs.empty()) return accepted;
 
   // Nodes: landmarks then segments, numbered locally; clusters are connected components.
@@ -229,17 +267,25 @@ std::vector<std::pair<int, int>> StructureInference::Infer(const JointState& sta
       const HypothesisPosterior posterior = EnumerateHypotheses(problem, options_.priors);
       ++stats.clusters;
       stats.hypotheses += posterior.num_hypotheses;
+      std::vector<Relation> cluster_accepted;
       for (std::size_t j = 0; j < members.size(); ++j) {
         const bool take =
             posterior.map_probability > options_.priors.p_accept
                 ? static_cast<bool>(posterior.map[j])
                 : options_.accept_marginals && posterior.marginals[j] > options_.priors.p_accept;
-        if (take) accepted.emplace_back(members[j].landmark, members[j].segment);
+        if (take) cluster_accepted.push_back({members[j].landmark, {members[j].segment}, -1, {}});
       }
+      AcceptBuildingRelations(members, problem, posterior, cluster_accepted);
+      accepted.insert(accepted.end(), std::make_move_iterator(cluster_accepted.begin()),
+                      std::make_move_iterator(cluster_accepted.end()));
     }
     break;
   }
-  std::sort(accepted.begin(), accepted.end());
+  // Single-segment relations first (one update), each kind in (landmark, segments) order.
+  std::sort(accepted.begin(), accepted.end(), [](const Relation& a, const Relation& b) {
+    return std::tie(a.building, a.landmark, a.segments) <
+           std::tie(b.building, b.landmark, b.segments);
+  });
   return accepted;
 }
 

@@ -13,6 +13,16 @@
 
 namespace priormap::slam::detail {
 
+/// A relation to apply or applied: landmark i lies on segment n (one segment), or on some segment
+/// of a building (a relation known one level up the hierarchy: eq. 3, a mixture over the
+/// building's candidate segments with weights p(d_s = 1 | d_S = 1)).
+struct Relation {
+  int landmark = -1;  // state id
+  std::vector<int> segments;
+  int building = -1;            // -1: a relation to segments[0] alone
+  std::vector<double> weights;  // building level: the mixture's prior weights
+};
+
 /// What the filter remembers about relations and segments.
 struct RelationBook {
   struct SegmentStatus {
@@ -20,9 +30,11 @@ struct RelationBook {
     bool quarantined = false;  // an applied relation became implausible
     bool retired = false;      // left the state; never used again
   };
-  std::vector<SegmentStatus> segments;       // per prior segment
-  std::vector<std::pair<int, int>> applied;  // (state landmark id, segment), in order applied
-  void Apply(int landmark, int segment);
+  std::vector<SegmentStatus> segments;  // per prior segment
+  std::vector<Relation> applied;        // in the order applied
+  void Apply(const Relation& relation);
+  // Whether the pair is part of an applied relation: a point related to some wall of a building
+  // is not related to one of those walls again (the mixture already spent that information).
   // Asked for every gated pair of every frame: a set, not a scan of `applied`.
   [[nodiscard]] bool IsApplied(int landmark, int segment) const {
     return applied_set_.contains({landmark, segment});
@@ -47,16 +59,20 @@ class StructureInference {
  public:
   StructureInference(const PriorMap& map, const SlamOptions& options);
 
-  /// The (state landmark id, segment) relations to apply now.
-  [[nodiscard]] std::vector<std::pair<int, int>> Infer(const JointState& state,
-                                                       const RelationBook& book,
-                                                       InferenceStats& stats) const;
+  /// The relations to apply now: to single segments, then to buildings.
+  [[nodiscard]] std::vector<Relation> Infer(const JointState& state, const RelationBook& book,
+                                            InferenceStats& stats) const;
 
  private:
   struct Pair {
     int landmark;  // state id
     int segment;
   };
+  // The building-level relations of a cluster: points not related to a single segment whose
+  // probability of lying on some wall of one building exceeds p_accept.
+  void AcceptBuildingRelations(const std::vector<Pair>& members, const HypothesisProblem& problem,
+                               const HypothesisPosterior& posterior,
+                               std::vector<Relation>& accepted) const;
   [[nodiscard]] std::vector<Pair> Gate(const JointState& state, const RelationBook& book) const;
   [[nodiscard]] HypothesisProblem Problem(const JointState& state, const std::vector<Pair>& pairs,
                                           const RelationBook& book) const;
@@ -64,6 +80,7 @@ class StructureInference {
   const PriorMap& map_;
   const SlamOptions& options_;
   SegmentGrid grid_;
+  std::vector<int> building_of_segment_;  // from the map's structure hierarchy; -1: none
 };
 
 }  // namespace priormap::slam::detail

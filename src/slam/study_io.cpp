@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
@@ -31,6 +32,10 @@ std::string Cell(double value) {
 
 std::string OptionalBool(const std::optional<bool>& value) {
   return value ? (*value ? "1" : "0") : "";
+}
+
+std::string BuildingCell(const RelationRecord& r) {
+  return r.building >= 0 ? std::to_string(r.building) : std::string();
 }
 
 OrderedJson Vec3ToJson(const Vec3& v) {
@@ -131,12 +136,14 @@ std::string RunTraceCsv(const RunTrace& trace) {
 }
 
 std::string StudyRelationsCsv(const StudyResult& study) {
-  std::string out = "run,landmark,segment,time,correct,spurious_segment,flagged,flagged_time\n";
+  std::string out =
+      "run,landmark,segment,time,correct,spurious_segment,flagged,flagged_time,building,walls\n";
   for (std::size_t run = 0; run < study.with_prior.size(); ++run) {
     for (const RelationRecord& r : study.with_prior[run].result.relations) {
-      out += fmt::format("{},{},{},{},{},{},{},{}\n", run, r.landmark, r.segment, Cell(r.time),
-                         OptionalBool(r.correct), r.spurious_segment ? 1 : 0, r.flagged ? 1 : 0,
-                         r.flagged ? Cell(r.flagged_time) : std::string());
+      out += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", run, r.landmark, r.segment,
+                         Cell(r.time), OptionalBool(r.correct), r.spurious_segment ? 1 : 0,
+                         r.flagged ? 1 : 0, r.flagged ? Cell(r.flagged_time) : std::string(),
+                         BuildingCell(r), fmt::join(r.walls, ";"));
     }
   }
   return out;
@@ -183,7 +190,13 @@ std::string TrajectoryCsv(const SlamResult& result) {
 std::string SlamMapGeoJson(const SlamResult& result) {
   // The segments of each landmark's applied relations.
   std::map<int, std::vector<int>> related;
-  for (const RelationRecord& r : result.relations) related[r.landmark].push_back(r.segment);
+  for (const RelationRecord& r : result.relations) {
+    if (r.building < 0) {
+      related[r.landmark].push_back(r.segment);
+    } else {
+      related[r.landmark].insert(related[r.landmark].end(), r.walls.begin(), r.walls.end());
+    }
+  }
   OrderedJson features = OrderedJson::array();
   for (const LandmarkEstimate& landmark : result.landmarks) {
     const Mat2& P = landmark.covariance;
@@ -220,12 +233,14 @@ std::string SlamMapGeoJson(const SlamResult& result) {
 }
 
 std::string SlamRelationsCsv(const SlamResult& result) {
-  std::string out = "landmark,segment,time,flagged,flagged_time,correct,spurious_segment\n";
+  std::string out =
+      "landmark,segment,time,flagged,flagged_time,correct,spurious_segment,building,walls\n";
   for (const RelationRecord& r : result.relations) {
-    out += fmt::format("{},{},{},{},{},{},{}\n", r.landmark, r.segment, Cell(r.time),
+    out += fmt::format("{},{},{},{},{},{},{},{},{}\n", r.landmark, r.segment, Cell(r.time),
                        r.flagged ? 1 : 0, r.flagged ? Cell(r.flagged_time) : std::string(),
                        OptionalBool(r.correct),
-                       r.correct ? std::string(r.spurious_segment ? "1" : "0") : std::string());
+                       r.correct ? std::string(r.spurious_segment ? "1" : "0") : std::string(),
+                       BuildingCell(r), fmt::join(r.walls, ";"));
   }
   return out;
 }
@@ -250,7 +265,9 @@ std::string SlamRunSummaryJson(const SlamResult& result, const SlamRunInfo& info
   json["landmarks_created"] = result.landmarks_created;
   json["landmarks_at_end"] = result.landmarks.size();
   json["segments_at_end"] = result.segments.size();
-  json["relations"] = {{"applied", result.relations.size()}, {"flagged", flagged}};
+  json["relations"] = {{"applied", result.relations.size()},
+                       {"to_buildings", result.building_relations},
+                       {"flagged", flagged}};
   json["inference"] = {{"clusters", result.inference.clusters},
                        {"deferred_points", result.inference.deferred_points},
                        {"largest_cluster", result.inference.largest_cluster},

@@ -150,7 +150,7 @@ TEST_F(SlamCli, SimulateWritesTheStudyAndRunFiltersItsExportedInputs) {
   }
   EXPECT_TRUE(ReadAll(Work("study/relations.csv"))
                   .starts_with("run,landmark,segment,time,correct,spurious_segment,flagged,"
-                               "flagged_time\n"));
+                               "flagged_time,building,walls\n"));
   for (const char* figure : {"pose_error", "nees", "relations", "map"}) {
     EXPECT_TRUE(IsPng(ReadAll(Work("study/figures/" + std::string(figure) + ".png")))) << figure;
     EXPECT_THAT(ReadAll(Work("study/figures/" + std::string(figure) + ".svg")), HasSubstr("<svg"))
@@ -204,6 +204,8 @@ TEST_F(SlamCli, AlgorithmOptionsReachTheFilter) {
       "textbook"});
   Ok({"slam", "simulate", "--runs", "2", "--seed", "1", "--no-figures", "--p-accept", "0.7",
       "--null-density", "1", "-o", "papers"});
+  Ok({"slam", "simulate", "--runs", "2", "--seed", "1", "--no-figures", "--building-relations",
+      "-o", "buildings"});
   const json consistent = ReadJson("default/summary.json");
   const json textbook = ReadJson("textbook/summary.json");
   const json papers = ReadJson("papers/summary.json");
@@ -211,6 +213,16 @@ TEST_F(SlamCli, AlgorithmOptionsReachTheFilter) {
             5.0 * consistent["without_prior"]["mean_nees"].get<double>());
   EXPECT_NE(papers["constraints"]["correct"], consistent["constraints"]["correct"]);
   EXPECT_EQ(papers["without_prior"], consistent["without_prior"]);
+  // Relations to buildings show in the relations table (a building index, its walls).
+  const auto building_rows = [&](const char* dir) {
+    int rows = 0;
+    for (const std::string& line : Lines(ReadAll(Work(dir) / "relations.csv"))) {
+      if (!line.ends_with(",")) ++rows;  // a row with walls; the header ends in "walls"
+    }
+    return rows - 1;
+  };
+  EXPECT_EQ(building_rows("default"), 0);
+  EXPECT_GT(building_rows("buildings"), 0);
 }
 
 TEST_F(SlamCli, RunFiltersSmallHandWrittenInputsWithAndWithoutThePriorMap) {

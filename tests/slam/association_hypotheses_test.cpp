@@ -110,6 +110,61 @@ TEST(AssociationHypotheses, OneLinePerPointKeepsPointsOffAParallelCopy) {
   }
 }
 
+// One level up the hierarchy (eq. 3): a point at a corner, gated with walls A and B of building
+// 7 (independent, sigma 0.5 m, theta 0.1 and 0.3 m) and with a spurious line C of another
+// structure. With one line per point, the probability that it lies on some wall of building 7 is
+// the eq. (3) evidence: P(d_S = 1) p(theta | d_S = 1) over P(d_S = 1) p(theta | d_S = 1) plus
+// the rest, with the mixture p(theta | d_S = 1) = sum_s p(theta_s | d_s = 1) p(d_s = 1 | d_S = 1).
+TEST(AssociationHypotheses, StructureMarginalIsTheEvidenceOfTheEqThreeMixture) {
+  HypothesisProblem problem;
+  problem.pairs = {{4, 0, 7}, {4, 1, 7}, {4, 2, 9}};
+  problem.theta = Eigen::Vector3d(0.1, 0.3, 0.2);
+  problem.S = Eigen::Matrix3d::Identity() * 0.25;
+  problem.lines_known_real = {1};  // wall B has accepted relations
+  const StructurePriors priors;    // one line per point, unrelated density 1 per metre
+  const HypothesisPosterior posterior = EnumerateHypotheses(problem, priors);
+  ASSERT_EQ(posterior.structure_marginals.size(), 1u);  // C is alone in its structure
+  const StructureMarginal& marginal = posterior.structure_marginals[0];
+  EXPECT_EQ(marginal.point, 4);
+  EXPECT_EQ(marginal.structure, 7);
+  EXPECT_EQ(marginal.pairs, (std::vector<int>{0, 1}));
+
+  // By hand. A line with none of the point: q = 1 - p_real * 0.6, so q_A = q_C = 0.466, q_B = 0.4;
+  // "on s" has prior p_real(s) 0.6 prod_{t != s} q_t and the other pairs' null density 1.
+  const double qa = 1 - 0.89 * 0.6, qb = 1 - 0.6, qc = qa;
+  const double on_a = 0.89 * 0.6 * qb * qc, on_b = 1.0 * 0.6 * qa * qc, on_c = 0.89 * 0.6 * qa * qb;
+  const double none = qa * qb * qc;
+  const double la = Normal(0.1, 0.25), lb = Normal(0.3, 0.25), lc = Normal(0.2, 0.25);
+  // Eq. (3): P(d_S = 1) = on_a + on_b, weights p(d_s = 1 | d_S = 1) = on_s / (on_a + on_b).
+  const double p_structure = on_a + on_b;
+  const double mixture = (on_a / p_structure) * la + (on_b / p_structure) * lb;
+  const double evidence = p_structure * mixture;
+  EXPECT_NEAR(marginal.probability, evidence / (evidence + on_c * lc + none), 1e-12);
+  // The weights are proportional to p_real / (1 - p_real p_point_on_line), as applied.
+  EXPECT_NEAR(on_a / on_b, (0.89 / qa) / (1.0 / qb), 1e-12);
+  // Exclusive events: the sum of the walls' marginals.
+  EXPECT_NEAR(marginal.probability, posterior.marginals[0] + posterior.marginals[1], 1e-12);
+}
+
+// Without one line per point the events overlap; the structure marginal counts each hypothesis
+// once (the probability of "on A or on B", not the sum).
+TEST(AssociationHypotheses, StructureMarginalCountsOverlappingHypothesesOnce) {
+  HypothesisProblem problem;
+  problem.pairs = {{4, 0, 7}, {4, 1, 7}};
+  problem.theta = Eigen::Vector2d(0.1, 0.3);
+  problem.S = Eigen::Matrix2d::Identity() * 0.25;
+  const HypothesisPosterior posterior = EnumerateHypotheses(problem, PapersPriors());
+  ASSERT_EQ(posterior.structure_marginals.size(), 1u);
+  const double qa = 1 - 0.89 * 0.6;
+  const double la = Normal(0.1, 0.25), lb = Normal(0.3, 0.25);
+  const double a = 0.89 * 0.6, none = qa * qa;
+  const double w_a = a * qa * la, w_b = qa * a * lb, w_ab = a * a * la * lb;
+  EXPECT_NEAR(posterior.structure_marginals[0].probability,
+              (w_a + w_b + w_ab) / (w_a + w_b + w_ab + none), 1e-12);
+  EXPECT_GT(posterior.marginals[0] + posterior.marginals[1],
+            posterior.structure_marginals[0].probability);
+}
+
 TEST(AssociationHypotheses, LogPriorIsThePapersProductOverLines) {
   const HypothesisProblem problem = TwoPointsTwoLines();
   const StructurePriors priors;

@@ -1,5 +1,8 @@
 // The joint state's Kalman update against batch least squares, marginalisation, augmentation.
+#include <array>
+#include <cmath>
 #include <random>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
@@ -122,6 +125,109 @@ TEST(JointState, PseudoObservationOnALinearCaseEqualsBatchLeastSquares) {
   // Variables the relation does not involve and that are uncorrelated with it do not move.
   EXPECT_DOUBLE_EQ(state.mean()[3], 3.0);
   EXPECT_DOUBLE_EQ(state.mean()[5], 0.0);
+}
+
+// One component: the mixture update is the ordinary Kalman update.
+TEST(JointState, MixtureOfOneComponentIsTheKalmanUpdate) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd mean(9);
+  for (int i = 0; i < 9; ++i) mean[i] = normal(rng);
+  const Eigen::MatrixXd P0 = BlockDiagonal(RandomSpd(9, rng));
+  JointState kalman = MakeState(mean, P0);
+  JointState mixture = kalman;
+  const std::pair<int, int> relation(0, 5);
+  const Linearization m = PointOnSegmentObservation(kalman, std::span(&relation, 1), 0.1);
+  ASSERT_TRUE(kalman.Update(m));
+  const auto weights = mixture.UpdateMixture(std::span(&m, 1), std::vector<double>{0.3});
+  ASSERT_TRUE(weights.has_value());
+  EXPECT_EQ(*weights, std::vector<double>{1.0});
+  EXPECT_TRUE(mixture.mean().isApprox(kalman.mean(), 1e-12));
+  EXPECT_TRUE(mixture.covariance().isApprox(kalman.covariance(), 1e-12));
+}
+
+// The landmark lies on the line x = 0 or on the line y = 0 (weights 0.3, 0.7), each up to
+// sigma: the posterior N(p; mu, P) sum_s w_s N(theta_s(p); 0, sigma^2) is integrated on a fine
+// grid, and its mean, covariance and component masses must equal the moment-matched update's.
+TEST(JointState, MixtureUpdateMatchesTheMomentsOfTheExactPosterior) {
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(9);
+  mean.segment<2>(3) = Vec2(0.4, 0.3);
+  mean.segment<4>(5) << -5.0, -5.0, 5.0, 5.0;
+  Eigen::MatrixXd P0 = Eigen::MatrixXd::Identity(9, 9) * 0.01;
+  const Mat2 P_point{{0.25, 0.08}, {0.08, 0.16}};
+  P0.block<2, 2>(3, 3) = P_point;
+  JointState state = MakeState(mean, P0);
+  const double sigma = 0.2;
+  const std::array<double, 2> prior_weights{0.3, 0.7};
+  std::vector<Linearization> components;
+  for (int axis = 0; axis < 2; ++axis) {
+    Linearization m;
+    m.H.resize(1, state.dim());
+    m.H.insert(0, 3 + axis) = 1.0;
+    m.innovation = Eigen::VectorXd::Constant(1, 0.0 - mean[3 + axis]);
+    m.R = Eigen::MatrixXd::Constant(1, 1, sigma * sigma);
+    components.push_back(std::move(m));
+  }
+  const auto weights = state.UpdateMixture(components, prior_weights);
+  ASSERT_TRUE(weights.has_value());
+
+  // The exact posterior of the point on a grid over +-8 sigma of its prior.
+  const Mat2 information = P_point.inverse();
+  const Vec2 mu = mean.segment<2>(3);
+  const int n = 1601;
+  const double half = 8.0 * std::sqrt(P_point.diagonal().maxCoeff());
+  const double h = 2.0 * half / (n - 1);
+  auto gauss = [](double x, double s) { return std::exp(-0.5 * x * x / (s * s)); };
+  std::array<double, 2> mass{0.0, 0.0};
+  Vec2 first = Vec2::Zero();
+  Mat2 second = Mat2::Zero();
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const Vec2 p = mu + Vec2(-half + i * h, -half + j * h);
+      const Vec2 d = p - mu;
+      const double prior = std::exp(-0.5 * d.dot(information * d));
+      const double a = prior * prior_weights[0] * gauss(p.x(), sigma);
+      const double b = prior * prior_weights[1] * gauss(p.y(), sigma);
+      mass[0] += a;
+      mass[1] += b;
+      first += (a + b) * p;
+      second += (a + b) * p * p.transpose();
+    }
+  }
+  const double total = mass[0] + mass[1];
+  const Vec2 expected_mean = first / total;
+  const Mat2 expected_covariance = second / total - expected_mean * expected_mean.transpose();
+  EXPECT_NEAR((*weights)[0], mass[0] / total, 1e-9);
+  EXPECT_NEAR((*weights)[1], mass[1] / total, 1e-9);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(state.mean()[3 + i], expected_mean[i], 1e-8);
+    for (int j = 0; j < 2; ++j) {
+      EXPECT_NEAR(state.covariance()(3 + i, 3 + j), expected_covariance(i, j), 1e-8);
+    }
+  }
+  // Blocks uncorrelated with the point do not move.
+  EXPECT_TRUE(state.mean().head<3>().isZero(0.0));
+  const Mat3 pose_block = state.covariance().topLeftCorner<3, 3>();
+  EXPECT_EQ(pose_block, Mat3(P0.topLeftCorner<3, 3>()));
+}
+
+TEST(JointState, MixtureUpdateChangesNothingWhenAComponentCannotBeApplied) {
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(9);
+  JointState state = MakeState(mean, Eigen::MatrixXd::Identity(9, 9));
+  const JointState before = state;
+  Linearization good, bad;
+  good.H.resize(1, 9);
+  good.H.insert(0, 3) = 1.0;
+  good.innovation = Eigen::VectorXd::Ones(1);
+  good.R = Eigen::MatrixXd::Identity(1, 1);
+  bad.H.resize(1, 9);  // no rows touched and no noise: S = 0
+  bad.innovation = Eigen::VectorXd::Zero(1);
+  bad.R = Eigen::MatrixXd::Zero(1, 1);
+  const std::array<Linearization, 2> both{good, bad};
+  EXPECT_FALSE(state.UpdateMixture(both, std::vector<double>{0.5, 0.5}).has_value());
+  EXPECT_FALSE(state.UpdateMixture(std::span(&good, 1), std::vector<double>{0.0}).has_value());
+  EXPECT_EQ(state.mean(), before.mean());
+  EXPECT_EQ(state.covariance(), before.covariance());
 }
 
 TEST(JointState, RemovingABlockMarginalisesIt) {

@@ -66,14 +66,26 @@ RunTrace MakeTrace(double offset) {
     frame.accepted = 1;
     result.frames.push_back(frame);
   }
-  result.relations = {{.landmark = 3, .segment = 7, .time = 0.1, .correct = true},
+  result.relations = {{.landmark = 3, .segment = 7, .time = 0.1, .correct = true, .walls = {}},
                       {.landmark = 5,
                        .segment = 2,
                        .time = 0.2,
                        .flagged = true,
                        .flagged_time = 0.3,
                        .correct = false,
-                       .spurious_segment = true}};
+                       .spurious_segment = true,
+                       .building = -1,
+                       .walls = {}},
+                      {.landmark = 3,
+                       .segment = 4,
+                       .time = 0.3,
+                       .flagged = false,
+                       .flagged_time = 0.0,
+                       .correct = true,
+                       .spurious_segment = false,
+                       .building = 1,
+                       .walls = {4, 5}}};
+  result.building_relations = 1;
   result.landmarks = {{.id = 3, .position = Vec2(1.0, 2.0), .covariance = Mat2::Identity()},
                       {.id = 5, .position = Vec2(-1.0, 0.5), .covariance = 2 * Mat2::Identity()}};
   result.segments = {
@@ -190,10 +202,11 @@ TEST(StudyIo, SummaryJsonWritesUndefinedRatiosAsNull) {
 
 TEST(StudyIo, RelationsCsvListsTheRunsWithThePriorMap) {
   const std::vector<std::string> lines = Lines(StudyRelationsCsv(MakeStudy()));
-  EXPECT_THAT(lines, ElementsAre("run,landmark,segment,time,correct,spurious_segment,flagged,"
-                                 "flagged_time",
-                                 "0,3,7,0.1,1,0,0,", "0,5,2,0.2,0,1,1,0.3", "1,3,7,0.1,1,0,0,",
-                                 "1,5,2,0.2,0,1,1,0.3"));
+  EXPECT_THAT(lines,
+              ElementsAre("run,landmark,segment,time,correct,spurious_segment,flagged,"
+                          "flagged_time,building,walls",
+                          "0,3,7,0.1,1,0,0,,,", "0,5,2,0.2,0,1,1,0.3,,", "0,3,4,0.3,1,0,0,,1,4;5",
+                          "1,3,7,0.1,1,0,0,,,", "1,5,2,0.2,0,1,1,0.3,,", "1,3,4,0.3,1,0,0,,1,4;5"));
 }
 
 TEST(StudyIo, RunFileNamesSortInRunOrder) {
@@ -249,7 +262,7 @@ TEST(SlamRunIo, MapGeoJsonHasALandmarkPointPerLandmarkAndALinePerSegment) {
   EXPECT_EQ(count("\"type\":\"Point\""), 2u);
   EXPECT_EQ(count("\"type\":\"LineString\""), 1u);
   EXPECT_THAT(json, HasSubstr("\"kind\":\"landmark\",\"id\":3,\"covariance\":[1.0,0.0,1.0],"
-                              "\"segments\":[7]"));
+                              "\"segments\":[7,4,5]"));
   EXPECT_THAT(json, HasSubstr("\"kind\":\"segment\",\"segment\":7"));
 }
 
@@ -257,8 +270,9 @@ TEST(SlamRunIo, RelationsCsvLeavesTheTruthEmptyWhenUnknown) {
   SlamResult result = MakeTrace(0.0).result;
   result.relations[0].correct.reset();
   EXPECT_THAT(Lines(SlamRelationsCsv(result)),
-              ElementsAre("landmark,segment,time,flagged,flagged_time,correct,spurious_segment",
-                          "3,7,0.1,0,,,", "5,2,0.2,1,0.3,0,1"));
+              ElementsAre("landmark,segment,time,flagged,flagged_time,correct,spurious_segment,"
+                          "building,walls",
+                          "3,7,0.1,0,,,,,", "5,2,0.2,1,0.3,0,1,,", "3,4,0.3,0,,1,0,1,4;5"));
 }
 
 TEST(SlamRunIo, WriteSlamRunOutputsCreatesTheDirectory) {
@@ -274,8 +288,8 @@ TEST(SlamRunIo, WriteSlamRunOutputsCreatesTheDirectory) {
   const std::string summary = ReadAll(out / "summary.json");
   for (const char* key :
        {"\"format\": \"priormap.slam_run\"", "\"frames\": 3", "\"landmarks_created\": 9",
-        "\"applied\": 2", "\"flagged\": 1", "\"rejected_updates\": 0", "\"wall_time_s\": 0.5",
-        "\"hypotheses\"", "\"observations\": \"obs.csv\""}) {
+        "\"applied\": 3", "\"to_buildings\": 1", "\"flagged\": 1", "\"rejected_updates\": 0",
+        "\"wall_time_s\": 0.5", "\"hypotheses\"", "\"observations\": \"obs.csv\""}) {
     EXPECT_THAT(summary, HasSubstr(key));
   }
   EXPECT_THAT(summary, Not(HasSubstr("NaN")));

@@ -14,6 +14,13 @@
 /// All 2^|pairs| hypotheses are enumerated depth first, the Cholesky factor of S_MM grown by one
 /// row per active pair, so a hypothesis costs O(|M|) beyond its parent's; the leaves' log
 /// probabilities are kept by bit mask and normalised once.
+///
+/// One level up the hierarchy (eq. 3 of the paper): when each pair names the structure its line
+/// is part of (a building), the posterior also gives, per point and structure, the probability
+/// that the point is related to some line of that structure. Under one_line_per_point these
+/// events are exclusive across lines, so it is sum_s P(d_s = 1): the evidence of the mixture
+/// p(theta | d_S = 1) = sum_s p(theta | d_s = 1) p(d_s = 1 | d_S = 1), with weights
+/// p(d_s = 1 | d_S = 1) proportional to the lines' own priors.
 
 #include <vector>
 
@@ -36,6 +43,7 @@ struct HypothesisProblem {
   struct Pair {
     int point = -1;  ///< any identifiers; pairs of equal `line` share the line's prior factor
     int line = -1;
+    int structure = -1;  ///< the structure the line is part of (a building); -1: none
   };
   std::vector<Pair> pairs;
   Eigen::VectorXd theta;  ///< the implicit function of each pair at the current estimate
@@ -48,10 +56,20 @@ struct HypothesisProblem {
 /// The most pairs EnumerateHypotheses takes (2^20 leaves, 8 MB).
 inline constexpr int kMaxEnumeratedPairs = 20;
 
+/// P(the point is related to some line of the structure), for a point gated with two or more
+/// lines of one structure.
+struct StructureMarginal {
+  int point = -1;
+  int structure = -1;
+  std::vector<int> pairs;  ///< indices into HypothesisProblem::pairs
+  double probability = 0.0;
+};
+
 struct HypothesisPosterior {
   std::vector<bool> map;  ///< the most probable hypothesis
   double map_probability = 0.0;
-  std::vector<double> marginals;  ///< P(D_j = 1) per pair
+  std::vector<double> marginals;                       ///< P(D_j = 1) per pair
+  std::vector<StructureMarginal> structure_marginals;  ///< ordered by (point, structure)
   std::size_t num_hypotheses = 0;
 };
 

@@ -10,6 +10,7 @@
 /// EKF-SLAM toolbox, which never forms the gain's product twice and only writes one triangle.
 
 #include <optional>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -81,6 +82,15 @@ class JointState {
   /// The Kalman update with a linearised measurement. Returns false, changing nothing, when the
   /// innovation covariance is not positive definite.
   bool Update(const Linearization& m);
+
+  /// The update with a mixture likelihood sum_s w_s N(z_s; h_s(x), R_s), one linearised
+  /// measurement per component: the posterior is the Gaussian sum of the components' Kalman
+  /// updates, weighted by w_s N(nu_s; 0, S_s), collapsed to its mean and covariance (moment
+  /// matching: sum_s a_s (P_s + (x_s - x)(x_s - x)^T), positive semi-definite by construction).
+  /// Returns the components' posterior weights a_s; nullopt, changing nothing, when an innovation
+  /// covariance is not positive definite or no weight is positive.
+  std::optional<std::vector<double>> UpdateMixture(std::span<const Linearization> components,
+                                                   std::span<const double> weights);
 
  private:
   // H P H^T + R given P H^T, which the update needs too.

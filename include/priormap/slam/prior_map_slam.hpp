@@ -73,8 +73,14 @@ struct SlamOptions {
   double endpoint_margin_sigmas = 3.0;  ///< the point's projection may pass an end by this
   int max_cluster_pairs = 8;            ///< larger clusters drop their least certain points
   bool accept_marginals = true;  ///< below p_accept for D_MAP, accept pairs with P(D_j) > p_accept
-  double recheck_chi2 = 10.83;   ///< flag an applied relation above this ...
-  int recheck_frames = 3;        ///< ... on this many consecutive frames
+  /// One level up the hierarchy: a point gated with several walls of one building (at a corner),
+  /// above p_accept for "some wall of this building" but for no single wall, is related to the
+  /// building: the eq. (3) mixture over those walls, applied by moment matching
+  /// (JointState::UpdateMixture). Off by default: in the study, collapsing the two-wall mixture
+  /// to one Gaussian costs consistency (docs/slam-prior-map.md, "Relations to buildings").
+  bool building_relations = false;
+  double recheck_chi2 = 10.83;  ///< flag an applied relation above this ...
+  int recheck_frames = 3;       ///< ... on this many consecutive frames
 };
 
 /// What the filter knows about the world's truth, to score relations (simulation only).
@@ -89,12 +95,14 @@ struct RelationTruth {
 
 struct RelationRecord {
   int landmark = -1;
-  int segment = -1;
+  int segment = -1;      ///< building level: the wall with the largest posterior weight
   double time = 0.0;     ///< when it was applied
   bool flagged = false;  ///< its innovation became implausible
   double flagged_time = 0.0;
-  std::optional<bool> correct;    ///< with RelationTruth
+  std::optional<bool> correct;    ///< with RelationTruth (building level: on one of `walls`)
   bool spurious_segment = false;  ///< with RelationTruth
+  int building = -1;       ///< a relation to some wall of this building (eq. 3); -1: to `segment`
+  std::vector<int> walls;  ///< building level: the candidate segments
 };
 
 struct FrameRecord {
@@ -136,7 +144,8 @@ struct SlamResult {
   std::vector<LandmarkEstimate> landmarks;  ///< in the state at the end
   std::vector<SegmentEstimate> segments;    ///< in the state at the end
   InferenceStats inference;
-  std::size_t rejected_updates = 0;  ///< innovation covariance not positive definite
+  std::size_t rejected_updates = 0;    ///< innovation covariance not positive definite
+  std::size_t building_relations = 0;  ///< of `relations`, those to some wall of a building
   std::size_t landmarks_created = 0;
 };
 

@@ -7,6 +7,7 @@
 
 #include <span>
 #include <utility>
+#include <vector>
 
 #include <priormap/slam/joint_state.hpp>
 
@@ -16,5 +17,11 @@ namespace priormap::slam {
 /// Precondition: every landmark and segment is in the state.
 [[nodiscard]] Linearization PointOnSegmentObservation(
     const JointState& state, std::span<const std::pair<int, int>> relations, double wall_std);
+
+/// A relation known one level up the hierarchy (eq. 3): "landmark i lies on some wall of this
+/// building", the likelihood sum_s p(d_s = 1 | d_S = 1) N(theta_s; 0, wall_std^2) over the
+/// building's candidate `segments`. One component per segment, for JointState::UpdateMixture.
+[[nodiscard]] std::vector<Linearization> PointOnSomeSegmentObservation(
+    const JointState& state, int landmark, std::span<const int> segments, double wall_std);
 
 }  // namespace priormap::slam

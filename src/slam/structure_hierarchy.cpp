@@ -1,0 +1,123 @@
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include <priormap/core/check.hpp>
+#include <priormap/slam/prior_map.hpp>
+#include <priormap/slam/structure_hierarchy.hpp>
+
+namespace priormap::slam {
+
+int StructureHierarchy::AddClass(std::string name, std::optional<int> parent) {
+  PRIORMAP_CHECK(!parent || (0 <= *parent && *parent < NumClasses()),
+                 fmt::format("parent class {} of '{}' does not exist", *parent, name));
+  classes_.push_back({std::move(name), parent});
+  return NumClasses() - 1;
+}
+
+int StructureHierarchy::AddInstance(int structure_class, std::optional<int> parent) {
+  PRIORMAP_CHECK(0 <= structure_class && structure_class < NumClasses(),
+                 fmt::format("structure class {} does not exist", structure_class));
+  const std::optional<int> parent_class = classes_[structure_class].parent;
+  if (parent) {
+    CheckInstance(*parent);
+    PRIORMAP_CHECK(parent_class && instances_[*parent].structure_class == *parent_class,
+                   fmt::format("an instance of '{}' cannot be part of an instance of '{}'",
+                               classes_[structure_class].name,
+                               classes_[instances_[*parent].structure_class].name));
+  }
+  const int index = NumInstances();
+  instances_.push_back({structure_class, parent, {}});
+  if (parent) instances_[*parent].children.push_back(index);
+  return index;
+}
+
+void StructureHierarchy::CheckInstance(int instance) const {
+  PRIORMAP_CHECK(0 <= instance && instance < NumInstances(),
+                 fmt::format("structure instance {} does not exist", instance));
+}
+
+const std::string& StructureHierarchy::ClassName(int structure_class) const {
+  PRIORMAP_CHECK(0 <= structure_class && structure_class < NumClasses(),
+                 fmt::format("structure class {} does not exist", structure_class));
+  return classes_[structure_class].name;
+}
+
+int StructureHierarchy::ClassOf(int instance) const {
+  CheckInstance(instance);
+  return instances_[instance].structure_class;
+}
+
+std::optional<int> StructureHierarchy::ParentOf(int instance) const {
+  CheckInstance(instance);
+  return instances_[instance].parent;
+}
+
+bool StructureHierarchy::IsPartOf(int instance, int whole) const {
+  CheckInstance(whole);
+  for (std::optional<int> up = ParentOf(instance); up; up = instances_[*up].parent) {
+    if (*up == whole) return true;
+  }
+  return false;
+}
+
+std::optional<int> StructureHierarchy::AncestorOfClass(int instance, int structure_class) const {
+  for (std::optional<int> up = ParentOf(instance); up; up = instances_[*up].parent) {
+    if (instances_[*up].structure_class == structure_class) return up;
+  }
+  return std::nullopt;
+}
+
+std::vector<int> StructureHierarchy::PartsOf(int whole, int structure_class) const {
+  CheckInstance(whole);
+  std::vector<int> parts;
+  std::vector<int> stack = instances_[whole].children;
+  while (!stack.empty()) {
+    const int next = stack.back();
+    stack.pop_back();
+    if (instances_[next].structure_class == structure_class) parts.push_back(next);
+    stack.insert(stack.end(), instances_[next].children.begin(), instances_[next].children.end());
+  }
+  std::sort(parts.begin(), parts.end());
+  return parts;
+}
+
+std::optional<int> PriorMapStructures::BuildingOf(int segment) const {
+  const auto wall = wall_instance.at(static_cast<std::size_t>(segment));
+  const std::optional<int> building = hierarchy.AncestorOfClass(wall, building_class);
+  if (!building) return std::nullopt;
+  const auto it = std::find(building_instance.begin(), building_instance.end(), *building);
+  return static_cast<int>(it - building_instance.begin());
+}
+
+std::vector<int> PriorMapStructures::SegmentsOf(int building) const {
+  std::vector<int> segments;
+  for (int wall :
+       hierarchy.PartsOf(building_instance.at(static_cast<std::size_t>(building)), wall_class)) {
+    segments.push_back(segment_of_wall[wall]);
+  }
+  return segments;
+}
+
+PriorMapStructures StructuresOf(const PriorMap& map) {
+  PriorMapStructures out;
+  out.building_class = out.hierarchy.AddClass("building");
+  out.wall_class = out.hierarchy.AddClass("wall", out.building_class);
+  for (std::size_t b = 0; b < map.buildings.size(); ++b) {
+    out.building_instance.push_back(out.hierarchy.AddInstance(out.building_class));
+    out.segment_of_wall.push_back(-1);
+  }
+  for (std::size_t s = 0; s < map.segments.size(); ++s) {
+    const int building = map.segments[s].building;
+    PRIORMAP_CHECK(building < static_cast<int>(map.buildings.size()),
+                   fmt::format("segment {} is part of building {}, but the map has {}", s, building,
+                               map.buildings.size()));
+    std::optional<int> parent;
+    if (building >= 0) parent = out.building_instance[static_cast<std::size_t>(building)];
+    out.wall_instance.push_back(out.hierarchy.AddInstance(out.wall_class, parent));
+    out.segment_of_wall.push_back(static_cast<int>(s));
+  }
+  return out;
+}
+
+}  // namespace priormap::slam
