@@ -69,7 +69,8 @@ class Enumerator {
         active_count_(lines_.factor.size(), 0),
         inactive_count_(lines_.factor.size(), 0),
         leaf_log_(std::size_t{1} << n_, kMinusInf),
-        one_line_per_point_(priors.one_line_per_point) {
+        one_line_per_point_(priors.one_line_per_point),
+        priors_(priors) {
     std::vector<int> points;
     for (const auto& pair : problem.pairs) {
       auto it = std::find(points.begin(), points.end(), pair.point);
@@ -164,7 +165,7 @@ class Enumerator {
       auto it = std::find_if(out.begin(), out.end(), [&](const StructureMarginal& m) {
         return m.point == pair.point && m.structure == pair.structure;
       });
-      if (it == out.end()) it = out.insert(out.end(), {pair.point, pair.structure, {}, 0.0});
+      if (it == out.end()) it = out.insert(out.end(), {pair.point, pair.structure, {}, 0.0, {}});
       it->pairs.push_back(j);
     }
     std::erase_if(out, [](const StructureMarginal& m) { return m.pairs.size() < 2; });
@@ -178,6 +179,20 @@ class Enumerator {
         }
       }
       m.probability = mass / total;
+      // "On s and on none of the others" over "on none": p_real(s) p_on / (q_s null_s), with
+      // q = 1 - p_real p_on the line's factor without the point.
+      double sum = 0.0;
+      for (int j : m.pairs) {
+        const bool known =
+            std::find(problem_.lines_known_real.begin(), problem_.lines_known_real.end(),
+                      problem_.pairs[j].line) != problem_.lines_known_real.end();
+        const double p_real = known ? 1.0 : priors_.p_line_real;
+        const double w =
+            p_real / ((1.0 - p_real * priors_.p_point_on_line) * std::exp(log_null_[j]));
+        m.weights.push_back(w);
+        sum += w;
+      }
+      for (double& w : m.weights) w /= sum;
     }
     std::sort(out.begin(), out.end(), [](const StructureMarginal& a, const StructureMarginal& b) {
       return std::tie(a.point, a.structure) < std::tie(b.point, b.structure);
@@ -205,6 +220,7 @@ class Enumerator {
   std::vector<double> log_null_;
   std::vector<double> leaf_log_;
   bool one_line_per_point_;
+  StructurePriors priors_;
   std::vector<int> point_of_pair_;
   std::vector<bool> point_active_;
   std::size_t count_ = 0;

@@ -235,6 +235,9 @@ struct PriorMapSlam::Impl {
         added.push_back(segment);
       }
     }
+    PRIORMAP_DCHECK(std::is_partitioned(relations.begin(), relations.end(),
+                                        [](const detail::Relation& r) { return r.building < 0; }),
+                    "relations to single segments come first");
     // Relations to single segments: one update (they are sorted first).
     std::vector<std::pair<int, int>> single;
     for (const detail::Relation& relation : relations) {

@@ -179,29 +179,29 @@ HypothesisProblem StructureInference::Problem(const JointState& state,
 }
 
 void StructureInference::AcceptBuildingRelations(const std::vector<Pair>& members,
-                                                 const HypothesisProblem& problem,
                                                  const HypothesisPosterior& posterior,
                                                  std::vector<Relation>& accepted) const {
+  // Most probable first, so a point above p_accept for two buildings (p_accept < 0.5) takes the
+  // likelier one.
+  std::vector<const StructureMarginal*> candidates;
   for (const StructureMarginal& marginal : posterior.structure_marginals) {
-    if (!(marginal.probability > options_.priors.p_accept)) continue;
-    const int landmark = marginal.point;
+    if (marginal.probability > options_.priors.p_accept) candidates.push_back(&marginal);
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const StructureMarginal* a, const StructureMarginal* b) {
+                     return a->probability > b->probability;
+                   });
+  for (const StructureMarginal* marginal : candidates) {
+    const int landmark = marginal->point;
     if (std::any_of(accepted.begin(), accepted.end(),
                     [&](const Relation& r) { return r.landmark == landmark; })) {
       continue;
     }
-    Relation relation{
-        .landmark = landmark, .segments = {}, .building = marginal.structure, .weights = {}};
-    for (int j : marginal.pairs) {
-      const int segment = members[j].segment;
-      relation.segments.push_back(segment);
-      // p(d_s = 1 | d_S = 1) as the enumeration's prior has it for one point: P(on s, on no
-      // other line) is proportional to p(d_n = 1 on s) / P(no point of these from s), so
-      // p_real / (1 - p_real p_point_on_line), with p_real = 1 for a line known to be real.
-      const bool known = std::find(problem.lines_known_real.begin(), problem.lines_known_real.end(),
-                                   segment) != problem.lines_known_real.end();
-      const double p_real = known ? 1.0 : options_.priors.p_line_real;
-      relation.weights.push_back(p_real / (1.0 - p_real * options_.priors.p_point_on_line));
-    }
+    Relation relation{.landmark = landmark,
+                      .segments = {},
+                      .building = marginal->structure,
+                      .weights = marginal->weights};
+    for (int j : marginal->pairs) relation.segments.push_back(members[j].segment);
     accepted.push_back(std::move(relation));
   }
 }
@@ -275,7 +275,7 @@ std::vector<Relation> StructureInference::Infer(const JointState& state, const R
                 : options_.accept_marginals && posterior.marginals[j] > options_.priors.p_accept;
         if (take) cluster_accepted.push_back({members[j].landmark, {members[j].segment}, -1, {}});
       }
-      AcceptBuildingRelations(members, problem, posterior, cluster_accepted);
+      AcceptBuildingRelations(members, posterior, cluster_accepted);
       accepted.insert(accepted.end(), std::make_move_iterator(cluster_accepted.begin()),
                       std::make_move_iterator(cluster_accepted.end()));
     }

@@ -70,7 +70,7 @@ class StructureInference {
   };
   // The building-level relations of a cluster: points not related to a single segment whose
   // probability of lying on some wall of one building exceeds p_accept.
-  void AcceptBuildingRelations(const std::vector<Pair>& members, const HypothesisProblem& problem,
+  void AcceptBuildingRelations(const std::vector<Pair>& members,
                                const HypothesisPosterior& posterior,
                                std::vector<Relation>& accepted) const;
   [[nodiscard]] std::vector<Pair> Gate(const JointState& state, const RelationBook& book) const;

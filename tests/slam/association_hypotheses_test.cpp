@@ -140,8 +140,10 @@ TEST(AssociationHypotheses, StructureMarginalIsTheEvidenceOfTheEqThreeMixture) {
   const double mixture = (on_a / p_structure) * la + (on_b / p_structure) * lb;
   const double evidence = p_structure * mixture;
   EXPECT_NEAR(marginal.probability, evidence / (evidence + on_c * lc + none), 1e-12);
-  // The weights are proportional to p_real / (1 - p_real p_point_on_line), as applied.
-  EXPECT_NEAR(on_a / on_b, (0.89 / qa) / (1.0 / qb), 1e-12);
+  // The mixture's weights, as the filter applies them.
+  ASSERT_EQ(marginal.weights.size(), 2u);
+  EXPECT_NEAR(marginal.weights[0], on_a / p_structure, 1e-12);
+  EXPECT_NEAR(marginal.weights[1], on_b / p_structure, 1e-12);
   // Exclusive events: the sum of the walls' marginals.
   EXPECT_NEAR(marginal.probability, posterior.marginals[0] + posterior.marginals[1], 1e-12);
 }
@@ -163,6 +165,26 @@ TEST(AssociationHypotheses, StructureMarginalCountsOverlappingHypothesesOnce) {
               (w_a + w_b + w_ab) / (w_a + w_b + w_ab + none), 1e-12);
   EXPECT_GT(posterior.marginals[0] + posterior.marginals[1],
             posterior.structure_marginals[0].probability);
+}
+
+// With a null density per pair, a wall whose pair is less likely unrelated weighs more: the
+// weights are "on s, not on the others" over "on none", so each divides by its own null density.
+TEST(AssociationHypotheses, StructureWeightsFollowThePairsNullDensities) {
+  HypothesisProblem problem;
+  problem.pairs = {{4, 0, 7}, {4, 1, 7}};
+  problem.theta = Eigen::Vector2d(0.1, 0.3);
+  problem.S = Eigen::Matrix2d::Identity() * 0.25;
+  problem.null_density = {0.2, 0.05};
+  const HypothesisPosterior posterior = EnumerateHypotheses(problem, StructurePriors{});
+  ASSERT_EQ(posterior.structure_marginals.size(), 1u);
+  const auto& weights = posterior.structure_marginals[0].weights;
+  // Both lines have the same prior, so the weights go as 1 / null: 0.05 : 0.2.
+  EXPECT_NEAR(weights[0], 0.05 / 0.25, 1e-12);
+  EXPECT_NEAR(weights[1], 0.2 / 0.25, 1e-12);
+  // And they are the enumeration's own: P(on A) / P(on B) = w_A N_A / (w_B N_B).
+  const double la = Normal(0.1, 0.25), lb = Normal(0.3, 0.25);
+  EXPECT_NEAR(posterior.marginals[0] / posterior.marginals[1], weights[0] * la / (weights[1] * lb),
+              1e-12);
 }
 
 TEST(AssociationHypotheses, LogPriorIsThePapersProductOverLines) {

@@ -63,6 +63,10 @@ struct StructureMarginal {
   int structure = -1;
   std::vector<int> pairs;  ///< indices into HypothesisProblem::pairs
   double probability = 0.0;
+  /// p(d_s = 1 | d_S = 1) per pair, as the prior has it for this point alone: proportional to
+  /// p_real / ((1 - p_real p_point_on_line) p(theta | d = 0)). (Other points gated with the same
+  /// lines change those lines' factors; the weights leave that out.)
+  std::vector<double> weights;
 };
 
 struct HypothesisPosterior {
