@@ -22,6 +22,7 @@ double LogSumExp(double a, double b) {
 // inactive pairs: factor[line][active * (n + 1) + inactive].
 struct LinePriors {
   std::vector<int> line_of_pair;
+  std::vector<double> p_real;  // per line: p(d_line = 1)
   std::vector<std::vector<double>> factor;
   int stride = 0;
 };
@@ -42,6 +43,7 @@ LinePriors MakeLinePriors(const HypothesisProblem& problem, const StructurePrior
     const bool known = std::find(problem.lines_known_real.begin(), problem.lines_known_real.end(),
                                  id) != problem.lines_known_real.end();
     const double p_real = known ? 1.0 : priors.p_line_real;
+    lines.p_real.push_back(p_real);
     std::vector<double> factor((n + 1) * (n + 1), kMinusInf);
     for (int active = 0; active <= n; ++active) {
       for (int inactive = 0; active + inactive <= n; ++inactive) {
@@ -183,10 +185,7 @@ class Enumerator {
       // q = 1 - p_real p_on the line's factor without the point.
       double sum = 0.0;
       for (int j : m.pairs) {
-        const bool known =
-            std::find(problem_.lines_known_real.begin(), problem_.lines_known_real.end(),
-                      problem_.pairs[j].line) != problem_.lines_known_real.end();
-        const double p_real = known ? 1.0 : priors_.p_line_real;
+        const double p_real = lines_.p_real[lines_.line_of_pair[j]];
         const double w =
             p_real / ((1.0 - p_real * priors_.p_point_on_line) * std::exp(log_null_[j]));
         m.weights.push_back(w);

@@ -226,6 +226,7 @@ struct PriorMapSlam::Impl {
 
   void ApplyRelations(const std::vector<detail::Relation>& relations) {
     if (relations.empty()) return;
+    const auto first_recorded = static_cast<std::ptrdiff_t>(book.applied.size());
     std::vector<int> added;
     for (const detail::Relation& relation : relations) {
       for (int segment : relation.segments) {
@@ -265,20 +266,16 @@ struct PriorMapSlam::Impl {
       Record(relation, relation.segments[static_cast<std::size_t>(most)]);
       ++result.building_relations;
     }
-    RemoveUnrelatedSegments(added);
-  }
-
-  // Segments that entered the state for relations that were then not applied (an update
-  // rejected) leave it again, untouched and still independent of everything, not retired.
-  void RemoveUnrelatedSegments(const std::vector<int>& segments) {
-    for (int segment : segments) {
-      const bool related =
-          std::any_of(book.applied.begin(), book.applied.end(), [&](const detail::Relation& r) {
-            return std::find(r.segments.begin(), r.segments.end(), segment) != r.segments.end();
-          });
-      if (!related && state.Contains(BlockKind::kSegment, segment)) {
-        state.Remove(BlockKind::kSegment, segment);
-      }
+    // A segment that entered the state for updates that were then rejected leaves it again,
+    // untouched and still independent of everything, so it is not retired. (Only this call's
+    // relations can use it: a segment outside the state has none applied.)
+    for (int segment : added) {
+      const bool used = std::any_of(book.applied.begin() + first_recorded, book.applied.end(),
+                                    [&](const detail::Relation& r) {
+                                      return std::find(r.segments.begin(), r.segments.end(),
+                                                       segment) != r.segments.end();
+                                    });
+      if (!used) state.Remove(BlockKind::kSegment, segment);
     }
   }
 

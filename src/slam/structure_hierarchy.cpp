@@ -86,8 +86,7 @@ std::optional<int> PriorMapStructures::BuildingOf(int segment) const {
   const auto wall = wall_instance.at(static_cast<std::size_t>(segment));
   const std::optional<int> building = hierarchy.AncestorOfClass(wall, building_class);
   if (!building) return std::nullopt;
-  const auto it = std::find(building_instance.begin(), building_instance.end(), *building);
-  return static_cast<int>(it - building_instance.begin());
+  return building_index[static_cast<std::size_t>(*building)];
 }
 
 std::vector<int> PriorMapStructures::SegmentsOf(int building) const {
@@ -106,6 +105,7 @@ PriorMapStructures StructuresOf(const PriorMap& map) {
   for (std::size_t b = 0; b < map.buildings.size(); ++b) {
     out.building_instance.push_back(out.hierarchy.AddInstance(out.building_class));
     out.segment_of_wall.push_back(-1);
+    out.building_index.push_back(static_cast<int>(b));
   }
   for (std::size_t s = 0; s < map.segments.size(); ++s) {
     const int building = map.segments[s].building;
@@ -116,6 +116,7 @@ PriorMapStructures StructuresOf(const PriorMap& map) {
     if (building >= 0) parent = out.building_instance[static_cast<std::size_t>(building)];
     out.wall_instance.push_back(out.hierarchy.AddInstance(out.wall_class, parent));
     out.segment_of_wall.push_back(static_cast<int>(s));
+    out.building_index.push_back(-1);
   }
   return out;
 }

@@ -64,6 +64,7 @@ struct PriorMapStructures {
   std::vector<int> building_instance;  ///< per PriorMap::buildings
   std::vector<int> wall_instance;      ///< per PriorMap::segments
   std::vector<int> segment_of_wall;    ///< per hierarchy instance: its segment, -1 for buildings
+  std::vector<int> building_index;     ///< per hierarchy instance: its building, -1 for walls
 
   /// The building segment `segment` is part of (an index into PriorMap::buildings), if any.
   [[nodiscard]] std::optional<int> BuildingOf(int segment) const;
