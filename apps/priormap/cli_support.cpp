@@ -13,6 +13,31 @@
 
 namespace priormap::app {
 
+namespace {
+
+CLI::Validator NumberCheck(bool allow_zero) {
+  return CLI::Validator(
+      [allow_zero](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+        const bool ok = allow_zero ? value >= 0.0 : value > 0.0;
+        if (ok && std::isfinite(value)) return {};
+        return text + (allow_zero ? " is negative (expected a number >= 0)"
+                                  : " is not positive (expected a number > 0)");
+      },
+      allow_zero ? "NONNEGATIVE" : "POSITIVE");
+}
+
+}  // namespace
+
+CLI::Validator PositiveValue() {
+  return NumberCheck(false);
+}
+
+CLI::Validator NonNegativeValue() {
+  return NumberCheck(true);
+}
+
 std::string DescribeDiagnostics(const std::vector<Diagnostic>& diagnostics) {
   std::string out;
   for (const Diagnostic& d : diagnostics) {

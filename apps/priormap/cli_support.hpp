@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include <priormap/core/diagnostic.hpp>
 #include <priormap/core/scene.hpp>
 #include <priormap/core/se2.hpp>
@@ -32,6 +34,11 @@ T ValueOrThrow(Result<T> result) {
   if (!result) throw UserError(DescribeDiagnostics(result.diagnostics()));
   return std::move(result).value();
 }
+
+/// Checks for numeric options that say plainly what is wrong (CLI11's PositiveNumber prints
+/// its range up to DBL_MAX).
+[[nodiscard]] CLI::Validator PositiveValue();
+[[nodiscard]] CLI::Validator NonNegativeValue();
 
 /// "x,y,theta" (theta in radians).
 [[nodiscard]] Se2 ParsePose(const std::string& text);

@@ -87,15 +87,15 @@ void AddConvertCommand(CLI::App& app) {
       ->check(CLI::IsMember({"carmen", "json"}));
   cmd->add_option("--max-range", o->max_range,
                   "CARMEN: readings at or above this are max-range (default: detected)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveValue());
   cmd->add_option("--min-range", o->min_range, "CARMEN: readings below this are invalid")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeValue());
   cmd->add_option("--fov", o->fov_deg,
                   "CARMEN: field of view of FLASER/RLASER lines, degrees (default 180)")
       ->check(CLI::Range(0.0, 360.0));
   cmd->add_option("--sigma", o->sigma,
                   "CARMEN: range noise standard deviation given to every reading, m")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveValue());
   cmd->add_option("--poses", o->poses,
                   "What the scan poses are: unknown, odometry, corrected, ground_truth")
       ->check(CLI::IsMember({"unknown", "odometry", "corrected", "ground_truth"}));

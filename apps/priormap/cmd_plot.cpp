@@ -111,7 +111,7 @@ void AddPlotCommand(CLI::App& app) {
   cmd->add_option("--scan", o->scan, "Draw only this scan (0-based)");
   cmd->add_option("--scene", o->scene, "Overlay a scene (built-in name or scene JSON)");
   cmd->add_option("--stride", o->stride, "Log maps: draw every n-th scan")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--title", o->title, "Figure title");
   cmd->add_option("--width", o->width, "Figure width, pixels")
@@ -119,7 +119,7 @@ void AddPlotCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-range", o->max_range,
                   "CARMEN input: readings at or above this are max-range")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveValue());
   cmd->callback([o] { Run(*o); });
 }
 

@@ -164,7 +164,7 @@ void AddScanCommand(CLI::App& app) {
   cmd->add_flag("--no-refine", o->no_refine, "Keep the greedy topology (no border refinement)");
   cmd->add_option("--max-range", o->max_range,
                   "CARMEN input: readings at or above this are max-range")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveValue());
   cmd->add_option("--covariance", o->covariance,
                   "Posterior covariance restricted to Free: 'conditional' N (N^T A N)^-1 N^T, or "
                   "the paper's 'projected' P A^-1 P^T (docs/formats.md)")

@@ -123,10 +123,9 @@ void AddSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--sensor", o->sensor, "Sensor preset: utm30 or lms200")->capture_default_str();
   cmd->add_option("--beams", o->beams, "Number of beams (overrides the preset)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveValue());
   cmd->add_option("--fov", o->fov_deg, "Field of view, degrees")->check(CLI::Range(0.0, 360.0));
-  cmd->add_option("--sigma", o->sigma, "Range noise standard deviation, m")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--sigma", o->sigma, "Range noise standard deviation, m")->check(PositiveValue());
   cmd->add_option("--correlation", o->correlation,
                   "Noise correlation of neighbouring beams, in [0, 1)");
   cmd->add_option("--min-range", o->min_range, "Minimum range, m");
@@ -139,10 +138,10 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_flag("--log", o->log,
                 "Simulate a localized log along the scene's waypoints instead of one scan");
   cmd->add_option("--speed", o->speed, "Log: robot speed, m/s")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--rate", o->rate, "Log: scans per second")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same output")
       ->capture_default_str();

@@ -47,15 +47,15 @@ void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
       ->group(group);
   cmd->add_option("--null-density", o.priors.unrelated_density,
                   "p(theta | d = 0): density of an unrelated pair's distance, per metre")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group(group);
   cmd->add_option("--wall-std", o.wall_std, "How far a landmark on a wall may be off it, m")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group(group);
   cmd->add_option("--gate-chi2", o.gate_chi2, "Gate of a landmark-segment pair (chi2, 1 dof)")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group(group);
   cmd->add_option("--max-cluster-pairs", o.max_cluster_pairs,
@@ -65,7 +65,7 @@ void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
       ->group(group);
   cmd->add_option("--recheck-chi2", o.recheck_chi2,
                   "Flag an applied relation whose innovation exceeds this (chi2, 1 dof) ...")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group(group);
   cmd->add_option("--recheck-frames", o.recheck_frames, "... on this many consecutive frames")
@@ -437,10 +437,10 @@ void AddSimulate(CLI::App& slam_cmd) {
   cmd->add_option("--export-inputs", o->export_inputs,
                   "Also write run 0's data as input files of 'slam run' into this directory");
   cmd->add_option("--prior-std", o->prior_std, "Endpoint noise of the simulated prior map, m")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--window", o->window, "Drop landmarks not seen for this long, s (0: keep all)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(NonNegativeValue())
       ->capture_default_str();
   AddAlgorithmOptions(cmd, o->slam);
   cmd->callback([o] { Simulate(*o); });
@@ -459,7 +459,7 @@ void AddRun(CLI::App& slam_cmd) {
   cmd->add_option("-o,--out", o->out, "Output directory (created)")->required();
   cmd->add_option("--prior-std", o->prior_std,
                   "Endpoint 1-sigma of the prior map where the GeoJSON gives none, m")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--initial-pose", o->initial_pose, "Start pose x,y,theta (m, m, rad), known")
       ->capture_default_str();
@@ -469,30 +469,30 @@ void AddRun(CLI::App& slam_cmd) {
       ->capture_default_str();
   cmd->add_option("--window", o->slam.window_s,
                   "Drop landmarks not seen for this long, s (0: keep all)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(NonNegativeValue())
       ->capture_default_str();
   cmd->add_flag("--no-prior", o->no_prior, "Plain EKF-SLAM, without the prior map");
   cmd->add_flag("--no-figures", o->no_figures, "No map figure");
   cmd->add_option("--threads", o->threads, "At most this many threads")->check(CLI::Range(1, 4096));
   const char* noise = "Noise models";
   cmd->add_option("--range-std", o->sensor.range_std, "Range 1-sigma, m")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group(noise);
   cmd->add_option("--bearing-std", o->bearing_std_deg, "Bearing 1-sigma, degrees")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group(noise);
   cmd->add_option("--speed-std", o->motion.speed_std, "Bicycle odometry: speed 1-sigma, m/s")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group(noise);
   cmd->add_option("--steer-std", o->steer_std_deg, "Bicycle odometry: steering 1-sigma, degrees")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group(noise);
   cmd->add_option("--wheelbase", o->motion.wheelbase, "Bicycle odometry: wheelbase, m")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group(noise);
   cmd->add_option("--increment-std", o->increment_std,
@@ -501,17 +501,17 @@ void AddRun(CLI::App& slam_cmd) {
       ->group(noise);
   cmd->add_option("--max-range", o->slam.max_range,
                   "Nearest-neighbour association: landmarks this near are candidates, m")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group("Advanced (association)");
   cmd->add_option("--nn-gate-chi2", o->slam.nn_gate_chi2,
                   "Nearest-neighbour association: accept below this (chi2, 2 dof)")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group("Advanced (association)");
   cmd->add_option("--nn-new-landmark-chi2", o->slam.nn_new_landmark_chi2,
                   "Nearest-neighbour association: a new landmark only above this from all")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveValue())
       ->capture_default_str()
       ->group("Advanced (association)");
   AddAlgorithmOptions(cmd, o->slam);

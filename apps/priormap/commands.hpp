@@ -11,6 +11,7 @@ void AddPlotCommand(CLI::App& app);
 void AddPriorCommand(CLI::App& app);
 void AddScanCommand(CLI::App& app);
 void AddSlamCommand(CLI::App& app);
+void AddPrfCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);
 

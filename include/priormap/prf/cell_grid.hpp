@@ -1,0 +1,75 @@
+#pragma once
+/// A uniform grid of cells over a window, and the walk of a segment through it (Amanatides &
+/// Woo's DDA). The edge index of a coloring, the local recolor move and the beam index of the
+/// laser likelihood all walk segments through such a grid.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <priormap/core/types.hpp>
+
+namespace priormap::prf {
+
+struct CellGrid {
+  Vec2 origin = Vec2::Zero();
+  Vec2 cell = Vec2::Ones();  // cell width and height
+  int nx = 1;
+  int ny = 1;
+
+  /// Cells of about `cell_size` covering [min, max] exactly.
+  static CellGrid Covering(const Vec2& min, const Vec2& max, double cell_size);
+
+  [[nodiscard]] int NumCells() const { return nx * ny; }
+  [[nodiscard]] int ClampX(double x) const {
+    return std::clamp(static_cast<int>(std::floor((x - origin.x()) / cell.x())), 0, nx - 1);
+  }
+  [[nodiscard]] int ClampY(double y) const {
+    return std::clamp(static_cast<int>(std::floor((y - origin.y()) / cell.y())), 0, ny - 1);
+  }
+  [[nodiscard]] int CellOf(const Vec2& p) const { return ClampY(p.y()) * nx + ClampX(p.x()); }
+};
+
+/// Calls visit(cell, t_enter, t_exit) for each cell that the segment a + t (b - a), t in [0, 1],
+/// passes through, in order from a, with the parameter interval spent in the cell; stops early
+/// when visit returns false. Points outside the grid are clamped to its border cells.
+template <class Visit>
+void WalkCells(const CellGrid& grid, const Vec2& a, const Vec2& b, Visit&& visit) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const Vec2 d = b - a;
+  int ix = grid.ClampX(a.x());
+  int iy = grid.ClampY(a.y());
+  const int end_x = grid.ClampX(b.x());
+  const int end_y = grid.ClampY(b.y());
+  const int step_x = d.x() > 0.0 ? 1 : (d.x() < 0.0 ? -1 : 0);
+  const int step_y = d.y() > 0.0 ? 1 : (d.y() < 0.0 ? -1 : 0);
+  auto first_crossing = [](int step, int i, double origin, double size, double start,
+                           double delta) {
+    if (step == 0) return kInf;
+    const double boundary = origin + (step > 0 ? i + 1 : i) * size;
+    return std::max(0.0, (boundary - start) / delta);
+  };
+  double t_max_x = first_crossing(step_x, ix, grid.origin.x(), grid.cell.x(), a.x(), d.x());
+  double t_max_y = first_crossing(step_y, iy, grid.origin.y(), grid.cell.y(), a.y(), d.y());
+  const double t_delta_x = step_x != 0 ? grid.cell.x() / std::abs(d.x()) : kInf;
+  const double t_delta_y = step_y != 0 ? grid.cell.y() / std::abs(d.y()) : kInf;
+  double t = 0.0;
+  for (;;) {
+    const bool at_end = ix == end_x && iy == end_y;
+    const double t_next = at_end ? 1.0 : std::min({t_max_x, t_max_y, 1.0});
+    if (!visit(iy * grid.nx + ix, t, t_next)) return;
+    if (at_end || t_next >= 1.0) return;
+    if (t_max_x < t_max_y) {
+      ix += step_x;
+      t = t_max_x;
+      t_max_x += t_delta_x;
+    } else {
+      iy += step_y;
+      t = t_max_y;
+      t_max_y += t_delta_y;
+    }
+    if (ix < 0 || ix >= grid.nx || iy < 0 || iy >= grid.ny) return;
+  }
+}
+
+}  // namespace priormap::prf

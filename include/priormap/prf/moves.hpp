@@ -1,0 +1,70 @@
+#pragma once
+/// The move types of the sampler (Paskin & Thrun, Fig. 2; Clifford & Nicholls 1994) and their
+/// counters. A move *kind* is chosen by weight; births and deaths of a kind then split evenly.
+/// docs/prf-moves.md derives each proposal density and Hastings ratio.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+namespace priormap::prf {
+
+enum class MoveKind : int {
+  kTriangle,          // interior triangle birth/death (Fig. 2a)
+  kBoundaryTriangle,  // boundary triangle birth/death: a bend attached to one side (Fig. 2b)
+  kCorner,            // corner edge birth/death: an edge cutting off a window corner (Fig. 2c)
+  kVertex,            // vertex birth/death on an edge (Fig. 2d)
+  kInteriorMove,      // interior vertex moves (Fig. 2e)
+  kBoundaryMove,      // boundary vertex moves along the boundary (Fig. 2f)
+  kRecolor,           // recolor quadrilateral, two edges drawn uniformly (Fig. 2h)
+  kLocalRecolor,      // recolor with the second edge from the first's grid cells (Fig. 2i)
+  kSlide,             // slide a vertex along one of its edges (Fig. 2j)
+};
+inline constexpr int kNumMoveKinds = 9;
+
+enum class MoveType : int {
+  kTriangleBirth,
+  kTriangleDeath,
+  kBoundaryTriangleBirth,
+  kBoundaryTriangleDeath,
+  kCornerBirth,
+  kCornerDeath,
+  kVertexBirth,
+  kVertexDeath,
+  kInteriorMove,
+  kBoundaryMove,
+  kRecolor,
+  kLocalRecolor,
+  kSlide,
+};
+inline constexpr int kNumMoveTypes = 13;
+
+/// snake_case names, as in summary.json and on the command line ("triangle_birth", ...).
+[[nodiscard]] std::string_view MoveTypeName(MoveType type);
+[[nodiscard]] std::string_view MoveKindName(MoveKind kind);
+[[nodiscard]] std::optional<MoveKind> ParseMoveKind(std::string_view name);
+
+struct MoveCounter {
+  std::uint64_t proposed = 0;
+  std::uint64_t invalid = 0;  // the proposal left the space of valid colorings (or had density 0)
+  std::uint64_t accepted = 0;
+
+  MoveCounter& operator+=(const MoveCounter& other) {
+    proposed += other.proposed;
+    invalid += other.invalid;
+    accepted += other.accepted;
+    return *this;
+  }
+};
+using MoveCounters = std::array<MoveCounter, kNumMoveTypes>;
+
+/// Relative weight of each move kind; zero switches a kind off.
+struct MoveWeights {
+  std::array<double, kNumMoveKinds> weight{1.0, 1.0, 1.0, 2.0, 2.0, 1.0, 0.5, 1.0, 1.0};
+
+  [[nodiscard]] double& operator[](MoveKind kind) { return weight[static_cast<int>(kind)]; }
+  [[nodiscard]] double operator[](MoveKind kind) const { return weight[static_cast<int>(kind)]; }
+};
+
+}  // namespace priormap::prf

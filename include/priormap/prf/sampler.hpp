@@ -1,0 +1,94 @@
+#pragma once
+/// The Metropolis–Hastings sampler of polygonal colorings (Paskin & Thrun, Sec. 1.3.3 and 2.1):
+/// the Clifford–Nicholls moves and their reverses, plus local recolor and slide, against the
+/// Arak measure (eqs. 1–3). docs/prf-moves.md derives every proposal density and ratio that
+/// Propose returns.
+
+#include <cstdint>
+#include <vector>
+
+#include <priormap/core/rng.hpp>
+#include <priormap/prf/coloring.hpp>
+#include <priormap/prf/moves.hpp>
+
+namespace priormap::prf {
+
+struct SamplerOptions {
+  double p = 0.1;  // scale parameter of the Arak process (1/length)
+  MoveWeights weights;
+  /// r of the births: the other vertices of a triangle within ±r of the first (per axis), a
+  /// boundary triangle's second boundary vertex within r of the first, a corner edge's vertices
+  /// within r of the corner.
+  double birth_scale = 1.0;
+  /// κ of the vertex birth: the new vertex is uniform in the rectangle along the edge with
+  /// half-width κ|e|.
+  double vertex_birth_width = 0.5;
+  /// Half-widths of the symmetric random-walk steps of the vertex moves; each step draws one.
+  std::vector<double> step_scales{0.02, 0.1, 0.5};
+  /// The target is (prior · likelihood)^(1/temperature); 1 samples, lower anneals.
+  double temperature = 1.0;
+  /// Debug: check every invariant by brute force after each accepted move (slow).
+  bool check_invariants = false;
+};
+
+class PrfSampler {
+ public:
+  PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t seed);
+
+  /// One Metropolis–Hastings step: choose a move type, propose, accept or reject.
+  void Step();
+  void Run(std::uint64_t steps) {
+    for (std::uint64_t i = 0; i < steps; ++i) Step();
+  }
+
+  [[nodiscard]] const Coloring& coloring() const { return coloring_; }
+  [[nodiscard]] const SamplerOptions& options() const { return options_; }
+  [[nodiscard]] const MoveCounters& counters() const { return counters_; }
+  [[nodiscard]] double LogPrior() const { return coloring_.LogArakDensity(options_.p); }
+  void set_temperature(double temperature) { options_.temperature = temperature; }
+
+  /// Draws a move of `type` into `edit` with log(π(reverse) / π(forward)), the proposal part of
+  /// the Hastings ratio against the base measure. False when the state offers no such move or
+  /// the draw falls where the target has no mass (outside the window, reverse impossible).
+  bool Propose(MoveType type, Edit* edit, double* log_proposal_ratio);
+
+ private:
+  MoveType ChooseType();
+  bool ProposeTriangleBirth(Edit* edit, double* log_q);
+  bool ProposeTriangleDeath(Edit* edit, double* log_q);
+  bool ProposeBoundaryTriangleBirth(Edit* edit, double* log_q);
+  bool ProposeBoundaryTriangleDeath(Edit* edit, double* log_q);
+  bool ProposeCornerBirth(Edit* edit, double* log_q);
+  bool ProposeCornerDeath(Edit* edit, double* log_q);
+  bool ProposeVertexBirth(Edit* edit, double* log_q);
+  bool ProposeVertexDeath(Edit* edit, double* log_q);
+  bool ProposeInteriorMove(Edit* edit);
+  bool ProposeBoundaryMove(Edit* edit);
+  bool ProposeRecolor(Edit* edit, double* log_q, bool local);
+  bool ProposeSlide(Edit* edit);
+
+  /// Unordered proposal densities of the births, shared by births and their deaths.
+  [[nodiscard]] double TriangleDensity(const Vec2& a, const Vec2& b, const Vec2& c) const;
+  [[nodiscard]] double BoundaryTriangleDensity(const Vec2& b1, int side1, const Vec2& b2, int side2,
+                                               const Vec2& v) const;
+  [[nodiscard]] double VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v) const;
+  /// Number of edges other than `e` (and other than removed ones) sharing a grid cell with
+  /// segment ab; `extra` is a segment added alongside, counted when it shares a cell.
+  [[nodiscard]] int CellNeighbourCount(const Vec2& a, const Vec2& b, EdgeId self, EdgeId removed1,
+                                       EdgeId removed2) const;
+  [[nodiscard]] bool ShareACell(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
+  [[nodiscard]] double StepScale();
+
+  Coloring coloring_;
+  SamplerOptions options_;
+  Rng rng_;
+  MoveCounters counters_{};
+  std::vector<double> cumulative_weights_;
+  Edit edit_;
+  EditEffect effect_;
+  std::vector<EdgeId> scratch_edges_;
+  std::vector<std::uint32_t> cell_stamp_;
+  std::uint32_t cell_stamp_value_ = 0;
+};
+
+}  // namespace priormap::prf

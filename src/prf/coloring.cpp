@@ -1,0 +1,476 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include <priormap/core/check.hpp>
+#include <priormap/prf/coloring.hpp>
+
+namespace priormap::prf {
+namespace {
+
+constexpr double kMinusInf = -std::numeric_limits<double>::infinity();
+
+bool OnSegmentBox(const Vec2& a, const Vec2& b, const Vec2& p) {
+  return p.x() >= std::min(a.x(), b.x()) && p.x() <= std::max(a.x(), b.x()) &&
+         p.y() >= std::min(a.y(), b.y()) && p.y() <= std::max(a.y(), b.y());
+}
+
+int Sign(double x) {
+  return (x > 0.0) - (x < 0.0);
+}
+
+// True when the open segments cross at one point interior to both.
+bool ProperlyCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const int o1 = Sign(Cross(b - a, c - a));
+  const int o2 = Sign(Cross(b - a, d - a));
+  const int o3 = Sign(Cross(d - c, a - c));
+  const int o4 = Sign(Cross(d - c, b - c));
+  return o1 * o2 < 0 && o3 * o4 < 0;
+}
+
+}  // namespace
+
+bool SegmentsTouch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const int o1 = Sign(Cross(b - a, c - a));
+  const int o2 = Sign(Cross(b - a, d - a));
+  const int o3 = Sign(Cross(d - c, a - c));
+  const int o4 = Sign(Cross(d - c, b - c));
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+  return (o1 == 0 && OnSegmentBox(a, b, c)) || (o2 == 0 && OnSegmentBox(a, b, d)) ||
+         (o3 == 0 && OnSegmentBox(c, d, a)) || (o4 == 0 && OnSegmentBox(c, d, b));
+}
+
+bool InsidePolygon(std::span<const Vec2> polygon, const Vec2& q) {
+  bool inside = false;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2& pi = polygon[i];
+    const Vec2& pj = polygon[j];
+    if ((pi.y() > q.y()) != (pj.y() > q.y()) &&
+        q.x() < (pj.x() - pi.x()) * (q.y() - pi.y()) / (pj.y() - pi.y()) + pi.x())
+      inside = !inside;
+  }
+  return inside;
+}
+
+Coloring::Coloring(const Window& window, double cell_size, Colour anchor)
+    : window_(window),
+      grid_(CellGrid::Covering(window.min, window.max, cell_size)),
+      // Off-centre by irrational fractions, so that no structure placed on round coordinates
+      // (in tests, in scenes) passes through it.
+      anchor_(window.min + Vec2((0.5 + 0.01 * std::numbers::sqrt2) * window.Width(),
+                                (0.5 + 0.01 * std::numbers::pi) * window.Height())),
+      anchor_colour_(anchor),
+      cells_(static_cast<std::size_t>(grid_.NumCells())) {}
+
+double Coloring::LogArakDensity(double p) const {
+  return stats_.edges * std::log(p) - stats_.sum_log_length + stats_.sum_log_sin -
+         2.0 * p * stats_.total_length;
+}
+
+std::uint32_t Coloring::NextStamp() const {
+  if (++stamp_ == 0) {
+    std::fill(edge_stamp_.begin(), edge_stamp_.end(), 0u);
+    stamp_ = 1;
+  }
+  return stamp_;
+}
+
+int Coloring::CountCrossings(const Vec2& a, const Vec2& b) const {
+  int crossings = 0;
+  ForEachEdgeNear(a, b, [&](EdgeId e) {
+    const Segment s = EdgeSegment(e);
+    if (ProperlyCross(a, b, s.a, s.b)) ++crossings;
+  });
+  return crossings;
+}
+
+Colour Coloring::ColourAt(const Vec2& q) const {
+  return CountCrossings(anchor_, q) % 2 == 0 ? anchor_colour_ : Flip(anchor_colour_);
+}
+
+std::optional<double> Coloring::FirstHit(const Vec2& origin, const Vec2& direction,
+                                         double t_max) const {
+  const std::uint32_t stamp = NextStamp();
+  double best = std::numeric_limits<double>::infinity();
+  WalkCells(grid_, origin, origin + t_max * direction, [&](int cell, double, double t_exit) {
+    for (EdgeId e : cells_[cell]) {
+      if (edge_stamp_[e] == stamp) continue;
+      edge_stamp_[e] = stamp;
+      const Segment s = EdgeSegment(e);
+      const Vec2 along = s.b - s.a;
+      const double denominator = Cross(direction, along);
+      if (denominator == 0.0) continue;
+      const Vec2 offset = s.a - origin;
+      const double t = Cross(offset, along) / denominator;
+      const double u = Cross(offset, direction) / denominator;
+      if (t > 0.0 && t <= t_max && u >= 0.0 && u <= 1.0) best = std::min(best, t);
+    }
+    // Every hit in later cells is farther than this cell's exit.
+    return best > t_exit * t_max;
+  });
+  if (best <= t_max) return best;
+  return std::nullopt;
+}
+
+double Coloring::VertexLogSin(const Vec2& position, int side, const Vec2& first,
+                              const Vec2* second) const {
+  const Vec2 u = first - position;
+  double sine;
+  if (side == kInterior) {
+    const Vec2 w = *second - position;
+    sine = std::abs(Cross(u, w)) / (u.norm() * w.norm());
+  } else {
+    sine = std::abs(Cross(u, window_.SideDirection(side))) / u.norm();
+  }
+  return sine > 0.0 ? std::log(sine) : kMinusInf;
+}
+
+// ---- storage ------------------------------------------------------------------------------
+
+VertexId Coloring::AllocateVertex() {
+  if (!free_vertices_.empty()) {
+    const VertexId v = free_vertices_.back();
+    free_vertices_.pop_back();
+    return v;
+  }
+  vertices_.emplace_back();
+  return static_cast<VertexId>(vertices_.size() - 1);
+}
+
+EdgeId Coloring::AllocateEdge() {
+  if (!free_edges_.empty()) {
+    const EdgeId e = free_edges_.back();
+    free_edges_.pop_back();
+    return e;
+  }
+  edges_.emplace_back();
+  edge_stamp_.push_back(0);
+  return static_cast<EdgeId>(edges_.size() - 1);
+}
+
+void Coloring::IndexEdge(EdgeId e) {
+  const Segment s = EdgeSegment(e);
+  WalkCells(grid_, s.a, s.b, [&](int cell, double, double) {
+    cells_[cell].push_back(e);
+    return true;
+  });
+}
+
+void Coloring::UnindexEdge(EdgeId e) {
+  const Segment s = EdgeSegment(e);
+  WalkCells(grid_, s.a, s.b, [&](int cell, double, double) {
+    auto& list = cells_[cell];
+    const auto it = std::find(list.begin(), list.end(), e);
+    PRIORMAP_DCHECK(it != list.end(), "edge missing from a cell of its walk");
+    if (it != list.end()) {
+      *it = list.back();
+      list.pop_back();
+    }
+    return true;
+  });
+}
+
+void Coloring::RemoveEdge(EdgeId e) {
+  UnindexEdge(e);
+  ColoringEdge& edge = edges_[e];
+  for (VertexId v : edge.vertices)
+    for (EdgeId& slot : vertices_[v].edges)
+      if (slot == e) slot = kNoEdge;
+  const std::int32_t slot = edge.slot;
+  edge_list_[slot] = edge_list_.back();
+  edges_[edge_list_[slot]].slot = slot;
+  edge_list_.pop_back();
+  edge = ColoringEdge{};
+  free_edges_.push_back(e);
+}
+
+void Coloring::RemoveVertex(VertexId v) {
+  ColoringVertex& vertex = vertices_[v];
+  auto& list = vertex.side == kInterior ? interior_ : boundary_;
+  const std::int32_t slot = vertex.slot;
+  list[slot] = list.back();
+  vertices_[list[slot]].slot = slot;
+  list.pop_back();
+  vertex = ColoringVertex{};
+  free_vertices_.push_back(v);
+}
+
+// ---- edits --------------------------------------------------------------------------------
+
+bool Coloring::CrossesAnything(const Vec2& a, const Vec2& b, VertexRef ra, VertexRef rb,
+                               const Edit& edit, std::span<const Vec2>) const {
+  bool crosses = false;
+  const std::uint32_t stamp = NextStamp();
+  WalkCells(grid_, a, b, [&](int cell, double, double) {
+    for (EdgeId e : cells_[cell]) {
+      if (edge_stamp_[e] == stamp) continue;
+      edge_stamp_[e] = stamp;
+      if (std::find(edit.removed_edges.begin(), edit.removed_edges.end(), e) !=
+          edit.removed_edges.end())
+        continue;
+      const auto& ends = edges_[e].vertices;
+      // Edges sharing an endpoint meet only there unless collinear, which the zero angle at
+      // that vertex rejects.
+      const auto shares = [&](VertexRef r) {
+        return !r.is_new() && (r.id() == ends[0] || r.id() == ends[1]);
+      };
+      if (shares(ra) || shares(rb)) continue;
+      const Segment s = EdgeSegment(e);
+      if (SegmentsTouch(a, b, s.a, s.b)) {
+        crosses = true;
+        return false;
+      }
+    }
+    return true;
+  });
+  return crosses;
+}
+
+bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
+  *effect = EditEffect{};
+  const Window& w = window_;
+  SmallVector<Vec2, 3> new_positions;
+  for (const NewVertex& nv : edit.new_vertices) {
+    const Vec2& p = nv.position;
+    if (nv.side == kInterior) {
+      if (!w.ContainsInterior(p)) return false;
+    } else {
+      const double along = w.CoordinateOf(p, nv.side) - w.CornerCoordinate(nv.side);
+      const bool on_line = (nv.side % 2 == 0 ? p.y() == (nv.side == 0 ? w.min.y() : w.max.y())
+                                             : p.x() == (nv.side == 1 ? w.max.x() : w.min.x()));
+      if (!on_line || !(along > 0.0 && along < w.SideLength(nv.side))) return false;
+    }
+    new_positions.push_back(p);
+  }
+  const auto position = [&](VertexRef r) -> const Vec2& {
+    return r.is_new() ? new_positions[static_cast<std::size_t>(r.new_index())]
+                      : vertices_[r.id()].position;
+  };
+  const auto side = [&](VertexRef r) {
+    return r.is_new() ? edit.new_vertices[static_cast<std::size_t>(r.new_index())].side
+                      : vertices_[r.id()].side;
+  };
+  const auto removed = [&](EdgeId e) {
+    return std::find(edit.removed_edges.begin(), edit.removed_edges.end(), e) !=
+           edit.removed_edges.end();
+  };
+
+  // Added edges: proper, not along a side, not duplicated, crossing nothing.
+  const std::size_t n_added = edit.added_edges.size();
+  for (std::size_t i = 0; i < n_added; ++i) {
+    const auto [ra, rb] = edit.added_edges[i];
+    if (ra == rb) return false;
+    const int sa = side(ra);
+    if (sa != kInterior && sa == side(rb)) return false;
+    const Vec2& a = position(ra);
+    const Vec2& b = position(rb);
+    if (a == b) return false;
+    if (!ra.is_new() && !rb.is_new()) {
+      for (EdgeId e : vertices_[ra.id()].edges)
+        if (e != kNoEdge && !removed(e) && Other(e, ra.id()) == rb.id()) return false;
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      const auto [rc, rd] = edit.added_edges[j];
+      const bool same = (ra == rc && rb == rd) || (ra == rd && rb == rc);
+      if (same) return false;
+      if (ra == rc || ra == rd || rb == rc || rb == rd) continue;
+      if (SegmentsTouch(a, b, position(rc), position(rd))) return false;
+    }
+    if (CrossesAnything(a, b, ra, rb, edit, {})) return false;
+  }
+
+  // Statistics of the edges.
+  for (EdgeId e : edit.removed_edges) {
+    const double length = edges_[e].length;
+    effect->delta_edges -= 1;
+    effect->delta_length -= length;
+    effect->delta_log_length -= std::log(length);
+  }
+  for (const auto& [ra, rb] : edit.added_edges) {
+    const double length = (position(ra) - position(rb)).norm();
+    effect->delta_edges += 1;
+    effect->delta_length += length;
+    effect->delta_log_length += std::log(length);
+  }
+
+  // Angles: every vertex that loses or gains an edge, and the new ones.
+  for (VertexId v : edit.removed_vertices) effect->delta_log_sin -= vertices_[v].log_sin;
+  SmallVector<VertexRef, 10> affected;
+  const auto note = [&](VertexRef r) {
+    if (!r.is_new() && std::find(edit.removed_vertices.begin(), edit.removed_vertices.end(),
+                                 r.id()) != edit.removed_vertices.end())
+      return;
+    if (std::find(affected.begin(), affected.end(), r) == affected.end()) affected.push_back(r);
+  };
+  for (EdgeId e : edit.removed_edges)
+    for (VertexId v : edges_[e].vertices) note(VertexRef::Existing(v));
+  for (const auto& [ra, rb] : edit.added_edges) {
+    note(ra);
+    note(rb);
+  }
+  for (VertexRef r : affected) {
+    SmallVector<Vec2, 3> neighbours;
+    if (!r.is_new()) {
+      for (EdgeId e : vertices_[r.id()].edges)
+        if (e != kNoEdge && !removed(e)) neighbours.push_back(vertices_[Other(e, r.id())].position);
+    }
+    for (const auto& [ra, rb] : edit.added_edges) {
+      if (ra == r) neighbours.push_back(position(rb));
+      if (rb == r) neighbours.push_back(position(ra));
+    }
+    const int s = side(r);
+    const std::size_t degree = s == kInterior ? 2 : 1;
+    PRIORMAP_DCHECK(neighbours.size() == degree, "an edit left a vertex with the wrong degree");
+    if (neighbours.size() != degree) return false;
+    const double log_sin =
+        VertexLogSin(position(r), s, neighbours[0], degree == 2 ? &neighbours[1] : nullptr);
+    if (!std::isfinite(log_sin)) return false;
+    if (!r.is_new()) effect->delta_log_sin -= vertices_[r.id()].log_sin;
+    effect->delta_log_sin += log_sin;
+    effect->vertex_log_sin.push_back({r, log_sin});
+  }
+  effect->flips_anchor =
+      InsidePolygon({edit.flipped_region.begin(), edit.flipped_region.size()}, anchor_);
+  return true;
+}
+
+void Coloring::Apply(const Edit& edit, const EditEffect& effect) {
+  for (EdgeId e : edit.removed_edges) RemoveEdge(e);
+  for (VertexId v : edit.removed_vertices) {
+    PRIORMAP_DCHECK(vertices_[v].edges[0] == kNoEdge && vertices_[v].edges[1] == kNoEdge,
+                    "a removed vertex kept an edge");
+    RemoveVertex(v);
+  }
+  SmallVector<VertexId, 3> created;
+  for (const NewVertex& nv : edit.new_vertices) {
+    const VertexId v = AllocateVertex();
+    ColoringVertex& vertex = vertices_[v];
+    vertex.position = nv.position;
+    vertex.side = nv.side;
+    auto& list = nv.side == kInterior ? interior_ : boundary_;
+    vertex.slot = static_cast<std::int32_t>(list.size());
+    list.push_back(v);
+    created.push_back(v);
+  }
+  const auto id = [&](VertexRef r) {
+    return r.is_new() ? created[static_cast<std::size_t>(r.new_index())] : r.id();
+  };
+  for (const auto& [ra, rb] : edit.added_edges) {
+    const EdgeId e = AllocateEdge();
+    ColoringEdge& edge = edges_[e];
+    edge.vertices = {id(ra), id(rb)};
+    edge.length =
+        (vertices_[edge.vertices[0]].position - vertices_[edge.vertices[1]].position).norm();
+    edge.slot = static_cast<std::int32_t>(edge_list_.size());
+    edge_list_.push_back(e);
+    for (VertexId v : edge.vertices) {
+      auto& slots = vertices_[v].edges;
+      const std::size_t degree = vertices_[v].side == kInterior ? 2 : 1;
+      std::size_t k = 0;
+      while (k < degree && slots[k] != kNoEdge) ++k;
+      PRIORMAP_CHECK(k < degree, "an added edge exceeds a vertex's degree");
+      slots[k] = e;
+    }
+    IndexEdge(e);
+  }
+  for (const auto& [r, log_sin] : effect.vertex_log_sin) vertices_[id(r)].log_sin = log_sin;
+  stats_.edges += effect.delta_edges;
+  stats_.total_length += effect.delta_length;
+  stats_.sum_log_length += effect.delta_log_length;
+  stats_.sum_log_sin += effect.delta_log_sin;
+  if (effect.flips_anchor) anchor_colour_ = Flip(anchor_colour_);
+}
+
+// ---- checks -------------------------------------------------------------------------------
+
+std::optional<std::string> Coloring::FindInvariantViolation(double tolerance) const {
+  ColoringStats recomputed;
+  for (std::size_t i = 0; i < edge_list_.size(); ++i) {
+    const EdgeId e = edge_list_[i];
+    if (edges_[e].slot != static_cast<std::int32_t>(i)) return fmt::format("edge {} slot", e);
+    const Segment s = EdgeSegment(e);
+    if (std::abs(s.Length() - edges_[e].length) > tolerance)
+      return fmt::format("edge {} cached length", e);
+    recomputed.edges += 1;
+    recomputed.total_length += s.Length();
+    recomputed.sum_log_length += std::log(s.Length());
+    bool indexed = true;
+    WalkCells(grid_, s.a, s.b, [&](int cell, double, double) {
+      indexed =
+          indexed && std::find(cells_[cell].begin(), cells_[cell].end(), e) != cells_[cell].end();
+      return true;
+    });
+    if (!indexed) return fmt::format("edge {} missing from the grid", e);
+    for (std::size_t j = 0; j < i; ++j) {
+      const EdgeId f = edge_list_[j];
+      const auto& a = edges_[e].vertices;
+      const auto& b = edges_[f].vertices;
+      if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
+      const Segment t = EdgeSegment(f);
+      if (SegmentsTouch(s.a, s.b, t.a, t.b)) return fmt::format("edges {} and {} cross", e, f);
+    }
+  }
+  std::size_t cell_entries = 0;
+  for (const auto& cell : cells_) cell_entries += cell.size();
+  std::size_t walk_entries = 0;
+  for (EdgeId e : edge_list_) {
+    const Segment s = EdgeSegment(e);
+    WalkCells(grid_, s.a, s.b, [&](int, double, double) {
+      ++walk_entries;
+      return true;
+    });
+  }
+  if (cell_entries != walk_entries) return "the grid holds stale entries";
+
+  for (int kind = 0; kind < 2; ++kind) {
+    const auto& list = kind == 0 ? interior_ : boundary_;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const VertexId v = list[i];
+      const ColoringVertex& vertex = vertices_[v];
+      if (vertex.slot != static_cast<std::int32_t>(i)) return fmt::format("vertex {} slot", v);
+      if ((kind == 0) != (vertex.side == kInterior)) return fmt::format("vertex {} list", v);
+      const std::size_t degree = vertex.side == kInterior ? 2 : 1;
+      SmallVector<Vec2, 2> neighbours;
+      for (std::size_t k = 0; k < 2; ++k) {
+        const EdgeId e = vertex.edges[k];
+        if (k >= degree) {
+          if (e != kNoEdge) return fmt::format("vertex {} has an extra edge", v);
+          continue;
+        }
+        if (e == kNoEdge || edges_[e].slot < 0)
+          return fmt::format("vertex {} has degree < {}", v, degree);
+        if (edges_[e].vertices[0] != v && edges_[e].vertices[1] != v)
+          return fmt::format("vertex {} lists edge {} that does not end at it", v, e);
+        neighbours.push_back(vertices_[Other(e, v)].position);
+      }
+      if (vertex.side == kInterior) {
+        if (!window_.ContainsInterior(vertex.position))
+          return fmt::format("interior vertex {} outside the window", v);
+      } else {
+        const double along = window_.CoordinateOf(vertex.position, vertex.side) -
+                             window_.CornerCoordinate(vertex.side);
+        if (!(along > 0.0 && along < window_.SideLength(vertex.side)) ||
+            (window_.PointAt(window_.CoordinateOf(vertex.position, vertex.side)) - vertex.position)
+                    .norm() > tolerance)
+          return fmt::format("boundary vertex {} off its side", v);
+      }
+      const double log_sin = VertexLogSin(vertex.position, vertex.side, neighbours[0],
+                                          degree == 2 ? &neighbours[1] : nullptr);
+      if (std::abs(log_sin - vertex.log_sin) > tolerance)
+        return fmt::format("vertex {} cached angle", v);
+      recomputed.sum_log_sin += log_sin;
+    }
+  }
+  if (recomputed.edges != stats_.edges ||
+      std::abs(recomputed.total_length - stats_.total_length) > tolerance ||
+      std::abs(recomputed.sum_log_length - stats_.sum_log_length) > tolerance ||
+      std::abs(recomputed.sum_log_sin - stats_.sum_log_sin) > tolerance)
+    return "cached statistics differ from recomputation";
+  return std::nullopt;
+}
+
+}  // namespace priormap::prf

@@ -1,0 +1,530 @@
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <fmt/format.h>
+
+#include <priormap/core/check.hpp>
+#include <priormap/prf/sampler.hpp>
+
+namespace priormap::prf {
+namespace {
+
+VertexRef Old(VertexId v) {
+  return VertexRef::Existing(v);
+}
+VertexRef Fresh(int k) {
+  return VertexRef::New(k);
+}
+
+double ChebyshevDistance(const Vec2& a, const Vec2& b) {
+  return (a - b).cwiseAbs().maxCoeff();
+}
+
+// The edge of an interior vertex other than `e`.
+EdgeId OtherEdge(const ColoringVertex& vertex, EdgeId e) {
+  return vertex.edges[0] == e ? vertex.edges[1] : vertex.edges[0];
+}
+
+}  // namespace
+
+PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t seed)
+    : coloring_(std::move(coloring)), options_(std::move(options)), rng_(seed) {
+  PRIORMAP_CHECK(options_.p > 0.0, "the Arak scale p must be positive");
+  PRIORMAP_CHECK(options_.birth_scale > 0.0 && options_.vertex_birth_width > 0.0,
+                 "birth scales must be positive");
+  PRIORMAP_CHECK(!options_.step_scales.empty(), "at least one step scale is needed");
+  for (double scale : options_.step_scales)
+    PRIORMAP_CHECK(scale > 0.0 && scale < 0.5 * coloring_.window().Perimeter(),
+                   "step scales must be positive and below half the perimeter");
+  PRIORMAP_CHECK(options_.temperature > 0.0, "the temperature must be positive");
+  double total = 0.0;
+  for (double w : options_.weights.weight) {
+    PRIORMAP_CHECK(w >= 0.0, "move weights must be non-negative");
+    total += w;
+    cumulative_weights_.push_back(total);
+  }
+  PRIORMAP_CHECK(total > 0.0, "at least one move kind needs a positive weight");
+  cell_stamp_.assign(static_cast<std::size_t>(coloring_.grid().NumCells()), 0u);
+}
+
+MoveType PrfSampler::ChooseType() {
+  const double u = rng_.Uniform() * cumulative_weights_.back();
+  int kind =
+      static_cast<int>(std::upper_bound(cumulative_weights_.begin(), cumulative_weights_.end(), u) -
+                       cumulative_weights_.begin());
+  kind = std::min(kind, kNumMoveKinds - 1);
+  switch (static_cast<MoveKind>(kind)) {
+    case MoveKind::kTriangle:
+    case MoveKind::kBoundaryTriangle:
+    case MoveKind::kCorner:
+    case MoveKind::kVertex: {
+      // Births and deaths of a kind are equally likely, so their selection probabilities cancel
+      // in the Hastings ratio.
+      const int birth = 2 * kind;
+      return static_cast<MoveType>(rng_.Bernoulli(0.5) ? birth : birth + 1);
+    }
+    case MoveKind::kInteriorMove:
+      return MoveType::kInteriorMove;
+    case MoveKind::kBoundaryMove:
+      return MoveType::kBoundaryMove;
+    case MoveKind::kRecolor:
+      return MoveType::kRecolor;
+    case MoveKind::kLocalRecolor:
+      return MoveType::kLocalRecolor;
+    case MoveKind::kSlide:
+      return MoveType::kSlide;
+  }
+  return MoveType::kInteriorMove;
+}
+
+void PrfSampler::Step() {
+  const MoveType type = ChooseType();
+  MoveCounter& counter = counters_[static_cast<std::size_t>(type)];
+  ++counter.proposed;
+  double log_q = 0.0;
+  if (!Propose(type, &edit_, &log_q) || !coloring_.Evaluate(edit_, &effect_)) {
+    ++counter.invalid;
+    return;
+  }
+  const double p = options_.p;
+  const double delta_log_prior = effect_.delta_edges * std::log(p) - effect_.delta_log_length +
+                                 effect_.delta_log_sin - 2.0 * p * effect_.delta_length;
+  const double log_alpha = delta_log_prior / options_.temperature + log_q;
+  if (log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha)) {
+    coloring_.Apply(edit_, effect_);
+    ++counter.accepted;
+    if (options_.check_invariants) {
+      const auto violation = coloring_.FindInvariantViolation(1e-6);
+      PRIORMAP_CHECK(!violation, fmt::format("after {}: {}", MoveTypeName(type), *violation));
+    }
+  }
+}
+
+bool PrfSampler::Propose(MoveType type, Edit* edit, double* log_q) {
+  edit->clear();
+  *log_q = 0.0;
+  switch (type) {
+    case MoveType::kTriangleBirth:
+      return ProposeTriangleBirth(edit, log_q);
+    case MoveType::kTriangleDeath:
+      return ProposeTriangleDeath(edit, log_q);
+    case MoveType::kBoundaryTriangleBirth:
+      return ProposeBoundaryTriangleBirth(edit, log_q);
+    case MoveType::kBoundaryTriangleDeath:
+      return ProposeBoundaryTriangleDeath(edit, log_q);
+    case MoveType::kCornerBirth:
+      return ProposeCornerBirth(edit, log_q);
+    case MoveType::kCornerDeath:
+      return ProposeCornerDeath(edit, log_q);
+    case MoveType::kVertexBirth:
+      return ProposeVertexBirth(edit, log_q);
+    case MoveType::kVertexDeath:
+      return ProposeVertexDeath(edit, log_q);
+    case MoveType::kInteriorMove:
+      return ProposeInteriorMove(edit);
+    case MoveType::kBoundaryMove:
+      return ProposeBoundaryMove(edit);
+    case MoveType::kRecolor:
+      return ProposeRecolor(edit, log_q, false);
+    case MoveType::kLocalRecolor:
+      return ProposeRecolor(edit, log_q, true);
+    case MoveType::kSlide:
+      return ProposeSlide(edit);
+  }
+  return false;
+}
+
+double PrfSampler::StepScale() {
+  const auto& scales = options_.step_scales;
+  return scales.size() == 1 ? scales[0] : scales[rng_.UniformIndex(scales.size())];
+}
+
+// ---- proposal densities -------------------------------------------------------------------
+
+double PrfSampler::TriangleDensity(const Vec2& a, const Vec2& b, const Vec2& c) const {
+  // One vertex uniform in the window, the other two uniform in the square of half-width r
+  // around it; summed over the six orders that give the same triangle.
+  const double r = options_.birth_scale;
+  const int first_choices = (ChebyshevDistance(a, b) <= r && ChebyshevDistance(a, c) <= r) +
+                            (ChebyshevDistance(b, a) <= r && ChebyshevDistance(b, c) <= r) +
+                            (ChebyshevDistance(c, a) <= r && ChebyshevDistance(c, b) <= r);
+  return first_choices / (8.0 * coloring_.window().Area() * std::pow(r, 4));
+}
+
+double PrfSampler::BoundaryTriangleDensity(const Vec2& b1, int side1, const Vec2& b2, int side2,
+                                           const Vec2& v) const {
+  // b1 uniform on the perimeter, b2 within r of it along the same side, v uniform in the
+  // square of half-width r around their midpoint; both orders of b1, b2.
+  const Window& w = coloring_.window();
+  const double r = options_.birth_scale;
+  if (side1 == kInterior || side1 != side2) return 0.0;
+  if (std::abs(w.CoordinateOf(b1, side1) - w.CoordinateOf(b2, side2)) > r) return 0.0;
+  if (ChebyshevDistance(v, 0.5 * (b1 + b2)) > r) return 0.0;
+  return 1.0 / (4.0 * w.Perimeter() * r * r * r);
+}
+
+double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v) const {
+  // Uniform in the rectangle along uw of half-width κ|uw|.
+  const Vec2 along = w - u;
+  const double length2 = along.squaredNorm();
+  const double t = along.dot(v - u) / length2;
+  const double offset = std::abs(Cross(along, v - u)) / std::sqrt(length2);
+  const double half_width = options_.vertex_birth_width * std::sqrt(length2);
+  if (t < 0.0 || t > 1.0 || offset > half_width) return 0.0;
+  return 1.0 / (2.0 * options_.vertex_birth_width * length2);
+}
+
+namespace {
+
+// The corner shared by adjacent sides, with the vertex on the side ending there first; -1
+// when the sides are not adjacent.
+int SharedCorner(int side1, int side2) {
+  if (side1 == kInterior || side2 == kInterior) return -1;
+  if (side2 == (side1 + 1) % kNumSides) return side2;
+  if (side1 == (side2 + 1) % kNumSides) return side1;
+  return -1;
+}
+
+}  // namespace
+
+// ---- births and deaths --------------------------------------------------------------------
+
+bool PrfSampler::ProposeTriangleBirth(Edit* edit, double* log_q) {
+  const Window& w = coloring_.window();
+  const double r = options_.birth_scale;
+  const Vec2 a(rng_.Uniform(w.min.x(), w.max.x()), rng_.Uniform(w.min.y(), w.max.y()));
+  const Vec2 b = a + Vec2(rng_.Uniform(-r, r), rng_.Uniform(-r, r));
+  const Vec2 c = a + Vec2(rng_.Uniform(-r, r), rng_.Uniform(-r, r));
+  for (const Vec2& x : {a, b, c}) edit->new_vertices.push_back({x, kInterior});
+  edit->added_edges.push_back({Fresh(0), Fresh(1)});
+  edit->added_edges.push_back({Fresh(1), Fresh(2)});
+  edit->added_edges.push_back({Fresh(2), Fresh(0)});
+  for (const Vec2& x : {a, b, c}) edit->flipped_region.push_back(x);
+  const double n_after = static_cast<double>(coloring_.interior_vertices().size() + 3);
+  *log_q = std::log(3.0 / n_after) - std::log(TriangleDensity(a, b, c));
+  return true;
+}
+
+bool PrfSampler::ProposeTriangleDeath(Edit* edit, double* log_q) {
+  const auto interior = coloring_.interior_vertices();
+  if (interior.empty()) return false;
+  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const ColoringVertex& vertex = coloring_.vertex(v);
+  const VertexId u = coloring_.Other(vertex.edges[0], v);
+  const VertexId x = coloring_.Other(vertex.edges[1], v);
+  if (coloring_.vertex(u).side != kInterior || coloring_.vertex(x).side != kInterior) return false;
+  const EdgeId closing = OtherEdge(coloring_.vertex(u), vertex.edges[0]);
+  if (coloring_.Other(closing, u) != x) return false;
+  const double density =
+      TriangleDensity(vertex.position, coloring_.vertex(u).position, coloring_.vertex(x).position);
+  if (density == 0.0) return false;
+  for (EdgeId e : {vertex.edges[0], vertex.edges[1], closing}) edit->removed_edges.push_back(e);
+  for (VertexId y : {v, u, x}) {
+    edit->removed_vertices.push_back(y);
+    edit->flipped_region.push_back(coloring_.vertex(y).position);
+  }
+  *log_q = std::log(density) - std::log(3.0 / static_cast<double>(interior.size()));
+  return true;
+}
+
+bool PrfSampler::ProposeBoundaryTriangleBirth(Edit* edit, double* log_q) {
+  const Window& w = coloring_.window();
+  const double r = options_.birth_scale;
+  const double perimeter = w.Perimeter();
+  const double s1 = rng_.Uniform(0.0, perimeter);
+  const double s2 = s1 + rng_.Uniform(-r, r);
+  const int side = w.SideAt(s1);
+  if (side < 0 || s2 < 0.0 || s2 >= perimeter || w.SideAt(s2) != side) return false;
+  const Vec2 b1 = w.PointAt(s1);
+  const Vec2 b2 = w.PointAt(s2);
+  const Vec2 v = 0.5 * (b1 + b2) + Vec2(rng_.Uniform(-r, r), rng_.Uniform(-r, r));
+  edit->new_vertices.push_back({b1, side});
+  edit->new_vertices.push_back({v, kInterior});
+  edit->new_vertices.push_back({b2, side});
+  edit->added_edges.push_back({Fresh(0), Fresh(1)});
+  edit->added_edges.push_back({Fresh(1), Fresh(2)});
+  for (const Vec2& x : {b1, v, b2}) edit->flipped_region.push_back(x);
+  const double n_after = static_cast<double>(coloring_.interior_vertices().size() + 1);
+  *log_q = -std::log(n_after) - std::log(BoundaryTriangleDensity(b1, side, b2, side, v));
+  return true;
+}
+
+bool PrfSampler::ProposeBoundaryTriangleDeath(Edit* edit, double* log_q) {
+  const auto interior = coloring_.interior_vertices();
+  if (interior.empty()) return false;
+  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const ColoringVertex& vertex = coloring_.vertex(v);
+  const VertexId b1 = coloring_.Other(vertex.edges[0], v);
+  const VertexId b2 = coloring_.Other(vertex.edges[1], v);
+  const ColoringVertex& first = coloring_.vertex(b1);
+  const ColoringVertex& second = coloring_.vertex(b2);
+  const double density = BoundaryTriangleDensity(first.position, first.side, second.position,
+                                                 second.side, vertex.position);
+  if (density == 0.0) return false;
+  edit->removed_edges.push_back(vertex.edges[0]);
+  edit->removed_edges.push_back(vertex.edges[1]);
+  for (VertexId y : {b1, v, b2}) {
+    edit->removed_vertices.push_back(y);
+    edit->flipped_region.push_back(coloring_.vertex(y).position);
+  }
+  *log_q = std::log(density) + std::log(static_cast<double>(interior.size()));
+  return true;
+}
+
+bool PrfSampler::ProposeCornerBirth(Edit* edit, double* log_q) {
+  const Window& w = coloring_.window();
+  const double r = options_.birth_scale;
+  const int corner = static_cast<int>(rng_.UniformIndex(kNumSides));
+  const double before = rng_.Uniform(0.0, r);
+  const double after = rng_.Uniform(0.0, r);
+  const int side_before = (corner + kNumSides - 1) % kNumSides;
+  const int side_after = corner;
+  const double c = w.CornerCoordinate(corner);
+  if (w.SideAt(c - before) != side_before || w.SideAt(c + after) != side_after) return false;
+  const Vec2 b1 = w.PointAt(c - before);
+  const Vec2 b2 = w.PointAt(c + after);
+  edit->new_vertices.push_back({b1, side_before});
+  edit->new_vertices.push_back({b2, side_after});
+  edit->added_edges.push_back({Fresh(0), Fresh(1)});
+  for (const Vec2& x : {b1, w.Corner(corner), b2}) edit->flipped_region.push_back(x);
+  const double n_after = static_cast<double>(coloring_.boundary_vertices().size() + 2);
+  // Density 1/(4 r²): a corner in four, two uniform distances in [0, r).
+  *log_q = std::log(2.0 / n_after) + std::log(4.0 * r * r);
+  return true;
+}
+
+bool PrfSampler::ProposeCornerDeath(Edit* edit, double* log_q) {
+  const Window& w = coloring_.window();
+  const double r = options_.birth_scale;
+  const auto boundary = coloring_.boundary_vertices();
+  if (boundary.empty()) return false;
+  const VertexId b = boundary[rng_.UniformIndex(boundary.size())];
+  const EdgeId e = coloring_.vertex(b).edges[0];
+  const VertexId u = coloring_.Other(e, b);
+  const ColoringVertex& vb = coloring_.vertex(b);
+  const ColoringVertex& vu = coloring_.vertex(u);
+  const int corner = SharedCorner(vb.side, vu.side);
+  if (corner < 0) return false;
+  const Vec2 corner_point = w.Corner(corner);
+  if (ChebyshevDistance(vb.position, corner_point) > r ||
+      ChebyshevDistance(vu.position, corner_point) > r)
+    return false;
+  edit->removed_edges.push_back(e);
+  edit->removed_vertices.push_back(b);
+  edit->removed_vertices.push_back(u);
+  for (const Vec2& x : {vb.position, corner_point, vu.position}) edit->flipped_region.push_back(x);
+  *log_q = -std::log(4.0 * r * r) - std::log(2.0 / static_cast<double>(boundary.size()));
+  return true;
+}
+
+bool PrfSampler::ProposeVertexBirth(Edit* edit, double* log_q) {
+  const auto edges = coloring_.edge_ids();
+  if (edges.empty()) return false;
+  const EdgeId e = edges[rng_.UniformIndex(edges.size())];
+  const VertexId u = coloring_.edge(e).vertices[0];
+  const VertexId w = coloring_.edge(e).vertices[1];
+  const Vec2& pu = coloring_.vertex(u).position;
+  const Vec2& pw = coloring_.vertex(w).position;
+  const Vec2 along = pw - pu;
+  const double length = along.norm();
+  const double half_width = options_.vertex_birth_width * length;
+  const Vec2 v =
+      pu + rng_.Uniform() * along + rng_.Uniform(-half_width, half_width) * (Perp(along) / length);
+  edit->removed_edges.push_back(e);
+  edit->new_vertices.push_back({v, kInterior});
+  edit->added_edges.push_back({Old(u), Fresh(0)});
+  edit->added_edges.push_back({Fresh(0), Old(w)});
+  for (const Vec2& x : {pu, v, pw}) edit->flipped_region.push_back(x);
+  const double n_after = static_cast<double>(coloring_.interior_vertices().size() + 1);
+  const double forward = VertexBirthDensity(pu, pw, v) / static_cast<double>(edges.size());
+  if (forward == 0.0) return false;  // only at the rectangle's rim, by rounding
+  *log_q = -std::log(n_after) - std::log(forward);
+  return true;
+}
+
+bool PrfSampler::ProposeVertexDeath(Edit* edit, double* log_q) {
+  const auto interior = coloring_.interior_vertices();
+  if (interior.empty()) return false;
+  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const ColoringVertex& vertex = coloring_.vertex(v);
+  const VertexId u = coloring_.Other(vertex.edges[0], v);
+  const VertexId w = coloring_.Other(vertex.edges[1], v);
+  const Vec2& pu = coloring_.vertex(u).position;
+  const Vec2& pw = coloring_.vertex(w).position;
+  const double edges_after = static_cast<double>(coloring_.edge_ids().size() - 1);
+  const double reverse = VertexBirthDensity(pu, pw, vertex.position) / edges_after;
+  if (reverse == 0.0) return false;
+  edit->removed_edges.push_back(vertex.edges[0]);
+  edit->removed_edges.push_back(vertex.edges[1]);
+  edit->removed_vertices.push_back(v);
+  edit->added_edges.push_back({Old(u), Old(w)});
+  for (const Vec2& x : {pu, vertex.position, pw}) edit->flipped_region.push_back(x);
+  *log_q = std::log(reverse) + std::log(static_cast<double>(interior.size()));
+  return true;
+}
+
+// ---- moves that keep the graph's structure ------------------------------------------------
+
+bool PrfSampler::ProposeInteriorMove(Edit* edit) {
+  const auto interior = coloring_.interior_vertices();
+  if (interior.empty()) return false;
+  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const ColoringVertex& vertex = coloring_.vertex(v);
+  const double step = StepScale();
+  const Vec2 moved = vertex.position + Vec2(rng_.Uniform(-step, step), rng_.Uniform(-step, step));
+  const VertexId u = coloring_.Other(vertex.edges[0], v);
+  const VertexId w = coloring_.Other(vertex.edges[1], v);
+  edit->removed_edges.push_back(vertex.edges[0]);
+  edit->removed_edges.push_back(vertex.edges[1]);
+  edit->removed_vertices.push_back(v);
+  edit->new_vertices.push_back({moved, kInterior});
+  edit->added_edges.push_back({Old(u), Fresh(0)});
+  edit->added_edges.push_back({Fresh(0), Old(w)});
+  for (const Vec2& x :
+       {coloring_.vertex(u).position, vertex.position, coloring_.vertex(w).position, moved})
+    edit->flipped_region.push_back(x);
+  return true;
+}
+
+bool PrfSampler::ProposeBoundaryMove(Edit* edit) {
+  const Window& w = coloring_.window();
+  const auto boundary = coloring_.boundary_vertices();
+  if (boundary.empty()) return false;
+  const VertexId b = boundary[rng_.UniformIndex(boundary.size())];
+  const ColoringVertex& vertex = coloring_.vertex(b);
+  const double step = StepScale();
+  const double delta = rng_.Uniform(-step, step);
+  const double s = w.CoordinateOf(vertex.position, vertex.side);
+  const double moved_s = w.Wrap(s + delta);
+  const int side = w.SideAt(moved_s);
+  if (side < 0) return false;
+  const Vec2 moved = w.PointAt(moved_s);
+  const EdgeId e = vertex.edges[0];
+  const VertexId u = coloring_.Other(e, b);
+  edit->removed_edges.push_back(e);
+  edit->removed_vertices.push_back(b);
+  edit->new_vertices.push_back({moved, side});
+  edit->added_edges.push_back({Old(u), Fresh(0)});
+  // The reversed region runs from u to the old position, along the boundary (through the
+  // corners passed, in order) to the new one, and back to u.
+  edit->flipped_region.push_back(coloring_.vertex(u).position);
+  edit->flipped_region.push_back(vertex.position);
+  const double perimeter = w.Perimeter();
+  for (int j = 0; j < kNumSides; ++j) {
+    const int corner =
+        delta > 0.0 ? (vertex.side + 1 + j) % kNumSides : (vertex.side - j + kNumSides) % kNumSides;
+    const double c = w.CornerCoordinate(corner);
+    const double distance = delta > 0.0 ? w.Wrap(c - s) : w.Wrap(s - c);
+    if (distance > 0.0 && distance < std::abs(delta) && distance < perimeter)
+      edit->flipped_region.push_back(w.Corner(corner));
+  }
+  edit->flipped_region.push_back(moved);
+  return true;
+}
+
+bool PrfSampler::ProposeSlide(Edit* edit) {
+  const auto interior = coloring_.interior_vertices();
+  if (interior.empty()) return false;
+  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const ColoringVertex& vertex = coloring_.vertex(v);
+  const std::size_t k = rng_.UniformIndex(2);
+  const EdgeId kept_direction = vertex.edges[k];
+  const EdgeId turning = vertex.edges[1 - k];
+  const VertexId w = coloring_.Other(kept_direction, v);
+  const VertexId u = coloring_.Other(turning, v);
+  // v' = v + t (v − w), t uniform in [−½, 1]: the edge to w keeps its direction and its
+  // length goes from |e| to (1 + t)|e| in [|e|/2, 2|e|], a range that contains the reverse.
+  const double t = rng_.Uniform(-0.5, 1.0);
+  const Vec2 moved = vertex.position + t * (vertex.position - coloring_.vertex(w).position);
+  edit->removed_edges.push_back(kept_direction);
+  edit->removed_edges.push_back(turning);
+  edit->removed_vertices.push_back(v);
+  edit->new_vertices.push_back({moved, kInterior});
+  edit->added_edges.push_back({Old(u), Fresh(0)});
+  edit->added_edges.push_back({Fresh(0), Old(w)});
+  for (const Vec2& x : {coloring_.vertex(u).position, vertex.position, moved})
+    edit->flipped_region.push_back(x);
+  return true;
+}
+
+int PrfSampler::CellNeighbourCount(const Vec2& a, const Vec2& b, EdgeId self, EdgeId removed1,
+                                   EdgeId removed2) const {
+  int count = 0;
+  coloring_.ForEachEdgeNear(a, b, [&](EdgeId e) {
+    if (e != self && e != removed1 && e != removed2) ++count;
+  });
+  return count;
+}
+
+bool PrfSampler::ShareACell(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  if (++cell_stamp_value_ == 0) {
+    std::fill(cell_stamp_.begin(), cell_stamp_.end(), 0u);
+    cell_stamp_value_ = 1;
+  }
+  WalkCells(coloring_.grid(), a, b, [&](int cell, double, double) {
+    cell_stamp_[static_cast<std::size_t>(cell)] = cell_stamp_value_;
+    return true;
+  });
+  bool shared = false;
+  WalkCells(coloring_.grid(), c, d, [&](int cell, double, double) {
+    shared = cell_stamp_[static_cast<std::size_t>(cell)] == cell_stamp_value_;
+    return !shared;
+  });
+  return shared;
+}
+
+bool PrfSampler::ProposeRecolor(Edit* edit, double* log_q, bool local) {
+  const auto edges = coloring_.edge_ids();
+  if (edges.size() < 2) return false;
+  const EdgeId e1 = edges[rng_.UniformIndex(edges.size())];
+  EdgeId e2 = kNoEdge;
+  double forward = 0.0;  // Σ over the two orders of drawing {e1, e2}, without the common 1/|E|
+  if (local) {
+    // The second edge uniformly among those sharing a grid cell with the first (Sec. 2.1).
+    scratch_edges_.clear();
+    const Segment s1 = coloring_.EdgeSegment(e1);
+    coloring_.ForEachEdgeNear(s1.a, s1.b, [&](EdgeId e) {
+      if (e != e1) scratch_edges_.push_back(e);
+    });
+    if (scratch_edges_.empty()) return false;
+    e2 = scratch_edges_[rng_.UniformIndex(scratch_edges_.size())];
+    const Segment s2 = coloring_.EdgeSegment(e2);
+    forward = 1.0 / static_cast<double>(scratch_edges_.size()) +
+              1.0 / CellNeighbourCount(s2.a, s2.b, e2, kNoEdge, kNoEdge);
+  } else {
+    std::size_t j = rng_.UniformIndex(edges.size() - 1);
+    if (edges[j] == e1) j = edges.size() - 1;
+    e2 = edges[j];
+  }
+  const auto [a, b] = coloring_.edge(e1).vertices;
+  const auto [c, d] = coloring_.edge(e2).vertices;
+  if (a == c || a == d || b == c || b == d) return false;
+  edit->removed_edges.push_back(e1);
+  edit->removed_edges.push_back(e2);
+  const auto pos = [&](VertexId v) { return coloring_.vertex(v).position; };
+  if (rng_.UniformIndex(2) == 0) {
+    // ab, cd -> ac, bd: the quadrilateral a b d c changes colour.
+    edit->added_edges.push_back({Old(a), Old(c)});
+    edit->added_edges.push_back({Old(b), Old(d)});
+    for (VertexId v : {a, b, d, c}) edit->flipped_region.push_back(pos(v));
+  } else {
+    // ab, cd -> ad, bc: the quadrilateral a b c d changes colour.
+    edit->added_edges.push_back({Old(a), Old(d)});
+    edit->added_edges.push_back({Old(b), Old(c)});
+    for (VertexId v : {a, b, c, d}) edit->flipped_region.push_back(pos(v));
+  }
+  if (local) {
+    const auto [f1a, f1b] = edit->added_edges[0];
+    const auto [f2a, f2b] = edit->added_edges[1];
+    const Vec2 p1a = pos(f1a.id()), p1b = pos(f1b.id()), p2a = pos(f2a.id()), p2b = pos(f2b.id());
+    // The reverse move must be able to draw the new edges as a local pair.
+    if (!ShareACell(p1a, p1b, p2a, p2b)) return false;
+    const double reverse = 1.0 / (CellNeighbourCount(p1a, p1b, kNoEdge, e1, e2) + 1) +
+                           1.0 / (CellNeighbourCount(p2a, p2b, kNoEdge, e1, e2) + 1);
+    *log_q = std::log(reverse) - std::log(forward);
+  }
+  return true;
+}
+
+}  // namespace priormap::prf

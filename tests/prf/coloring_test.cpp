@@ -1,0 +1,170 @@
+// Polygonal colorings: colours by crossing parity, edits and their validity, the Arak measure's
+// statistics, and the grid index's answers against brute force.
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include <priormap/core/rng.hpp>
+#include <priormap/prf/coloring.hpp>
+#include <priormap/prf/sampler.hpp>
+
+#include "prf/brute_force.hpp"
+
+namespace priormap::prf {
+namespace {
+
+const Window kUnit{Vec2::Zero(), Vec2::Ones()};
+
+// An edit adding the closed polygon `corners` (interior vertices), reversing its inside.
+Edit AddPolygon(std::initializer_list<Vec2> corners) {
+  Edit edit;
+  int k = 0;
+  for (const Vec2& c : corners) {
+    edit.new_vertices.push_back({c, kInterior});
+    edit.flipped_region.push_back(c);
+    ++k;
+  }
+  for (int i = 0; i < k; ++i)
+    edit.added_edges.push_back({VertexRef::New(i), VertexRef::New((i + 1) % k)});
+  return edit;
+}
+
+bool Try(Coloring& coloring, const Edit& edit) {
+  EditEffect effect;
+  if (!coloring.Evaluate(edit, &effect)) return false;
+  coloring.Apply(edit, effect);
+  return true;
+}
+
+TEST(Coloring, EmptyColoringHasTheAnchorColourEverywhere) {
+  const Coloring coloring(kUnit, 0.25, Colour::kBlack);
+  EXPECT_EQ(coloring.ColourAt(Vec2(0.1, 0.9)), Colour::kBlack);
+  EXPECT_EQ(coloring.stats().edges, 0);
+  EXPECT_DOUBLE_EQ(coloring.LogArakDensity(2.0), 0.0);
+  EXPECT_TRUE(coloring.window().ContainsInterior(coloring.anchor()));
+}
+
+TEST(Coloring, ATriangleReversesItsInsideOnly) {
+  Coloring coloring(kUnit, 0.25);
+  // Away from the anchor: the anchor keeps its colour, the inside turns black.
+  ASSERT_TRUE(Try(coloring, AddPolygon({{0.1, 0.1}, {0.3, 0.1}, {0.2, 0.3}})));
+  EXPECT_EQ(coloring.anchor_colour(), Colour::kWhite);
+  EXPECT_EQ(coloring.ColourAt(Vec2(0.2, 0.15)), Colour::kBlack);
+  EXPECT_EQ(coloring.ColourAt(Vec2(0.8, 0.8)), Colour::kWhite);
+  // Around the anchor: the anchor turns black, so that the outside keeps its colour.
+  ASSERT_TRUE(Try(coloring, AddPolygon({{0.4, 0.4}, {0.7, 0.4}, {0.55, 0.7}})));
+  EXPECT_EQ(coloring.anchor_colour(), Colour::kBlack);
+  EXPECT_EQ(coloring.ColourAt(Vec2(0.55, 0.45)), Colour::kBlack);
+  EXPECT_EQ(coloring.ColourAt(Vec2(0.8, 0.8)), Colour::kWhite);
+  EXPECT_EQ(coloring.ColourAt(Vec2(0.2, 0.15)), Colour::kBlack);
+  EXPECT_EQ(coloring.CountCrossings(Vec2(0.05, 0.2), Vec2(0.95, 0.5)), 4);
+  EXPECT_FALSE(coloring.FindInvariantViolation());
+}
+
+TEST(Coloring, ArakDensityOfATriangleByHand) {
+  Coloring coloring(kUnit, 0.25);
+  const Vec2 a(0.2, 0.2), b(0.6, 0.2), c(0.2, 0.5);  // right angle at a, sides 0.4, 0.3, 0.5
+  ASSERT_TRUE(Try(coloring, AddPolygon({a, b, c})));
+  const double p = 1.5;
+  const double sin_b = 0.3 / 0.5, sin_c = 0.4 / 0.5;  // sin of the acute angles; sin 90° = 1
+  const double expected = 3.0 * std::log(p) - std::log(0.4 * 0.3 * 0.5) + std::log(sin_b) +
+                          std::log(sin_c) - 2.0 * p * 1.2;
+  EXPECT_NEAR(coloring.LogArakDensity(p), expected, 1e-12);
+  EXPECT_EQ(coloring.stats().edges, 3);
+  EXPECT_NEAR(coloring.stats().total_length, 1.2, 1e-15);
+}
+
+TEST(Coloring, BoundaryVertexAngleIsToTheSide) {
+  Coloring coloring(kUnit, 0.25);
+  // A corner edge from (0.3, 0) to (1, 0.7): 45° to both sides.
+  Edit edit;
+  edit.new_vertices.push_back({{0.3, 0.0}, 0});
+  edit.new_vertices.push_back({{1.0, 0.7}, 1});
+  edit.added_edges.push_back({VertexRef::New(0), VertexRef::New(1)});
+  for (const Vec2& x : {Vec2(0.3, 0.0), Vec2(1.0, 0.0), Vec2(1.0, 0.7)})
+    edit.flipped_region.push_back(x);
+  ASSERT_TRUE(Try(coloring, edit));
+  const double length = 0.7 * std::numbers::sqrt2;
+  EXPECT_NEAR(coloring.LogArakDensity(1.0),
+              -std::log(length) + 2.0 * std::log(std::sqrt(0.5)) - 2.0 * length, 1e-12);
+  EXPECT_EQ(coloring.ColourAt(Vec2(0.95, 0.05)), Colour::kBlack);
+  EXPECT_EQ(coloring.ColourAt(Vec2(0.1, 0.9)), Colour::kWhite);
+}
+
+TEST(Coloring, InvalidEditsAreRefusedAndChangeNothing) {
+  Coloring coloring(kUnit, 0.25);
+  ASSERT_TRUE(Try(coloring, AddPolygon({{0.1, 0.1}, {0.5, 0.1}, {0.3, 0.5}})));
+  const double before = coloring.LogArakDensity(1.0);
+  EditEffect effect;
+  // Crossing the triangle.
+  EXPECT_FALSE(coloring.Evaluate(AddPolygon({{0.3, 0.3}, {0.8, 0.3}, {0.6, 0.8}}), &effect));
+  // A vertex outside the window, or on its boundary as an interior vertex.
+  EXPECT_FALSE(coloring.Evaluate(AddPolygon({{0.6, 0.6}, {1.2, 0.6}, {0.7, 0.9}}), &effect));
+  EXPECT_FALSE(coloring.Evaluate(AddPolygon({{0.6, 0.6}, {1.0, 0.6}, {0.7, 0.9}}), &effect));
+  // Collinear: a zero angle has zero measure.
+  EXPECT_FALSE(coloring.Evaluate(AddPolygon({{0.6, 0.6}, {0.7, 0.7}, {0.8, 0.8}}), &effect));
+  // Two boundary vertices on one side joined by an edge would run along the boundary.
+  Edit along_side;
+  along_side.new_vertices.push_back({{0.6, 0.0}, 0});
+  along_side.new_vertices.push_back({{0.9, 0.0}, 0});
+  along_side.added_edges.push_back({VertexRef::New(0), VertexRef::New(1)});
+  EXPECT_FALSE(coloring.Evaluate(along_side, &effect));
+  // A boundary vertex that is not on its side.
+  Edit off_side;
+  off_side.new_vertices.push_back({{0.6, 0.01}, 0});
+  off_side.new_vertices.push_back({{1.0, 0.5}, 1});
+  off_side.added_edges.push_back({VertexRef::New(0), VertexRef::New(1)});
+  EXPECT_FALSE(coloring.Evaluate(off_side, &effect));
+  EXPECT_EQ(coloring.LogArakDensity(1.0), before);
+  EXPECT_FALSE(coloring.FindInvariantViolation());
+}
+
+// Long random chains with every move: the invariants hold after each accepted move, and the
+// index answers crossing counts, colours and first hits as brute force does.
+TEST(Coloring, IndexAnswersAsBruteForceAlongAChain) {
+  SamplerOptions options;
+  options.p = 3.0;
+  options.birth_scale = 0.3;
+  options.step_scales = {0.01, 0.05, 0.2};
+  options.check_invariants = true;
+  PrfSampler sampler(Coloring(kUnit, 1.0 / 12.0), options, 17);
+  Rng rng(4);
+  int checked = 0;
+  for (int round = 0; round < 40; ++round) {
+    sampler.Run(500);
+    const Coloring& coloring = sampler.coloring();
+    const Colour anchor = coloring.anchor_colour();
+    for (int i = 0; i < 25; ++i) {
+      const Vec2 a(rng.Uniform(), rng.Uniform()), b(rng.Uniform(), rng.Uniform());
+      ASSERT_EQ(coloring.CountCrossings(a, b), CrossingsByBruteForce(coloring, a, b));
+      const int parity = CrossingsByBruteForce(coloring, coloring.anchor(), b) % 2;
+      ASSERT_EQ(coloring.ColourAt(b), parity == 0 ? anchor : Flip(anchor));
+      // First hit along a ray against every edge.
+      const Vec2 direction = UnitVector(rng.Uniform(0.0, 2.0 * std::numbers::pi));
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const Segment& s : AllEdges(coloring)) {
+        const Vec2 along = s.b - s.a;
+        const double denominator = Cross(direction, along);
+        if (denominator == 0.0) continue;
+        const double t = Cross(s.a - a, along) / denominator;
+        const double u = Cross(s.a - a, direction) / denominator;
+        if (t > 0.0 && t <= 2.0 && u >= 0.0 && u <= 1.0) nearest = std::min(nearest, t);
+      }
+      const auto hit = coloring.FirstHit(a, direction, 2.0);
+      if (std::isinf(nearest)) {
+        ASSERT_FALSE(hit);
+      } else {
+        ASSERT_TRUE(hit);
+        ASSERT_DOUBLE_EQ(*hit, nearest);
+      }
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 1000);
+  EXPECT_GT(sampler.coloring().stats().edges, 20);  // p = 3: about 125 edges expected
+}
+
+}  // namespace
+}  // namespace priormap::prf

@@ -1,0 +1,284 @@
+// The proposals' Hastings ratios, exactly: a move and the move that undoes it must have
+// opposite log proposal ratios, and the local recolor's ratio must count grid neighbourhoods
+// as brute force does. (The chain tests in prior_stats_test.cpp check the ratios' derivation
+// against the Arak process's closed forms.)
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <priormap/prf/sampler.hpp>
+
+#include "prf/brute_force.hpp"
+
+namespace priormap::prf {
+namespace {
+
+const Window kUnit{Vec2::Zero(), Vec2::Ones()};
+
+SamplerOptions Options(double p) {
+  SamplerOptions options;
+  options.p = p;
+  options.birth_scale = 0.3;
+  options.step_scales = {0.01, 0.05, 0.2};
+  return options;
+}
+
+// A state of the prior chain after `steps` steps.
+PrfSampler Warmed(double p, std::uint64_t seed, std::uint64_t steps) {
+  PrfSampler sampler(Coloring(kUnit, 0.125), Options(p), seed);
+  sampler.Run(steps);
+  return sampler;
+}
+
+using Segments = std::vector<std::pair<Vec2, Vec2>>;
+
+Segments Canonical(Segments segments) {
+  for (auto& [a, b] : segments)
+    if (std::lexicographical_compare(b.data(), b.data() + 2, a.data(), a.data() + 2))
+      std::swap(a, b);
+  std::sort(segments.begin(), segments.end(), [](const auto& x, const auto& y) {
+    return std::lexicographical_compare(x.first.data(), x.first.data() + 2, y.first.data(),
+                                        y.first.data() + 2) ||
+           (x.first == y.first &&
+            std::lexicographical_compare(x.second.data(), x.second.data() + 2, y.second.data(),
+                                         y.second.data() + 2));
+  });
+  return segments;
+}
+
+Segments Removed(const Coloring& c, const Edit& edit) {
+  Segments out;
+  for (EdgeId e : edit.removed_edges) out.emplace_back(c.EdgeSegment(e).a, c.EdgeSegment(e).b);
+  return Canonical(out);
+}
+
+Segments Added(const Coloring& c, const Edit& edit) {
+  const auto pos = [&](VertexRef r) {
+    return r.is_new() ? edit.new_vertices[static_cast<std::size_t>(r.new_index())].position
+                      : c.vertex(r.id()).position;
+  };
+  Segments out;
+  for (const auto& [a, b] : edit.added_edges) out.emplace_back(pos(a), pos(b));
+  return Canonical(out);
+}
+
+// Proposes `forward` until one is valid, applies it, then proposes `reverse` from the new
+// state until it undoes the first; the two log proposal ratios must cancel. Returns false when
+// the state offers no valid forward move.
+bool ExpectReversible(MoveType forward, MoveType reverse, double p, std::uint64_t seed) {
+  PrfSampler sampler = Warmed(p, seed, 3000);
+  Edit edit;
+  EditEffect effect;
+  double log_q = 0.0;
+  int tries = 0;
+  while (!(sampler.Propose(forward, &edit, &log_q) && sampler.coloring().Evaluate(edit, &effect)))
+    if (++tries == 100000) return false;
+  const Segments removed = Removed(sampler.coloring(), edit);
+  const Segments added = Added(sampler.coloring(), edit);
+  Coloring after = sampler.coloring();
+  after.Apply(edit, effect);
+  PrfSampler undo(after, sampler.options(), seed + 1000);
+  Edit back;
+  double log_q_back = 0.0;
+  for (int attempt = 0; attempt < 2000000; ++attempt) {
+    if (!undo.Propose(reverse, &back, &log_q_back)) continue;
+    if (Removed(undo.coloring(), back) != added || Added(undo.coloring(), back) != removed)
+      continue;
+    EXPECT_NEAR(log_q + log_q_back, 0.0, 1e-9)
+        << MoveTypeName(forward) << " then " << MoveTypeName(reverse) << ", seed " << seed;
+    return true;
+  }
+  ADD_FAILURE() << "no " << MoveTypeName(reverse) << " undid the " << MoveTypeName(forward)
+                << ", seed " << seed;
+  return true;
+}
+
+TEST(MoveRatios, BirthsAndDeathsCancel) {
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    EXPECT_TRUE(ExpectReversible(MoveType::kTriangleBirth, MoveType::kTriangleDeath, 1.0, seed));
+    EXPECT_TRUE(ExpectReversible(MoveType::kBoundaryTriangleBirth, MoveType::kBoundaryTriangleDeath,
+                                 1.0, seed));
+    EXPECT_TRUE(ExpectReversible(MoveType::kCornerBirth, MoveType::kCornerDeath, 1.0, seed));
+    EXPECT_TRUE(ExpectReversible(MoveType::kVertexBirth, MoveType::kVertexDeath, 2.0, seed));
+  }
+}
+
+TEST(MoveRatios, RecolorsUndoThemselves) {
+  int tested = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    tested += ExpectReversible(MoveType::kRecolor, MoveType::kRecolor, 1.0, seed);
+    tested += ExpectReversible(MoveType::kLocalRecolor, MoveType::kLocalRecolor, 2.0, seed);
+  }
+  EXPECT_GE(tested, 12);  // a sparse state may offer no valid recolor
+}
+
+// P(propose the pair) = (1/|E|)(1/|N(e1)| + 1/|N(e2)|) with N(e) the other edges sharing a
+// grid cell with e, before the move for the forward and after it for the reverse.
+TEST(MoveRatios, LocalRecolorCountsNeighbourhoodsAsBruteForce) {
+  int checked = 0;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    PrfSampler sampler = Warmed(3.0, seed, 5000);
+    const Coloring& before = sampler.coloring();
+    for (int i = 0; i < 200; ++i) {
+      Edit edit;
+      EditEffect effect;
+      double log_q = 0.0;
+      if (!sampler.Propose(MoveType::kLocalRecolor, &edit, &log_q)) continue;
+      if (!before.Evaluate(edit, &effect)) continue;
+      const Segment e1 = before.EdgeSegment(edit.removed_edges[0]);
+      const Segment e2 = before.EdgeSegment(edit.removed_edges[1]);
+      const double forward = 1.0 / CellNeighboursByBruteForce(before, e1.a, e1.b, {}) +
+                             1.0 / CellNeighboursByBruteForce(before, e2.a, e2.b, {});
+      Coloring after = before;
+      after.Apply(edit, effect);
+      const Segments added = Added(before, edit);
+      const double reverse =
+          1.0 / CellNeighboursByBruteForce(after, added[0].first, added[0].second, {}) +
+          1.0 / CellNeighboursByBruteForce(after, added[1].first, added[1].second, {});
+      EXPECT_NEAR(log_q, std::log(reverse / forward), 1e-12);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
+// The slide keeps the direction of the edge it slides along, and its interval [−½, 1] of
+// (v' − v)/(v − w) maps onto the reverse's: lengths within [½, 2] of each other.
+TEST(MoveRatios, SlideKeepsTheEdgeDirection) {
+  PrfSampler sampler = Warmed(2.0, 3, 4000);
+  const Coloring& c = sampler.coloring();
+  int checked = 0;
+  for (int i = 0; i < 500; ++i) {
+    Edit edit;
+    double log_q = 1.0;
+    if (!sampler.Propose(MoveType::kSlide, &edit, &log_q)) continue;
+    EXPECT_EQ(log_q, 0.0);
+    const VertexId v = edit.removed_vertices[0];
+    const Vec2 moved = edit.new_vertices[0].position;
+    const VertexId w = edit.added_edges[1][1].id();  // (new, w): the edge that keeps direction
+    const Vec2 old_vector = c.vertex(v).position - c.vertex(w).position;
+    const Vec2 new_vector = moved - c.vertex(w).position;
+    EXPECT_NEAR(Cross(old_vector, new_vector), 0.0, 1e-12);
+    EXPECT_GT(old_vector.dot(new_vector), 0.0);
+    const double ratio = new_vector.norm() / old_vector.norm();
+    EXPECT_GE(ratio, 0.5 - 1e-12);
+    EXPECT_LE(ratio, 2.0 + 1e-12);
+    ++checked;
+  }
+  EXPECT_GT(checked, 400);
+}
+
+TEST(MoveCounters, AddUpOverAChain) {
+  PrfSampler sampler = Warmed(1.0, 9, 20000);
+  std::uint64_t proposed = 0;
+  for (const MoveCounter& c : sampler.counters()) {
+    EXPECT_LE(c.invalid + c.accepted, c.proposed);
+    proposed += c.proposed;
+  }
+  EXPECT_EQ(proposed, 20000u);
+  for (int t = 0; t < kNumMoveTypes; ++t)
+    EXPECT_GT(sampler.counters()[static_cast<std::size_t>(t)].accepted, 0u)
+        << MoveTypeName(static_cast<MoveType>(t));
+}
+
+TEST(MoveCounters, SwitchedOffKindsAreNeverProposed) {
+  SamplerOptions options = Options(1.0);
+  options.weights = MoveWeights{};
+  options.weights[MoveKind::kRecolor] = 0.0;
+  options.weights[MoveKind::kSlide] = 0.0;
+  PrfSampler sampler(Coloring(kUnit, 0.125), options, 2);
+  sampler.Run(5000);
+  EXPECT_EQ(sampler.counters()[static_cast<std::size_t>(MoveType::kRecolor)].proposed, 0u);
+  EXPECT_EQ(sampler.counters()[static_cast<std::size_t>(MoveType::kSlide)].proposed, 0u);
+  EXPECT_GT(sampler.counters()[static_cast<std::size_t>(MoveType::kLocalRecolor)].proposed, 0u);
+}
+
+TEST(MoveKinds, NamesRoundTrip) {
+  for (int k = 0; k < kNumMoveKinds; ++k) {
+    const auto kind = static_cast<MoveKind>(k);
+    EXPECT_EQ(ParseMoveKind(MoveKindName(kind)), kind);
+  }
+  EXPECT_EQ(ParseMoveKind("teleport"), std::nullopt);
+}
+
+}  // namespace
+}  // namespace priormap::prf
+
+namespace priormap::prf {
+namespace {
+
+// The births' proposal densities q against the base measure μ, checked directly by the
+// importance-sampling identity E_q[g / q] = ∫ g dμ over q's support (μ: Lebesgue on positions,
+// divided by the orderings of exchangeable new vertices). A density that is wrong the same way
+// in a birth and its death passes the reversal test above; this one catches it.
+class BirthDensity : public ::testing::Test {
+ protected:
+  static constexpr int kDraws = 200000;
+  static constexpr double r = 0.3;
+  SamplerOptions options_ = Options(1.0);
+};
+
+TEST_F(BirthDensity, TriangleIntegratesToTheMeasureOfItsSupport) {
+  PrfSampler sampler(Coloring(kUnit, 0.125), options_, 5);  // empty: n' = 3 and log q' = log 1
+  const auto chebyshev = [](const Vec2& a, const Vec2& b) { return (a - b).cwiseAbs().maxCoeff(); };
+  double sum = 0.0;
+  for (int i = 0; i < kDraws; ++i) {
+    Edit edit;
+    double log_q = 0.0;
+    ASSERT_TRUE(sampler.Propose(MoveType::kTriangleBirth, &edit, &log_q));
+    bool inside = true;
+    for (const NewVertex& v : edit.new_vertices)
+      inside = inside && kUnit.ContainsInterior(v.position);
+    if (inside) sum += std::exp(log_q);  // 1 / q, as log q_reverse = log(3/3) = 0
+  }
+  // ∫ 1{all in W} dμ = (1/3!) ∫_{W³} 1{some vertex has the other two within r}: by plain Monte
+  // Carlo over uniform triples.
+  Rng rng(8);
+  int covered = 0;
+  for (int i = 0; i < kDraws; ++i) {
+    const Vec2 a(rng.Uniform(), rng.Uniform()), b(rng.Uniform(), rng.Uniform()),
+        c(rng.Uniform(), rng.Uniform());
+    covered += (chebyshev(a, b) <= r && chebyshev(a, c) <= r) ||
+               (chebyshev(b, a) <= r && chebyshev(b, c) <= r) ||
+               (chebyshev(c, a) <= r && chebyshev(c, b) <= r);
+  }
+  const double expected = static_cast<double>(covered) / kDraws / 6.0;
+  EXPECT_NEAR(sum / kDraws, expected, 0.02 * expected);
+}
+
+TEST_F(BirthDensity, BoundaryTriangleIntegratesToTheMeasureOfItsSupport) {
+  PrfSampler sampler(Coloring(kUnit, 0.125), options_, 6);  // empty: n' = 1
+  double sum = 0.0;
+  for (int i = 0; i < kDraws; ++i) {
+    Edit edit;
+    double log_q = 0.0;
+    if (sampler.Propose(MoveType::kBoundaryTriangleBirth, &edit, &log_q)) sum += std::exp(log_q);
+  }
+  // μ of the support: ½ ∫∫ ds1 ds2 (same side, |s1 − s2| ≤ r) · ∫ dv (square of side 2r).
+  const double pairs = 4.0 * (2.0 * r * 1.0 - r * r);
+  const double expected = 0.5 * pairs * 4.0 * r * r;
+  EXPECT_NEAR(sum / kDraws, expected, 0.01 * expected);
+}
+
+TEST_F(BirthDensity, VertexBirthIntegratesToTheRectanglesAlongTheEdges) {
+  PrfSampler sampler = Warmed(2.0, 4, 3000);
+  const Coloring& c = sampler.coloring();
+  const double n_after = static_cast<double>(c.interior_vertices().size() + 1);
+  double sum = 0.0;
+  for (int i = 0; i < kDraws; ++i) {
+    Edit edit;
+    double log_q = 0.0;
+    ASSERT_TRUE(sampler.Propose(MoveType::kVertexBirth, &edit, &log_q));
+    sum += std::exp(log_q) * n_after;  // 1 / (q(e) q(v | e))
+  }
+  // Σ_e area of the rectangle along e with half-width κ|e|.
+  double expected = 0.0;
+  for (EdgeId e : c.edge_ids())
+    expected += 2.0 * options_.vertex_birth_width * std::pow(c.edge(e).length, 2);
+  EXPECT_NEAR(sum / kDraws, expected, 0.01 * expected);
+}
+
+}  // namespace
+}  // namespace priormap::prf

@@ -1,0 +1,140 @@
+// The proof of detailed balance: with no data, chains of the sampler must reproduce the Arak
+// process's closed forms (Paskin & Thrun, Sec. 1.3.2) in the unit square: E|E| = 4p + 4πp²,
+// P(black) = ½, P(same colour at distance d) = ½(1 + e^{−4pd}), and crossings of a fixed segment
+// of length d Poisson with mean 2pd (mean and P(none) = e^{−2pd}). Each within 4 batch-means
+// standard errors. Besides the whole move set, subsets that are still irreducible run each move
+// kind without the others, so that a wrong ratio in one cannot hide behind another.
+//
+// PRIORMAP_PRF_CHAIN_SCALE multiplies the chains' lengths: 1 in the default suite, more in the
+// `slow` label (prf_slow_tests).
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <priormap/prf/prior_stats.hpp>
+
+#ifndef PRIORMAP_PRF_CHAIN_SCALE
+#define PRIORMAP_PRF_CHAIN_SCALE 1
+#endif
+
+namespace priormap::prf {
+namespace {
+
+constexpr double kMaxStandardErrors = 4.0;
+
+void ExpectMatchesArak(const PriorStatsResult& r, const std::string& what) {
+  SCOPED_TRACE(what);
+  EXPECT_LE(StandardScore(r.edges, r.expected_edges), kMaxStandardErrors)
+      << "mean edges " << r.edges.mean << " ± " << r.edges.standard_error << ", expected "
+      << r.expected_edges;
+  EXPECT_LE(StandardScore(r.black_fraction, 0.5), kMaxStandardErrors)
+      << "P(black) " << r.black_fraction.mean << " ± " << r.black_fraction.standard_error;
+  for (const DistanceStats& d : r.by_distance) {
+    EXPECT_LE(StandardScore(d.same_colour, d.expected_same_colour), kMaxStandardErrors)
+        << "d = " << d.distance << ": same colour " << d.same_colour.mean << " ± "
+        << d.same_colour.standard_error << ", expected " << d.expected_same_colour;
+    EXPECT_LE(StandardScore(d.crossings, d.expected_crossings), kMaxStandardErrors)
+        << "d = " << d.distance << ": crossings " << d.crossings.mean << " ± "
+        << d.crossings.standard_error << ", expected " << d.expected_crossings;
+    EXPECT_LE(StandardScore(d.no_crossing, d.expected_no_crossing), kMaxStandardErrors)
+        << "d = " << d.distance << ": P(no crossing) " << d.no_crossing.mean << " ± "
+        << d.no_crossing.standard_error << ", expected " << d.expected_no_crossing;
+    // The errors must be small enough for the comparison to mean something.
+    EXPECT_LT(d.same_colour.standard_error, 0.02);
+  }
+  EXPECT_LT(r.edges.standard_error, 0.05 * r.expected_edges);
+}
+
+PriorStatsOptions Chain(double p, std::uint64_t seed) {
+  PriorStatsOptions options;
+  options.p = p;
+  options.seed = seed;
+  options.samples = 20000 * PRIORMAP_PRF_CHAIN_SCALE;
+  options.thin = p > 3.0 ? 200 : 100;
+  options.burn_in = 200000;
+  return options;
+}
+
+class WholeMoveSet : public ::testing::TestWithParam<double> {};
+
+TEST_P(WholeMoveSet, MatchesTheArakProcess) {
+  const double p = GetParam();
+  const PriorStatsResult r = RunPriorStats(Chain(p, 11));
+  ExpectMatchesArak(r, "p = " + std::to_string(p));
+  for (const MoveCounter& c : r.counters) EXPECT_GT(c.accepted, 0u);
+}
+
+std::string ScaleName(const ::testing::TestParamInfo<double>& param) {
+  return "p_times_10_is_" + std::to_string(static_cast<int>(param.param * 10));
+}
+
+INSTANTIATE_TEST_SUITE_P(ScaleParameter, WholeMoveSet, ::testing::Values(0.5, 1.0, 2.0, 4.0),
+                         ScaleName);
+
+struct Subset {
+  std::string name;
+  std::vector<MoveKind> kinds;
+  MoveKind emphasised;  // the kind under test, given three times the weight
+};
+
+// The base set: births and deaths of every structure and boundary moves (which carry path ends
+// from side to side). Each further kind is run alone with the base; each base kind is dropped
+// where the rest still reaches every coloring.
+const std::vector<MoveKind> kBase{MoveKind::kTriangle, MoveKind::kBoundaryTriangle,
+                                  MoveKind::kCorner, MoveKind::kVertex, MoveKind::kBoundaryMove};
+
+std::vector<Subset> Subsets() {
+  std::vector<Subset> subsets{{"base", kBase, MoveKind::kVertex}};
+  for (MoveKind extra :
+       {MoveKind::kInteriorMove, MoveKind::kSlide, MoveKind::kRecolor, MoveKind::kLocalRecolor}) {
+    std::string name = "base_and_";
+    name += MoveKindName(extra);
+    Subset s{name, kBase, extra};
+    s.kinds.push_back(extra);
+    subsets.push_back(s);
+  }
+  // Closed polygons without triangle births: a recolor of two edges of one path closes a loop.
+  subsets.push_back({"without_triangle",
+                     {MoveKind::kBoundaryTriangle, MoveKind::kCorner, MoveKind::kVertex,
+                      MoveKind::kBoundaryMove, MoveKind::kRecolor},
+                     MoveKind::kBoundaryTriangle});
+  // Bends on one side from a corner edge and a vertex birth, carried over by boundary moves.
+  subsets.push_back(
+      {"without_boundary_triangle",
+       {MoveKind::kTriangle, MoveKind::kCorner, MoveKind::kVertex, MoveKind::kBoundaryMove},
+       MoveKind::kCorner});
+  // Straight boundary-to-boundary edges from a vertex death on a boundary triangle.
+  subsets.push_back({"without_corner",
+                     {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kVertex,
+                      MoveKind::kBoundaryMove},
+                     MoveKind::kTriangle});
+  return subsets;
+}
+
+// gtest names the parameter in test listings by this instead of its bytes.
+void PrintTo(const Subset& subset, std::ostream* out) {
+  *out << subset.name;
+}
+
+class MoveSubset : public ::testing::TestWithParam<Subset> {};
+
+TEST_P(MoveSubset, MatchesTheArakProcess) {
+  const Subset& subset = GetParam();
+  PriorStatsOptions options = Chain(1.0, 23);
+  options.sampler.weights.weight.fill(0.0);
+  for (MoveKind kind : subset.kinds) options.sampler.weights[kind] = 1.0;
+  options.sampler.weights[subset.emphasised] = 3.0;
+  const PriorStatsResult r = RunPriorStats(options);
+  ExpectMatchesArak(r, subset.name);
+}
+
+std::string SubsetName(const ::testing::TestParamInfo<Subset>& param) {
+  return param.param.name;
+}
+
+INSTANTIATE_TEST_SUITE_P(EachMoveKind, MoveSubset, ::testing::ValuesIn(Subsets()), SubsetName);
+
+}  // namespace
+}  // namespace priormap::prf
