@@ -20,8 +20,8 @@ CLI::Validator NumberCheck(bool allow_zero) {
       [allow_zero](std::string& text) -> std::string {
         double value = 0.0;
         if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
-        const bool ok = allow_zero ? value >= 0.0 : value > 0.0;
-        if (ok && std::isfinite(value)) return {};
+        if (!std::isfinite(value)) return text + " is not a finite number";
+        if (allow_zero ? value >= 0.0 : value > 0.0) return {};
         return text + (allow_zero ? " is negative (expected a number >= 0)"
                                   : " is not positive (expected a number > 0)");
       },

@@ -31,6 +31,23 @@ bool ProperlyCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
   return o1 * o2 < 0 && o3 * o4 < 0;
 }
 
+// On side `side`'s line and strictly between its corners, by raw coordinates (perimeter
+// coordinates round, and a vertex must never sit on a corner).
+bool OnSideStrictly(const Window& w, const Vec2& p, int side) {
+  switch (side) {
+    case 0:
+      return p.y() == w.min.y() && p.x() > w.min.x() && p.x() < w.max.x();
+    case 1:
+      return p.x() == w.max.x() && p.y() > w.min.y() && p.y() < w.max.y();
+    case 2:
+      return p.y() == w.max.y() && p.x() > w.min.x() && p.x() < w.max.x();
+    case 3:
+      return p.x() == w.min.x() && p.y() > w.min.y() && p.y() < w.max.y();
+    default:
+      return false;
+  }
+}
+
 }  // namespace
 
 bool SegmentsTouch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
@@ -239,10 +256,7 @@ bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
     if (nv.side == kInterior) {
       if (!w.ContainsInterior(p)) return false;
     } else {
-      const double along = w.CoordinateOf(p, nv.side) - w.CornerCoordinate(nv.side);
-      const bool on_line = (nv.side % 2 == 0 ? p.y() == (nv.side == 0 ? w.min.y() : w.max.y())
-                                             : p.x() == (nv.side == 1 ? w.max.x() : w.min.x()));
-      if (!on_line || !(along > 0.0 && along < w.SideLength(nv.side))) return false;
+      if (!OnSideStrictly(w, p, nv.side)) return false;
     }
     new_positions.push_back(p);
   }
@@ -395,6 +409,12 @@ std::optional<std::string> Coloring::FindInvariantViolation(double tolerance) co
     const Segment s = EdgeSegment(e);
     if (std::abs(s.Length() - edges_[e].length) > tolerance)
       return fmt::format("edge {} cached length", e);
+    const auto [v0, v1] = edges_[e].vertices;
+    for (VertexId v : {v0, v1})
+      if (vertices_[v].edges[0] != e && vertices_[v].edges[1] != e)
+        return fmt::format("edge {} is not listed by its vertex {}", e, v);
+    if (vertices_[v0].side != kInterior && vertices_[v0].side == vertices_[v1].side)
+      return fmt::format("edge {} runs along side {}", e, vertices_[v0].side);
     recomputed.edges += 1;
     recomputed.total_length += s.Length();
     recomputed.sum_log_length += std::log(s.Length());
@@ -409,6 +429,8 @@ std::optional<std::string> Coloring::FindInvariantViolation(double tolerance) co
       const EdgeId f = edge_list_[j];
       const auto& a = edges_[e].vertices;
       const auto& b = edges_[f].vertices;
+      if ((a[0] == b[0] && a[1] == b[1]) || (a[0] == b[1] && a[1] == b[0]))
+        return fmt::format("edges {} and {} join the same vertices", e, f);
       if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
       const Segment t = EdgeSegment(f);
       if (SegmentsTouch(s.a, s.b, t.a, t.b)) return fmt::format("edges {} and {} cross", e, f);
@@ -451,11 +473,7 @@ std::optional<std::string> Coloring::FindInvariantViolation(double tolerance) co
         if (!window_.ContainsInterior(vertex.position))
           return fmt::format("interior vertex {} outside the window", v);
       } else {
-        const double along = window_.CoordinateOf(vertex.position, vertex.side) -
-                             window_.CornerCoordinate(vertex.side);
-        if (!(along > 0.0 && along < window_.SideLength(vertex.side)) ||
-            (window_.PointAt(window_.CoordinateOf(vertex.position, vertex.side)) - vertex.position)
-                    .norm() > tolerance)
+        if (!OnSideStrictly(window_, vertex.position, vertex.side))
           return fmt::format("boundary vertex {} off its side", v);
       }
       const double log_sin = VertexLogSin(vertex.position, vertex.side, neighbours[0],

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -53,7 +54,9 @@ MoveType PrfSampler::ChooseType() {
   int kind =
       static_cast<int>(std::upper_bound(cumulative_weights_.begin(), cumulative_weights_.end(), u) -
                        cumulative_weights_.begin());
-  kind = std::min(kind, kNumMoveKinds - 1);
+  // u can round up to the total; then take the last kind that has weight.
+  while (kind >= kNumMoveKinds || options_.weights.weight[static_cast<std::size_t>(kind)] == 0.0)
+    --kind;
   switch (static_cast<MoveKind>(kind)) {
     case MoveKind::kTriangle:
     case MoveKind::kBoundaryTriangle:
@@ -140,6 +143,15 @@ double PrfSampler::StepScale() {
   return scales.size() == 1 ? scales[0] : scales[rng_.UniformIndex(scales.size())];
 }
 
+std::optional<PrfSampler::DrawnVertex> PrfSampler::DrawInteriorVertex() {
+  const auto interior = coloring_.interior_vertices();
+  if (interior.empty()) return std::nullopt;
+  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const ColoringVertex& vertex = coloring_.vertex(v);
+  return DrawnVertex{v, coloring_.Other(vertex.edges[0], v), coloring_.Other(vertex.edges[1], v),
+                     interior.size()};
+}
+
 // ---- proposal densities -------------------------------------------------------------------
 
 double PrfSampler::TriangleDensity(const Vec2& a, const Vec2& b, const Vec2& c) const {
@@ -207,12 +219,10 @@ bool PrfSampler::ProposeTriangleBirth(Edit* edit, double* log_q) {
 }
 
 bool PrfSampler::ProposeTriangleDeath(Edit* edit, double* log_q) {
-  const auto interior = coloring_.interior_vertices();
-  if (interior.empty()) return false;
-  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const auto drawn = DrawInteriorVertex();
+  if (!drawn) return false;
+  const auto [v, u, x, n_interior] = *drawn;
   const ColoringVertex& vertex = coloring_.vertex(v);
-  const VertexId u = coloring_.Other(vertex.edges[0], v);
-  const VertexId x = coloring_.Other(vertex.edges[1], v);
   if (coloring_.vertex(u).side != kInterior || coloring_.vertex(x).side != kInterior) return false;
   const EdgeId closing = OtherEdge(coloring_.vertex(u), vertex.edges[0]);
   if (coloring_.Other(closing, u) != x) return false;
@@ -224,7 +234,7 @@ bool PrfSampler::ProposeTriangleDeath(Edit* edit, double* log_q) {
     edit->removed_vertices.push_back(y);
     edit->flipped_region.push_back(coloring_.vertex(y).position);
   }
-  *log_q = std::log(density) - std::log(3.0 / static_cast<double>(interior.size()));
+  *log_q = std::log(density) - std::log(3.0 / static_cast<double>(n_interior));
   return true;
 }
 
@@ -251,12 +261,10 @@ bool PrfSampler::ProposeBoundaryTriangleBirth(Edit* edit, double* log_q) {
 }
 
 bool PrfSampler::ProposeBoundaryTriangleDeath(Edit* edit, double* log_q) {
-  const auto interior = coloring_.interior_vertices();
-  if (interior.empty()) return false;
-  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const auto drawn = DrawInteriorVertex();
+  if (!drawn) return false;
+  const auto [v, b1, b2, n_interior] = *drawn;
   const ColoringVertex& vertex = coloring_.vertex(v);
-  const VertexId b1 = coloring_.Other(vertex.edges[0], v);
-  const VertexId b2 = coloring_.Other(vertex.edges[1], v);
   const ColoringVertex& first = coloring_.vertex(b1);
   const ColoringVertex& second = coloring_.vertex(b2);
   const double density = BoundaryTriangleDensity(first.position, first.side, second.position,
@@ -268,7 +276,7 @@ bool PrfSampler::ProposeBoundaryTriangleDeath(Edit* edit, double* log_q) {
     edit->removed_vertices.push_back(y);
     edit->flipped_region.push_back(coloring_.vertex(y).position);
   }
-  *log_q = std::log(density) + std::log(static_cast<double>(interior.size()));
+  *log_q = std::log(density) + std::log(static_cast<double>(n_interior));
   return true;
 }
 
@@ -344,12 +352,10 @@ bool PrfSampler::ProposeVertexBirth(Edit* edit, double* log_q) {
 }
 
 bool PrfSampler::ProposeVertexDeath(Edit* edit, double* log_q) {
-  const auto interior = coloring_.interior_vertices();
-  if (interior.empty()) return false;
-  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const auto drawn = DrawInteriorVertex();
+  if (!drawn) return false;
+  const auto [v, u, w, n_interior] = *drawn;
   const ColoringVertex& vertex = coloring_.vertex(v);
-  const VertexId u = coloring_.Other(vertex.edges[0], v);
-  const VertexId w = coloring_.Other(vertex.edges[1], v);
   const Vec2& pu = coloring_.vertex(u).position;
   const Vec2& pw = coloring_.vertex(w).position;
   const double edges_after = static_cast<double>(coloring_.edge_ids().size() - 1);
@@ -360,21 +366,19 @@ bool PrfSampler::ProposeVertexDeath(Edit* edit, double* log_q) {
   edit->removed_vertices.push_back(v);
   edit->added_edges.push_back({Old(u), Old(w)});
   for (const Vec2& x : {pu, vertex.position, pw}) edit->flipped_region.push_back(x);
-  *log_q = std::log(reverse) + std::log(static_cast<double>(interior.size()));
+  *log_q = std::log(reverse) + std::log(static_cast<double>(n_interior));
   return true;
 }
 
 // ---- moves that keep the graph's structure ------------------------------------------------
 
 bool PrfSampler::ProposeInteriorMove(Edit* edit) {
-  const auto interior = coloring_.interior_vertices();
-  if (interior.empty()) return false;
-  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const auto drawn = DrawInteriorVertex();
+  if (!drawn) return false;
+  [[maybe_unused]] const auto [v, u, w, n_interior] = *drawn;
   const ColoringVertex& vertex = coloring_.vertex(v);
   const double step = StepScale();
   const Vec2 moved = vertex.position + Vec2(rng_.Uniform(-step, step), rng_.Uniform(-step, step));
-  const VertexId u = coloring_.Other(vertex.edges[0], v);
-  const VertexId w = coloring_.Other(vertex.edges[1], v);
   edit->removed_edges.push_back(vertex.edges[0]);
   edit->removed_edges.push_back(vertex.edges[1]);
   edit->removed_vertices.push_back(v);
@@ -424,15 +428,15 @@ bool PrfSampler::ProposeBoundaryMove(Edit* edit) {
 }
 
 bool PrfSampler::ProposeSlide(Edit* edit) {
-  const auto interior = coloring_.interior_vertices();
-  if (interior.empty()) return false;
-  const VertexId v = interior[rng_.UniformIndex(interior.size())];
+  const auto drawn = DrawInteriorVertex();
+  if (!drawn) return false;
+  const VertexId v = drawn->vertex;
   const ColoringVertex& vertex = coloring_.vertex(v);
   const std::size_t k = rng_.UniformIndex(2);
   const EdgeId kept_direction = vertex.edges[k];
   const EdgeId turning = vertex.edges[1 - k];
-  const VertexId w = coloring_.Other(kept_direction, v);
-  const VertexId u = coloring_.Other(turning, v);
+  const VertexId w = k == 0 ? drawn->first : drawn->second;
+  const VertexId u = k == 0 ? drawn->second : drawn->first;
   // v' = v + t (v − w), t uniform in [−½, 1]: the edge to w keeps its direction and its
   // length goes from |e| to (1 + t)|e| in [|e|/2, 2|e|], a range that contains the reverse.
   const double t = rng_.Uniform(-0.5, 1.0);

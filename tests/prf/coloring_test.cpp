@@ -1,5 +1,6 @@
 // Polygonal colorings: colours by crossing parity, edits and their validity, the Arak measure's
 // statistics, and the grid index's answers against brute force.
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -164,6 +165,55 @@ TEST(Coloring, IndexAnswersAsBruteForceAlongAChain) {
   }
   EXPECT_EQ(checked, 1000);
   EXPECT_GT(sampler.coloring().stats().edges, 20);  // p = 3: about 125 edges expected
+}
+
+// Every move reverses exactly its region: after each applied edit, a point's colour (by crossing
+// parity from the anchor) has changed if and only if the point lies in the edit's region. A
+// wrong region, or a wrong anchor flip, changes the colour of points outside it.
+TEST(Coloring, EveryMoveReversesExactlyItsRegion) {
+  SamplerOptions options;
+  options.p = 3.0;
+  options.birth_scale = 0.4;
+  options.step_scales = {0.05, 0.3, 0.9};  // boundary moves that pass corners
+  PrfSampler sampler(Coloring(kUnit, 0.125), options, 21);
+  sampler.Run(3000);
+  Coloring coloring = sampler.coloring();
+  PrfSampler proposer(coloring, options, 22);
+  Rng rng(6);
+  std::array<int, kNumMoveTypes> applied{};
+  for (int round = 0; round < 6000; ++round) {
+    const auto type = static_cast<MoveType>(round % kNumMoveTypes);
+    Edit edit;
+    EditEffect effect;
+    double log_q = 0.0;
+    if (!proposer.Propose(type, &edit, &log_q) || !coloring.Evaluate(edit, &effect)) continue;
+    // Points anywhere, and points in the box of the vertices the edit touches, where its region
+    // is (for a boundary move past a corner, the box of the old and new positions holds it).
+    Box2 touched;
+    for (EdgeId e : edit.removed_edges) {
+      touched.extend(coloring.EdgeSegment(e).a);
+      touched.extend(coloring.EdgeSegment(e).b);
+    }
+    for (const NewVertex& v : edit.new_vertices) touched.extend(v.position);
+    std::vector<Vec2> points;
+    std::vector<Colour> before;
+    for (int i = 0; i < 60; ++i) {
+      const Vec2 u(rng.Uniform(), rng.Uniform());
+      points.push_back(i < 30 ? u : Vec2(touched.min() + u.cwiseProduct(touched.sizes())));
+      before.push_back(coloring.ColourAt(points.back()));
+    }
+    coloring.Apply(edit, effect);
+    const std::span<const Vec2> region(edit.flipped_region.begin(), edit.flipped_region.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      ASSERT_EQ(coloring.ColourAt(points[i]) != before[i], InsidePolygon(region, points[i]))
+          << MoveTypeName(type) << " at (" << points[i].transpose() << ")";
+    ++applied[static_cast<std::size_t>(type)];
+    // Keep proposing from the new state.
+    proposer = PrfSampler(coloring, options, 100 + static_cast<std::uint64_t>(round));
+  }
+  for (int t = 0; t < kNumMoveTypes; ++t)
+    EXPECT_GT(applied[static_cast<std::size_t>(t)], 5) << MoveTypeName(static_cast<MoveType>(t));
+  EXPECT_FALSE(coloring.FindInvariantViolation(1e-9));
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // The window's perimeter coordinates and the grid walk (DDA) against brute force.
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -85,6 +86,27 @@ TEST(WalkCells, VisitsExactlyTheCellsTheSegmentCrossesInOrder) {
     EXPECT_EQ(visited.front(), grid.CellOf(a));
     EXPECT_EQ(visited.back(), grid.CellOf(b));
   }
+}
+
+TEST(WalkCells, ReachesEndsOnGridLinesAndBothCellsAtACorner) {
+  const CellGrid grid = CellGrid::Covering(Vec2::Zero(), Vec2::Ones(), 0.25);
+  const auto walk = [&](const Vec2& a, const Vec2& b) {
+    std::set<int> cells;
+    WalkCells(grid, a, b, [&](int cell, double, double) {
+      cells.insert(cell);
+      return true;
+    });
+    return cells;
+  };
+  // b on the vertical line x = 0.5: the cell holding b (column 2) is reached.
+  EXPECT_EQ(walk(Vec2(0.1, 0.6), Vec2(0.5, 0.6)), (std::set<int>{8, 9, 10}));
+  // Through the corner (0.5, 0.5): both cells beside it are visited as well.
+  const std::set<int> diagonal = walk(Vec2(0.3, 0.3), Vec2(0.7, 0.7));
+  EXPECT_EQ(diagonal, CellsByClipping(grid, Vec2(0.3, 0.3), Vec2(0.7, 0.7)));
+  EXPECT_TRUE(diagonal.count(1 * 4 + 2) && diagonal.count(2 * 4 + 1));
+  // Far outside or NaN coordinates are clamped, not undefined.
+  EXPECT_EQ(grid.CellOf(Vec2(1e300, -1e300)), 3);
+  EXPECT_EQ(grid.CellOf(Vec2(std::nan(""), 0.6)), 8);
 }
 
 TEST(WalkCells, StopsWhenAsked) {

@@ -21,18 +21,24 @@ struct CellGrid {
   static CellGrid Covering(const Vec2& min, const Vec2& max, double cell_size);
 
   [[nodiscard]] int NumCells() const { return nx * ny; }
-  [[nodiscard]] int ClampX(double x) const {
-    return std::clamp(static_cast<int>(std::floor((x - origin.x()) / cell.x())), 0, nx - 1);
-  }
-  [[nodiscard]] int ClampY(double y) const {
-    return std::clamp(static_cast<int>(std::floor((y - origin.y()) / cell.y())), 0, ny - 1);
-  }
+  // Clamped as doubles first: casting a huge or NaN quotient to int is undefined.
+  [[nodiscard]] int ClampX(double x) const { return Clamp((x - origin.x()) / cell.x(), nx); }
+  [[nodiscard]] int ClampY(double y) const { return Clamp((y - origin.y()) / cell.y(), ny); }
   [[nodiscard]] int CellOf(const Vec2& p) const { return ClampY(p.y()) * nx + ClampX(p.x()); }
+
+ private:
+  static int Clamp(double index, int n) {
+    if (!(index >= 0.0)) return 0;  // also NaN
+    return index >= n - 1 ? n - 1 : static_cast<int>(std::floor(index));
+  }
 };
 
 /// Calls visit(cell, t_enter, t_exit) for each cell that the segment a + t (b - a), t in [0, 1],
 /// passes through, in order from a, with the parameter interval spent in the cell; stops early
-/// when visit returns false. Points outside the grid are clamped to its border cells.
+/// when visit returns false. Points outside the grid are clamped to its border cells. Where the
+/// segment passes exactly through a grid corner, both cells beside the corner are visited, and
+/// an end point on a grid line reaches the cell that holds it, so that segments that touch
+/// always share a visited cell.
 template <class Visit>
 void WalkCells(const CellGrid& grid, const Vec2& a, const Vec2& b, Visit&& visit) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -58,7 +64,15 @@ void WalkCells(const CellGrid& grid, const Vec2& a, const Vec2& b, Visit&& visit
     const bool at_end = ix == end_x && iy == end_y;
     const double t_next = at_end ? 1.0 : std::min({t_max_x, t_max_y, 1.0});
     if (!visit(iy * grid.nx + ix, t, t_next)) return;
-    if (at_end || t_next >= 1.0) return;
+    // Past b's cell, or the next cell boundary lies beyond b: done. (A boundary exactly at b
+    // still leads into the cell holding b.)
+    if (at_end || std::min(t_max_x, t_max_y) > 1.0) return;
+    if (t_max_x == t_max_y && step_x != 0 && step_y != 0) {
+      // Through a corner: the cell beside it along x too, before stepping on along y.
+      const int side_x = ix + step_x;
+      if (side_x >= 0 && side_x < grid.nx && !visit(iy * grid.nx + side_x, t_max_x, t_max_x))
+        return;
+    }
     if (t_max_x < t_max_y) {
       ix += step_x;
       t = t_max_x;

@@ -50,6 +50,9 @@ struct ColoringStats {
   double sum_log_sin = 0.0;
 };
 
+/// Queries (CountCrossings, ColourAt, FirstHit, ForEachEdgeNear) are const but share a mutable
+/// visit stamp per edge: one Coloring must not be queried from several threads at once (each
+/// chain owns its coloring).
 class Coloring {
  public:
   /// The empty graph with the anchor (by default near the window's centre) of colour `anchor`.

@@ -5,6 +5,7 @@
 /// Propose returns.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <priormap/core/rng.hpp>
@@ -25,7 +26,7 @@ struct SamplerOptions {
   double vertex_birth_width = 0.5;
   /// Half-widths of the symmetric random-walk steps of the vertex moves; each step draws one.
   std::vector<double> step_scales{0.02, 0.1, 0.5};
-  /// The target is (prior · likelihood)^(1/temperature); 1 samples, lower anneals.
+  /// The target is (Arak density · likelihood)^(1/temperature): 1 samples, lower anneals.
   double temperature = 1.0;
   /// Debug: check every invariant by brute force after each accepted move (slow).
   bool check_invariants = false;
@@ -49,10 +50,21 @@ class PrfSampler {
 
   /// Draws a move of `type` into `edit` with log(π(reverse) / π(forward)), the proposal part of
   /// the Hastings ratio against the base measure. False when the state offers no such move or
-  /// the draw falls where the target has no mass (outside the window, reverse impossible).
+  /// its reverse could not be proposed; draws that leave the window or cross edges are returned
+  /// and refused by Coloring::Evaluate.
   bool Propose(MoveType type, Edit* edit, double* log_proposal_ratio);
 
  private:
+  /// An interior vertex drawn uniformly, with its neighbours across edges[0] and edges[1] and
+  /// the number it was drawn from; nullopt when there is none.
+  struct DrawnVertex {
+    VertexId vertex;
+    VertexId first;
+    VertexId second;
+    std::size_t count;
+  };
+  std::optional<DrawnVertex> DrawInteriorVertex();
+
   MoveType ChooseType();
   bool ProposeTriangleBirth(Edit* edit, double* log_q);
   bool ProposeTriangleDeath(Edit* edit, double* log_q);
@@ -72,8 +84,8 @@ class PrfSampler {
   [[nodiscard]] double BoundaryTriangleDensity(const Vec2& b1, int side1, const Vec2& b2, int side2,
                                                const Vec2& v) const;
   [[nodiscard]] double VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v) const;
-  /// Number of edges other than `e` (and other than removed ones) sharing a grid cell with
-  /// segment ab; `extra` is a segment added alongside, counted when it shares a cell.
+  /// Number of edges other than `self`, `removed1` and `removed2` sharing a grid cell with
+  /// segment ab.
   [[nodiscard]] int CellNeighbourCount(const Vec2& a, const Vec2& b, EdgeId self, EdgeId removed1,
                                        EdgeId removed2) const;
   [[nodiscard]] bool ShareACell(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
