@@ -22,6 +22,14 @@ struct PriorStatsCliOptions {
   std::vector<std::string> moves;
 };
 
+// "triangle, boundary_triangle, ...": the names --moves takes, for its help and its errors.
+std::string MoveKindList() {
+  std::string list;
+  for (int k = 0; k < prf::kNumMoveKinds; ++k)
+    list += fmt::format("{}{}", k ? ", " : "", prf::MoveKindName(static_cast<prf::MoveKind>(k)));
+  return list;
+}
+
 nlohmann::json EstimateJson(const prf::Estimate& e, double closed_form) {
   return {{"estimate", e.mean},
           {"se", e.standard_error},
@@ -43,13 +51,9 @@ void RunPriorStatsCommand(PriorStatsCliOptions o) {
     s.sampler.weights.weight.fill(0.0);
     for (const std::string& name : o.moves) {
       const auto kind = prf::ParseMoveKind(name);
-      if (!kind) {
-        std::string known;
-        for (int k = 0; k < prf::kNumMoveKinds; ++k)
-          known +=
-              fmt::format("{}{}", k ? ", " : "", prf::MoveKindName(static_cast<prf::MoveKind>(k)));
-        throw UserError(fmt::format("--moves: unknown move kind '{}' (expected: {})", name, known));
-      }
+      if (!kind)
+        throw UserError(
+            fmt::format("--moves: unknown move kind '{}' (expected: {})", name, MoveKindList()));
       s.sampler.weights[*kind] = 1.0;
     }
   }
@@ -122,8 +126,7 @@ void AddPriorStats(CLI::App& prf_cmd) {
                   "0.05, 0.1, 0.2, 0.4 times L)")
       ->delimiter(',');
   cmd->add_option("--moves", o->moves,
-                  "Only these move kinds (comma-separated: triangle, boundary_triangle, corner, "
-                  "vertex, interior_move, boundary_move, recolor, local_recolor, slide)")
+                  "Only these move kinds (comma-separated: " + MoveKindList() + ")")
       ->delimiter(',');
   cmd->callback([o] { RunPriorStatsCommand(*o); });
 }

@@ -5,6 +5,11 @@
 
 namespace priormap::prf {
 
+double ArakLogDensity(const ColoringStats& stats, double p) {
+  return stats.edges * std::log(p) - stats.sum_log_length + stats.sum_log_sin -
+         2.0 * p * stats.total_length;
+}
+
 double ExpectedEdges(double p, const Window& window) {
   return p * window.Perimeter() + 4.0 * std::numbers::pi * p * p * window.Area();
 }

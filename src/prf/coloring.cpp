@@ -83,11 +83,6 @@ Coloring::Coloring(const Window& window, double cell_size, Colour anchor)
       anchor_colour_(anchor),
       cells_(static_cast<std::size_t>(grid_.NumCells())) {}
 
-double Coloring::LogArakDensity(double p) const {
-  return stats_.edges * std::log(p) - stats_.sum_log_length + stats_.sum_log_sin -
-         2.0 * p * stats_.total_length;
-}
-
 std::uint32_t Coloring::NextStamp() const {
   if (++stamp_ == 0) {
     std::fill(edge_stamp_.begin(), edge_stamp_.end(), 0u);
@@ -219,16 +214,14 @@ void Coloring::RemoveVertex(VertexId v) {
 // ---- edits --------------------------------------------------------------------------------
 
 bool Coloring::CrossesAnything(const Vec2& a, const Vec2& b, VertexRef ra, VertexRef rb,
-                               const Edit& edit, std::span<const Vec2>) const {
+                               const Edit& edit) const {
   bool crosses = false;
   const std::uint32_t stamp = NextStamp();
   WalkCells(grid_, a, b, [&](int cell, double, double) {
     for (EdgeId e : cells_[cell]) {
       if (edge_stamp_[e] == stamp) continue;
       edge_stamp_[e] = stamp;
-      if (std::find(edit.removed_edges.begin(), edit.removed_edges.end(), e) !=
-          edit.removed_edges.end())
-        continue;
+      if (edit.Removes(e)) continue;
       const auto& ends = edges_[e].vertices;
       // Edges sharing an endpoint meet only there unless collinear, which the zero angle at
       // that vertex rejects.
@@ -268,10 +261,6 @@ bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
     return r.is_new() ? edit.new_vertices[static_cast<std::size_t>(r.new_index())].side
                       : vertices_[r.id()].side;
   };
-  const auto removed = [&](EdgeId e) {
-    return std::find(edit.removed_edges.begin(), edit.removed_edges.end(), e) !=
-           edit.removed_edges.end();
-  };
 
   // Added edges: proper, not along a side, not duplicated, crossing nothing.
   const std::size_t n_added = edit.added_edges.size();
@@ -285,7 +274,7 @@ bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
     if (a == b) return false;
     if (!ra.is_new() && !rb.is_new()) {
       for (EdgeId e : vertices_[ra.id()].edges)
-        if (e != kNoEdge && !removed(e) && Other(e, ra.id()) == rb.id()) return false;
+        if (e != kNoEdge && !edit.Removes(e) && Other(e, ra.id()) == rb.id()) return false;
     }
     for (std::size_t j = 0; j < i; ++j) {
       const auto [rc, rd] = edit.added_edges[j];
@@ -294,25 +283,25 @@ bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
       if (ra == rc || ra == rd || rb == rc || rb == rd) continue;
       if (SegmentsTouch(a, b, position(rc), position(rd))) return false;
     }
-    if (CrossesAnything(a, b, ra, rb, edit, {})) return false;
+    if (CrossesAnything(a, b, ra, rb, edit)) return false;
   }
 
   // Statistics of the edges.
   for (EdgeId e : edit.removed_edges) {
     const double length = edges_[e].length;
-    effect->delta_edges -= 1;
-    effect->delta_length -= length;
-    effect->delta_log_length -= std::log(length);
+    effect->delta.edges -= 1;
+    effect->delta.total_length -= length;
+    effect->delta.sum_log_length -= std::log(length);
   }
   for (const auto& [ra, rb] : edit.added_edges) {
     const double length = (position(ra) - position(rb)).norm();
-    effect->delta_edges += 1;
-    effect->delta_length += length;
-    effect->delta_log_length += std::log(length);
+    effect->delta.edges += 1;
+    effect->delta.total_length += length;
+    effect->delta.sum_log_length += std::log(length);
   }
 
   // Angles: every vertex that loses or gains an edge, and the new ones.
-  for (VertexId v : edit.removed_vertices) effect->delta_log_sin -= vertices_[v].log_sin;
+  for (VertexId v : edit.removed_vertices) effect->delta.sum_log_sin -= vertices_[v].log_sin;
   SmallVector<VertexRef, 10> affected;
   const auto note = [&](VertexRef r) {
     if (!r.is_new() && std::find(edit.removed_vertices.begin(), edit.removed_vertices.end(),
@@ -330,7 +319,8 @@ bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
     SmallVector<Vec2, 3> neighbours;
     if (!r.is_new()) {
       for (EdgeId e : vertices_[r.id()].edges)
-        if (e != kNoEdge && !removed(e)) neighbours.push_back(vertices_[Other(e, r.id())].position);
+        if (e != kNoEdge && !edit.Removes(e))
+          neighbours.push_back(vertices_[Other(e, r.id())].position);
     }
     for (const auto& [ra, rb] : edit.added_edges) {
       if (ra == r) neighbours.push_back(position(rb));
@@ -343,8 +333,8 @@ bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
     const double log_sin =
         VertexLogSin(position(r), s, neighbours[0], degree == 2 ? &neighbours[1] : nullptr);
     if (!std::isfinite(log_sin)) return false;
-    if (!r.is_new()) effect->delta_log_sin -= vertices_[r.id()].log_sin;
-    effect->delta_log_sin += log_sin;
+    if (!r.is_new()) effect->delta.sum_log_sin -= vertices_[r.id()].log_sin;
+    effect->delta.sum_log_sin += log_sin;
     effect->vertex_log_sin.push_back({r, log_sin});
   }
   effect->flips_anchor =
@@ -392,10 +382,7 @@ void Coloring::Apply(const Edit& edit, const EditEffect& effect) {
     IndexEdge(e);
   }
   for (const auto& [r, log_sin] : effect.vertex_log_sin) vertices_[id(r)].log_sin = log_sin;
-  stats_.edges += effect.delta_edges;
-  stats_.total_length += effect.delta_length;
-  stats_.sum_log_length += effect.delta_log_length;
-  stats_.sum_log_sin += effect.delta_log_sin;
+  stats_ += effect.delta;
   if (effect.flips_anchor) anchor_colour_ = Flip(anchor_colour_);
 }
 

@@ -90,10 +90,7 @@ void PrfSampler::Step() {
     ++counter.invalid;
     return;
   }
-  const double p = options_.p;
-  const double delta_log_prior = effect_.delta_edges * std::log(p) - effect_.delta_log_length +
-                                 effect_.delta_log_sin - 2.0 * p * effect_.delta_length;
-  const double log_alpha = delta_log_prior / options_.temperature + log_q;
+  const double log_alpha = ArakLogDensity(effect_.delta, options_.p) / options_.temperature + log_q;
   if (log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha)) {
     coloring_.Apply(edit_, effect_);
     ++counter.accepted;

@@ -17,6 +17,7 @@
 
 #include <priormap/core/segment.hpp>
 #include <priormap/core/types.hpp>
+#include <priormap/prf/arak.hpp>
 #include <priormap/prf/cell_grid.hpp>
 #include <priormap/prf/edit.hpp>
 #include <priormap/prf/window.hpp>
@@ -40,14 +41,6 @@ struct ColoringEdge {
   std::array<VertexId, 2> vertices{kNoVertex, kNoVertex};
   double length = 0.0;
   std::int32_t slot = -1;  // position in the edge list; -1 when free
-};
-
-/// Sums over the graph that the Arak measure depends on.
-struct ColoringStats {
-  int edges = 0;
-  double total_length = 0.0;
-  double sum_log_length = 0.0;
-  double sum_log_sin = 0.0;
 };
 
 /// Queries (CountCrossings, ColourAt, FirstHit, ForEachEdgeNear) are const but share a mutable
@@ -79,9 +72,8 @@ class Coloring {
     return {vertices_[edges_[e].vertices[0]].position, vertices_[edges_[e].vertices[1]].position};
   }
 
-  /// log of the Arak measure's density against the base measure, with the potential:
-  /// |E| log p − Σ log|e| + Σ log sin φ_v − 2p Σ|e| (paper eqs. 1–3).
-  [[nodiscard]] double LogArakDensity(double p) const;
+  /// log of the Arak measure's density with its potential (ArakLogDensity of stats()).
+  [[nodiscard]] double LogArakDensity(double p) const { return ArakLogDensity(stats_, p); }
 
   /// Number of edges crossing the open segment (a, b).
   [[nodiscard]] int CountCrossings(const Vec2& a, const Vec2& b) const;
@@ -130,7 +122,7 @@ class Coloring {
   void RemoveVertex(VertexId v);
   std::uint32_t NextStamp() const;
   [[nodiscard]] bool CrossesAnything(const Vec2& a, const Vec2& b, VertexRef ra, VertexRef rb,
-                                     const Edit& edit, std::span<const Vec2> new_positions) const;
+                                     const Edit& edit) const;
 
   Window window_;
   CellGrid grid_;

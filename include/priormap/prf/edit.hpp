@@ -9,6 +9,7 @@
 #include <utility>
 
 #include <priormap/core/types.hpp>
+#include <priormap/prf/arak.hpp>
 #include <priormap/prf/small_vector.hpp>
 
 namespace priormap::prf {
@@ -47,6 +48,12 @@ struct Edit {
   /// and added edges and, for boundary moves, the stretch of window boundary between them.
   SmallVector<Vec2, 8> flipped_region;
 
+  [[nodiscard]] bool Removes(EdgeId e) const {
+    for (EdgeId r : removed_edges)
+      if (r == e) return true;
+    return false;
+  }
+
   void clear() {
     removed_edges.clear();
     removed_vertices.clear();
@@ -59,10 +66,7 @@ struct Edit {
 /// What applying an edit changes in the statistics the Arak measure needs; computed by
 /// Coloring::Evaluate and committed unchanged by Coloring::Apply.
 struct EditEffect {
-  int delta_edges = 0;
-  double delta_length = 0.0;      // Δ Σ|e|
-  double delta_log_length = 0.0;  // Δ Σ log|e|
-  double delta_log_sin = 0.0;     // Δ Σ log sin φ_v
+  ColoringStats delta;
   /// The new log sin φ of each vertex whose angle changes (existing or new).
   SmallVector<std::pair<VertexRef, double>, 10> vertex_log_sin;
   bool flips_anchor = false;
