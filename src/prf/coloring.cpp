@@ -104,27 +104,37 @@ Colour Coloring::ColourAt(const Vec2& q) const {
   return CountCrossings(anchor_, q) % 2 == 0 ? anchor_colour_ : Flip(anchor_colour_);
 }
 
-std::optional<double> Coloring::FirstHit(const Vec2& origin, const Vec2& direction,
-                                         double t_max) const {
+std::optional<double> RaySegmentHit(const Vec2& origin, const Vec2& direction, const Vec2& a,
+                                    const Vec2& b, double t_max) {
+  const bool ordered = a.x() < b.x() || (a.x() == b.x() && a.y() <= b.y());
+  const Vec2& first = ordered ? a : b;
+  const Vec2 along = (ordered ? b : a) - first;
+  const double denominator = Cross(direction, along);
+  if (denominator == 0.0) return std::nullopt;
+  const Vec2 offset = first - origin;
+  const double t = Cross(offset, along) / denominator;
+  const double u = Cross(offset, direction) / denominator;
+  if (t > 0.0 && t <= t_max && u >= 0.0 && u <= 1.0) return t;
+  return std::nullopt;
+}
+
+std::optional<RayHit> Coloring::FirstHit(const Vec2& origin, const Vec2& direction, double t_max,
+                                         const Edit* ignoring) const {
   const std::uint32_t stamp = NextStamp();
-  double best = std::numeric_limits<double>::infinity();
+  RayHit best{.t = std::numeric_limits<double>::infinity(), .edge = kNoEdge};
   WalkCells(grid_, origin, origin + t_max * direction, [&](int cell, double, double t_exit) {
     for (EdgeId e : cells_[cell]) {
       if (edge_stamp_[e] == stamp) continue;
       edge_stamp_[e] = stamp;
+      if (ignoring != nullptr && ignoring->Removes(e)) continue;
       const Segment s = EdgeSegment(e);
-      const Vec2 along = s.b - s.a;
-      const double denominator = Cross(direction, along);
-      if (denominator == 0.0) continue;
-      const Vec2 offset = s.a - origin;
-      const double t = Cross(offset, along) / denominator;
-      const double u = Cross(offset, direction) / denominator;
-      if (t > 0.0 && t <= t_max && u >= 0.0 && u <= 1.0) best = std::min(best, t);
+      const auto t = RaySegmentHit(origin, direction, s.a, s.b, t_max);
+      if (t && *t < best.t) best = {.t = *t, .edge = e};
     }
     // Every hit in later cells is farther than this cell's exit.
-    return best > t_exit * t_max;
+    return best.t > t_exit * t_max;
   });
-  if (best <= t_max) return best;
+  if (best.edge != kNoEdge) return best;
   return std::nullopt;
 }
 
@@ -342,7 +352,7 @@ bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
   return true;
 }
 
-void Coloring::Apply(const Edit& edit, const EditEffect& effect) {
+SmallVector<EdgeId, 4> Coloring::Apply(const Edit& edit, const EditEffect& effect) {
   for (EdgeId e : edit.removed_edges) RemoveEdge(e);
   for (VertexId v : edit.removed_vertices) {
     PRIORMAP_DCHECK(vertices_[v].edges[0] == kNoEdge && vertices_[v].edges[1] == kNoEdge,
@@ -363,8 +373,10 @@ void Coloring::Apply(const Edit& edit, const EditEffect& effect) {
   const auto id = [&](VertexRef r) {
     return r.is_new() ? created[static_cast<std::size_t>(r.new_index())] : r.id();
   };
+  SmallVector<EdgeId, 4> added;
   for (const auto& [ra, rb] : edit.added_edges) {
     const EdgeId e = AllocateEdge();
+    added.push_back(e);
     ColoringEdge& edge = edges_[e];
     edge.vertices = {id(ra), id(rb)};
     edge.length =
@@ -384,6 +396,7 @@ void Coloring::Apply(const Edit& edit, const EditEffect& effect) {
   for (const auto& [r, log_sin] : effect.vertex_log_sin) vertices_[id(r)].log_sin = log_sin;
   stats_ += effect.delta;
   if (effect.flips_anchor) anchor_colour_ = Flip(anchor_colour_);
+  return added;
 }
 
 // ---- checks -------------------------------------------------------------------------------

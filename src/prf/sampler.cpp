@@ -29,8 +29,12 @@ EdgeId OtherEdge(const ColoringVertex& vertex, EdgeId e) {
 
 }  // namespace
 
-PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t seed)
-    : coloring_(std::move(coloring)), options_(std::move(options)), rng_(seed) {
+PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t seed,
+                       std::unique_ptr<DataTerm> data)
+    : coloring_(std::move(coloring)),
+      options_(std::move(options)),
+      data_(std::move(data)),
+      rng_(seed) {
   PRIORMAP_CHECK(options_.p > 0.0, "the Arak scale p must be positive");
   PRIORMAP_CHECK(options_.birth_scale > 0.0 && options_.vertex_birth_width > 0.0,
                  "birth scales must be positive");
@@ -47,6 +51,10 @@ PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t 
   }
   PRIORMAP_CHECK(total > 0.0, "at least one move kind needs a positive weight");
   cell_stamp_.assign(static_cast<std::size_t>(coloring_.grid().NumCells()), 0u);
+  if (data_) {
+    const auto problem = data_->Reset(coloring_);
+    PRIORMAP_CHECK(!problem, "the initial coloring has likelihood zero: " + problem.value_or(""));
+  }
 }
 
 MoveType PrfSampler::ChooseType() {
@@ -90,12 +98,20 @@ void PrfSampler::Step() {
     ++counter.invalid;
     return;
   }
-  const double log_alpha = ArakLogDensity(effect_.delta, options_.p) / options_.temperature + log_q;
+  double log_target = ArakLogDensity(effect_.delta, options_.p);
+  if (data_) {
+    const auto delta = data_->Evaluate(coloring_, edit_);
+    if (!delta) return;  // likelihood zero: rejected
+    log_target += FromFixed(*delta);
+  }
+  const double log_alpha = log_target / options_.temperature + log_q;
   if (log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha)) {
-    coloring_.Apply(edit_, effect_);
+    const auto added = coloring_.Apply(edit_, effect_);
+    if (data_) data_->Commit(coloring_, {added.begin(), added.size()});
     ++counter.accepted;
     if (options_.check_invariants) {
-      const auto violation = coloring_.FindInvariantViolation(1e-6);
+      auto violation = coloring_.FindInvariantViolation(1e-6);
+      if (!violation && data_) violation = data_->FindInconsistency(coloring_);
       PRIORMAP_CHECK(!violation, fmt::format("after {}: {}", MoveTypeName(type), *violation));
     }
   }

@@ -158,7 +158,7 @@ TEST(Coloring, IndexAnswersAsBruteForceAlongAChain) {
         ASSERT_FALSE(hit);
       } else {
         ASSERT_TRUE(hit);
-        ASSERT_DOUBLE_EQ(*hit, nearest);
+        ASSERT_DOUBLE_EQ(hit->t, nearest);
       }
       ++checked;
     }

@@ -37,6 +37,18 @@ struct ColoringVertex {
   std::int32_t slot = -1;  // position in the interior or boundary list; -1 when free
 };
 
+/// Where a ray first meets an edge: origin + t·direction lies on `edge`.
+struct RayHit {
+  double t = 0.0;
+  EdgeId edge = kNoEdge;
+};
+
+/// The t in (0, t_max] at which origin + t·direction meets the closed segment ab, if any. The
+/// result does not depend on the order of a and b, so a hit computed on an edit's added edge
+/// equals, bit for bit, the one computed on the edge once applied.
+[[nodiscard]] std::optional<double> RaySegmentHit(const Vec2& origin, const Vec2& direction,
+                                                  const Vec2& a, const Vec2& b, double t_max);
+
 struct ColoringEdge {
   std::array<VertexId, 2> vertices{kNoVertex, kNoVertex};
   double length = 0.0;
@@ -78,9 +90,11 @@ class Coloring {
   /// Number of edges crossing the open segment (a, b).
   [[nodiscard]] int CountCrossings(const Vec2& a, const Vec2& b) const;
   [[nodiscard]] Colour ColourAt(const Vec2& q) const;
-  /// The smallest t in (0, t_max] at which origin + t·direction meets an edge, if any.
-  [[nodiscard]] std::optional<double> FirstHit(const Vec2& origin, const Vec2& direction,
-                                               double t_max) const;
+  /// The first edge that origin + t·direction meets for t in (0, t_max], if any; edges that
+  /// `ignoring` removes are passed over (the walk of a beam in the state an edit would leave,
+  /// whose added edges the caller tests itself).
+  [[nodiscard]] std::optional<RayHit> FirstHit(const Vec2& origin, const Vec2& direction,
+                                               double t_max, const Edit* ignoring = nullptr) const;
 
   /// Calls visit(edge) once for each edge indexed in a cell that segment ab passes through.
   template <class Visit>
@@ -100,8 +114,9 @@ class Coloring {
   /// side, degrees, no crossing, no duplicate or boundary-hugging edge, no zero angle) and
   /// computes its effect on the statistics. Returns false when the result would be invalid.
   [[nodiscard]] bool Evaluate(const Edit& edit, EditEffect* effect) const;
-  /// Applies an edit that Evaluate accepted, with the effect it computed.
-  void Apply(const Edit& edit, const EditEffect& effect);
+  /// Applies an edit that Evaluate accepted, with the effect it computed. Returns the ids the
+  /// added edges received, in the order of edit.added_edges.
+  SmallVector<EdgeId, 4> Apply(const Edit& edit, const EditEffect& effect);
 
   /// Rebuilds every invariant by brute force (degrees, crossings of all edge pairs, grid
   /// contents, statistics to `tolerance`); returns the first violation found. For tests and

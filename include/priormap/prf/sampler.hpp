@@ -5,11 +5,13 @@
 /// Propose returns.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include <priormap/core/rng.hpp>
 #include <priormap/prf/coloring.hpp>
+#include <priormap/prf/data_term.hpp>
 #include <priormap/prf/moves.hpp>
 
 namespace priormap::prf {
@@ -28,13 +30,17 @@ struct SamplerOptions {
   std::vector<double> step_scales{0.02, 0.1, 0.5};
   /// The target is (Arak density · likelihood)^(1/temperature): 1 samples, lower anneals.
   double temperature = 1.0;
-  /// Debug: check every invariant by brute force after each accepted move (slow).
+  /// Debug: after each accepted move, check every invariant of the coloring by brute force and
+  /// the data term's incremental state against a recomputation (slow).
   bool check_invariants = false;
 };
 
 class PrfSampler {
  public:
-  PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t seed);
+  /// Without a data term the chain samples the Arak prior. The data term is reset to `coloring`,
+  /// which must have nonzero likelihood.
+  PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t seed,
+             std::unique_ptr<DataTerm> data = nullptr);
 
   /// One Metropolis–Hastings step: choose a move type, propose, accept or reject.
   void Step();
@@ -45,7 +51,13 @@ class PrfSampler {
   [[nodiscard]] const Coloring& coloring() const { return coloring_; }
   [[nodiscard]] const SamplerOptions& options() const { return options_; }
   [[nodiscard]] const MoveCounters& counters() const { return counters_; }
+  [[nodiscard]] const DataTerm* data() const { return data_.get(); }
   [[nodiscard]] double LogPrior() const { return coloring_.LogArakDensity(options_.p); }
+  [[nodiscard]] double LogLikelihood() const {
+    return data_ ? FromFixed(data_->log_likelihood()) : 0.0;
+  }
+  /// Untempered log density of the posterior (up to its normalizing constant).
+  [[nodiscard]] double LogPosterior() const { return LogPrior() + LogLikelihood(); }
   void set_temperature(double temperature) { options_.temperature = temperature; }
 
   /// Draws a move of `type` into `edit` with log(π(reverse) / π(forward)), the proposal part of
@@ -93,6 +105,7 @@ class PrfSampler {
 
   Coloring coloring_;
   SamplerOptions options_;
+  std::unique_ptr<DataTerm> data_;
   Rng rng_;
   MoveCounters counters_{};
   std::vector<double> cumulative_weights_;

@@ -1,0 +1,93 @@
+#pragma once
+/// The PRF laser likelihood (Paskin & Thrun, Sec. 2.2) with dynamic indexing: each beam is listed
+/// in the grid cells from its sensor to its current first impact (or to where it stops: R or the
+/// window's side), so an edit recomputes only the beams listed in the cells of the edges it
+/// removes or adds, and a recomputed beam is re-listed on its new extent.
+///
+/// A beam whose first edge survives the edit only needs the added edges tested; one whose first
+/// edge is removed walks the edge index again. A sensor inside the region an edit reverses would
+/// turn black (the state keeps every sensor white), which has likelihood zero.
+///
+/// Re-listing a beam bumps its version instead of searching its old cells: stale entries are
+/// dropped when a cell is next read, and the whole index is rebuilt once they outnumber the live
+/// ones, so the index stays proportional to the beams' extents.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <priormap/prf/data_term.hpp>
+#include <priormap/prf/laser_data.hpp>
+#include <priormap/prf/laser_model.hpp>
+
+namespace priormap::prf {
+
+class LaserLikelihood final : public DataTerm {
+ public:
+  /// `cell_size`: of the beam index (about the coloring's edge-index cell works well).
+  LaserLikelihood(std::shared_ptr<const LaserData> data, LaserModel model, double cell_size);
+
+  std::optional<std::string> Reset(const Coloring& coloring) override;
+  std::optional<FixedLogLik> Evaluate(const Coloring& coloring, const Edit& edit) override;
+  void Commit(const Coloring& coloring, std::span<const EdgeId> added_edges) override;
+  [[nodiscard]] FixedLogLik log_likelihood() const override { return total_; }
+  [[nodiscard]] FixedLogLik RecomputeLogLikelihood(const Coloring& coloring) const override;
+  [[nodiscard]] std::optional<std::string> FindInconsistency(
+      const Coloring& coloring) const override;
+  [[nodiscard]] std::unique_ptr<DataTerm> Clone() const override;
+
+  [[nodiscard]] const LaserData& data() const { return *data_; }
+  [[nodiscard]] const LaserModel& model() const { return model_; }
+  /// Distance to the beam's first edge, +inf when none within its reach.
+  [[nodiscard]] double distance(std::size_t beam) const { return state_[beam].distance; }
+  /// Beams whose distance the last Evaluate found changed.
+  [[nodiscard]] std::size_t pending_changes() const { return pending_.size(); }
+  /// Beams the last Evaluate examined.
+  [[nodiscard]] std::size_t last_candidates() const { return candidates_.size(); }
+
+ private:
+  struct BeamState {
+    double reach = 0.0;     // min(R, distance to the window's side)
+    double distance = 0.0;  // to the first edge; +inf when none within reach
+    EdgeId hit = kNoEdge;
+    FixedLogLik log_lik = 0;
+    std::uint32_t version = 0;
+    std::uint32_t listed_cells = 0;
+  };
+  struct Entry {
+    std::int32_t beam;
+    std::uint32_t version;
+  };
+  struct Change {
+    std::int32_t beam;
+    double distance;
+    EdgeId hit;      // an existing edge, or kNoEdge
+    int added = -1;  // else the index of the edit's added edge hit
+    FixedLogLik log_lik;
+  };
+
+  [[nodiscard]] FixedLogLik BeamLogLik(std::size_t beam, double distance) const;
+  [[nodiscard]] bool SensorFlips(const Edit& edit) const;
+  void CollectBeams(const Vec2& a, const Vec2& b);
+  void ListBeam(std::size_t beam);
+  void RebuildIndex();
+
+  std::shared_ptr<const LaserData> data_;
+  LaserModel model_;
+  double cell_size_;
+  CellGrid grid_;
+  std::vector<BeamState> state_;
+  std::vector<std::vector<Entry>> cells_;
+  std::vector<std::vector<std::int32_t>> sensor_cells_;
+  FixedLogLik total_ = 0;
+  std::size_t live_entries_ = 0;
+  std::size_t stale_entries_ = 0;
+  // Scratch of Evaluate, read by Commit.
+  std::vector<std::int32_t> candidates_;
+  std::vector<std::uint32_t> beam_stamp_;
+  std::uint32_t stamp_ = 0;
+  std::vector<Change> pending_;
+  FixedLogLik pending_delta_ = 0;
+};
+
+}  // namespace priormap::prf

@@ -1,0 +1,272 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include <priormap/core/check.hpp>
+#include <priormap/prf/laser_likelihood.hpp>
+
+namespace priormap::prf {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Distance from a point inside the window to its side along a unit direction.
+double DistanceToSide(const Window& window, const Vec2& origin, const Vec2& direction) {
+  double t = kInf;
+  for (int axis = 0; axis < 2; ++axis) {
+    const double d = direction[axis];
+    if (d > 0.0) t = std::min(t, (window.max[axis] - origin[axis]) / d);
+    if (d < 0.0) t = std::min(t, (window.min[axis] - origin[axis]) / d);
+  }
+  return t;
+}
+
+}  // namespace
+
+LaserLikelihood::LaserLikelihood(std::shared_ptr<const LaserData> data, LaserModel model,
+                                 double cell_size)
+    : data_(std::move(data)), model_(model), cell_size_(cell_size) {
+  PRIORMAP_CHECK(data_ != nullptr && data_->max_range > 0.0, "laser data without a max range");
+  const std::string problem = model_.Problem();
+  PRIORMAP_CHECK(problem.empty(), "laser model: " + problem);
+  PRIORMAP_CHECK(cell_size_ > 0.0, "the beam index's cell size must be positive");
+}
+
+std::unique_ptr<DataTerm> LaserLikelihood::Clone() const {
+  return std::make_unique<LaserLikelihood>(*this);
+}
+
+FixedLogLik LaserLikelihood::BeamLogLik(std::size_t beam, double distance) const {
+  const LaserBeam& b = data_->beams[beam];
+  return ToFixed(model_.LogLikelihood(b.range, b.max_reading, distance, data_->max_range));
+}
+
+std::optional<std::string> LaserLikelihood::Reset(const Coloring& coloring) {
+  const Window& window = coloring.window();
+  grid_ = CellGrid::Covering(window.min, window.max, cell_size_);
+  sensor_cells_.assign(static_cast<std::size_t>(grid_.NumCells()), {});
+  for (std::size_t s = 0; s < data_->sensors.size(); ++s) {
+    const Vec2& sensor = data_->sensors[s];
+    if (!window.ContainsInterior(sensor))
+      return fmt::format("sensor {} at ({}, {}) lies outside the window", s, sensor.x(),
+                         sensor.y());
+    if (coloring.ColourAt(sensor) == Colour::kBlack)
+      return fmt::format("sensor {} at ({}, {}) lies in occupied space", s, sensor.x(), sensor.y());
+    sensor_cells_[static_cast<std::size_t>(grid_.CellOf(sensor))].push_back(
+        static_cast<std::int32_t>(s));
+  }
+  const std::size_t n = data_->beams.size();
+  state_.assign(n, {});
+  beam_stamp_.assign(n, 0u);
+  stamp_ = 0;
+  total_ = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const LaserBeam& beam = data_->beams[i];
+    BeamState& state = state_[i];
+    state.reach = std::min(data_->max_range, DistanceToSide(window, beam.origin, beam.direction));
+    const auto hit = coloring.FirstHit(beam.origin, beam.direction, state.reach);
+    state.distance = hit ? hit->t : kInf;
+    state.hit = hit ? hit->edge : kNoEdge;
+    state.log_lik = BeamLogLik(i, state.distance);
+    total_ += state.log_lik;
+  }
+  RebuildIndex();
+  pending_.clear();
+  candidates_.clear();
+  return std::nullopt;
+}
+
+void LaserLikelihood::ListBeam(std::size_t beam) {
+  BeamState& state = state_[beam];
+  const LaserBeam& b = data_->beams[beam];
+  const double extent = std::min(state.distance, state.reach);
+  std::uint32_t listed = 0;
+  WalkCells(grid_, b.origin, b.origin + extent * b.direction, [&](int cell, double, double) {
+    cells_[static_cast<std::size_t>(cell)].push_back(
+        {static_cast<std::int32_t>(beam), state.version});
+    ++listed;
+    return true;
+  });
+  state.listed_cells = listed;
+  live_entries_ += listed;
+}
+
+void LaserLikelihood::RebuildIndex() {
+  cells_.assign(static_cast<std::size_t>(grid_.NumCells()), {});
+  live_entries_ = 0;
+  stale_entries_ = 0;
+  for (std::size_t i = 0; i < state_.size(); ++i) ListBeam(i);
+}
+
+bool LaserLikelihood::SensorFlips(const Edit& edit) const {
+  const std::span<const Vec2> region{edit.flipped_region.begin(), edit.flipped_region.size()};
+  Box2 box;
+  for (const Vec2& p : region) box.extend(p);
+  const int x0 = grid_.ClampX(box.min().x());
+  const int x1 = grid_.ClampX(box.max().x());
+  const int y0 = grid_.ClampY(box.min().y());
+  const int y1 = grid_.ClampY(box.max().y());
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      for (std::int32_t s : sensor_cells_[static_cast<std::size_t>(y * grid_.nx + x)])
+        if (InsidePolygon(region, data_->sensors[static_cast<std::size_t>(s)])) return true;
+  return false;
+}
+
+void LaserLikelihood::CollectBeams(const Vec2& a, const Vec2& b) {
+  WalkCells(grid_, a, b, [&](int cell, double, double) {
+    auto& entries = cells_[static_cast<std::size_t>(cell)];
+    for (std::size_t i = 0; i < entries.size();) {
+      const Entry entry = entries[i];
+      const auto beam = static_cast<std::size_t>(entry.beam);
+      if (entry.version != state_[beam].version) {  // re-listed since: drop
+        entries[i] = entries.back();
+        entries.pop_back();
+        --stale_entries_;
+        continue;
+      }
+      if (beam_stamp_[beam] != stamp_) {
+        beam_stamp_[beam] = stamp_;
+        candidates_.push_back(entry.beam);
+      }
+      ++i;
+    }
+    return true;
+  });
+}
+
+std::optional<FixedLogLik> LaserLikelihood::Evaluate(const Coloring& coloring, const Edit& edit) {
+  pending_.clear();
+  candidates_.clear();
+  pending_delta_ = 0;
+  if (SensorFlips(edit)) return std::nullopt;
+
+  if (++stamp_ == 0) {
+    std::fill(beam_stamp_.begin(), beam_stamp_.end(), 0u);
+    stamp_ = 1;
+  }
+  SmallVector<std::array<Vec2, 2>, 4> added;
+  const auto position = [&](VertexRef r) {
+    return r.is_new() ? edit.new_vertices[static_cast<std::size_t>(r.new_index())].position
+                      : coloring.vertex(r.id()).position;
+  };
+  for (const auto& [ra, rb] : edit.added_edges) added.push_back({position(ra), position(rb)});
+  for (EdgeId e : edit.removed_edges) {
+    const Segment s = coloring.EdgeSegment(e);
+    CollectBeams(s.a, s.b);
+  }
+  for (const auto& [a, b] : added) CollectBeams(a, b);
+
+  for (std::int32_t id : candidates_) {
+    const auto i = static_cast<std::size_t>(id);
+    const LaserBeam& beam = data_->beams[i];
+    const BeamState& state = state_[i];
+    Change change{
+        .beam = id, .distance = state.distance, .hit = state.hit, .added = -1, .log_lik = 0};
+    if (state.hit != kNoEdge && edit.Removes(state.hit)) {
+      const auto hit = coloring.FirstHit(beam.origin, beam.direction, state.reach, &edit);
+      change.distance = hit ? hit->t : kInf;
+      change.hit = hit ? hit->edge : kNoEdge;
+    }
+    for (std::size_t k = 0; k < added.size(); ++k) {
+      const auto t =
+          RaySegmentHit(beam.origin, beam.direction, added[k][0], added[k][1], state.reach);
+      if (t && *t < change.distance) {
+        change.distance = *t;
+        change.hit = kNoEdge;
+        change.added = static_cast<int>(k);
+      }
+    }
+    if (change.distance == state.distance && change.hit == state.hit) continue;
+    change.log_lik =
+        change.distance == state.distance ? state.log_lik : BeamLogLik(i, change.distance);
+    pending_delta_ += change.log_lik - state.log_lik;
+    pending_.push_back(change);
+  }
+  return pending_delta_;
+}
+
+void LaserLikelihood::Commit(const Coloring&, std::span<const EdgeId> added_edges) {
+  for (const Change& change : pending_) {
+    const auto i = static_cast<std::size_t>(change.beam);
+    BeamState& state = state_[i];
+    const bool moved = change.distance != state.distance;
+    state.distance = change.distance;
+    state.hit =
+        change.added >= 0 ? added_edges[static_cast<std::size_t>(change.added)] : change.hit;
+    state.log_lik = change.log_lik;
+    if (!moved) continue;  // another edge at the same distance: same cells
+    ++state.version;
+    live_entries_ -= state.listed_cells;
+    stale_entries_ += state.listed_cells;
+    ListBeam(i);
+  }
+  total_ += pending_delta_;
+  pending_.clear();
+  pending_delta_ = 0;
+  if (stale_entries_ > live_entries_ + 1024) RebuildIndex();
+}
+
+FixedLogLik LaserLikelihood::RecomputeLogLikelihood(const Coloring& coloring) const {
+  FixedLogLik total = 0;
+  for (std::size_t i = 0; i < data_->beams.size(); ++i) {
+    const LaserBeam& beam = data_->beams[i];
+    const auto hit = coloring.FirstHit(beam.origin, beam.direction, state_[i].reach);
+    total += BeamLogLik(i, hit ? hit->t : kInf);
+  }
+  return total;
+}
+
+std::optional<std::string> LaserLikelihood::FindInconsistency(const Coloring& coloring) const {
+  for (std::size_t s = 0; s < data_->sensors.size(); ++s)
+    if (coloring.ColourAt(data_->sensors[s]) == Colour::kBlack)
+      return fmt::format("sensor {} is in black", s);
+  FixedLogLik total = 0;
+  std::size_t live = 0;
+  for (std::size_t i = 0; i < data_->beams.size(); ++i) {
+    const LaserBeam& beam = data_->beams[i];
+    const BeamState& state = state_[i];
+    const auto hit = coloring.FirstHit(beam.origin, beam.direction, state.reach);
+    const double distance = hit ? hit->t : kInf;
+    if (distance != state.distance)
+      return fmt::format("beam {}: distance {} kept, {} recomputed", i, state.distance, distance);
+    if (state.log_lik != BeamLogLik(i, distance))
+      return fmt::format("beam {}: log-likelihood kept differs from its recomputation", i);
+    total += state.log_lik;
+    // Listed exactly on the cells of its extent: no fewer (missed updates), no more (wasted
+    // recomputations).
+    bool listed = true;
+    std::uint32_t extent_cells = 0;
+    const double extent = std::min(state.distance, state.reach);
+    WalkCells(
+        grid_, beam.origin, beam.origin + extent * beam.direction, [&](int cell, double, double) {
+          const auto& entries = cells_[static_cast<std::size_t>(cell)];
+          listed =
+              listed && std::any_of(entries.begin(), entries.end(), [&](const Entry& entry) {
+                return entry.beam == static_cast<std::int32_t>(i) && entry.version == state.version;
+              });
+          ++extent_cells;
+          return listed;
+        });
+    if (!listed) return fmt::format("beam {} is missing from a cell of its extent", i);
+    if (extent_cells != state.listed_cells)
+      return fmt::format("beam {} is listed in {} cells, its extent has {}", i, state.listed_cells,
+                         extent_cells);
+    live += state.listed_cells;
+  }
+  if (total != total_)
+    return fmt::format("total log-likelihood kept {} differs from the sum {}", FromFixed(total_),
+                       FromFixed(total));
+  std::size_t current = 0;
+  for (const auto& entries : cells_)
+    for (const Entry& entry : entries)
+      current += entry.version == state_[static_cast<std::size_t>(entry.beam)].version ? 1 : 0;
+  if (live != live_entries_ || current != live_entries_)
+    return fmt::format("{} live index entries counted, {} listed, {} in the cells", live_entries_,
+                       live, current);
+  return std::nullopt;
+}
+
+}  // namespace priormap::prf
