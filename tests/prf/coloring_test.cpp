@@ -145,13 +145,10 @@ TEST(Coloring, IndexAnswersAsBruteForceAlongAChain) {
       // First hit along a ray against every edge.
       const Vec2 direction = UnitVector(rng.Uniform(0.0, 2.0 * std::numbers::pi));
       double nearest = std::numeric_limits<double>::infinity();
+      // (The same intersection formula: this checks the walk, which edges it considers.)
       for (const Segment& s : AllEdges(coloring)) {
-        const Vec2 along = s.b - s.a;
-        const double denominator = Cross(direction, along);
-        if (denominator == 0.0) continue;
-        const double t = Cross(s.a - a, along) / denominator;
-        const double u = Cross(s.a - a, direction) / denominator;
-        if (t > 0.0 && t <= 2.0 && u >= 0.0 && u <= 1.0) nearest = std::min(nearest, t);
+        const auto t = RaySegmentHit(a, direction, s.a, s.b, 2.0);
+        if (t) nearest = std::min(nearest, *t);
       }
       const auto hit = coloring.FirstHit(a, direction, 2.0);
       if (std::isinf(nearest)) {
@@ -165,6 +162,28 @@ TEST(Coloring, IndexAnswersAsBruteForceAlongAChain) {
   }
   EXPECT_EQ(checked, 1000);
   EXPECT_GT(sampler.coloring().stats().edges, 20);  // p = 3: about 125 edges expected
+}
+
+TEST(RaySegmentHit, FindsTheCrossingWhicheverWayTheSegmentRuns) {
+  Rng rng(5);
+  int hits = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const Vec2 origin(rng.Uniform(), rng.Uniform());
+    const Vec2 direction = UnitVector(rng.Uniform(0.0, 2.0 * std::numbers::pi));
+    const Vec2 a(rng.Uniform(), rng.Uniform()), b(rng.Uniform(), rng.Uniform());
+    const auto forward = RaySegmentHit(origin, direction, a, b, 1.5);
+    const auto backward = RaySegmentHit(origin, direction, b, a, 1.5);
+    ASSERT_EQ(forward.has_value(), backward.has_value());
+    if (!forward) continue;
+    ++hits;
+    ASSERT_EQ(*forward, *backward);  // bit for bit
+    const Vec2 q = origin + *forward * direction;
+    ASSERT_NEAR(Cross(b - a, q - a), 0.0, 1e-12);  // on ab's line
+    ASSERT_LE(*forward, 1.5);
+  }
+  EXPECT_GT(hits, 100);
+  EXPECT_FALSE(RaySegmentHit(Vec2::Zero(), Vec2::UnitX(), Vec2(-1, -1), Vec2(-1, 1), 5.0));
+  EXPECT_EQ(*RaySegmentHit(Vec2::Zero(), Vec2::UnitX(), Vec2(2, -1), Vec2(2, 1), 5.0), 2.0);
 }
 
 // Every move reverses exactly its region: after each applied edit, a point's colour (by crossing
