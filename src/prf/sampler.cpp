@@ -90,6 +90,7 @@ MoveType PrfSampler::ChooseType() {
 }
 
 void PrfSampler::Step() {
+  ++steps_;
   const MoveType type = ChooseType();
   MoveCounter& counter = counters_[static_cast<std::size_t>(type)];
   ++counter.proposed;
@@ -106,6 +107,7 @@ void PrfSampler::Step() {
   }
   const double log_alpha = log_target / options_.temperature + log_q;
   if (log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha)) {
+    if (estimates_) estimates_->Record(coloring_, edit_, steps_);
     const auto added = coloring_.Apply(edit_, effect_);
     if (data_) data_->Commit(coloring_, {added.begin(), added.size()});
     ++counter.accepted;

@@ -12,6 +12,7 @@
 #include <priormap/core/rng.hpp>
 #include <priormap/prf/coloring.hpp>
 #include <priormap/prf/data_term.hpp>
+#include <priormap/prf/estimates.hpp>
 #include <priormap/prf/moves.hpp>
 
 namespace priormap::prf {
@@ -52,6 +53,14 @@ class PrfSampler {
   [[nodiscard]] const SamplerOptions& options() const { return options_; }
   [[nodiscard]] const MoveCounters& counters() const { return counters_; }
   [[nodiscard]] const DataTerm* data() const { return data_.get(); }
+  /// Steps taken so far; the state after step n is sample n.
+  [[nodiscard]] std::uint64_t steps() const { return steps_; }
+  /// Starts recording every following sample into `estimates` (owned by the caller; nullptr
+  /// stops recording).
+  void RecordInto(PosteriorEstimates* estimates) {
+    estimates_ = estimates;
+    if (estimates_) estimates_->Start(coloring_, steps_ + 1);
+  }
   [[nodiscard]] double LogPrior() const { return coloring_.LogArakDensity(options_.p); }
   [[nodiscard]] double LogLikelihood() const {
     return data_ ? FromFixed(data_->log_likelihood()) : 0.0;
@@ -106,6 +115,8 @@ class PrfSampler {
   Coloring coloring_;
   SamplerOptions options_;
   std::unique_ptr<DataTerm> data_;
+  PosteriorEstimates* estimates_ = nullptr;
+  std::uint64_t steps_ = 0;
   Rng rng_;
   MoveCounters counters_{};
   std::vector<double> cumulative_weights_;
