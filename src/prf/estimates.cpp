@@ -1,5 +1,6 @@
 #include <priormap/core/check.hpp>
 #include <priormap/prf/estimates.hpp>
+#include <priormap/prf/polygon_map.hpp>
 
 namespace priormap::prf {
 
@@ -22,18 +23,9 @@ void PosteriorEstimates::Start(const Coloring& coloring, std::uint64_t sample) {
             .white_samples = 0,
             .edges = 0,
             .black = false};
-  // Along each row, from the colour of its first centre by the parity of crossings between
-  // neighbouring centres: short walks instead of one from the anchor per cell.
-  for (int iy = 0; iy < grid_.ny; ++iy) {
-    const int first = iy * grid_.nx;
-    bool black = coloring.ColourAt(Centre(first)) == Colour::kBlack;
-    cells_[static_cast<std::size_t>(first)].black = black;
-    for (int ix = 1; ix < grid_.nx; ++ix) {
-      if (coloring.CountCrossings(Centre(first + ix - 1), Centre(first + ix)) % 2 == 1)
-        black = !black;
-      cells_[static_cast<std::size_t>(first + ix)].black = black;
-    }
-  }
+  const Eigen::MatrixXd black = ColourRaster(coloring, grid_);
+  for (int index = 0; index < grid_.NumCells(); ++index)
+    cells_[static_cast<std::size_t>(index)].black = black(index / grid_.nx, index % grid_.nx) > 0.5;
   for (EdgeId e : coloring.edge_ids()) {
     const Segment s = coloring.EdgeSegment(e);
     WalkCells(grid_, s.a, s.b, [&](int cell, double, double) {
