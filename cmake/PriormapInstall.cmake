@@ -2,7 +2,7 @@
 include(CMakePackageConfigHelpers)
 
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/priormap DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(TARGETS priormap_core priormap_render priormap_dsl priormap_priorlets priormap_slam priormap_prf
+install(TARGETS priormap_core priormap_render priormap_dsl priormap_priorlets priormap_slam priormap_prf priormap_grid
         EXPORT priormapTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

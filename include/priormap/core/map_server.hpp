@@ -1,0 +1,29 @@
+#pragma once
+/// Occupancy rasters as a ROS map_server pair: an 8-bit binary PGM (P5) and its YAML
+/// (image, resolution, origin, negate, occupied_thresh, free_thresh, mode), as map_server's
+/// map_saver writes them. With negate 0 a pixel x means occupancy probability (255 - x) / 255;
+/// the first image row is the top of the map (largest y); origin is the pose of the lower-left
+/// pixel's corner.
+
+#include <filesystem>
+
+#include <Eigen/Core>
+
+#include <priormap/core/types.hpp>
+
+namespace priormap {
+
+struct OccupancyRaster {
+  /// P(occupied) per cell, row 0 at the bottom (smallest y); NaN where unknown.
+  Eigen::MatrixXd probability;
+  Vec2 origin = Vec2::Zero();  // lower-left corner of cell (0, 0), m
+  double resolution = 0.05;    // m per cell
+};
+
+/// The PGM pixel of a probability: (1 - p) * 255 rounded; 205 (map_saver's unknown) for NaN.
+[[nodiscard]] unsigned char MapServerPixel(double probability);
+
+/// Writes `yaml_path` and the PGM beside it (same stem, .pgm), each atomically. Throws IoError.
+void WriteMapServerMap(const std::filesystem::path& yaml_path, const OccupancyRaster& raster);
+
+}  // namespace priormap
