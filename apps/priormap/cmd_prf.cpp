@@ -1,17 +1,28 @@
-// priormap prf: polygonal random fields (Paskin & Thrun). `prior-stats` samples the Arak prior
-// with no data and compares the chain with the process's closed forms.
+// priormap prf: polygonal random fields (Paskin & Thrun). Without a subcommand it maps a
+// localized laser log (posterior chains, estimates, R̂, optional annealed MAP map);
+// `prior-stats` samples the Arak prior with no data and compares the chain with the process's
+// closed forms.
+#include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <priormap/core/file_io.hpp>
+#include <priormap/core/map_server.hpp>
+#include <priormap/prf/mapping.hpp>
 #include <priormap/prf/moves.hpp>
+#include <priormap/prf/polygon_map.hpp>
 #include <priormap/prf/prior_stats.hpp>
+#include <priormap/render/prf_figures.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "log_selection.hpp"
 
 namespace priormap::app {
 namespace {
@@ -28,6 +39,29 @@ std::string MoveKindList() {
   for (int k = 0; k < prf::kNumMoveKinds; ++k)
     list += fmt::format("{}{}", k ? ", " : "", prf::MoveKindName(static_cast<prf::MoveKind>(k)));
   return list;
+}
+
+nlohmann::json AcceptanceJson(const prf::MoveCounters& counters) {
+  nlohmann::json acceptance;
+  for (int t = 0; t < prf::kNumMoveTypes; ++t) {
+    const prf::MoveCounter& c = counters[static_cast<std::size_t>(t)];
+    acceptance[std::string(prf::MoveTypeName(static_cast<prf::MoveType>(t)))] = {
+        {"proposed", c.proposed},
+        {"invalid", c.invalid},
+        {"accepted", c.accepted},
+        {"rate",
+         c.proposed ? static_cast<double>(c.accepted) / static_cast<double>(c.proposed) : 0.0}};
+  }
+  return acceptance;
+}
+
+double AcceptanceRate(const prf::MoveCounters& counters) {
+  std::uint64_t proposed = 0, accepted = 0;
+  for (const prf::MoveCounter& c : counters) {
+    proposed += c.proposed;
+    accepted += c.accepted;
+  }
+  return proposed ? static_cast<double>(accepted) / static_cast<double>(proposed) : 0.0;
 }
 
 nlohmann::json EstimateJson(const prf::Estimate& e, double closed_form) {
@@ -85,17 +119,7 @@ void RunPriorStatsCommand(PriorStatsCliOptions o) {
                                 {"mean", EstimateJson(d.crossings, d.expected_crossings)},
                                 {"none", EstimateJson(d.no_crossing, d.expected_no_crossing)}});
   }
-  nlohmann::json acceptance;
-  for (int t = 0; t < prf::kNumMoveTypes; ++t) {
-    const prf::MoveCounter& c = r.counters[static_cast<std::size_t>(t)];
-    acceptance[std::string(prf::MoveTypeName(static_cast<prf::MoveType>(t)))] = {
-        {"proposed", c.proposed},
-        {"invalid", c.invalid},
-        {"accepted", c.accepted},
-        {"rate",
-         c.proposed ? static_cast<double>(c.accepted) / static_cast<double>(c.proposed) : 0.0}};
-  }
-  out["acceptance"] = acceptance;
+  out["acceptance"] = AcceptanceJson(r.counters);
   fmt::print("{}\n", out.dump(2));
 }
 
@@ -131,13 +155,199 @@ void AddPriorStats(CLI::App& prf_cmd) {
   cmd->callback([o] { RunPriorStatsCommand(*o); });
 }
 
+struct MappingCliOptions {
+  std::string log;
+  std::string range = ":";
+  std::string out;
+  prf::LaserSelection selection;
+  prf::MappingOptions mapping;
+  bool anneal = false;
+};
+
+// One status line: redrawn in place on a terminal, every 10 % elsewhere.
+class MappingStatus {
+ public:
+  MappingStatus() : terminal_(isatty(fileno(stderr)) != 0) {}
+  void operator()(const prf::MappingProgress& p) {
+    const auto percent =
+        static_cast<int>(100 * p.steps_done / std::max<std::uint64_t>(1, p.steps_total));
+    if (!terminal_ && percent / 10 == last_percent_ / 10 && p.steps_done != p.steps_total) return;
+    if (percent == last_percent_ && p.steps_done != p.steps_total) return;
+    last_percent_ = percent;
+    const std::string line =
+        fmt::format("{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, log posterior {:.1f}", percent,
+                    static_cast<double>(p.steps_done) / p.seconds / 1e3,
+                    100.0 * AcceptanceRate(p.counters), p.log_posterior);
+    if (terminal_)
+      fmt::print(stderr, "\r{}{}", line, p.steps_done == p.steps_total ? "\n" : "");
+    else
+      fmt::print(stderr, "{}\n", line);
+  }
+
+ private:
+  bool terminal_;
+  int last_percent_ = -1;
+};
+
+void RunMappingCommand(MappingCliOptions o) {
+  if (o.log.empty()) throw UserError("--log is required (or a subcommand: prior-stats)");
+  if (o.out.empty()) throw UserError("-o/--out is required");
+  const Log log = ReadLogOrThrow(o.log);
+  const ScanRange range = ParseScanRange(o.range);
+  o.selection.first_scan = range.first;
+  o.selection.end_scan = range.end;
+  auto selected = prf::SelectBeams(log, o.selection);
+  if (auto* problem = std::get_if<std::string>(&selected)) throw UserError(*problem);
+  const auto data =
+      std::make_shared<const prf::LaserData>(std::get<prf::LaserData>(std::move(selected)));
+  if (const std::string problem = o.mapping.model.Problem(); !problem.empty())
+    throw UserError("laser model: " + problem);
+  if (o.anneal && o.mapping.anneal_steps == 0) o.mapping.anneal_steps = o.mapping.samples;
+  if (!o.anneal) o.mapping.anneal_steps = 0;
+  EnsureDirectory(o.out);
+  fmt::print(stderr, "{} beams from {} sensor positions, R = {} m\n", data->beams.size(),
+             data->sensors.size(), data->max_range);
+
+  MappingStatus status;
+  const prf::MappingResult r = prf::RunMapping(data, o.mapping, std::ref(status));
+
+  const std::filesystem::path dir(o.out);
+  const OccupancyRaster posterior{
+      .probability = r.black_fraction, .origin = r.raster.origin, .resolution = r.raster.cell.x()};
+  WriteMapServerMap(dir / "posterior.yaml", posterior);
+  render::SaveProbabilityFigure(dir / "posterior.png", posterior,
+                                fmt::format("PRF posterior P(black), p = {}", o.mapping.sampler.p),
+                                data->sensors);
+  const OccupancyRaster white{.probability = (1.0 - r.white_fraction.array()).matrix(),
+                              .origin = r.raster.origin,
+                              .resolution = r.raster.cell.x()};
+  render::SaveProbabilityFigure(dir / "not_white.png", white, "PRF: 1 - P(cell completely white)",
+                                data->sensors);
+  std::string trace = "sample";
+  for (std::size_t c = 0; c < r.chains.size(); ++c) trace += fmt::format(",chain{}", c);
+  trace += "\n";
+  for (std::size_t i = 0; i < r.chains[0].log_posterior_trace.size(); ++i) {
+    trace += fmt::format("{}", (i + 1) * o.mapping.trace_every);
+    for (const prf::ChainSummary& chain : r.chains)
+      trace += fmt::format(",{:.6f}", chain.log_posterior_trace[i]);
+    trace += "\n";
+  }
+  WriteTextFileAtomically(dir / "trace.csv", trace);
+
+  nlohmann::json summary;
+  summary["log"] = o.log;
+  summary["range"] = o.range;
+  summary["beams"] = data->beams.size();
+  summary["sensor_positions"] = data->sensors.size();
+  summary["p"] = o.mapping.sampler.p;
+  summary["seed"] = o.mapping.seed;
+  summary["chains"] = o.mapping.chains;
+  summary["samples"] = o.mapping.samples;
+  summary["burn_in"] = o.mapping.burn_in;
+  summary["window"] = {r.window.min.x(), r.window.min.y(), r.window.max.x(), r.window.max.y()};
+  summary["wall_time_s"] = r.wall_time_s;
+  summary["proposals"] = r.proposals;
+  summary["proposals_per_second"] = static_cast<double>(r.proposals) / r.sampling_time_s;
+  summary["rhat"] = {{"log_posterior", r.rhat_log_posterior},
+                     {"point_colours", r.rhat_point_colours},
+                     {"points", r.trace_points.size()}};
+  prf::MoveCounters total{};
+  summary["log_posterior"] = nlohmann::json::array();
+  for (const prf::ChainSummary& chain : r.chains) {
+    summary["log_posterior"].push_back(chain.log_posterior);
+    for (std::size_t t = 0; t < total.size(); ++t) {
+      total[t].proposed += chain.counters[t].proposed;
+      total[t].invalid += chain.counters[t].invalid;
+      total[t].accepted += chain.counters[t].accepted;
+    }
+  }
+  summary["acceptance"] = AcceptanceJson(total);
+  summary["edges"] = nlohmann::json::array();
+  for (const prf::ChainSummary& chain : r.chains) summary["edges"].push_back(chain.edges);
+  std::string outputs =
+      "summary.json, posterior.png, posterior.pgm, posterior.yaml, not_white.png, trace.csv";
+  if (r.map) {
+    const auto faces = prf::ExtractFaces(*r.map);
+    const std::string geojson = prf::FacesToGeoJson(faces, r.window);
+    WriteTextFileAtomically(dir / "map.geojson", geojson);
+    render::SaveFacesFigure(dir / "map.svg", faces, r.window, "PRF MAP map (annealed)");
+    render::SaveFacesFigure(dir / "map.png", faces, r.window, "PRF MAP map (annealed)");
+    const OccupancyRaster map_raster{.probability = prf::ColourRaster(*r.map, r.raster),
+                                     .origin = r.raster.origin,
+                                     .resolution = r.raster.cell.x()};
+    WriteMapServerMap(dir / "map.yaml", map_raster);
+    summary["map"] = {{"log_posterior", r.map_log_posterior},
+                      {"edges", r.map->stats().edges},
+                      {"geojson_bytes", geojson.size()},
+                      {"compact_bytes", prf::CompactMapBytes(*r.map)},
+                      {"raster_pgm_bytes", std::filesystem::file_size(dir / "map.pgm")}};
+    outputs += ", map.geojson, map.svg, map.png, map.pgm, map.yaml";
+  }
+  WriteTextFileAtomically(dir / "summary.json", summary.dump(2) + "\n");
+  fmt::print(
+      "wrote {} ({}): R-hat {:.3f} (log posterior), {:.3f} (point colours), {:.0f}k "
+      "proposals/s\n",
+      o.out, outputs, r.rhat_log_posterior, r.rhat_point_colours,
+      summary["proposals_per_second"].get<double>() / 1e3);
+}
+
+void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& o) {
+  cmd.add_option("--log", o->log, "Localized laser log (CARMEN or priormap JSON, .gz or not)");
+  cmd.add_option("--range", o->range, "Scans a:b of the log (b exclusive; a: or :b)")
+      ->capture_default_str();
+  cmd.add_option("--beam-step", o->selection.beam_step, "Use every k-th beam of each scan")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
+      ->capture_default_str();
+  cmd.add_option("--max-range", o->selection.max_range,
+                 "R: readings at or above it are max-range readings, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd.add_option("-o,--out", o->out, "Output directory");
+  prf::MappingOptions& m = o->mapping;
+  cmd.add_option("--p", m.sampler.p, "Scale parameter p of the Arak prior (1/m)")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd.add_option("--samples", m.samples, "Steps recorded per chain after the burn-in")
+      ->capture_default_str();
+  cmd.add_option("--burn-in", m.burn_in, "Steps per chain before recording")->capture_default_str();
+  cmd.add_option("--chains", m.chains, "Chains run in parallel")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  cmd.add_option("--seed", m.seed, "Random seed; the same seed gives the same result")
+      ->capture_default_str();
+  cmd.add_flag("--anneal", o->anneal, "Anneal the best chain to a MAP polygonal map");
+  cmd.add_option("--anneal-steps", m.anneal_steps, "Annealing steps (default: --samples)");
+  cmd.add_option("--sigma", m.model.sigma, "Range noise of the beam model, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd.add_option("--cell-size", m.cell_size, "Cell of the edge and beam indices, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd.add_option("--resolution", m.raster_resolution, "Cell of the output rasters, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd.add_option("--trace-every", m.trace_every, "Steps between trace records (R-hat)")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40))
+      ->capture_default_str();
+  cmd.add_flag("--check", m.sampler.check_invariants,
+               "Debug: after every accepted move, check the coloring and the incremental "
+               "likelihood against recomputation (slow)");
+}
+
 }  // namespace
 
 void AddPrfCommand(CLI::App& app) {
-  CLI::App* cmd =
-      app.add_subcommand("prf", "Polygonal random fields (Paskin & Thrun): prior-stats");
-  cmd->require_subcommand(1);
+  auto o = std::make_shared<MappingCliOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "prf",
+      "Polygonal random field map of a localized laser log (Paskin & Thrun): posterior chains, "
+      "P(black), R-hat, --anneal for a MAP polygon map; or the subcommand prior-stats");
+  cmd->require_subcommand(0, 1);
+  AddMappingOptions(*cmd, o);
   AddPriorStats(*cmd);
+  cmd->callback([o, cmd] {
+    if (cmd->get_subcommands().empty()) RunMappingCommand(*o);
+  });
 }
 
 }  // namespace priormap::app

@@ -12,6 +12,7 @@ void AddPriorCommand(CLI::App& app);
 void AddScanCommand(CLI::App& app);
 void AddSlamCommand(CLI::App& app);
 void AddPrfCommand(CLI::App& app);
+void AddGridCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);
 

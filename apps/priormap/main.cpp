@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   priormap::app::AddScanCommand(app);
   priormap::app::AddSlamCommand(app);
   priormap::app::AddPrfCommand(app);
+  priormap::app::AddGridCommand(app);
   priormap::app::AddDemoCommand(app);
   priormap::app::AddVersionCommand(app);
   // CLI11 would only say "a subcommand is required"; name the word it did not know.

@@ -5,9 +5,16 @@
 
 namespace priormap::prf {
 
+double ArakLogMeasure(const ColoringStats& stats, double p) {
+  return stats.edges * std::log(p) - stats.sum_log_length + stats.sum_log_sin;
+}
+
+double ArakPotential(const ColoringStats& stats, double p) {
+  return 2.0 * p * stats.total_length;
+}
+
 double ArakLogDensity(const ColoringStats& stats, double p) {
-  return stats.edges * std::log(p) - stats.sum_log_length + stats.sum_log_sin -
-         2.0 * p * stats.total_length;
+  return ArakLogMeasure(stats, p) - ArakPotential(stats, p);
 }
 
 double ExpectedEdges(double p, const Window& window) {

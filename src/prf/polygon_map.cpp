@@ -15,10 +15,10 @@ namespace {
 // walked counter-clockwise only, so the outside of the window is never a face.
 struct HalfEdgeGraph {
   std::vector<Vec2> nodes;
-  std::vector<int> from, to;           // per half-edge
-  std::vector<std::vector<int>> out;   // per node: outgoing half-edges
-  std::vector<int> twin;               // -1 for side pieces
-  std::vector<int> component;          // per node: its connected component's root
+  std::vector<int> from, to;          // per half-edge
+  std::vector<std::vector<int>> out;  // per node: outgoing half-edges
+  std::vector<int> twin;              // -1 for side pieces
+  std::vector<int> component;         // per node: its connected component's root
 };
 
 double SignedArea(const std::vector<Vec2>& ring) {
@@ -93,8 +93,8 @@ int NextAroundFace(const HalfEdgeGraph& g, int h) {
   double best_turn = 0.0;
   for (int candidate : g.out[static_cast<std::size_t>(v)]) {
     if (candidate == g.twin[static_cast<std::size_t>(h)]) continue;
-    const Vec2 d = g.nodes[static_cast<std::size_t>(g.to[static_cast<std::size_t>(candidate)])] -
-                   here;
+    const Vec2 d =
+        g.nodes[static_cast<std::size_t>(g.to[static_cast<std::size_t>(candidate)])] - here;
     // Clockwise angle from `back` to d, in (0, 2π].
     double turn = back_angle - std::atan2(d.y(), d.x());
     while (turn <= 0.0) turn += 2.0 * std::numbers::pi;

@@ -99,13 +99,17 @@ void PrfSampler::Step() {
     ++counter.invalid;
     return;
   }
-  double log_target = ArakLogDensity(effect_.delta, options_.p);
+  // Only the energy (potential and data) is tempered, not the reference measure λ: the
+  // density against ν grows without bound as edges shrink, so tempering all of it would anneal
+  // towards swarms of tiny polygons instead of the minimum-energy map.
+  double log_energy_change = -ArakPotential(effect_.delta, options_.p);
   if (data_) {
     const auto delta = data_->Evaluate(coloring_, edit_);
     if (!delta) return;  // likelihood zero: rejected
-    log_target += FromFixed(*delta);
+    log_energy_change += FromFixed(*delta);
   }
-  const double log_alpha = log_target / options_.temperature + log_q;
+  const double log_alpha =
+      ArakLogMeasure(effect_.delta, options_.p) + log_energy_change / options_.temperature + log_q;
   if (log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha)) {
     if (estimates_) estimates_->Record(coloring_, edit_, steps_);
     const auto added = coloring_.Apply(edit_, effect_);

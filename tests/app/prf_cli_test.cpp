@@ -1,5 +1,6 @@
-// End-to-end tests of `priormap prf`: the prior statistics as JSON, reproducible by seed, and
-// bad options reported without output.
+// End-to-end tests of `priormap prf` and `priormap grid`: the prior statistics as JSON; a
+// simulated log mapped by PRF chains (every output, reproducible by seed, R-hat and acceptance
+// in the summary) and by the occupancy grid; bad options reported without output.
 #include <string>
 #include <vector>
 
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_fixture.hpp"
+#include "testing/temp_dir.hpp"
 
 namespace priormap {
 namespace {
@@ -64,6 +66,74 @@ TEST_F(PrfCli, PriorStatsRejectsBadOptions) {
   EXPECT_THAT(RunFailing({"prf", "prior-stats", "--samples", "10"}).err,
               HasSubstr("--samples must be at least 80"));
   EXPECT_NE(RunFailing({"prf"}).status, 0);
+}
+
+// A simulated localized log of the l-room (lms200), as CARMEN.
+class MappingCli : public PrfCli {
+ protected:
+  void SetUp() override {
+    const auto r = Run({"simulate", "--scene", "l-room", "--sensor", "lms200", "--log", "--seed",
+                        "2", "-o", "room.log"});
+    ASSERT_EQ(r.status, 0) << r.err;
+  }
+};
+
+TEST_F(MappingCli, PrfWritesThePosteriorTheMapAndASummary) {
+  const std::vector<std::string> args = {
+      "prf",       "--log",    "room.log",      "--beam-step", "4",        "--p", "0.5",
+      "--samples", "40000",    "--burn-in",     "40000",       "--chains", "2",   "--seed",
+      "3",         "--anneal", "--trace-every", "2000"};
+  auto with_out = [&](const std::string& dir) {
+    std::vector<std::string> a = args;
+    a.insert(a.end(), {"-o", dir});
+    return a;
+  };
+  const auto r = Run(with_out("run1"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* file :
+       {"summary.json", "posterior.png", "posterior.pgm", "posterior.yaml", "not_white.png",
+        "trace.csv", "map.geojson", "map.svg", "map.png", "map.pgm", "map.yaml"})
+    EXPECT_TRUE(std::filesystem::exists(Work("run1") / file)) << file;
+  const json summary = json::parse(testing::ReadAll(Work("run1") / "summary.json"));
+  EXPECT_GT(summary["proposals_per_second"].get<double>(), 0.0);
+  EXPECT_GT(summary["wall_time_s"].get<double>(), 0.0);
+  EXPECT_EQ(summary["log_posterior"].size(), 2u);
+  EXPECT_TRUE(summary["rhat"]["log_posterior"].is_number());
+  EXPECT_GT(summary["acceptance"]["slide"]["accepted"].get<int>(), 0);
+  EXPECT_GT(summary["map"]["edges"].get<int>(), 4);
+  const json map = json::parse(testing::ReadAll(Work("run1") / "map.geojson"));
+  EXPECT_EQ(map["type"], "FeatureCollection");
+  EXPECT_GT(map["features"].size(), 0u);
+  // The same seed gives the same maps, whatever the threads did.
+  ASSERT_EQ(Run(with_out("run2")).status, 0);
+  const json again = json::parse(testing::ReadAll(Work("run2") / "summary.json"));
+  EXPECT_EQ(again["log_posterior"], summary["log_posterior"]);
+  EXPECT_EQ(testing::ReadAll(Work("run2") / "posterior.pgm"),
+            testing::ReadAll(Work("run1") / "posterior.pgm"));
+  EXPECT_EQ(testing::ReadAll(Work("run2") / "map.geojson"),
+            testing::ReadAll(Work("run1") / "map.geojson"));
+}
+
+TEST_F(MappingCli, GridWritesTheMapAndASummary) {
+  const auto r = Run({"grid", "--log", "room.log", "--resolution", "0.05", "-o", "grid"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* file : {"summary.json", "grid.png", "grid.pgm", "grid.yaml"})
+    EXPECT_TRUE(std::filesystem::exists(Work("grid") / file)) << file;
+  const json summary = json::parse(testing::ReadAll(Work("grid") / "summary.json"));
+  EXPECT_GT(summary["beams"].get<int>(), 1000);
+  EXPECT_GT(summary["beams_per_second"].get<double>(), 0.0);
+}
+
+TEST_F(MappingCli, ReportsBadSelections) {
+  EXPECT_THAT(RunFailing({"prf", "--log", "room.log", "--range", "5:2", "-o", "x"}).err,
+              HasSubstr("--range: '5:2' is empty"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "room.log", "--range", "9000:", "-o", "x"}).err,
+              HasSubstr("selects no scan"));
+  EXPECT_THAT(RunFailing({"prf", "--range", "0:2", "-o", "x"}).err, HasSubstr("--log is required"));
+  EXPECT_THAT(RunFailing({"grid", "--log", "missing.log", "-o", "x"}).err,
+              HasSubstr("missing.log"));
+  EXPECT_THAT(RunFailing({"grid", "--log", "room.log", "--range", "a:b", "-o", "x"}).err,
+              HasSubstr("--range"));
 }
 
 }  // namespace

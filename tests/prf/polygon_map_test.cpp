@@ -1,9 +1,8 @@
 // Coloring to vector map: the faces partition the window, each face has the colour of every
 // point inside it, closed polygons become holes of the face around them, and the GeoJSON holds
 // exactly the black faces.
-#include <nlohmann/json.hpp>
-
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <priormap/core/rng.hpp>
 #include <priormap/prf/polygon_map.hpp>

@@ -25,8 +25,13 @@ struct ColoringStats {
 
 /// log of the Arak measure's density against the base measure, with the potential:
 /// |E| log p − Σ log|e| + Σ log sin φ_v − 2p Σ|e| (paper eqs. 1–3). Of an edit's statistics,
-/// the change of the log density.
+/// the change of the log density. It is ArakLogMeasure − ArakPotential.
 [[nodiscard]] double ArakLogDensity(const ColoringStats& stats, double p);
+/// The measure λ's part, |E| log p − Σ log|e| + Σ log sin φ_v (eq. 1): the reference measure,
+/// never tempered.
+[[nodiscard]] double ArakLogMeasure(const ColoringStats& stats, double p);
+/// The potential F₀ = 2p Σ|e| (eq. 3): the prior's energy, tempered with the data's.
+[[nodiscard]] double ArakPotential(const ColoringStats& stats, double p);
 
 /// Expected number of edges in a convex window: p·perimeter + 4πp²·area (4p + 4πp² in the unit
 /// square). Boundary vertices are the window boundary's crossings, Poisson with mean 2p per unit

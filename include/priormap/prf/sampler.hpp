@@ -29,7 +29,8 @@ struct SamplerOptions {
   double vertex_birth_width = 0.5;
   /// Half-widths of the symmetric random-walk steps of the vertex moves; each step draws one.
   std::vector<double> step_scales{0.02, 0.1, 0.5};
-  /// The target is (Arak density · likelihood)^(1/temperature): 1 samples, lower anneals.
+  /// The target is λ(dχ) · (exp(−F₀) · likelihood)^(1/temperature): 1 samples the posterior,
+  /// lower anneals towards the coloring of least energy F₀ − log L against the Arak measure λ.
   double temperature = 1.0;
   /// Debug: after each accepted move, check every invariant of the coloring by brute force and
   /// the data term's incremental state against a recomputation (slow).

@@ -1,0 +1,81 @@
+#pragma once
+/// PRF mapping from localized laser data (Paskin & Thrun, Sec. 2–3): several Metropolis–Hastings
+/// chains of the posterior in parallel (oneTBB), each recording the running estimates after its
+/// burn-in and traces for convergence (the log-posterior and the colours of fixed points, whose
+/// split-R̂ across chains is reported), and optionally simulated annealing from the best chain's
+/// final state to a MAP polygonal map.
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include <priormap/prf/coloring.hpp>
+#include <priormap/prf/laser_data.hpp>
+#include <priormap/prf/laser_model.hpp>
+#include <priormap/prf/moves.hpp>
+#include <priormap/prf/sampler.hpp>
+
+namespace priormap::prf {
+
+struct MappingOptions {
+  SamplerOptions sampler;  // p, move weights, scales (temperature is set by the run)
+  LaserModel model;
+  double cell_size = 0.5;           // of the edge and beam indices, m
+  double margin = 1.0;              // window around the data, m
+  double raster_resolution = 0.1;   // of the P(black) and white-fraction rasters, m
+  std::uint64_t samples = 1000000;  // steps recorded per chain, after the burn-in
+  std::uint64_t burn_in = 200000;   // steps per chain
+  int chains = 2;
+  std::uint64_t seed = 1;
+  std::uint64_t trace_every = 1000;  // steps between trace records (R̂)
+  int trace_points = 32;             // fixed points whose colours enter R̂
+  std::uint64_t anneal_steps = 0;    // 0: no annealing
+  double anneal_final_temperature = 0.01;
+  /// Steps per chain between progress calls (and between chunks of work).
+  std::uint64_t chunk = 20000;
+};
+
+struct ChainSummary {
+  MoveCounters counters{};
+  double log_posterior = 0.0;
+  double log_likelihood = 0.0;
+  int edges = 0;
+  std::vector<double> log_posterior_trace;
+  std::vector<std::vector<double>> point_traces;  // per trace point: 1 black, 0 white
+};
+
+struct MappingProgress {
+  std::uint64_t steps_done = 0;  // over all chains
+  std::uint64_t steps_total = 0;
+  double seconds = 0.0;
+  double log_posterior = 0.0;  // of the chain reporting
+  MoveCounters counters{};     // of the chain reporting
+};
+
+struct MappingResult {
+  Window window;
+  CellGrid raster;
+  Eigen::MatrixXd black_fraction;  // pooled over chains, row 0 at the bottom
+  Eigen::MatrixXd white_fraction;
+  std::vector<ChainSummary> chains;
+  std::vector<Vec2> trace_points;
+  double rhat_log_posterior = 0.0;
+  double rhat_point_colours = 0.0;  // the largest over the trace points
+  double wall_time_s = 0.0;
+  double sampling_time_s = 0.0;
+  std::uint64_t proposals = 0;  // all chains, burn-in included, annealing excluded
+  std::optional<Coloring> map;  // the annealed MAP coloring
+  double map_log_posterior = 0.0;
+};
+
+/// Runs the chains; `progress` (may be empty) is called from the chains' threads, serialized.
+[[nodiscard]] MappingResult RunMapping(std::shared_ptr<const LaserData> data,
+                                       const MappingOptions& options,
+                                       const std::function<void(const MappingProgress&)>& progress);
+
+}  // namespace priormap::prf

@@ -1,0 +1,17 @@
+#pragma once
+/// The Gelman–Rubin potential scale reduction R̂, split form (Gelman et al., Bayesian Data
+/// Analysis, 3rd ed., Sec. 11.4): each chain's trace is cut in halves, so that one chain that
+/// drifts is caught too. R̂ = sqrt(((n-1)/n · W + B/n) / W) with W the mean within-half
+/// variance and B/n the variance of the half means. Near 1 when the chains agree.
+
+#include <span>
+#include <vector>
+
+namespace priormap::prf {
+
+/// Split-R̂ of equally long traces (the shortest length is used). 1 when every half is constant
+/// at the same value; +inf when halves are constant at different values. Precondition: at
+/// least one trace of length >= 4.
+[[nodiscard]] double SplitRhat(std::span<const std::vector<double>> traces);
+
+}  // namespace priormap::prf
