@@ -72,21 +72,11 @@ void PosteriorEstimates::Record(const Coloring& coloring, const Edit& edit, std:
   for (const auto& [ra, rb] : edit.added_edges) CountEdge(position(ra), position(rb), +1, sample);
 
   const std::span<const Vec2> region{edit.flipped_region.begin(), edit.flipped_region.size()};
-  Box2 box;
-  for (const Vec2& p : region) box.extend(p);
-  // Centres inside the box: cells from the one holding box.min to the one holding box.max.
-  const int x0 = grid_.ClampX(box.min().x());
-  const int x1 = grid_.ClampX(box.max().x());
-  const int y0 = grid_.ClampY(box.min().y());
-  const int y1 = grid_.ClampY(box.max().y());
-  for (int iy = y0; iy <= y1; ++iy) {
-    for (int ix = x0; ix <= x1; ++ix) {
-      const int index = iy * grid_.nx + ix;
-      if (!InsidePolygon(region, Centre(index))) continue;
-      CellState& cell = cells_[static_cast<std::size_t>(index)];
-      SetBlack(cell, !cell.black, sample);
-    }
-  }
+  ForEachCellUnder(grid_, region, [&](int index) {
+    if (!InsidePolygon(region, Centre(index))) return;
+    CellState& cell = cells_[static_cast<std::size_t>(index)];
+    SetBlack(cell, !cell.black, sample);
+  });
 }
 
 Eigen::MatrixXd PosteriorEstimates::BlackFraction(std::uint64_t last_sample) const {

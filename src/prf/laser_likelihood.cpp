@@ -102,17 +102,12 @@ void LaserLikelihood::RebuildIndex() {
 
 bool LaserLikelihood::SensorFlips(const Edit& edit) const {
   const std::span<const Vec2> region{edit.flipped_region.begin(), edit.flipped_region.size()};
-  Box2 box;
-  for (const Vec2& p : region) box.extend(p);
-  const int x0 = grid_.ClampX(box.min().x());
-  const int x1 = grid_.ClampX(box.max().x());
-  const int y0 = grid_.ClampY(box.min().y());
-  const int y1 = grid_.ClampY(box.max().y());
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x)
-      for (std::int32_t s : sensor_cells_[static_cast<std::size_t>(y * grid_.nx + x)])
-        if (InsidePolygon(region, data_->sensors[static_cast<std::size_t>(s)])) return true;
-  return false;
+  bool flips = false;
+  ForEachCellUnder(grid_, region, [&](int cell) {
+    for (std::int32_t s : sensor_cells_[static_cast<std::size_t>(cell)])
+      flips = flips || InsidePolygon(region, data_->sensors[static_cast<std::size_t>(s)]);
+  });
+  return flips;
 }
 
 void LaserLikelihood::CollectBeams(const Vec2& a, const Vec2& b) {

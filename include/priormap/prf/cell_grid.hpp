@@ -33,6 +33,21 @@ struct CellGrid {
   }
 };
 
+/// Calls visit(cell) for each cell that the bounding box of `points` overlaps (clamped to the
+/// grid): the cells that can hold a point of the polygon they span.
+template <class Points, class Visit>
+void ForEachCellUnder(const CellGrid& grid, const Points& points, Visit&& visit) {
+  Box2 box;
+  for (const Vec2& p : points) box.extend(p);
+  if (box.isEmpty()) return;
+  const int x0 = grid.ClampX(box.min().x());
+  const int x1 = grid.ClampX(box.max().x());
+  const int y0 = grid.ClampY(box.min().y());
+  const int y1 = grid.ClampY(box.max().y());
+  for (int iy = y0; iy <= y1; ++iy)
+    for (int ix = x0; ix <= x1; ++ix) visit(iy * grid.nx + ix);
+}
+
 /// Calls visit(cell, t_enter, t_exit) for each cell that the segment a + t (b - a), t in [0, 1],
 /// passes through, in order from a, with the parameter interval spent in the cell; stops early
 /// when visit returns false. Points outside the grid are clamped to its border cells. Where the
