@@ -48,13 +48,7 @@ void ProposalsPerSecond(benchmark::State& state, std::size_t end_scan, std::size
   state.counters["beams"] = static_cast<double>(data->beams.size());
   state.counters["edges"] = sampler.coloring().stats().edges;
   state.counters["log_posterior"] = sampler.LogPosterior();
-  std::uint64_t proposed = 0;
-  std::uint64_t accepted = 0;
-  for (const MoveCounter& counter : sampler.counters()) {
-    proposed += counter.proposed;
-    accepted += counter.accepted;
-  }
-  state.counters["acceptance"] = static_cast<double>(accepted) / static_cast<double>(proposed);
+  state.counters["acceptance"] = Total(sampler.counters()).AcceptanceRate();
   state.counters["proposals_per_s"] = benchmark::Counter(
       static_cast<double>(kStepsPerIteration * state.iterations()), benchmark::Counter::kIsRate);
 }

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/log_io.hpp>
 #include <priormap/grid/occupancy_grid.hpp>
 #include <priormap/render/prf_figures.hpp>
 
@@ -33,35 +34,29 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 
 void RunGridCommand(const GridCliOptions& o) {
   const auto read_start = std::chrono::steady_clock::now();
-  const Log log = ReadLogOrThrow(o.log);
+  const Log log = ValueOrThrow(ReadLog(o.log));
   const double read_time = SecondsSince(read_start);
-  const ScanRange range = ParseScanRange(o.range);
-  const std::size_t end = std::min(range.end.value_or(log.scans.size()), log.scans.size());
-  if (range.first >= end)
-    throw UserError(
-        fmt::format("--range {} selects no scan (the log has {})", o.range, log.scans.size()));
-  const Box2 extent = grid::OccupancyGrid::ExtentOf(log, range.first, end, o.grid);
+  const auto [first, end] = SelectedScans(ParseScanRange(o.range), log.scans.size());
+  const Box2 extent = grid::OccupancyGrid::ExtentOf(log, first, end, o.grid);
   if (extent.isEmpty()) throw UserError("the selected scans have no usable reading");
   EnsureDirectory(o.out);
 
   grid::OccupancyGrid map(extent, o.grid);
   const auto insert_start = std::chrono::steady_clock::now();
   std::size_t beams = 0;
-  for (std::size_t k = range.first; k < end; ++k) beams += map.Insert(log.scans[k]);
+  for (std::size_t k = first; k < end; ++k) beams += map.Insert(log.scans[k]);
   const double insert_time = SecondsSince(insert_start);
 
   const std::filesystem::path dir(o.out);
   const OccupancyRaster raster = map.Raster();
   WriteMapServerMap(dir / "grid.yaml", raster);
   std::vector<Vec2> sensors;
-  for (std::size_t k = range.first; k < end; ++k)
-    sensors.push_back(log.scans[k].pose.translation());
+  for (std::size_t k = first; k < end; ++k) sensors.push_back(log.scans[k].pose.translation());
   render::SaveProbabilityFigure(
       dir / "grid.png", raster,
-      fmt::format("occupancy grid, {} m, scans {}:{}", o.grid.resolution, range.first, end),
-      sensors);
+      fmt::format("occupancy grid, {} m, scans {}:{}", o.grid.resolution, first, end), sensors);
   const nlohmann::json summary = {{"log", o.log},
-                                  {"scans", end - range.first},
+                                  {"scans", end - first},
                                   {"beams", beams},
                                   {"resolution", o.grid.resolution},
                                   {"width", map.width()},

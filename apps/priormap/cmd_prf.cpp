@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <unistd.h>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/log_io.hpp>
 #include <priormap/core/map_server.hpp>
 #include <priormap/prf/mapping.hpp>
 #include <priormap/prf/moves.hpp>
@@ -49,19 +51,9 @@ nlohmann::json AcceptanceJson(const prf::MoveCounters& counters) {
         {"proposed", c.proposed},
         {"invalid", c.invalid},
         {"accepted", c.accepted},
-        {"rate",
-         c.proposed ? static_cast<double>(c.accepted) / static_cast<double>(c.proposed) : 0.0}};
+        {"rate", c.AcceptanceRate()}};
   }
   return acceptance;
-}
-
-double AcceptanceRate(const prf::MoveCounters& counters) {
-  std::uint64_t proposed = 0, accepted = 0;
-  for (const prf::MoveCounter& c : counters) {
-    proposed += c.proposed;
-    accepted += c.accepted;
-  }
-  return proposed ? static_cast<double>(accepted) / static_cast<double>(proposed) : 0.0;
 }
 
 nlohmann::json EstimateJson(const prf::Estimate& e, double closed_form) {
@@ -177,7 +169,7 @@ class MappingStatus {
     const std::string line =
         fmt::format("{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, log posterior {:.1f}", percent,
                     static_cast<double>(p.steps_done) / p.seconds / 1e3,
-                    100.0 * AcceptanceRate(p.counters), p.log_posterior);
+                    100.0 * prf::Total(p.counters).AcceptanceRate(), p.log_posterior);
     if (terminal_)
       fmt::print(stderr, "\r{}{}", line, p.steps_done == p.steps_total ? "\n" : "");
     else
@@ -192,10 +184,9 @@ class MappingStatus {
 void RunMappingCommand(MappingCliOptions o) {
   if (o.log.empty()) throw UserError("--log is required (or a subcommand: prior-stats)");
   if (o.out.empty()) throw UserError("-o/--out is required");
-  const Log log = ReadLogOrThrow(o.log);
-  const ScanRange range = ParseScanRange(o.range);
-  o.selection.first_scan = range.first;
-  o.selection.end_scan = range.end;
+  const Log log = ValueOrThrow(ReadLog(o.log));
+  std::tie(o.selection.first_scan, o.selection.end_scan) =
+      SelectedScans(ParseScanRange(o.range), log.scans.size());
   auto selected = prf::SelectBeams(log, o.selection);
   if (auto* problem = std::get_if<std::string>(&selected)) throw UserError(*problem);
   const auto data =
@@ -255,11 +246,7 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["log_posterior"] = nlohmann::json::array();
   for (const prf::ChainSummary& chain : r.chains) {
     summary["log_posterior"].push_back(chain.log_posterior);
-    for (std::size_t t = 0; t < total.size(); ++t) {
-      total[t].proposed += chain.counters[t].proposed;
-      total[t].invalid += chain.counters[t].invalid;
-      total[t].accepted += chain.counters[t].accepted;
-    }
+    for (std::size_t t = 0; t < total.size(); ++t) total[t] += chain.counters[t];
   }
   summary["acceptance"] = AcceptanceJson(total);
   summary["edges"] = nlohmann::json::array();

@@ -1,10 +1,10 @@
 #include "log_selection.hpp"
 
+#include <algorithm>
 #include <charconv>
+#include <string>
 
 #include <fmt/format.h>
-
-#include <priormap/core/log_io.hpp>
 
 #include "cli_support.hpp"
 
@@ -35,8 +35,12 @@ ScanRange ParseScanRange(const std::string& text) {
   return range;
 }
 
-Log ReadLogOrThrow(const std::string& path) {
-  return ValueOrThrow(ReadLog(path));
+std::pair<std::size_t, std::size_t> SelectedScans(const ScanRange& range, std::size_t scans) {
+  const std::size_t end = std::min(range.end.value_or(scans), scans);
+  if (range.first >= end)
+    throw UserError(fmt::format("--range {}:{} selects no scan (the log has {})", range.first,
+                                range.end ? std::to_string(*range.end) : "", scans));
+  return {range.first, end};
 }
 
 }  // namespace priormap::app

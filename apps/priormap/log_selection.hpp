@@ -1,11 +1,10 @@
 #pragma once
-// --log LOG and --range a:b, shared by `priormap prf` and `priormap grid`.
+// --range a:b over a log's scans, shared by `priormap prf` and `priormap grid`.
 
 #include <cstddef>
 #include <optional>
 #include <string>
-
-#include <priormap/core/log.hpp>
+#include <utility>
 
 namespace priormap::app {
 
@@ -17,7 +16,9 @@ struct ScanRange {
 /// "a:b", "a:" or ":b" (scan indices, b exclusive); throws UserError naming --range otherwise.
 [[nodiscard]] ScanRange ParseScanRange(const std::string& text);
 
-/// The log at `path` (CARMEN or priormap JSON, gzip or not); diagnostics as a UserError.
-[[nodiscard]] Log ReadLogOrThrow(const std::string& path);
+/// The scans [first, end) that `range` selects in a log of `scans` scans; throws UserError
+/// naming --range when that is none.
+[[nodiscard]] std::pair<std::size_t, std::size_t> SelectedScans(const ScanRange& range,
+                                                                std::size_t scans);
 
 }  // namespace priormap::app

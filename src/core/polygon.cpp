@@ -10,12 +10,28 @@ Segment Polygon::Edge(std::size_t i) const {
   return {vertices[i], vertices[(i + 1) % vertices.size()]};
 }
 
-double Polygon::SignedArea() const {
+double RingSignedArea(std::span<const Vec2> ring) {
   double twice_area = 0.0;
-  for (std::size_t i = 0; i < vertices.size(); ++i) {
-    twice_area += Cross(vertices[i], vertices[(i + 1) % vertices.size()]);
-  }
+  for (std::size_t i = 0; i < ring.size(); ++i)
+    twice_area += Cross(ring[i], ring[(i + 1) % ring.size()]);
   return 0.5 * twice_area;
+}
+
+bool RingContains(std::span<const Vec2> ring, const Vec2& p) {
+  bool inside = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const Vec2& a = ring[i];
+    const Vec2& b = ring[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+double Polygon::SignedArea() const {
+  return RingSignedArea(vertices);
 }
 
 double Polygon::Area() const {
@@ -41,16 +57,7 @@ Vec2 Polygon::Centroid() const {
 }
 
 bool Polygon::Contains(const Vec2& p) const {
-  bool inside = false;
-  for (std::size_t i = 0, j = vertices.size() - 1; i < vertices.size(); j = i++) {
-    const Vec2& a = vertices[i];
-    const Vec2& b = vertices[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
-  }
-  return inside;
+  return RingContains(vertices, p);
 }
 
 bool Polygon::IsSimple() const {

@@ -1,5 +1,6 @@
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -11,6 +12,28 @@ namespace {
 
 // Log-odds units per 1.0 of log-odds: fine enough that 0.85 and -0.4 keep three digits.
 constexpr double kScale = 1000.0;
+
+struct BeamToInsert {
+  double range;
+  bool hit;
+};
+
+// How far beam i is inserted and whether its end is a hit; nullopt for beams left out.
+std::optional<BeamToInsert> ToInsert(const Scan& scan, std::size_t i, const GridOptions& options) {
+  switch (scan.status[i]) {
+    case BeamStatus::kInvalid:
+      return std::nullopt;
+    case BeamStatus::kMaxRange:
+      if (!options.max_readings_clear) return std::nullopt;
+      return BeamToInsert{.range = options.max_range, .hit = false};
+    case BeamStatus::kValid:
+      break;
+  }
+  // A return beyond the insertion range clears up to it.
+  if (scan.ranges[i] > options.max_range)
+    return BeamToInsert{.range = options.max_range, .hit = false};
+  return BeamToInsert{.range = scan.ranges[i], .hit = true};
+}
 
 }  // namespace
 
@@ -40,14 +63,9 @@ Box2 OccupancyGrid::ExtentOf(const Log& log, std::size_t first, std::size_t end,
     const Scan& scan = log.scans[k];
     if (!scan.pose.IsFinite()) continue;
     box.extend(scan.pose.translation());
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      if (scan.status[i] == BeamStatus::kInvalid) continue;
-      const bool max_reading = scan.status[i] == BeamStatus::kMaxRange;
-      if (max_reading && !options.max_readings_clear) continue;
-      const double range =
-          max_reading ? options.max_range : std::min(scan.ranges[i], options.max_range);
-      box.extend(scan.pose.Transform(range * UnitVector(scan.angles[i])));
-    }
+    for (std::size_t i = 0; i < scan.size(); ++i)
+      if (const auto beam = ToInsert(scan, i, options))
+        box.extend(scan.pose.Transform(beam->range * UnitVector(scan.angles[i])));
   }
   if (box.isEmpty()) return box;
   const Vec2 grow = Vec2::Constant(options.margin);
@@ -59,17 +77,10 @@ std::size_t OccupancyGrid::Insert(const Scan& scan) {
   const Vec2 origin = scan.pose.translation();
   std::size_t inserted = 0;
   for (std::size_t i = 0; i < scan.size(); ++i) {
-    const BeamStatus status = scan.status[i];
-    if (status == BeamStatus::kInvalid) continue;
-    bool hit = status == BeamStatus::kValid;
-    double range = hit ? scan.ranges[i] : options_.max_range;
-    if (!hit && !options_.max_readings_clear) continue;
-    if (range > options_.max_range) {  // a return beyond the insertion range clears up to it
-      range = options_.max_range;
-      hit = false;
-    }
-    const double angle = scan.pose.theta() + scan.angles[i];
-    InsertBeam(origin, origin + range * Vec2(std::cos(angle), std::sin(angle)), hit);
+    const auto beam = ToInsert(scan, i, options_);
+    if (!beam) continue;
+    InsertBeam(origin, origin + beam->range * UnitVector(scan.pose.theta() + scan.angles[i]),
+               beam->hit);
     ++inserted;
   }
   return inserted;

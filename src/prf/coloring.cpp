@@ -60,19 +60,6 @@ bool SegmentsTouch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
          (o3 == 0 && OnSegmentBox(c, d, a)) || (o4 == 0 && OnSegmentBox(c, d, b));
 }
 
-bool InsidePolygon(std::span<const Vec2> polygon, const Vec2& q) {
-  bool inside = false;
-  const std::size_t n = polygon.size();
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2& pi = polygon[i];
-    const Vec2& pj = polygon[j];
-    if ((pi.y() > q.y()) != (pj.y() > q.y()) &&
-        q.x() < (pj.x() - pi.x()) * (q.y() - pi.y()) / (pj.y() - pi.y()) + pi.x())
-      inside = !inside;
-  }
-  return inside;
-}
-
 Coloring::Coloring(const Window& window, double cell_size, Colour anchor)
     : window_(window),
       grid_(CellGrid::Covering(window.min, window.max, cell_size)),
@@ -82,14 +69,6 @@ Coloring::Coloring(const Window& window, double cell_size, Colour anchor)
                                 (0.5 + 0.01 * std::numbers::pi) * window.Height())),
       anchor_colour_(anchor),
       cells_(static_cast<std::size_t>(grid_.NumCells())) {}
-
-std::uint32_t Coloring::NextStamp() const {
-  if (++stamp_ == 0) {
-    std::fill(edge_stamp_.begin(), edge_stamp_.end(), 0u);
-    stamp_ = 1;
-  }
-  return stamp_;
-}
 
 int Coloring::CountCrossings(const Vec2& a, const Vec2& b) const {
   int crossings = 0;
@@ -120,12 +99,11 @@ std::optional<double> RaySegmentHit(const Vec2& origin, const Vec2& direction, c
 
 std::optional<RayHit> Coloring::FirstHit(const Vec2& origin, const Vec2& direction, double t_max,
                                          const Edit* ignoring) const {
-  const std::uint32_t stamp = NextStamp();
+  edge_marks_.NextRound();
   RayHit best{.t = std::numeric_limits<double>::infinity(), .edge = kNoEdge};
   WalkCells(grid_, origin, origin + t_max * direction, [&](int cell, double, double t_exit) {
     for (EdgeId e : cells_[cell]) {
-      if (edge_stamp_[e] == stamp) continue;
-      edge_stamp_[e] = stamp;
+      if (!edge_marks_.Mark(static_cast<std::size_t>(e))) continue;
       if (ignoring != nullptr && ignoring->Removes(e)) continue;
       const Segment s = EdgeSegment(e);
       const auto t = RaySegmentHit(origin, direction, s.a, s.b, t_max);
@@ -170,7 +148,7 @@ EdgeId Coloring::AllocateEdge() {
     return e;
   }
   edges_.emplace_back();
-  edge_stamp_.push_back(0);
+  edge_marks_.resize(edges_.size());
   return static_cast<EdgeId>(edges_.size() - 1);
 }
 
@@ -226,11 +204,10 @@ void Coloring::RemoveVertex(VertexId v) {
 bool Coloring::CrossesAnything(const Vec2& a, const Vec2& b, VertexRef ra, VertexRef rb,
                                const Edit& edit) const {
   bool crosses = false;
-  const std::uint32_t stamp = NextStamp();
+  edge_marks_.NextRound();
   WalkCells(grid_, a, b, [&](int cell, double, double) {
     for (EdgeId e : cells_[cell]) {
-      if (edge_stamp_[e] == stamp) continue;
-      edge_stamp_[e] = stamp;
+      if (!edge_marks_.Mark(static_cast<std::size_t>(e))) continue;
       if (edit.Removes(e)) continue;
       const auto& ends = edges_[e].vertices;
       // Edges sharing an endpoint meet only there unless collinear, which the zero angle at
@@ -348,7 +325,7 @@ bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
     effect->vertex_log_sin.push_back({r, log_sin});
   }
   effect->flips_anchor =
-      InsidePolygon({edit.flipped_region.begin(), edit.flipped_region.size()}, anchor_);
+      RingContains({edit.flipped_region.begin(), edit.flipped_region.size()}, anchor_);
   return true;
 }
 

@@ -8,12 +8,6 @@ PosteriorEstimates::PosteriorEstimates(const Window& window, double cell_size)
     : grid_(CellGrid::Covering(window.min, window.max, cell_size)),
       cells_(static_cast<std::size_t>(grid_.NumCells())) {}
 
-Vec2 PosteriorEstimates::Centre(int cell) const {
-  const int ix = cell % grid_.nx;
-  const int iy = cell / grid_.nx;
-  return grid_.origin + Vec2((ix + 0.5) * grid_.cell.x(), (iy + 0.5) * grid_.cell.y());
-}
-
 void PosteriorEstimates::Start(const Coloring& coloring, std::uint64_t sample) {
   start_ = sample;
   for (CellState& cell : cells_)
@@ -35,72 +29,64 @@ void PosteriorEstimates::Start(const Coloring& coloring, std::uint64_t sample) {
   }
 }
 
-void PosteriorEstimates::SetBlack(CellState& cell, bool black, std::uint64_t sample) {
+void PosteriorEstimates::WhiteMayHaveChanged(CellState& cell, bool was_white,
+                                             std::uint64_t sample) {
+  if (was_white == White(cell)) return;
+  if (was_white) cell.white_samples += sample - cell.white_since;
+  cell.white_since = sample;
+}
+
+void PosteriorEstimates::FlipColour(CellState& cell, std::uint64_t sample) {
   const bool was_white = White(cell);
   if (cell.black) cell.black_samples += sample - cell.black_since;
   cell.black_since = sample;
-  cell.black = black;
-  if (was_white != White(cell)) {
-    if (was_white) cell.white_samples += sample - cell.white_since;
-    cell.white_since = sample;
-  }
+  cell.black = !cell.black;
+  WhiteMayHaveChanged(cell, was_white, sample);
 }
 
-void PosteriorEstimates::CountEdge(const Vec2& a, const Vec2& b, int change, std::uint64_t sample) {
-  WalkCells(grid_, a, b, [&](int index, double, double) {
+void PosteriorEstimates::CountEdge(const Segment& edge, int change, std::uint64_t sample) {
+  WalkCells(grid_, edge.a, edge.b, [&](int index, double, double) {
     CellState& cell = cells_[static_cast<std::size_t>(index)];
     const bool was_white = White(cell);
     PRIORMAP_DCHECK(change > 0 || cell.edges > 0, "an edge removed from a cell without edges");
     cell.edges = static_cast<std::uint32_t>(static_cast<int>(cell.edges) + change);
-    if (was_white != White(cell)) {
-      if (was_white) cell.white_samples += sample - cell.white_since;
-      cell.white_since = sample;
-    }
+    WhiteMayHaveChanged(cell, was_white, sample);
     return true;
   });
 }
 
 void PosteriorEstimates::Record(const Coloring& coloring, const Edit& edit, std::uint64_t sample) {
-  for (EdgeId e : edit.removed_edges) {
-    const Segment s = coloring.EdgeSegment(e);
-    CountEdge(s.a, s.b, -1, sample);
-  }
-  const auto position = [&](VertexRef r) {
-    return r.is_new() ? edit.new_vertices[static_cast<std::size_t>(r.new_index())].position
-                      : coloring.vertex(r.id()).position;
-  };
-  for (const auto& [ra, rb] : edit.added_edges) CountEdge(position(ra), position(rb), +1, sample);
+  for (EdgeId e : edit.removed_edges) CountEdge(coloring.EdgeSegment(e), -1, sample);
+  for (std::size_t k = 0; k < edit.added_edges.size(); ++k)
+    CountEdge(coloring.AddedSegment(edit, k), +1, sample);
 
   const std::span<const Vec2> region{edit.flipped_region.begin(), edit.flipped_region.size()};
   ForEachCellUnder(grid_, region, [&](int index) {
-    if (!InsidePolygon(region, Centre(index))) return;
-    CellState& cell = cells_[static_cast<std::size_t>(index)];
-    SetBlack(cell, !cell.black, sample);
+    if (RingContains(region, grid_.Centre(index)))
+      FlipColour(cells_[static_cast<std::size_t>(index)], sample);
   });
 }
 
-Eigen::MatrixXd PosteriorEstimates::BlackFraction(std::uint64_t last_sample) const {
+template <class Count>
+Eigen::MatrixXd PosteriorEstimates::Fraction(std::uint64_t last_sample, Count&& count) const {
   Eigen::MatrixXd fraction(grid_.ny, grid_.nx);
   const double samples = static_cast<double>(Samples(last_sample));
-  for (int index = 0; index < grid_.NumCells(); ++index) {
-    const CellState& cell = cells_[static_cast<std::size_t>(index)];
-    const std::uint64_t black =
-        cell.black_samples + (cell.black ? last_sample + 1 - cell.black_since : 0);
-    fraction(index / grid_.nx, index % grid_.nx) = static_cast<double>(black) / samples;
-  }
+  for (int index = 0; index < grid_.NumCells(); ++index)
+    fraction(index / grid_.nx, index % grid_.nx) =
+        static_cast<double>(count(cells_[static_cast<std::size_t>(index)])) / samples;
   return fraction;
 }
 
+Eigen::MatrixXd PosteriorEstimates::BlackFraction(std::uint64_t last_sample) const {
+  return Fraction(last_sample, [&](const CellState& cell) {
+    return cell.black_samples + (cell.black ? last_sample + 1 - cell.black_since : 0);
+  });
+}
+
 Eigen::MatrixXd PosteriorEstimates::WhiteFraction(std::uint64_t last_sample) const {
-  Eigen::MatrixXd fraction(grid_.ny, grid_.nx);
-  const double samples = static_cast<double>(Samples(last_sample));
-  for (int index = 0; index < grid_.NumCells(); ++index) {
-    const CellState& cell = cells_[static_cast<std::size_t>(index)];
-    const std::uint64_t white =
-        cell.white_samples + (White(cell) ? last_sample + 1 - cell.white_since : 0);
-    fraction(index / grid_.nx, index % grid_.nx) = static_cast<double>(white) / samples;
-  }
-  return fraction;
+  return Fraction(last_sample, [&](const CellState& cell) {
+    return cell.white_samples + (White(cell) ? last_sample + 1 - cell.white_since : 0);
+  });
 }
 
 }  // namespace priormap::prf

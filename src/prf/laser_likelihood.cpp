@@ -38,6 +38,14 @@ std::unique_ptr<DataTerm> LaserLikelihood::Clone() const {
   return std::make_unique<LaserLikelihood>(*this);
 }
 
+LaserLikelihood::BeamHit LaserLikelihood::WalkBeam(const Coloring& coloring, std::size_t beam,
+                                                   double reach, const Edit* ignoring) const {
+  const LaserBeam& b = data_->beams[beam];
+  const auto hit = coloring.FirstHit(b.origin, b.direction, reach, ignoring);
+  return hit ? BeamHit{.distance = hit->t, .edge = hit->edge}
+             : BeamHit{.distance = kInf, .edge = kNoEdge};
+}
+
 FixedLogLik LaserLikelihood::BeamLogLik(std::size_t beam, double distance) const {
   const LaserBeam& b = data_->beams[beam];
   return ToFixed(model_.LogLikelihood(b.range, b.max_reading, distance, data_->max_range));
@@ -59,16 +67,16 @@ std::optional<std::string> LaserLikelihood::Reset(const Coloring& coloring) {
   }
   const std::size_t n = data_->beams.size();
   state_.assign(n, {});
-  beam_stamp_.assign(n, 0u);
-  stamp_ = 0;
+  beam_marks_ = VisitMarks();
+  beam_marks_.resize(n);
   total_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const LaserBeam& beam = data_->beams[i];
     BeamState& state = state_[i];
     state.reach = std::min(data_->max_range, DistanceToSide(window, beam.origin, beam.direction));
-    const auto hit = coloring.FirstHit(beam.origin, beam.direction, state.reach);
-    state.distance = hit ? hit->t : kInf;
-    state.hit = hit ? hit->edge : kNoEdge;
+    const BeamHit hit = WalkBeam(coloring, i, state.reach, nullptr);
+    state.distance = hit.distance;
+    state.hit = hit.edge;
     state.log_lik = BeamLogLik(i, state.distance);
     total_ += state.log_lik;
   }
@@ -105,7 +113,7 @@ bool LaserLikelihood::SensorFlips(const Edit& edit) const {
   bool flips = false;
   ForEachCellUnder(grid_, region, [&](int cell) {
     for (std::int32_t s : sensor_cells_[static_cast<std::size_t>(cell)])
-      flips = flips || InsidePolygon(region, data_->sensors[static_cast<std::size_t>(s)]);
+      flips = flips || RingContains(region, data_->sensors[static_cast<std::size_t>(s)]);
   });
   return flips;
 }
@@ -122,10 +130,7 @@ void LaserLikelihood::CollectBeams(const Vec2& a, const Vec2& b) {
         --stale_entries_;
         continue;
       }
-      if (beam_stamp_[beam] != stamp_) {
-        beam_stamp_[beam] = stamp_;
-        candidates_.push_back(entry.beam);
-      }
+      if (beam_marks_.Mark(beam)) candidates_.push_back(entry.beam);
       ++i;
     }
     return true;
@@ -138,21 +143,15 @@ std::optional<FixedLogLik> LaserLikelihood::Evaluate(const Coloring& coloring, c
   pending_delta_ = 0;
   if (SensorFlips(edit)) return std::nullopt;
 
-  if (++stamp_ == 0) {
-    std::fill(beam_stamp_.begin(), beam_stamp_.end(), 0u);
-    stamp_ = 1;
-  }
-  SmallVector<std::array<Vec2, 2>, 4> added;
-  const auto position = [&](VertexRef r) {
-    return r.is_new() ? edit.new_vertices[static_cast<std::size_t>(r.new_index())].position
-                      : coloring.vertex(r.id()).position;
-  };
-  for (const auto& [ra, rb] : edit.added_edges) added.push_back({position(ra), position(rb)});
+  beam_marks_.NextRound();
+  SmallVector<Segment, 4> added;
+  for (std::size_t k = 0; k < edit.added_edges.size(); ++k)
+    added.push_back(coloring.AddedSegment(edit, k));
   for (EdgeId e : edit.removed_edges) {
     const Segment s = coloring.EdgeSegment(e);
     CollectBeams(s.a, s.b);
   }
-  for (const auto& [a, b] : added) CollectBeams(a, b);
+  for (const Segment& s : added) CollectBeams(s.a, s.b);
 
   for (std::int32_t id : candidates_) {
     const auto i = static_cast<std::size_t>(id);
@@ -161,13 +160,13 @@ std::optional<FixedLogLik> LaserLikelihood::Evaluate(const Coloring& coloring, c
     Change change{
         .beam = id, .distance = state.distance, .hit = state.hit, .added = -1, .log_lik = 0};
     if (state.hit != kNoEdge && edit.Removes(state.hit)) {
-      const auto hit = coloring.FirstHit(beam.origin, beam.direction, state.reach, &edit);
-      change.distance = hit ? hit->t : kInf;
-      change.hit = hit ? hit->edge : kNoEdge;
+      const BeamHit hit = WalkBeam(coloring, i, state.reach, &edit);
+      change.distance = hit.distance;
+      change.hit = hit.edge;
     }
     for (std::size_t k = 0; k < added.size(); ++k) {
       const auto t =
-          RaySegmentHit(beam.origin, beam.direction, added[k][0], added[k][1], state.reach);
+          RaySegmentHit(beam.origin, beam.direction, added[k].a, added[k].b, state.reach);
       if (t && *t < change.distance) {
         change.distance = *t;
         change.hit = kNoEdge;
@@ -183,7 +182,7 @@ std::optional<FixedLogLik> LaserLikelihood::Evaluate(const Coloring& coloring, c
   return pending_delta_;
 }
 
-void LaserLikelihood::Commit(const Coloring&, std::span<const EdgeId> added_edges) {
+void LaserLikelihood::Commit(std::span<const EdgeId> added_edges) {
   for (const Change& change : pending_) {
     const auto i = static_cast<std::size_t>(change.beam);
     BeamState& state = state_[i];
@@ -206,11 +205,8 @@ void LaserLikelihood::Commit(const Coloring&, std::span<const EdgeId> added_edge
 
 FixedLogLik LaserLikelihood::RecomputeLogLikelihood(const Coloring& coloring) const {
   FixedLogLik total = 0;
-  for (std::size_t i = 0; i < data_->beams.size(); ++i) {
-    const LaserBeam& beam = data_->beams[i];
-    const auto hit = coloring.FirstHit(beam.origin, beam.direction, state_[i].reach);
-    total += BeamLogLik(i, hit ? hit->t : kInf);
-  }
+  for (std::size_t i = 0; i < data_->beams.size(); ++i)
+    total += BeamLogLik(i, WalkBeam(coloring, i, state_[i].reach, nullptr).distance);
   return total;
 }
 
@@ -223,8 +219,7 @@ std::optional<std::string> LaserLikelihood::FindInconsistency(const Coloring& co
   for (std::size_t i = 0; i < data_->beams.size(); ++i) {
     const LaserBeam& beam = data_->beams[i];
     const BeamState& state = state_[i];
-    const auto hit = coloring.FirstHit(beam.origin, beam.direction, state.reach);
-    const double distance = hit ? hit->t : kInf;
+    const double distance = WalkBeam(coloring, i, state.reach, nullptr).distance;
     if (distance != state.distance)
       return fmt::format("beam {}: distance {} kept, {} recomputed", i, state.distance, distance);
     if (state.log_lik != BeamLogLik(i, distance))

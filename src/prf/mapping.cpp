@@ -108,7 +108,6 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
     }
     summary.counters = sampler->counters();
     summary.log_posterior = sampler->LogPosterior();
-    summary.log_likelihood = sampler->LogLikelihood();
     summary.edges = sampler->coloring().stats().edges;
     samplers[c] = std::move(sampler);
     estimates[c] = std::move(chain_estimates);
@@ -120,12 +119,11 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
   result.raster = estimates[0]->grid();
   result.black_fraction = Eigen::MatrixXd::Zero(result.raster.ny, result.raster.nx);
   result.white_fraction = result.black_fraction;
-  for (std::size_t c = 0; c < chains; ++c) {
-    if (options.samples == 0) break;
-    result.black_fraction += estimates[c]->BlackFraction(samplers[c]->steps());
-    result.white_fraction += estimates[c]->WhiteFraction(samplers[c]->steps());
-  }
   if (options.samples > 0) {
+    for (std::size_t c = 0; c < chains; ++c) {
+      result.black_fraction += estimates[c]->BlackFraction(samplers[c]->steps());
+      result.white_fraction += estimates[c]->WhiteFraction(samplers[c]->steps());
+    }
     result.black_fraction /= static_cast<double>(chains);
     result.white_fraction /= static_cast<double>(chains);
   }

@@ -21,13 +21,6 @@ struct HalfEdgeGraph {
   std::vector<int> component;         // per node: its connected component's root
 };
 
-double SignedArea(const std::vector<Vec2>& ring) {
-  double area = 0.0;
-  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
-    area += Cross(ring[j], ring[i]);
-  return 0.5 * area;
-}
-
 HalfEdgeGraph BuildGraph(const Coloring& coloring) {
   HalfEdgeGraph g;
   std::map<VertexId, int> node_of;
@@ -132,12 +125,12 @@ std::vector<MapFace> ExtractFaces(const Coloring& coloring) {
     const Vec2 a = cycle.ring[0];
     const Vec2 b = cycle.ring.size() > 1 ? cycle.ring[1] : a;
     cycle.inside = 0.5 * (a + b) + 1e-7 * Perp(b - a);
-    (SignedArea(cycle.ring) > 0.0 ? faces : holes).push_back(std::move(cycle));
+    (RingSignedArea(cycle.ring) > 0.0 ? faces : holes).push_back(std::move(cycle));
   }
   std::vector<MapFace> result(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) {
     result[f].outer = faces[f].ring;
-    result[f].area = SignedArea(faces[f].ring);
+    result[f].area = RingSignedArea(faces[f].ring);
     result[f].colour = coloring.ColourAt(faces[f].inside);
   }
   // Each hole (the outside of a closed polygon) belongs to the smallest face of another
@@ -146,7 +139,7 @@ std::vector<MapFace> ExtractFaces(const Coloring& coloring) {
     int owner = -1;
     for (std::size_t f = 0; f < faces.size(); ++f) {
       if (faces[f].component == hole.component) continue;
-      if (!InsidePolygon(faces[f].ring, hole.ring[0])) continue;
+      if (!RingContains(faces[f].ring, hole.ring[0])) continue;
       if (owner < 0 || result[f].area < result[static_cast<std::size_t>(owner)].area)
         owner = static_cast<int>(f);
     }
@@ -191,10 +184,7 @@ std::size_t CompactMapBytes(const Coloring& coloring) {
 
 Eigen::MatrixXd ColourRaster(const Coloring& coloring, const CellGrid& grid) {
   Eigen::MatrixXd raster(grid.ny, grid.nx);
-  const auto centre = [&](int ix, int iy) {
-    return Vec2(grid.origin.x() + (ix + 0.5) * grid.cell.x(),
-                grid.origin.y() + (iy + 0.5) * grid.cell.y());
-  };
+  const auto centre = [&](int ix, int iy) { return grid.Centre(iy * grid.nx + ix); };
   for (int iy = 0; iy < grid.ny; ++iy) {
     bool black = coloring.ColourAt(centre(0, iy)) == Colour::kBlack;
     raster(iy, 0) = black ? 1.0 : 0.0;

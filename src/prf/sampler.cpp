@@ -50,7 +50,7 @@ PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t 
     cumulative_weights_.push_back(total);
   }
   PRIORMAP_CHECK(total > 0.0, "at least one move kind needs a positive weight");
-  cell_stamp_.assign(static_cast<std::size_t>(coloring_.grid().NumCells()), 0u);
+  cell_marks_.resize(static_cast<std::size_t>(coloring_.grid().NumCells()));
   if (data_) {
     const auto problem = data_->Reset(coloring_);
     PRIORMAP_CHECK(!problem, "the initial coloring has likelihood zero: " + problem.value_or(""));
@@ -113,7 +113,7 @@ void PrfSampler::Step() {
   if (log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha)) {
     if (estimates_) estimates_->Record(coloring_, edit_, steps_);
     const auto added = coloring_.Apply(edit_, effect_);
-    if (data_) data_->Commit(coloring_, {added.begin(), added.size()});
+    if (data_) data_->Commit({added.begin(), added.size()});
     ++counter.accepted;
     if (options_.check_invariants) {
       auto violation = coloring_.FindInvariantViolation(1e-6);
@@ -481,17 +481,14 @@ int PrfSampler::CellNeighbourCount(const Vec2& a, const Vec2& b, EdgeId self, Ed
 }
 
 bool PrfSampler::ShareACell(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  if (++cell_stamp_value_ == 0) {
-    std::fill(cell_stamp_.begin(), cell_stamp_.end(), 0u);
-    cell_stamp_value_ = 1;
-  }
+  cell_marks_.NextRound();
   WalkCells(coloring_.grid(), a, b, [&](int cell, double, double) {
-    cell_stamp_[static_cast<std::size_t>(cell)] = cell_stamp_value_;
+    cell_marks_.Mark(static_cast<std::size_t>(cell));
     return true;
   });
   bool shared = false;
   WalkCells(coloring_.grid(), c, d, [&](int cell, double, double) {
-    shared = cell_stamp_[static_cast<std::size_t>(cell)] == cell_stamp_value_;
+    shared = cell_marks_.Marked(static_cast<std::size_t>(cell));
     return !shared;
   });
   return shared;

@@ -8,6 +8,17 @@ namespace {
 
 constexpr Color kUnknown{0.80, 0.85, 0.90};
 
+// A map figure: the extent without padding, axes in metres.
+Figure MapFigure(const Box2& extent, const std::string& title, bool colorbar) {
+  return Figure(extent, {.width_px = 900,
+                         .max_height_px = 900,
+                         .title = title,
+                         .axes = true,
+                         .colorbar = colorbar,
+                         .padding_m = 0.0,
+                         .legend = LegendPlace::kBelow});
+}
+
 }  // namespace
 
 void SaveProbabilityFigure(const std::filesystem::path& path, const OccupancyRaster& raster,
@@ -16,13 +27,7 @@ void SaveProbabilityFigure(const std::filesystem::path& path, const OccupancyRas
   const Box2 extent(raster.origin,
                     raster.origin + raster.resolution * Vec2(static_cast<double>(p.cols()),
                                                              static_cast<double>(p.rows())));
-  Figure figure(extent, {.width_px = 900,
-                         .max_height_px = 900,
-                         .title = title,
-                         .axes = true,
-                         .colorbar = true,
-                         .padding_m = 0.0,
-                         .legend = LegendPlace::kBelow});
+  Figure figure = MapFigure(extent, title, true);
   figure.FilledPolygon(Polygon{{extent.corner(Box2::BottomLeft), extent.corner(Box2::BottomRight),
                                 extent.corner(Box2::TopRight), extent.corner(Box2::TopLeft)}},
                        kUnknown);
@@ -34,13 +39,7 @@ void SaveProbabilityFigure(const std::filesystem::path& path, const OccupancyRas
 void SaveFacesFigure(const std::filesystem::path& path, const std::vector<prf::MapFace>& faces,
                      const prf::Window& window, const std::string& title) {
   const Box2 extent(window.min, window.max);
-  Figure figure(extent, {.width_px = 900,
-                         .max_height_px = 900,
-                         .title = title,
-                         .axes = true,
-                         .colorbar = false,
-                         .padding_m = 0.0,
-                         .legend = LegendPlace::kBelow});
+  Figure figure = MapFigure(extent, title, false);
   // Largest first: each nested face paints over the face that holds it.
   for (const prf::MapFace& face : faces)
     figure.FilledPolygon(

@@ -224,7 +224,7 @@ TEST(Coloring, EveryMoveReversesExactlyItsRegion) {
     coloring.Apply(edit, effect);
     const std::span<const Vec2> region(edit.flipped_region.begin(), edit.flipped_region.size());
     for (std::size_t i = 0; i < points.size(); ++i)
-      ASSERT_EQ(coloring.ColourAt(points[i]) != before[i], InsidePolygon(region, points[i]))
+      ASSERT_EQ(coloring.ColourAt(points[i]) != before[i], RingContains(region, points[i]))
           << MoveTypeName(type) << " at (" << points[i].transpose() << ")";
     ++applied[static_cast<std::size_t>(type)];
     // Keep proposing from the new state.

@@ -38,7 +38,7 @@ TEST(PosteriorEstimates, CountWhatInspectingEveryStateCounts) {
     sampler.Step();
     const std::vector<Segment> edges = AllEdges(sampler.coloring());
     for (int index = 0; index < grid.NumCells(); ++index) {
-      const Vec2 centre = estimates.Centre(index);
+      const Vec2 centre = grid.Centre(index);
       const int parity =
           CrossingsByBruteForce(sampler.coloring(), sampler.coloring().anchor(), centre) % 2;
       const Colour anchor = sampler.coloring().anchor_colour();

@@ -172,9 +172,7 @@ TEST(MoveRatios, SlideKeepsTheEdgeDirection) {
 
 TEST(MoveCounters, AddUpOverAChain) {
   PrfSampler sampler = Warmed(1.0, 9, 20000);
-  std::uint64_t proposed = 0;
-  for (const MoveCounter& c : sampler.counters()) proposed += c.proposed;
-  EXPECT_EQ(proposed, 20000u);
+  EXPECT_EQ(Total(sampler.counters()).proposed, 20000u);
   for (int t = 0; t < kNumMoveTypes; ++t)
     EXPECT_GT(sampler.counters()[static_cast<std::size_t>(t)].accepted, 0u)
         << MoveTypeName(static_cast<MoveType>(t));

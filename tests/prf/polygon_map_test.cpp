@@ -11,20 +11,13 @@
 namespace priormap::prf {
 namespace {
 
-double RingArea(const std::vector<Vec2>& ring) {
-  double area = 0.0;
-  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
-    area += Cross(ring[j], ring[i]);
-  return 0.5 * area;
-}
-
 // The face holding q: inside its outer ring and none of its holes (faces are disjoint).
 const MapFace* FaceAt(const std::vector<MapFace>& faces, const Vec2& q) {
   const MapFace* found = nullptr;
   for (const MapFace& face : faces) {
-    if (!InsidePolygon(face.outer, q)) continue;
+    if (!RingContains(face.outer, q)) continue;
     bool in_hole = false;
-    for (const auto& hole : face.holes) in_hole = in_hole || InsidePolygon(hole, q);
+    for (const auto& hole : face.holes) in_hole = in_hole || RingContains(hole, q);
     if (in_hole) continue;
     EXPECT_EQ(found, nullptr) << "two faces hold a point";
     found = &face;
@@ -46,11 +39,11 @@ TEST(PolygonMap, FacesPartitionTheWindowAndCarryTheirColour) {
     double area = 0.0;
     std::size_t holes = 0;
     for (const MapFace& face : faces) {
-      EXPECT_GT(RingArea(face.outer), 0.0);
-      area += RingArea(face.outer);
+      EXPECT_GT(RingSignedArea(face.outer), 0.0);
+      area += RingSignedArea(face.outer);
       for (const auto& hole : face.holes) {
-        EXPECT_LT(RingArea(hole), 0.0);
-        area += RingArea(hole);
+        EXPECT_LT(RingSignedArea(hole), 0.0);
+        area += RingSignedArea(hole);
         ++holes;
       }
     }

@@ -1,11 +1,18 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include <priormap/core/segment.hpp>
 
 namespace priormap {
+
+/// Shoelace area of the closed ring `ring` (the last vertex joins the first): positive when
+/// counter-clockwise.
+[[nodiscard]] double RingSignedArea(std::span<const Vec2> ring);
+/// Even-odd rule point-in-ring test; points exactly on the boundary may go either way.
+[[nodiscard]] bool RingContains(std::span<const Vec2> ring, const Vec2& p);
 
 /// A simple polygon given by its vertices (either orientation; the last joins the first).
 struct Polygon {

@@ -25,6 +25,9 @@ struct CellGrid {
   [[nodiscard]] int ClampX(double x) const { return Clamp((x - origin.x()) / cell.x(), nx); }
   [[nodiscard]] int ClampY(double y) const { return Clamp((y - origin.y()) / cell.y(), ny); }
   [[nodiscard]] int CellOf(const Vec2& p) const { return ClampY(p.y()) * nx + ClampX(p.x()); }
+  [[nodiscard]] Vec2 Centre(int index) const {
+    return origin + Vec2((index % nx + 0.5) * cell.x(), (index / nx + 0.5) * cell.y());
+  }
 
  private:
   static int Clamp(double index, int n) {

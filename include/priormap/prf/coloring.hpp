@@ -15,11 +15,13 @@
 #include <string>
 #include <vector>
 
+#include <priormap/core/polygon.hpp>
 #include <priormap/core/segment.hpp>
 #include <priormap/core/types.hpp>
 #include <priormap/prf/arak.hpp>
 #include <priormap/prf/cell_grid.hpp>
 #include <priormap/prf/edit.hpp>
+#include <priormap/prf/visit_marks.hpp>
 #include <priormap/prf/window.hpp>
 
 namespace priormap::prf {
@@ -56,7 +58,7 @@ struct ColoringEdge {
 };
 
 /// Queries (CountCrossings, ColourAt, FirstHit, ForEachEdgeNear) are const but share a mutable
-/// visit stamp per edge: one Coloring must not be queried from several threads at once (each
+/// visit mark per edge: one Coloring must not be queried from several threads at once (each
 /// chain owns its coloring).
 class Coloring {
  public:
@@ -83,6 +85,14 @@ class Coloring {
   [[nodiscard]] Segment EdgeSegment(EdgeId e) const {
     return {vertices_[edges_[e].vertices[0]].position, vertices_[edges_[e].vertices[1]].position};
   }
+  /// The k-th added edge of `edit`, with its ends where the edit puts them.
+  [[nodiscard]] Segment AddedSegment(const Edit& edit, std::size_t k) const {
+    const auto position = [&](VertexRef r) -> const Vec2& {
+      return r.is_new() ? edit.new_vertices[static_cast<std::size_t>(r.new_index())].position
+                        : vertices_[r.id()].position;
+    };
+    return {position(edit.added_edges[k][0]), position(edit.added_edges[k][1])};
+  }
 
   /// log of the Arak measure's density with its potential (ArakLogDensity of stats()).
   [[nodiscard]] double LogArakDensity(double p) const { return ArakLogDensity(stats_, p); }
@@ -99,11 +109,10 @@ class Coloring {
   /// Calls visit(edge) once for each edge indexed in a cell that segment ab passes through.
   template <class Visit>
   void ForEachEdgeNear(const Vec2& a, const Vec2& b, Visit&& visit) const {
-    const std::uint32_t stamp = NextStamp();
+    edge_marks_.NextRound();
     WalkCells(grid_, a, b, [&](int cell, double, double) {
       for (EdgeId e : cells_[cell]) {
-        if (edge_stamp_[e] == stamp) continue;
-        edge_stamp_[e] = stamp;
+        if (!edge_marks_.Mark(static_cast<std::size_t>(e))) continue;
         visit(e);
       }
       return true;
@@ -135,7 +144,6 @@ class Coloring {
   void UnindexEdge(EdgeId e);
   void RemoveEdge(EdgeId e);
   void RemoveVertex(VertexId v);
-  std::uint32_t NextStamp() const;
   [[nodiscard]] bool CrossesAnything(const Vec2& a, const Vec2& b, VertexRef ra, VertexRef rb,
                                      const Edit& edit) const;
 
@@ -152,12 +160,8 @@ class Coloring {
   std::vector<EdgeId> edge_list_;
   std::vector<std::vector<EdgeId>> cells_;
   ColoringStats stats_;
-  mutable std::vector<std::uint32_t> edge_stamp_;
-  mutable std::uint32_t stamp_ = 0;
+  mutable VisitMarks edge_marks_;
 };
-
-/// Even-odd point-in-polygon test.
-[[nodiscard]] bool InsidePolygon(std::span<const Vec2> polygon, const Vec2& q);
 
 /// True when closed segments ab and cd share a point (touching counts).
 [[nodiscard]] bool SegmentsTouch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);

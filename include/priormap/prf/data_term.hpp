@@ -38,7 +38,7 @@ class DataTerm {
   /// nullopt when the result would have likelihood zero. Remembers its work for Commit.
   virtual std::optional<FixedLogLik> Evaluate(const Coloring& coloring, const Edit& edit) = 0;
   /// Commits the last Evaluate after coloring.Apply(edit), which returned `added_edges`.
-  virtual void Commit(const Coloring& coloring, std::span<const EdgeId> added_edges) = 0;
+  virtual void Commit(std::span<const EdgeId> added_edges) = 0;
 
   [[nodiscard]] virtual FixedLogLik log_likelihood() const = 0;
   /// The log-likelihood recomputed from scratch, leaving the incremental state alone (debug).

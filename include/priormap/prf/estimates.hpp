@@ -36,8 +36,6 @@ class PosteriorEstimates {
   [[nodiscard]] Eigen::MatrixXd BlackFraction(std::uint64_t last_sample) const;
   /// Fraction of those samples in which each cell was completely white.
   [[nodiscard]] Eigen::MatrixXd WhiteFraction(std::uint64_t last_sample) const;
-  /// The cell's centre.
-  [[nodiscard]] Vec2 Centre(int cell) const;
 
  private:
   struct CellState {
@@ -49,8 +47,12 @@ class PosteriorEstimates {
     bool black = false;
   };
   [[nodiscard]] bool White(const CellState& cell) const { return !cell.black && cell.edges == 0; }
-  void CountEdge(const Vec2& a, const Vec2& b, int change, std::uint64_t sample);
-  void SetBlack(CellState& cell, bool black, std::uint64_t sample);
+  /// Closes the "completely white" count when the state differs from `was_white`.
+  void WhiteMayHaveChanged(CellState& cell, bool was_white, std::uint64_t sample);
+  void FlipColour(CellState& cell, std::uint64_t sample);
+  void CountEdge(const Segment& edge, int change, std::uint64_t sample);
+  template <class Count>
+  [[nodiscard]] Eigen::MatrixXd Fraction(std::uint64_t last_sample, Count&& count) const;
 
   CellGrid grid_;
   std::vector<CellState> cells_;

@@ -29,7 +29,7 @@ class LaserLikelihood final : public DataTerm {
 
   std::optional<std::string> Reset(const Coloring& coloring) override;
   std::optional<FixedLogLik> Evaluate(const Coloring& coloring, const Edit& edit) override;
-  void Commit(const Coloring& coloring, std::span<const EdgeId> added_edges) override;
+  void Commit(std::span<const EdgeId> added_edges) override;
   [[nodiscard]] FixedLogLik log_likelihood() const override { return total_; }
   [[nodiscard]] FixedLogLik RecomputeLogLikelihood(const Coloring& coloring) const override;
   [[nodiscard]] std::optional<std::string> FindInconsistency(
@@ -40,10 +40,6 @@ class LaserLikelihood final : public DataTerm {
   [[nodiscard]] const LaserModel& model() const { return model_; }
   /// Distance to the beam's first edge, +inf when none within its reach.
   [[nodiscard]] double distance(std::size_t beam) const { return state_[beam].distance; }
-  /// Beams whose distance the last Evaluate found changed.
-  [[nodiscard]] std::size_t pending_changes() const { return pending_.size(); }
-  /// Beams the last Evaluate examined.
-  [[nodiscard]] std::size_t last_candidates() const { return candidates_.size(); }
 
  private:
   struct BeamState {
@@ -66,6 +62,13 @@ class LaserLikelihood final : public DataTerm {
     FixedLogLik log_lik;
   };
 
+  struct BeamHit {
+    double distance;  // +inf when none within reach
+    EdgeId edge;
+  };
+  /// The beam's first edge within `reach`, passing over the edges `ignoring` removes.
+  [[nodiscard]] BeamHit WalkBeam(const Coloring& coloring, std::size_t beam, double reach,
+                                 const Edit* ignoring) const;
   [[nodiscard]] FixedLogLik BeamLogLik(std::size_t beam, double distance) const;
   [[nodiscard]] bool SensorFlips(const Edit& edit) const;
   void CollectBeams(const Vec2& a, const Vec2& b);
@@ -84,8 +87,7 @@ class LaserLikelihood final : public DataTerm {
   std::size_t stale_entries_ = 0;
   // Scratch of Evaluate, read by Commit.
   std::vector<std::int32_t> candidates_;
-  std::vector<std::uint32_t> beam_stamp_;
-  std::uint32_t stamp_ = 0;
+  VisitMarks beam_marks_;
   std::vector<Change> pending_;
   FixedLogLik pending_delta_ = 0;
 };

@@ -43,7 +43,6 @@ struct MappingOptions {
 struct ChainSummary {
   MoveCounters counters{};
   double log_posterior = 0.0;
-  double log_likelihood = 0.0;
   int edges = 0;
   std::vector<double> log_posterior_trace;
   std::vector<std::vector<double>> point_traces;  // per trace point: 1 black, 0 white

@@ -56,8 +56,19 @@ struct MoveCounter {
     accepted += other.accepted;
     return *this;
   }
+  /// accepted / proposed, 0 before any proposal.
+  [[nodiscard]] double AcceptanceRate() const {
+    return proposed ? static_cast<double>(accepted) / static_cast<double>(proposed) : 0.0;
+  }
 };
 using MoveCounters = std::array<MoveCounter, kNumMoveTypes>;
+
+/// The counts of all move types together.
+[[nodiscard]] inline MoveCounter Total(const MoveCounters& counters) {
+  MoveCounter total;
+  for (const MoveCounter& c : counters) total += c;
+  return total;
+}
 
 /// Relative weight of each move kind; zero switches a kind off.
 struct MoveWeights {

@@ -124,8 +124,7 @@ class PrfSampler {
   Edit edit_;
   EditEffect effect_;
   std::vector<EdgeId> scratch_edges_;
-  std::vector<std::uint32_t> cell_stamp_;
-  std::uint32_t cell_stamp_value_ = 0;
+  VisitMarks cell_marks_;
 };
 
 }  // namespace priormap::prf
