@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages priormap needs to build, test and benchmark.
 # Idempotent: prints nothing and touches nothing when every package is present.
+#   --baselines  also the libraries of the side-by-side baselines in bench/ (MRPT's occupancy
+#                grid; about 110 packages, so not part of the quick start)
 set -euo pipefail
 
 packages=(
@@ -13,6 +15,13 @@ packages=(
   # tests and benchmarks; clang and its runtime for the libFuzzer harnesses
   libgtest-dev libgmock-dev libbenchmark-dev librapidcheck-dev clang libclang-rt-14-dev
 )
+
+if [[ "${1:-}" == "--baselines" ]]; then
+  packages+=(libmrpt-maps-dev)
+elif [[ $# -gt 0 ]]; then
+  echo "install-deps: unknown option '$1' (expected: --baselines or nothing)" >&2
+  exit 2
+fi
 
 missing=()
 for p in "${packages[@]}"; do

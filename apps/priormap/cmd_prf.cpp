@@ -2,6 +2,8 @@
 // localized laser log (posterior chains, estimates, R̂, optional annealed MAP map);
 // `prior-stats` samples the Arak prior with no data and compares the chain with the process's
 // closed forms.
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -13,6 +15,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <priormap/core/binary_io.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/core/map_server.hpp>
@@ -154,7 +157,84 @@ struct MappingCliOptions {
   prf::LaserSelection selection;
   prf::MappingOptions mapping;
   bool anneal = false;
+  // How this session runs (not part of the run: not saved in run.json).
+  std::string resume;
+  double checkpoint_every_s = 5.0;
+  std::uint64_t stop_after_steps = 0;
 };
+
+// The options that define a run, saved as DIR/run.json so that --resume DIR repeats them.
+nlohmann::json RunJson(const MappingCliOptions& o) {
+  const prf::MappingOptions& m = o.mapping;
+  return {{"format", "priormap prf run"},
+          {"version", 1},
+          {"log", std::filesystem::absolute(o.log).string()},
+          {"range", o.range},
+          {"beam_step", o.selection.beam_step},
+          {"max_range", o.selection.max_range},
+          {"p", m.sampler.p},
+          {"samples", m.samples},
+          {"burn_in", m.burn_in},
+          {"chains", m.chains},
+          {"seed", m.seed},
+          {"anneal", o.anneal},
+          {"anneal_steps", m.anneal_steps},
+          {"sigma", m.model.sigma},
+          {"cell_size", m.cell_size},
+          {"resolution", m.raster_resolution},
+          {"trace_every", m.trace_every},
+          {"check", m.sampler.check_invariants}};
+}
+
+// The run saved in DIR/run.json, with this session's settings from `session`.
+MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCliOptions& session) {
+  const std::filesystem::path path = dir / "run.json";
+  if (!std::filesystem::exists(path))
+    throw UserError(
+        fmt::format("--resume {}: no run.json there (not the output directory of a "
+                    "priormap prf run)",
+                    dir.string()));
+  const std::string text = ValueOrThrow(ReadFileText(path));
+  MappingCliOptions o = session;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    if (j.at("format") != "priormap prf run" || j.at("version") != 1)
+      throw UserError(fmt::format("{}: not a run file of this version", path.string()));
+    o.log = j.at("log").get<std::string>();
+    o.range = j.at("range").get<std::string>();
+    o.selection.beam_step = j.at("beam_step").get<std::size_t>();
+    o.selection.max_range = j.at("max_range").get<double>();
+    prf::MappingOptions& m = o.mapping;
+    m.sampler.p = j.at("p").get<double>();
+    m.samples = j.at("samples").get<std::uint64_t>();
+    m.burn_in = j.at("burn_in").get<std::uint64_t>();
+    m.chains = j.at("chains").get<int>();
+    m.seed = j.at("seed").get<std::uint64_t>();
+    o.anneal = j.at("anneal").get<bool>();
+    m.anneal_steps = j.at("anneal_steps").get<std::uint64_t>();
+    m.model.sigma = j.at("sigma").get<double>();
+    m.cell_size = j.at("cell_size").get<double>();
+    m.raster_resolution = j.at("resolution").get<double>();
+    m.trace_every = j.at("trace_every").get<std::uint64_t>();
+    m.sampler.check_invariants = j.at("check").get<bool>();
+  } catch (const nlohmann::json::exception& e) {
+    throw UserError(fmt::format("{}: not a valid run file ({})", path.string(), e.what()));
+  }
+  if (std::filesystem::exists(dir / "summary.json") &&
+      !std::filesystem::exists(dir / "checkpoints"))
+    throw UserError(
+        fmt::format("--resume {}: the run is complete (its summary.json is written); "
+                    "nothing to resume",
+                    dir.string()));
+  o.out = dir.string();
+  return o;
+}
+
+// Ctrl-C and SIGTERM stop the chains at their next chunk, checkpointed.
+std::atomic<bool> g_stop_requested{false};
+extern "C" void RequestStop(int) {
+  g_stop_requested = true;
+}
 
 // One status line: redrawn in place on a terminal, every 10 % elsewhere.
 class MappingStatus {
@@ -168,7 +248,7 @@ class MappingStatus {
     last_percent_ = percent;
     const std::string line =
         fmt::format("{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, log posterior {:.1f}", percent,
-                    static_cast<double>(p.steps_done) / p.seconds / 1e3,
+                    static_cast<double>(p.steps_done - p.steps_resumed) / p.seconds / 1e3,
                     100.0 * prf::Total(p.counters).AcceptanceRate(), p.log_posterior);
     if (terminal_)
       fmt::print(stderr, "\r{}{}", line, p.steps_done == p.steps_total ? "\n" : "");
@@ -182,6 +262,8 @@ class MappingStatus {
 };
 
 void RunMappingCommand(MappingCliOptions o) {
+  const bool resuming = !o.resume.empty();
+  if (resuming) o = RunFromJson(o.resume, o);
   if (o.log.empty()) throw UserError("--log is required (or a subcommand: prior-stats)");
   if (o.out.empty()) throw UserError("-o/--out is required");
   const Log log = ValueOrThrow(ReadLog(o.log));
@@ -196,13 +278,36 @@ void RunMappingCommand(MappingCliOptions o) {
   if (o.anneal && o.mapping.anneal_steps == 0) o.mapping.anneal_steps = o.mapping.samples;
   if (!o.anneal) o.mapping.anneal_steps = 0;
   EnsureDirectory(o.out);
+  const std::filesystem::path dir(o.out);
+  if (!resuming) WriteTextFileAtomically(dir / "run.json", RunJson(o).dump(2) + "\n");
   fmt::print(stderr, "{} beams from {} sensor positions, R = {} m\n", data->beams.size(),
              data->sensors.size(), data->max_range);
 
+  const prf::MappingSession session{.checkpoint_directory = dir / "checkpoints",
+                                    .checkpoint_every_s = o.checkpoint_every_s,
+                                    .resume = resuming,
+                                    .stop_after_steps = o.stop_after_steps,
+                                    .stop = &g_stop_requested};
+  std::signal(SIGINT, RequestStop);
+  std::signal(SIGTERM, RequestStop);
   MappingStatus status;
-  const prf::MappingResult r = prf::RunMapping(data, o.mapping, std::ref(status));
+  prf::MappingResult r;
+  try {
+    r = prf::RunMapping(data, o.mapping, std::ref(status), session);
+  } catch (const BinaryFormatError& e) {
+    throw UserError(fmt::format("cannot resume: {}", e.what()));
+  }
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  if (r.resumed_steps > 0)
+    fmt::print(stderr, "resumed {} steps from {}\n", r.resumed_steps,
+               session.checkpoint_directory.string());
+  if (!r.complete) {
+    fmt::print("stopped and checkpointed in {}; continue with: priormap prf --resume {}\n",
+               session.checkpoint_directory.string(), o.out);
+    return;
+  }
 
-  const std::filesystem::path dir(o.out);
   const OccupancyRaster posterior{
       .probability = r.black_fraction, .origin = r.raster.origin, .resolution = r.raster.cell.x()};
   WriteMapServerMap(dir / "posterior.yaml", posterior);
@@ -226,7 +331,8 @@ void RunMappingCommand(MappingCliOptions o) {
   WriteTextFileAtomically(dir / "trace.csv", trace);
 
   nlohmann::json summary;
-  summary["log"] = o.log;
+  summary["log"] = std::filesystem::absolute(o.log).string();
+  summary["resumed_steps"] = r.resumed_steps;
   summary["range"] = o.range;
   summary["beams"] = data->beams.size();
   summary["sensor_positions"] = data->sensors.size();
@@ -271,6 +377,8 @@ void RunMappingCommand(MappingCliOptions o) {
     outputs += ", map.geojson, map.svg, map.png, map.pgm, map.yaml";
   }
   WriteTextFileAtomically(dir / "summary.json", summary.dump(2) + "\n");
+  // The outputs are final; the checkpoints (megabytes per chain) are no longer needed.
+  std::filesystem::remove_all(session.checkpoint_directory);
   fmt::print(
       "wrote {} ({}): R-hat {:.3f} (log posterior), {:.3f} (point colours), {:.0f}k "
       "proposals/s\n",
@@ -319,6 +427,18 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
   cmd.add_flag("--check", m.sampler.check_invariants,
                "Debug: after every accepted move, check the coloring and the incremental "
                "likelihood against recomputation (slow)");
+  cmd.add_option("--resume", o->resume,
+                 "Continue the stopped run whose output directory is DIR, with its options (from "
+                 "DIR/run.json) and checkpoints; the result is that of the uninterrupted run")
+      ->option_text("DIR");
+  cmd.add_option("--checkpoint-every", o->checkpoint_every_s,
+                 "Seconds between a chain's checkpoints (in -o DIR/checkpoints)")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd.add_option("--stop-after-steps", o->stop_after_steps,
+                 "Stop each chain (and the annealing), checkpointed, after this many steps in this "
+                 "session, to split a long run into sessions; 0: no limit")
+      ->capture_default_str();
 }
 
 }  // namespace
@@ -333,7 +453,21 @@ void AddPrfCommand(CLI::App& app) {
   AddMappingOptions(*cmd, o);
   AddPriorStats(*cmd);
   cmd->callback([o, cmd] {
-    if (cmd->get_subcommands().empty()) RunMappingCommand(*o);
+    if (!cmd->get_subcommands().empty()) return;
+    if (!o->resume.empty()) {
+      // The run's own options come from DIR/run.json; another value would make another run.
+      for (const CLI::Option* option : cmd->get_options()) {
+        const std::string name = option->get_name();
+        if (option->count() == 0 || name == "--resume" || name == "--checkpoint-every" ||
+            name == "--stop-after-steps" || name == "--help")
+          continue;
+        throw UserError(
+            fmt::format("{} cannot be combined with --resume (the run's options are "
+                        "those in {}/run.json)",
+                        name, o->resume));
+      }
+    }
+    RunMappingCommand(*o);
   });
 }
 

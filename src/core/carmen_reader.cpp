@@ -47,6 +47,9 @@ std::optional<double> ParseDouble(std::string_view text) {
   double value = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  // "-nan" and "nan" mean the same missing value; one NaN keeps a round trip through formats
+  // without a sign for NaN (JSON's null) the same.
+  if (std::isnan(value)) return std::numeric_limits<double>::quiet_NaN();
   return value;
 }
 
@@ -54,6 +57,9 @@ std::optional<long long> ParseInteger(std::string_view text) {
   long long value = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  // "-nan" and "nan" mean the same missing value; one NaN keeps a round trip through formats
+  // without a sign for NaN (JSON's null) the same.
+  if (std::isnan(value)) return std::numeric_limits<double>::quiet_NaN();
   return value;
 }
 

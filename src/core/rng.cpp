@@ -1,5 +1,6 @@
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/rng.hpp>
@@ -15,6 +16,22 @@ std::uint64_t SplitMix64(std::uint64_t x) {
 
 Rng Rng::ForStream(std::uint64_t seed, std::uint64_t stream) {
   return Rng(SplitMix64(SplitMix64(seed) ^ SplitMix64(stream + 0x632be59bd9b4e019ULL)));
+}
+
+void Rng::Save(BinaryWriter& out) const {
+  std::ostringstream state;
+  state << engine_;
+  out.PutString(state.str());
+  out.Put(spare_normal_);
+  out.Put<std::uint8_t>(has_spare_normal_ ? 1 : 0);
+}
+
+void Rng::Load(BinaryReader& in) {
+  std::istringstream state(in.GetString());
+  state >> engine_;
+  if (state.fail()) in.Fail("an invalid random generator state");
+  spare_normal_ = in.Get<double>();
+  has_spare_normal_ = in.Get<std::uint8_t>() != 0;
 }
 
 double Rng::Uniform() {

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -466,6 +467,138 @@ std::optional<std::string> Coloring::FindInvariantViolation(double tolerance) co
       std::abs(recomputed.sum_log_sin - stats_.sum_log_sin) > tolerance)
     return "cached statistics differ from recomputation";
   return std::nullopt;
+}
+
+void Coloring::Save(BinaryWriter& out) const {
+  out.Put(window_.min.x());
+  out.Put(window_.min.y());
+  out.Put(window_.max.x());
+  out.Put(window_.max.y());
+  out.Put(grid_.cell.x());
+  out.Put(grid_.cell.y());
+  out.Put(anchor_colour_);
+  out.Put<std::uint64_t>(vertices_.size());
+  for (const ColoringVertex& v : vertices_) {
+    out.Put(v.position.x());
+    out.Put(v.position.y());
+    out.Put<std::int32_t>(v.side);
+    out.Put(v.edges[0]);
+    out.Put(v.edges[1]);
+    out.Put(v.log_sin);
+    out.Put(v.slot);
+  }
+  out.Put<std::uint64_t>(edges_.size());
+  for (const ColoringEdge& e : edges_) {
+    out.Put(e.vertices[0]);
+    out.Put(e.vertices[1]);
+    out.Put(e.length);
+    out.Put(e.slot);
+  }
+  out.PutVector(free_vertices_);
+  out.PutVector(free_edges_);
+  out.PutVector(interior_);
+  out.PutVector(boundary_);
+  out.PutVector(edge_list_);
+  for (const auto& cell : cells_) out.PutVector(cell);
+  out.Put<std::int32_t>(stats_.edges);
+  out.Put(stats_.total_length);
+  out.Put(stats_.sum_log_length);
+  out.Put(stats_.sum_log_sin);
+}
+
+Coloring Coloring::Load(BinaryReader& in, const Window& window, double cell_size) {
+  Coloring c(window, cell_size);
+  const std::array<double, 6> frame{window.min.x(), window.min.y(),   window.max.x(),
+                                    window.max.y(), c.grid_.cell.x(), c.grid_.cell.y()};
+  for (const double expected : frame)
+    if (std::bit_cast<std::uint64_t>(in.Get<double>()) != std::bit_cast<std::uint64_t>(expected))
+      in.Fail("a coloring of another window or cell size");
+  c.anchor_colour_ = in.Get<Colour>();
+  if (c.anchor_colour_ != Colour::kBlack && c.anchor_colour_ != Colour::kWhite)
+    in.Fail("an anchor colour that is neither black nor white");
+  // The bytes each element takes bound the counts by what is left, before anything is allocated.
+  constexpr std::size_t kVertexBytes = 2 * 8 + 3 * 4 + 8 + 4;
+  constexpr std::size_t kEdgeBytes = 2 * 4 + 8 + 4;
+  c.vertices_.resize(in.GetCount(in.remaining() / kVertexBytes, "vertices"));
+  for (ColoringVertex& v : c.vertices_) {
+    const double x = in.Get<double>();
+    v.position = Vec2(x, in.Get<double>());
+    v.side = in.Get<std::int32_t>();
+    v.edges[0] = in.Get<EdgeId>();
+    v.edges[1] = in.Get<EdgeId>();
+    v.log_sin = in.Get<double>();
+    v.slot = in.Get<std::int32_t>();
+  }
+  c.edges_.resize(in.GetCount(in.remaining() / kEdgeBytes, "edges"));
+  for (ColoringEdge& e : c.edges_) {
+    e.vertices[0] = in.Get<VertexId>();
+    e.vertices[1] = in.Get<VertexId>();
+    e.length = in.Get<double>();
+    e.slot = in.Get<std::int32_t>();
+  }
+  c.free_vertices_ = in.GetVector<VertexId>();
+  c.free_edges_ = in.GetVector<EdgeId>();
+  c.interior_ = in.GetVector<VertexId>();
+  c.boundary_ = in.GetVector<VertexId>();
+  c.edge_list_ = in.GetVector<EdgeId>();
+  for (auto& cell : c.cells_) cell = in.GetVector<EdgeId>();
+  c.stats_.edges = in.Get<std::int32_t>();
+  c.stats_.total_length = in.Get<double>();
+  c.stats_.sum_log_length = in.Get<double>();
+  c.stats_.sum_log_sin = in.Get<double>();
+  c.edge_marks_.resize(c.edges_.size());
+  bool finite = std::isfinite(c.stats_.total_length) && std::isfinite(c.stats_.sum_log_length) &&
+                std::isfinite(c.stats_.sum_log_sin);
+  for (const ColoringVertex& v : c.vertices_)
+    finite = finite && v.position.allFinite() && std::isfinite(v.log_sin);
+  for (const ColoringEdge& e : c.edges_) finite = finite && std::isfinite(e.length);
+  if (!finite) in.Fail("a number that is not finite");
+
+  // Ids in range and every pooled element either listed once or free, before the brute-force
+  // check below (which trusts the ids) looks at the geometry.
+  const auto n_vertices = static_cast<std::int64_t>(c.vertices_.size());
+  const auto n_edges = static_cast<std::int64_t>(c.edges_.size());
+  const auto valid_edge = [&](EdgeId e) { return e >= 0 && e < n_edges; };
+  const auto valid_vertex = [&](VertexId v) { return v >= 0 && v < n_vertices; };
+  std::vector<std::uint8_t> seen_vertex(c.vertices_.size(), 0);
+  std::vector<std::uint8_t> seen_edge(c.edges_.size(), 0);
+  for (const auto* list : {&c.interior_, &c.boundary_, &c.free_vertices_})
+    for (const VertexId v : *list)
+      if (!valid_vertex(v) || seen_vertex[static_cast<std::size_t>(v)]++)
+        in.Fail("a vertex list with an unknown or repeated vertex");
+  for (const auto* list : {&c.edge_list_, &c.free_edges_})
+    for (const EdgeId e : *list)
+      if (!valid_edge(e) || seen_edge[static_cast<std::size_t>(e)]++)
+        in.Fail("an edge list with an unknown or repeated edge");
+  if (c.interior_.size() + c.boundary_.size() + c.free_vertices_.size() != c.vertices_.size() ||
+      c.edge_list_.size() + c.free_edges_.size() != c.edges_.size())
+    in.Fail("vertices or edges neither in use nor free");
+  for (const VertexId v : c.free_vertices_)
+    if (c.vertices_[static_cast<std::size_t>(v)].slot != -1) in.Fail("a free vertex in use");
+  for (const EdgeId e : c.free_edges_)
+    if (c.edges_[static_cast<std::size_t>(e)].slot != -1) in.Fail("a free edge in use");
+  for (const auto* list : {&c.interior_, &c.boundary_}) {
+    for (const VertexId v : *list) {
+      const ColoringVertex& vertex = c.vertices_[static_cast<std::size_t>(v)];
+      if (vertex.side < kInterior || vertex.side > 3) in.Fail("a vertex on no side");
+      if (!(vertex.position.x() >= window.min.x() && vertex.position.x() <= window.max.x() &&
+            vertex.position.y() >= window.min.y() && vertex.position.y() <= window.max.y()))
+        in.Fail("a vertex outside the window");
+      for (const EdgeId e : vertex.edges)
+        if (e != kNoEdge && (!valid_edge(e) || c.edges_[static_cast<std::size_t>(e)].slot < 0))
+          in.Fail("a vertex with an unknown edge");
+    }
+  }
+  for (const EdgeId e : c.edge_list_)
+    for (const VertexId v : c.edges_[static_cast<std::size_t>(e)].vertices)
+      if (!valid_vertex(v) || c.vertices_[static_cast<std::size_t>(v)].slot < 0)
+        in.Fail("an edge with an unknown vertex");
+  for (const auto& cell : c.cells_)
+    for (const EdgeId e : cell)
+      if (!valid_edge(e)) in.Fail("a grid cell with an unknown edge");
+  if (const auto violation = c.FindInvariantViolation(1e-6))
+    in.Fail("an invalid coloring (" + *violation + ")");
+  return c;
 }
 
 }  // namespace priormap::prf

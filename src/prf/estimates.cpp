@@ -89,4 +89,30 @@ Eigen::MatrixXd PosteriorEstimates::WhiteFraction(std::uint64_t last_sample) con
   });
 }
 
+void PosteriorEstimates::Save(BinaryWriter& out) const {
+  out.Put(start_);
+  out.Put<std::uint64_t>(cells_.size());
+  for (const CellState& cell : cells_) {
+    out.Put(cell.black_since);
+    out.Put(cell.white_since);
+    out.Put(cell.black_samples);
+    out.Put(cell.white_samples);
+    out.Put(cell.edges);
+    out.Put<std::uint8_t>(cell.black ? 1 : 0);
+  }
+}
+
+void PosteriorEstimates::Load(BinaryReader& in) {
+  start_ = in.Get<std::uint64_t>();
+  if (in.Get<std::uint64_t>() != cells_.size()) in.Fail("estimates of another raster");
+  for (CellState& cell : cells_) {
+    cell.black_since = in.Get<std::uint64_t>();
+    cell.white_since = in.Get<std::uint64_t>();
+    cell.black_samples = in.Get<std::uint64_t>();
+    cell.white_samples = in.Get<std::uint64_t>();
+    cell.edges = in.Get<std::uint32_t>();
+    cell.black = in.Get<std::uint8_t>() != 0;
+  }
+}
+
 }  // namespace priormap::prf

@@ -2,12 +2,14 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 
 #include <tbb/parallel_for.h>
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/rng.hpp>
+#include <priormap/prf/chain_checkpoint.hpp>
 #include <priormap/prf/estimates.hpp>
 #include <priormap/prf/laser_likelihood.hpp>
 #include <priormap/prf/mapping.hpp>
@@ -45,7 +47,8 @@ std::vector<Vec2> TracePoints(const LaserData& data, const Window& window, int c
 }  // namespace
 
 MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOptions& options,
-                         const std::function<void(const MappingProgress&)>& progress) {
+                         const std::function<void(const MappingProgress&)>& progress,
+                         const MappingSession& session) {
   PRIORMAP_CHECK(options.chains >= 1, "at least one chain");
   PRIORMAP_CHECK(options.trace_every >= 1 && options.chunk >= 1, "positive trace and chunk");
   const auto start = Clock::now();
@@ -54,66 +57,121 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
   result.trace_points = TracePoints(*data, result.window, options.trace_points);
 
   const auto chains = static_cast<std::size_t>(options.chains);
+  const std::filesystem::path& checkpoints = session.checkpoint_directory;
+  const std::uint64_t fingerprint = RunFingerprint(*data, options);
+  if (!checkpoints.empty()) std::filesystem::create_directories(checkpoints);
+  const auto make_likelihood = [&] {
+    return std::make_unique<LaserLikelihood>(data, options.model, options.cell_size);
+  };
+  SamplerOptions sampler_options = options.sampler;
+  sampler_options.temperature = 1.0;
+
+  // Chains from their checkpoints (or afresh), before any runs, so that progress counts them.
   std::vector<std::unique_ptr<PrfSampler>> samplers(chains);
   std::vector<std::unique_ptr<PosteriorEstimates>> estimates(chains);
+  std::vector<bool> recording(chains, false);
+  std::vector<std::uint64_t> session_start(chains, 0);
   result.chains.resize(chains);
+  tbb::parallel_for(std::size_t{0}, chains, [&](std::size_t c) {
+    estimates[c] = std::make_unique<PosteriorEstimates>(result.window, options.raster_resolution);
+    result.chains[c].point_traces.assign(result.trace_points.size(), {});
+    const auto path = ChainCheckpointPath(checkpoints, c);
+    if (session.resume && std::filesystem::exists(path)) {
+      LoadedChain loaded =
+          LoadChainCheckpoint(path, fingerprint, result.window, options, make_likelihood(),
+                              estimates[c].get(), &result.chains[c]);
+      samplers[c] = std::move(loaded.sampler);
+      recording[c] = loaded.recording;
+      if (recording[c]) samplers[c]->ContinueRecordingInto(estimates[c].get());
+    } else {
+      samplers[c] =
+          std::make_unique<PrfSampler>(Coloring(result.window, options.cell_size), sampler_options,
+                                       SplitMix64(options.seed + c), make_likelihood());
+    }
+    session_start[c] = samplers[c]->steps();
+  });
+
+  const std::uint64_t end = options.burn_in + options.samples;
   std::mutex progress_mutex;
-  std::atomic<std::uint64_t> steps_done{0};
-  const std::uint64_t steps_total = chains * (options.burn_in + options.samples);
+  std::uint64_t resumed = 0;
+  for (std::size_t c = 0; c < chains; ++c) resumed += std::min(session_start[c], end);
+  result.resumed_steps = resumed;
+  std::atomic<std::uint64_t> steps_done{resumed};
+  std::atomic<bool> stopped{false};
+  const std::uint64_t steps_total = chains * end;
+  const auto stop_requested = [&] { return session.stop && session.stop->load(); };
+  const auto budget_left = [&](std::uint64_t first, std::uint64_t now) {
+    return session.stop_after_steps == 0 ? std::numeric_limits<std::uint64_t>::max()
+                                         : first + session.stop_after_steps - now;
+  };
 
   tbb::parallel_for(std::size_t{0}, chains, [&](std::size_t c) {
-    SamplerOptions sampler_options = options.sampler;
-    sampler_options.temperature = 1.0;
-    auto likelihood = std::make_unique<LaserLikelihood>(data, options.model, options.cell_size);
-    auto sampler =
-        std::make_unique<PrfSampler>(Coloring(result.window, options.cell_size), sampler_options,
-                                     SplitMix64(options.seed + c), std::move(likelihood));
-    auto chain_estimates =
-        std::make_unique<PosteriorEstimates>(result.window, options.raster_resolution);
+    PrfSampler& sampler = *samplers[c];
     ChainSummary& summary = result.chains[c];
-    summary.point_traces.assign(result.trace_points.size(), {});
-    const auto report = [&](std::uint64_t steps) {
-      steps_done += steps;
-      if (!progress) return;
-      std::lock_guard lock(progress_mutex);
-      progress({.steps_done = steps_done.load(),
-                .steps_total = steps_total,
-                .seconds = Seconds(start),
-                .log_posterior = sampler->LogPosterior(),
-                .counters = sampler->counters()});
+    auto last_checkpoint = Clock::now();
+    const auto checkpoint = [&](bool now) {
+      if (checkpoints.empty()) return;
+      if (!now && Seconds(last_checkpoint) < session.checkpoint_every_s) return;
+      SaveChainCheckpoint(ChainCheckpointPath(checkpoints, c), fingerprint, sampler,
+                          recording[c] ? estimates[c].get() : nullptr, summary);
+      last_checkpoint = Clock::now();
     };
-    for (std::uint64_t done = 0; done < options.burn_in;) {
-      const std::uint64_t n = std::min(options.chunk, options.burn_in - done);
-      sampler->Run(n);
-      done += n;
-      report(n);
-    }
-    sampler->RecordInto(chain_estimates.get());
-    std::uint64_t since_report = 0;
-    for (std::uint64_t done = 0; done < options.samples;) {
-      const std::uint64_t n = std::min(options.trace_every, options.samples - done);
-      sampler->Run(n);
-      done += n;
-      since_report += n;
-      if (n == options.trace_every) {
-        summary.log_posterior_trace.push_back(sampler->LogPosterior());
+    // The step count is the chain's clock: where the burn-in ends, traces are taken and the
+    // session stops depend on it alone, so chunks and restarts do not change the course.
+    while (sampler.steps() < end) {
+      const std::uint64_t s = sampler.steps();
+      if (stop_requested() || budget_left(session_start[c], s) == 0) {
+        stopped = true;
+        break;
+      }
+      if (s >= options.burn_in && !recording[c]) {
+        sampler.RecordInto(estimates[c].get());
+        recording[c] = true;
+      }
+      std::uint64_t target = std::min(end, s + options.chunk);
+      if (s < options.burn_in) {
+        target = std::min(target, options.burn_in);
+      } else {
+        const std::uint64_t into = s - options.burn_in;
+        target = std::min(target,
+                          options.burn_in + (into / options.trace_every + 1) * options.trace_every);
+      }
+      target = s + std::min(target - s, budget_left(session_start[c], s));
+      sampler.Run(target - s);
+      if (target > options.burn_in && (target - options.burn_in) % options.trace_every == 0) {
+        summary.log_posterior_trace.push_back(sampler.LogPosterior());
         for (std::size_t k = 0; k < result.trace_points.size(); ++k)
           summary.point_traces[k].push_back(
-              sampler->coloring().ColourAt(result.trace_points[k]) == Colour::kBlack ? 1.0 : 0.0);
+              sampler.coloring().ColourAt(result.trace_points[k]) == Colour::kBlack ? 1.0 : 0.0);
       }
-      if (since_report >= options.chunk || done == options.samples) {
-        report(since_report);
-        since_report = 0;
+      steps_done += target - s;
+      if (progress) {
+        std::lock_guard lock(progress_mutex);
+        progress({.steps_done = steps_done.load(),
+                  .steps_total = steps_total,
+                  .steps_resumed = resumed,
+                  .seconds = Seconds(start),
+                  .log_posterior = sampler.LogPosterior(),
+                  .counters = sampler.counters()});
       }
+      checkpoint(false);
     }
-    summary.counters = sampler->counters();
-    summary.log_posterior = sampler->LogPosterior();
-    summary.edges = sampler->coloring().stats().edges;
-    samplers[c] = std::move(sampler);
-    estimates[c] = std::move(chain_estimates);
+    if (sampler.steps() >= end && !recording[c]) {  // no samples: recording never began
+      sampler.RecordInto(estimates[c].get());
+      recording[c] = true;
+    }
+    checkpoint(true);
+    summary.counters = sampler.counters();
+    summary.log_posterior = sampler.LogPosterior();
+    summary.edges = sampler.coloring().stats().edges;
   });
   result.sampling_time_s = Seconds(start);
-  result.proposals = steps_total;
+  result.proposals = steps_done.load() - resumed;
+  if (stopped) {
+    result.complete = false;
+    result.wall_time_s = Seconds(start);
+    return result;
+  }
 
   // Pooled estimates: every chain records the same number of samples.
   result.raster = estimates[0]->grid();
@@ -144,21 +202,48 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
   }
 
   if (options.anneal_steps > 0) {
-    // From the chain that ended highest; the temperature falls geometrically from 1.
+    // From the chain that ended highest; the temperature falls geometrically from 1 in
+    // `stages` stages. The annealing step count, past the chain's end, is its clock.
     std::size_t best = 0;
     for (std::size_t c = 1; c < chains; ++c)
       if (result.chains[c].log_posterior > result.chains[best].log_posterior) best = c;
-    PrfSampler& sampler = *samplers[best];
-    sampler.RecordInto(nullptr);
+    std::unique_ptr<PrfSampler> annealing;
+    const auto path = AnnealCheckpointPath(checkpoints);
+    if (session.resume && std::filesystem::exists(path)) {
+      LoadedAnneal loaded =
+          LoadAnnealCheckpoint(path, fingerprint, result.window, options, make_likelihood());
+      if (loaded.chain != best) throw BinaryFormatError(path.string() + ": of another chain");
+      annealing = std::move(loaded.sampler);
+    } else {
+      annealing = std::move(samplers[best]);
+      annealing->RecordInto(nullptr);
+    }
+    const std::uint64_t first = annealing->steps();
     const std::uint64_t stages = 100;
     const std::uint64_t per_stage = std::max<std::uint64_t>(1, options.anneal_steps / stages);
-    for (std::uint64_t s = 0; s < stages; ++s) {
-      const double fraction = static_cast<double>(s + 1) / static_cast<double>(stages);
-      sampler.set_temperature(std::pow(options.anneal_final_temperature, fraction));
-      sampler.Run(per_stage);
+    auto last_checkpoint = Clock::now();
+    while (annealing->steps() < end + stages * per_stage) {
+      const std::uint64_t a = annealing->steps() - end;
+      if (stop_requested() || budget_left(first, annealing->steps()) == 0) {
+        result.complete = false;
+        break;
+      }
+      const std::uint64_t stage = a / per_stage;
+      const double fraction = static_cast<double>(stage + 1) / static_cast<double>(stages);
+      annealing->set_temperature(std::pow(options.anneal_final_temperature, fraction));
+      const std::uint64_t n = std::min(
+          {(stage + 1) * per_stage - a, options.chunk, budget_left(first, annealing->steps())});
+      annealing->Run(n);
+      if (!checkpoints.empty() && Seconds(last_checkpoint) >= session.checkpoint_every_s) {
+        SaveAnnealCheckpoint(path, fingerprint, best, *annealing);
+        last_checkpoint = Clock::now();
+      }
     }
-    result.map = sampler.coloring();
-    result.map_log_posterior = sampler.LogPosterior();
+    if (!checkpoints.empty()) SaveAnnealCheckpoint(path, fingerprint, best, *annealing);
+    if (result.complete) {
+      result.map = annealing->coloring();
+      result.map_log_posterior = annealing->LogPosterior();
+    }
   }
   result.wall_time_s = Seconds(start);
   return result;

@@ -547,4 +547,40 @@ bool PrfSampler::ProposeRecolor(Edit* edit, double* log_q, bool local) {
   return true;
 }
 
+void PrfSampler::Save(BinaryWriter& out) const {
+  coloring_.Save(out);
+  out.Put(steps_);
+  rng_.Save(out);
+  for (const MoveCounter& c : counters_) {
+    out.Put(c.proposed);
+    out.Put(c.invalid);
+    out.Put(c.accepted);
+  }
+  out.Put(options_.temperature);
+}
+
+std::unique_ptr<PrfSampler> PrfSampler::Load(BinaryReader& in, const Window& window,
+                                             double cell_size, SamplerOptions options,
+                                             std::unique_ptr<DataTerm> data) {
+  Coloring coloring = Coloring::Load(in, window, cell_size);
+  const std::uint64_t steps = in.Get<std::uint64_t>();
+  Rng rng(0);
+  rng.Load(in);
+  MoveCounters counters{};
+  for (MoveCounter& c : counters) {
+    c.proposed = in.Get<std::uint64_t>();
+    c.invalid = in.Get<std::uint64_t>();
+    c.accepted = in.Get<std::uint64_t>();
+  }
+  options.temperature = in.Get<double>();
+  if (!(options.temperature > 0.0)) in.Fail("a chain with a temperature that is not positive");
+  if (data && data->Reset(coloring)) in.Fail("a chain whose coloring has likelihood zero");
+  auto sampler =
+      std::make_unique<PrfSampler>(std::move(coloring), std::move(options), 0, std::move(data));
+  sampler->steps_ = steps;
+  sampler->rng_ = rng;
+  sampler->counters_ = counters;
+  return sampler;
+}
+
 }  // namespace priormap::prf

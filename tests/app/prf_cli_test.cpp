@@ -114,6 +114,80 @@ TEST_F(MappingCli, PrfWritesThePosteriorTheMapAndASummary) {
             testing::ReadAll(Work("run1") / "map.geojson"));
 }
 
+TEST_F(MappingCli, AStoppedRunResumesToTheUninterruptedResult) {
+  const std::vector<std::string> run = {"prf",
+                                        "--log",
+                                        "room.log",
+                                        "--beam-step",
+                                        "4",
+                                        "--p",
+                                        "0.5",
+                                        "--samples",
+                                        "30000",
+                                        "--burn-in",
+                                        "20000",
+                                        "--chains",
+                                        "2",
+                                        "--seed",
+                                        "7",
+                                        "--anneal",
+                                        "--anneal-steps",
+                                        "20000",
+                                        "--trace-every",
+                                        "1000"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = run;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  ASSERT_EQ(Run(with({"-o", "whole"})).status, 0);
+  // Sessions that stop in the burn-in (at 15000 steps), in the sampling (32000) and in the
+  // annealing (18000 of its 20000 steps); the last one completes the run.
+  auto r = Run(with({"-o", "parts", "--stop-after-steps", "15000"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("priormap prf --resume"));
+  EXPECT_TRUE(std::filesystem::exists(Work("parts") / "checkpoints" / "chain-1.ckpt"));
+  EXPECT_FALSE(std::filesystem::exists(Work("parts") / "summary.json"));
+  for (const char* steps : {"17000", "18000"}) {
+    r = Run({"prf", "--resume", Work("parts").string(), "--stop-after-steps", steps});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("resumed"));
+  }
+  EXPECT_TRUE(std::filesystem::exists(Work("parts") / "checkpoints" / "anneal.ckpt"));
+  EXPECT_FALSE(std::filesystem::exists(Work("parts") / "summary.json"));
+  r = Run({"prf", "--resume", Work("parts").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("resumed 100000 steps"));
+  for (const char* file : {"posterior.pgm", "map.geojson", "map.pgm", "trace.csv"})
+    EXPECT_EQ(testing::ReadAll(Work("parts") / file), testing::ReadAll(Work("whole") / file))
+        << file;
+  const json whole = json::parse(testing::ReadAll(Work("whole") / "summary.json"));
+  const json parts = json::parse(testing::ReadAll(Work("parts") / "summary.json"));
+  for (const char* key : {"log_posterior", "edges", "acceptance", "rhat", "map"})
+    EXPECT_EQ(parts[key], whole[key]) << key;
+  EXPECT_FALSE(std::filesystem::exists(Work("parts") / "checkpoints"));
+  EXPECT_THAT(RunFailing({"prf", "--resume", Work("parts").string()}).err,
+              HasSubstr("is complete"));
+}
+
+TEST_F(MappingCli, ResumeRefusesWhatWouldMakeAnotherRun) {
+  EXPECT_THAT(RunFailing({"prf", "--resume", Work("nowhere").string()}).err,
+              HasSubstr("no run.json"));
+  ASSERT_EQ(Run({"prf", "--log", "room.log", "--beam-step", "8", "--samples", "4000", "--burn-in",
+                 "4000", "--chains", "1", "--stop-after-steps", "2000", "-o", "run"})
+                .status,
+            0);
+  EXPECT_THAT(RunFailing({"prf", "--resume", Work("run").string(), "--p", "2"}).err,
+              HasSubstr("--p cannot be combined with --resume"));
+  // A damaged checkpoint is refused, not half-read.
+  const auto checkpoint = Work("run") / "checkpoints" / "chain-0.ckpt";
+  std::string bytes = testing::ReadAll(checkpoint);
+  bytes[bytes.size() / 2] ^= 0x10;
+  testing::WriteAll(checkpoint, bytes);
+  EXPECT_THAT(RunFailing({"prf", "--resume", Work("run").string()}).err,
+              HasSubstr("checksum mismatch"));
+}
+
 TEST_F(MappingCli, GridWritesTheMapAndASummary) {
   const auto r = Run({"grid", "--log", "room.log", "--resolution", "0.05", "-o", "grid"});
   ASSERT_EQ(r.status, 0) << r.err;

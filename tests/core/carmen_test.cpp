@@ -452,6 +452,15 @@ TEST(Carmen, FormatThenParseKeepsDetectedMaxRange) {
   EXPECT_TRUE(SameLog(Parse(FormatCarmenLog(log)), log));
 }
 
+TEST(Carmen, NegativeNanIsReadAsThePlainNan) {
+  // A NaN's sign means nothing, and JSON (null) cannot keep it: "-nan" is written back "nan".
+  const Log log = Parse("ODOM 1 2 0.5 0.1 -nan 0.3\nFLASER 2 -nan 1.5 1 2 0.5 1.1 2.1 0.6\n");
+  EXPECT_FALSE(std::signbit(log.odometry.at(0).rv));
+  EXPECT_FALSE(std::signbit(log.scans.at(0).ranges[0]));
+  EXPECT_THAT(FormatCarmenLog(log),
+              HasSubstr("ODOM 1 2 0.5 0.1 nan 0.3\nFLASER 2 nan 1.5 1 2 0.5 1.1 2.1 0.6\n"));
+}
+
 TEST(Carmen, FormatWritesEveryRecordInOrder) {
   const std::string text = FormatCarmenLog(
       Parse("ODOM 1 2 0.5 0 0 0 1 h 2\nPARAM a b c\nFLASER 2 1.5 nan 1 2 0.5 1.1 2.1 0.6\n"));

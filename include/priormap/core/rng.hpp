@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <random>
 
+#include <priormap/core/binary_io.hpp>
+
 namespace priormap {
 
 class Rng {
@@ -30,6 +32,11 @@ class Rng {
   std::uint64_t UniformIndex(std::uint64_t n);
 
   std::mt19937_64& engine() { return engine_; }
+
+  /// The whole state (engine and the normal sampler's spare), so that a restored generator
+  /// continues the same stream.
+  void Save(BinaryWriter& out) const;
+  void Load(BinaryReader& in);
 
  private:
   std::mt19937_64 engine_;

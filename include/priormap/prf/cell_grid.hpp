@@ -69,7 +69,7 @@ void WalkCells(const CellGrid& grid, const Vec2& a, const Vec2& b, Visit&& visit
   const int step_y = d.y() > 0.0 ? 1 : (d.y() < 0.0 ? -1 : 0);
   auto first_crossing = [](int step, int i, double origin, double size, double start,
                            double delta) {
-    if (step == 0) return kInf;
+    if (step == 0) return std::numeric_limits<double>::infinity();
     const double boundary = origin + (step > 0 ? i + 1 : i) * size;
     return std::max(0.0, (boundary - start) / delta);
   };

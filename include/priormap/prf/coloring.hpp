@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <priormap/core/binary_io.hpp>
 #include <priormap/core/polygon.hpp>
 #include <priormap/core/segment.hpp>
 #include <priormap/core/types.hpp>
@@ -131,6 +132,13 @@ class Coloring {
   /// contents, statistics to `tolerance`); returns the first violation found. For tests and
   /// debug runs.
   [[nodiscard]] std::optional<std::string> FindInvariantViolation(double tolerance = 1e-9) const;
+
+  /// The whole state, pools and free lists and the grid's lists in their order included, so
+  /// that a loaded coloring behaves exactly as the saved one under the same moves (checkpoints).
+  void Save(BinaryWriter& out) const;
+  /// A coloring saved by Save for this window and cell size; BinaryFormatError when the data
+  /// are not a valid coloring of it.
+  [[nodiscard]] static Coloring Load(BinaryReader& in, const Window& window, double cell_size);
 
   /// log sin φ of a vertex at `position` on `side` with the given neighbours (one for boundary
   /// vertices, two for interior ones); −inf for a zero angle.

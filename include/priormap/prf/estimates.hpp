@@ -28,6 +28,10 @@ class PosteriorEstimates {
   void Record(const Coloring& coloring, const Edit& edit, std::uint64_t sample);
 
   [[nodiscard]] const CellGrid& grid() const { return grid_; }
+
+  /// The counts and flip times (checkpoints); Load expects estimates of the same raster.
+  void Save(BinaryWriter& out) const;
+  void Load(BinaryReader& in);
   /// Samples counted up to and including `last_sample`.
   [[nodiscard]] std::uint64_t Samples(std::uint64_t last_sample) const {
     return last_sample + 1 - start_;

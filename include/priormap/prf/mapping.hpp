@@ -6,7 +6,9 @@
 /// final state to a MAP polygonal map.
 
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -40,6 +42,23 @@ struct MappingOptions {
   std::uint64_t chunk = 20000;
 };
 
+/// How one session of a run is carried out; none of it changes the result. A run stopped
+/// (by `stop`, `stop_after_steps` or a crash) and resumed from its checkpoints ends exactly
+/// as the uninterrupted run of the same options and seed.
+struct MappingSession {
+  /// Where the chains write their checkpoints (empty: none).
+  std::filesystem::path checkpoint_directory;
+  double checkpoint_every_s = 5.0;
+  /// Continue from the checkpoints in checkpoint_directory (chains without one start afresh).
+  bool resume = false;
+  /// Each chain (and the annealing) stops, checkpointed, after this many steps in this
+  /// session; 0: no limit.
+  std::uint64_t stop_after_steps = 0;
+  /// Set from elsewhere (a signal handler) to stop every chain, checkpointed, at its next
+  /// chunk boundary.
+  const std::atomic<bool>* stop = nullptr;
+};
+
 struct ChainSummary {
   MoveCounters counters{};
   double log_posterior = 0.0;
@@ -49,8 +68,9 @@ struct ChainSummary {
 };
 
 struct MappingProgress {
-  std::uint64_t steps_done = 0;  // over all chains
+  std::uint64_t steps_done = 0;  // over all chains, restored ones included
   std::uint64_t steps_total = 0;
+  std::uint64_t steps_resumed = 0;  // of steps_done, restored from checkpoints
   double seconds = 0.0;
   double log_posterior = 0.0;  // of the chain reporting
   MoveCounters counters{};     // of the chain reporting
@@ -70,11 +90,17 @@ struct MappingResult {
   std::uint64_t proposals = 0;  // all chains, burn-in included, annealing excluded
   std::optional<Coloring> map;  // the annealed MAP coloring
   double map_log_posterior = 0.0;
+  /// False when the session stopped before the end (the estimates and R̂ are then unset).
+  bool complete = true;
+  std::uint64_t resumed_steps = 0;  // steps restored from checkpoints, all chains
 };
 
 /// Runs the chains; `progress` (may be empty) is called from the chains' threads, serialized.
+/// Throws BinaryFormatError when resuming from a damaged checkpoint or one of another run, and
+/// IoError when a checkpoint cannot be written.
 [[nodiscard]] MappingResult RunMapping(std::shared_ptr<const LaserData> data,
                                        const MappingOptions& options,
-                                       const std::function<void(const MappingProgress&)>& progress);
+                                       const std::function<void(const MappingProgress&)>& progress,
+                                       const MappingSession& session = {});
 
 }  // namespace priormap::prf

@@ -62,6 +62,9 @@ class PrfSampler {
     estimates_ = estimates;
     if (estimates_) estimates_->Start(coloring_, steps_ + 1);
   }
+  /// Goes on recording into estimates that already hold this chain's samples up to steps()
+  /// (restored from a checkpoint with the chain).
+  void ContinueRecordingInto(PosteriorEstimates* estimates) { estimates_ = estimates; }
   [[nodiscard]] double LogPrior() const { return coloring_.LogArakDensity(options_.p); }
   [[nodiscard]] double LogLikelihood() const {
     return data_ ? FromFixed(data_->log_likelihood()) : 0.0;
@@ -69,6 +72,15 @@ class PrfSampler {
   /// Untempered log density of the posterior (up to its normalizing constant).
   [[nodiscard]] double LogPosterior() const { return LogPrior() + LogLikelihood(); }
   void set_temperature(double temperature) { options_.temperature = temperature; }
+
+  /// The chain's state: coloring, step count, random generator, counters and temperature. The
+  /// data term is not saved: its state is a function of the coloring, rebuilt on Load.
+  void Save(BinaryWriter& out) const;
+  /// A sampler that continues exactly where the saved one stopped, given the same options and
+  /// an equal data term. BinaryFormatError when the data are not a saved chain of `window`.
+  [[nodiscard]] static std::unique_ptr<PrfSampler> Load(BinaryReader& in, const Window& window,
+                                                        double cell_size, SamplerOptions options,
+                                                        std::unique_ptr<DataTerm> data = nullptr);
 
   /// Draws a move of `type` into `edit` with log(π(reverse) / π(forward)), the proposal part of
   /// the Hastings ratio against the base measure. False when the state offers no such move or

@@ -1,0 +1,140 @@
+#include <fmt/format.h>
+
+#include <priormap/core/binary_io.hpp>
+#include <priormap/core/file_io.hpp>
+#include <priormap/prf/chain_checkpoint.hpp>
+#include <priormap/prf/mapping.hpp>
+
+namespace priormap::prf {
+namespace {
+
+constexpr std::uint32_t kFormatVersion = 1;
+constexpr std::string_view kChainKind = "PRFCHAIN";
+constexpr std::string_view kAnnealKind = "PRFANNEA";
+
+void PutVec(BinaryWriter& out, const Vec2& v) {
+  out.Put(v.x());
+  out.Put(v.y());
+}
+
+std::string ReadWhole(const std::filesystem::path& path) {
+  Result<std::string> bytes = ReadFileText(path);
+  if (!bytes.ok()) throw BinaryFormatError(bytes.error());
+  return std::move(bytes).value();
+}
+
+// The sealed payload's reader, past the fingerprint (checked).
+BinaryReader OpenPayload(std::string_view bytes, std::string_view kind,
+                         const std::filesystem::path& path, std::uint64_t fingerprint) {
+  const std::string what = path.string();
+  BinaryReader in(UnsealBinary(bytes, kind, kFormatVersion, what), what);
+  if (in.Get<std::uint64_t>() != fingerprint)
+    throw BinaryFormatError(fmt::format(
+        "{}: a checkpoint of another run (its log selection or options differ from this one's)",
+        what));
+  return in;
+}
+
+void WriteSealed(const std::filesystem::path& path, std::string_view kind,
+                 const BinaryWriter& payload) {
+  WriteTextFileAtomically(path, SealBinary(kind, kFormatVersion, payload.bytes()));
+}
+
+}  // namespace
+
+std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& options) {
+  BinaryWriter out;
+  out.Put(data.max_range);
+  out.Put<std::uint64_t>(data.sensors.size());
+  for (const Vec2& s : data.sensors) PutVec(out, s);
+  out.Put<std::uint64_t>(data.beams.size());
+  for (const LaserBeam& b : data.beams) {
+    PutVec(out, b.origin);
+    PutVec(out, b.direction);
+    out.Put(b.range);
+    out.Put<std::uint8_t>(b.max_reading ? 1 : 0);
+    out.Put<std::int32_t>(b.sensor);
+  }
+  const SamplerOptions& s = options.sampler;
+  out.Put(s.p);
+  for (double w : s.weights.weight) out.Put(w);
+  out.Put(s.birth_scale);
+  out.Put(s.vertex_birth_width);
+  out.PutVector(s.step_scales);
+  const LaserModel& m = options.model;
+  for (double v : {m.sigma, m.hit_weight, m.outlier_weight, m.max_weight, options.cell_size,
+                   options.margin, options.raster_resolution, options.anneal_final_temperature})
+    out.Put(v);
+  for (std::uint64_t v :
+       {options.samples, options.burn_in, options.seed, options.trace_every, options.anneal_steps})
+    out.Put(v);
+  out.Put<std::int32_t>(options.chains);
+  out.Put<std::int32_t>(options.trace_points);
+  return Fnv1a64(out.bytes());
+}
+
+std::filesystem::path ChainCheckpointPath(const std::filesystem::path& directory,
+                                          std::size_t chain) {
+  return directory / fmt::format("chain-{}.ckpt", chain);
+}
+
+std::filesystem::path AnnealCheckpointPath(const std::filesystem::path& directory) {
+  return directory / "anneal.ckpt";
+}
+
+void SaveChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
+                         const PrfSampler& sampler, const PosteriorEstimates* estimates,
+                         const ChainSummary& summary) {
+  BinaryWriter out;
+  out.Put(fingerprint);
+  sampler.Save(out);
+  out.Put<std::uint8_t>(estimates ? 1 : 0);
+  if (estimates) estimates->Save(out);
+  out.PutVector(summary.log_posterior_trace);
+  out.Put<std::uint64_t>(summary.point_traces.size());
+  for (const std::vector<double>& trace : summary.point_traces) out.PutVector(trace);
+  WriteSealed(path, kChainKind, out);
+}
+
+LoadedChain LoadChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
+                                const Window& window, const MappingOptions& options,
+                                std::unique_ptr<DataTerm> data, PosteriorEstimates* estimates,
+                                ChainSummary* summary) {
+  const std::string bytes = ReadWhole(path);
+  BinaryReader in = OpenPayload(bytes, kChainKind, path, fingerprint);
+  SamplerOptions sampler_options = options.sampler;
+  LoadedChain chain;
+  chain.sampler = PrfSampler::Load(in, window, options.cell_size, sampler_options, std::move(data));
+  chain.recording = in.Get<std::uint8_t>() != 0;
+  if (chain.recording) estimates->Load(in);
+  summary->log_posterior_trace = in.GetVector<double>();
+  if (in.Get<std::uint64_t>() != summary->point_traces.size())
+    in.Fail("traces of another set of points");
+  for (std::vector<double>& trace : summary->point_traces) trace = in.GetVector<double>();
+  if (!in.AtEnd()) in.Fail("data after the chain's state");
+  return chain;
+}
+
+void SaveAnnealCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
+                          std::size_t chain, const PrfSampler& sampler) {
+  BinaryWriter out;
+  out.Put(fingerprint);
+  out.Put<std::uint64_t>(chain);
+  sampler.Save(out);
+  WriteSealed(path, kAnnealKind, out);
+}
+
+LoadedAnneal LoadAnnealCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
+                                  const Window& window, const MappingOptions& options,
+                                  std::unique_ptr<DataTerm> data) {
+  const std::string bytes = ReadWhole(path);
+  BinaryReader in = OpenPayload(bytes, kAnnealKind, path, fingerprint);
+  LoadedAnneal anneal;
+  anneal.chain = in.GetCount(static_cast<std::uint64_t>(options.chains) - 1, "chains");
+  anneal.sampler =
+      PrfSampler::Load(in, window, options.cell_size, options.sampler, std::move(data));
+  if (!in.AtEnd()) in.Fail("data after the chain's state");
+  return anneal;
+}
+
+}  // namespace priormap::prf

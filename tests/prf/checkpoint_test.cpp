@@ -1,0 +1,188 @@
+// Checkpoints: the binary encoding refuses damaged data; a saved coloring, sampler and mapping
+// run continue exactly as the originals would have.
+#include <atomic>
+#include <memory>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <priormap/core/binary_io.hpp>
+#include <priormap/core/range_sensor.hpp>
+#include <priormap/core/scene.hpp>
+#include <priormap/core/simulate.hpp>
+#include <priormap/prf/chain_checkpoint.hpp>
+#include <priormap/prf/laser_likelihood.hpp>
+#include <priormap/prf/mapping.hpp>
+#include <priormap/prf/sampler.hpp>
+
+#include "testing/temp_dir.hpp"
+
+namespace priormap::prf {
+namespace {
+
+using ::testing::HasSubstr;
+
+const Window kUnit{Vec2::Zero(), Vec2::Ones()};
+
+std::string Saved(const PrfSampler& sampler) {
+  BinaryWriter out;
+  sampler.Save(out);
+  return out.TakeBytes();
+}
+
+SamplerOptions PriorOptions() {
+  SamplerOptions options;
+  options.p = 3.0;
+  options.birth_scale = 0.3;
+  return options;
+}
+
+TEST(BinaryIo, SealedDataRoundTripsAndDamageIsRefused) {
+  BinaryWriter out;
+  out.Put(1.5);
+  out.PutVector(std::vector<std::int32_t>{3, -1, 7});
+  out.PutString("chain");
+  const std::string sealed = SealBinary("TESTKIND", 2, out.bytes());
+
+  BinaryReader in(UnsealBinary(sealed, "TESTKIND", 2, "t"), "t");
+  EXPECT_EQ(in.Get<double>(), 1.5);
+  EXPECT_EQ(in.GetVector<std::int32_t>(), (std::vector<std::int32_t>{3, -1, 7}));
+  EXPECT_EQ(in.GetString(), "chain");
+  EXPECT_TRUE(in.AtEnd());
+  EXPECT_THROW((void)in.Get<std::uint8_t>(), BinaryFormatError);
+
+  const auto refused = [&](std::string bytes, std::string_view kind, std::uint32_t version) {
+    try {
+      (void)UnsealBinary(bytes, kind, version, "t");
+    } catch (const BinaryFormatError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_THAT(refused(sealed, "OTHERKND", 2), HasSubstr("not a OTHERKND file"));
+  EXPECT_THAT(refused(sealed, "TESTKIND", 3), HasSubstr("version 2"));
+  EXPECT_THAT(refused(sealed.substr(0, sealed.size() - 1), "TESTKIND", 2), HasSubstr("truncated"));
+  std::string flipped = sealed;
+  flipped.back() ^= 1;
+  EXPECT_THAT(refused(flipped, "TESTKIND", 2), HasSubstr("checksum"));
+
+  // A length beyond the data is refused before anything is allocated.
+  BinaryWriter lying;
+  lying.Put<std::uint64_t>(std::uint64_t{1} << 60);
+  BinaryReader short_in(lying.bytes(), "t");
+  EXPECT_THROW((void)short_in.GetVector<double>(), BinaryFormatError);
+}
+
+TEST(Checkpoint, ASavedSamplerContinuesExactly) {
+  PrfSampler original(Coloring(kUnit, 1.0 / 8.0), PriorOptions(), 11);
+  original.Run(20000);
+  BinaryWriter out;
+  original.Save(out);
+  BinaryReader in(out.bytes(), "sampler");
+  const std::unique_ptr<PrfSampler> restored =
+      PrfSampler::Load(in, kUnit, 1.0 / 8.0, PriorOptions());
+  EXPECT_TRUE(in.AtEnd());
+  EXPECT_EQ(Saved(*restored), out.bytes());
+  ASSERT_GT(original.coloring().stats().edges, 10);
+  original.Run(20000);
+  restored->Run(20000);
+  EXPECT_EQ(Saved(*restored), Saved(original));
+  EXPECT_FALSE(restored->coloring().FindInvariantViolation());
+}
+
+TEST(Checkpoint, AColoringOfAnotherWindowOrDamagedIsRefused) {
+  PrfSampler sampler(Coloring(kUnit, 1.0 / 8.0), PriorOptions(), 5);
+  sampler.Run(5000);
+  const std::string bytes = Saved(sampler);
+  {
+    BinaryReader in(bytes, "c");
+    EXPECT_THROW((void)Coloring::Load(in, Window{Vec2::Zero(), Vec2(2.0, 1.0)}, 1.0 / 8.0),
+                 BinaryFormatError);
+  }
+  // Every single-byte corruption of the coloring's part is refused or gives a valid coloring
+  // (a changed length or angle cache may still describe one).
+  const std::size_t coloring_size = [&] {
+    BinaryWriter out;
+    sampler.coloring().Save(out);
+    return out.bytes().size();
+  }();
+  int refused = 0;
+  for (std::size_t i = 0; i < coloring_size; i += 7) {
+    std::string damaged = bytes;
+    damaged[i] = static_cast<char>(damaged[i] ^ 0x5a);
+    BinaryReader in(damaged, "c");
+    try {
+      const Coloring c = Coloring::Load(in, kUnit, 1.0 / 8.0);
+      EXPECT_FALSE(c.FindInvariantViolation(1e-6)) << "byte " << i;
+    } catch (const BinaryFormatError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 0);
+}
+
+// A small simulated localized log's beams.
+std::shared_ptr<const LaserData> RoomData() {
+  const Scene scene = *BuiltinScene("l-room");
+  const RangeSensor sensor = *RangeSensor::Preset("lms200");
+  const Log log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, 0.5, 1.0), 3);
+  auto data = SelectBeams(
+      log, {.first_scan = 0, .end_scan = std::nullopt, .beam_step = 8, .max_range = 8.0});
+  return std::make_shared<const LaserData>(std::get<LaserData>(std::move(data)));
+}
+
+TEST(Checkpoint, AStoppedMappingRunResumesToTheSameResult) {
+  const auto data = RoomData();
+  MappingOptions options;
+  options.sampler.p = 0.5;
+  options.samples = 12000;
+  options.burn_in = 8000;
+  options.chains = 2;
+  options.seed = 4;
+  options.trace_every = 500;
+  options.anneal_steps = 6000;
+  options.chunk = 700;
+  const MappingResult whole = RunMapping(data, options, {});
+  ASSERT_TRUE(whole.complete);
+
+  testing::TempDir dir;
+  MappingSession session{.checkpoint_directory = dir.path(),
+                         .checkpoint_every_s = 1e9,
+                         .resume = false,
+                         .stop_after_steps = 5000,
+                         .stop = nullptr};
+  int sessions = 0;
+  MappingResult part;
+  do {
+    part = RunMapping(data, options, {}, session);
+    session.resume = true;
+    ++sessions;
+  } while (!part.complete && sessions < 20);
+  // 20000 steps a chain in 4 sessions of 5000, the 4th also anneals 5000 of the 6000 steps.
+  EXPECT_EQ(sessions, 5);
+  EXPECT_EQ(part.black_fraction, whole.black_fraction);
+  EXPECT_EQ(part.white_fraction, whole.white_fraction);
+  EXPECT_EQ(part.rhat_log_posterior, whole.rhat_log_posterior);
+  for (std::size_t c = 0; c < 2; ++c) {
+    EXPECT_EQ(part.chains[c].log_posterior_trace, whole.chains[c].log_posterior_trace);
+    EXPECT_EQ(part.chains[c].point_traces, whole.chains[c].point_traces);
+  }
+  ASSERT_TRUE(part.map && whole.map);
+  EXPECT_EQ(part.map_log_posterior, whole.map_log_posterior);
+
+  // A stop request (a signal) ends every chain at its next chunk, checkpointed.
+  testing::TempDir other;
+  std::atomic<bool> stop{true};
+  const MappingResult stopped =
+      RunMapping(data, options, {}, {.checkpoint_directory = other.path(), .stop = &stop});
+  EXPECT_FALSE(stopped.complete);
+  EXPECT_TRUE(std::filesystem::exists(ChainCheckpointPath(other.path(), 1)));
+
+  // Checkpoints of other options are refused.
+  options.sampler.p = 0.6;
+  EXPECT_THROW((void)RunMapping(data, options, {}, session), BinaryFormatError);
+}
+
+}  // namespace
+}  // namespace priormap::prf
