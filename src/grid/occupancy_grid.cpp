@@ -11,7 +11,6 @@ namespace priormap::grid {
 namespace {
 
 // Log-odds units per 1.0 of log-odds: fine enough that 0.85 and -0.4 keep three digits.
-constexpr double kScale = 1000.0;
 
 struct BeamToInsert {
   double range;
@@ -42,17 +41,19 @@ OccupancyGrid::OccupancyGrid(const Box2& extent, GridOptions options) : options_
     throw std::invalid_argument(fmt::format("resolution {} is not positive", options_.resolution));
   if (!(options_.log_odds_hit > 0.0 && options_.log_odds_miss < 0.0))
     throw std::invalid_argument("log-odds of a hit must be positive and of a miss negative");
-  if (!(options_.log_odds_limit > 0.0 && options_.log_odds_limit * kScale < 32000.0))
-    throw std::invalid_argument("the log-odds limit must be in (0, 32)");
+  if (!(options_.log_odds_limit > 0.0 && options_.log_odds_limit <= 100.0))
+    throw std::invalid_argument("the log-odds limit must be in (0, 100]");
   if (extent.isEmpty()) throw std::invalid_argument("the grid's extent is empty");
   origin_ = extent.min();
   const Vec2 size = extent.sizes() / options_.resolution;
   if (size.x() * size.y() > 4e9) throw std::invalid_argument("the grid would exceed 4e9 cells");
   nx_ = std::max(1, static_cast<int>(std::ceil(size.x())));
   ny_ = std::max(1, static_cast<int>(std::ceil(size.y())));
-  hit_ = static_cast<int>(std::lround(options_.log_odds_hit * kScale));
-  miss_ = static_cast<int>(std::lround(options_.log_odds_miss * kScale));
-  limit_ = static_cast<int>(std::lround(options_.log_odds_limit * kScale));
+  // ±limit spans the 8-bit range; an update is at least one step.
+  scale_ = kLimit / options_.log_odds_limit;
+  limit_ = kLimit;
+  hit_ = std::max(1, static_cast<int>(std::lround(options_.log_odds_hit * scale_)));
+  miss_ = std::min(-1, static_cast<int>(std::lround(options_.log_odds_miss * scale_)));
   cells_.assign(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_), kUnobserved);
 }
 
@@ -74,60 +75,96 @@ Box2 OccupancyGrid::ExtentOf(const Log& log, std::size_t first, std::size_t end,
 
 std::size_t OccupancyGrid::Insert(const Scan& scan) {
   if (!scan.pose.IsFinite()) return 0;
+  // A log's scans share their beam angles: their unit vectors are computed once, and each
+  // scan only rotates them.
+  if (scan.angles != beam_angles_) {
+    beam_angles_ = scan.angles;
+    beam_directions_.resize(beam_angles_.size());
+    for (std::size_t i = 0; i < beam_angles_.size(); ++i)
+      beam_directions_[i] = UnitVector(beam_angles_[i]);
+  }
   const Vec2 origin = scan.pose.translation();
+  const double c = std::cos(scan.pose.theta());
+  const double s = std::sin(scan.pose.theta());
   std::size_t inserted = 0;
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const auto beam = ToInsert(scan, i, options_);
     if (!beam) continue;
-    InsertBeam(origin, origin + beam->range * UnitVector(scan.pose.theta() + scan.angles[i]),
-               beam->hit);
+    const Vec2& u = beam_directions_[i];
+    const Vec2 direction(c * u.x() - s * u.y(), s * u.x() + c * u.y());
+    InsertBeam(origin, origin + beam->range * direction, beam->hit);
     ++inserted;
   }
   return inserted;
 }
 
+template <bool kChecked>
+void OccupancyGrid::TraceCells(int ix, int iy, int end_x, int end_y, bool hit) {
+  // Bresenham's line over cell indices: one cell per step along the major axis, the minor one
+  // advanced by the error term's sign (branch-free: the steps are not predictable).
+  const int adx = std::abs(end_x - ix);
+  const int ady = std::abs(end_y - iy);
+  const int sx = end_x > ix ? 1 : -1;
+  const int sy = end_y > iy ? 1 : -1;
+  const bool x_major = adx >= ady;
+  const int major = x_major ? adx : ady;
+  const int minor = x_major ? ady : adx;
+  const auto nx = static_cast<std::ptrdiff_t>(nx_);
+  const std::ptrdiff_t major_step = x_major ? sx : sy * nx;
+  const std::ptrdiff_t minor_step = x_major ? sy * nx : sx;
+  const int major_dx = x_major ? sx : 0, major_dy = x_major ? 0 : sy;
+  const int minor_dx = x_major ? 0 : sx, minor_dy = x_major ? sy : 0;
+  auto index = static_cast<std::ptrdiff_t>(Index(kChecked ? 0 : ix, kChecked ? 0 : iy));
+  int error = major / 2;
+  for (int n = 0; n < major; ++n) {
+    if constexpr (kChecked) {
+      if (ix >= 0 && iy >= 0 && ix < nx_ && iy < ny_) AddMiss(Index(ix, iy));
+    } else {
+      AddMiss(static_cast<std::size_t>(index));
+    }
+    error -= minor;
+    const int below = error >> 31;  // -1 when the minor coordinate advances, else 0
+    error += major & below;
+    if constexpr (kChecked) {
+      ix += major_dx + (minor_dx & below);
+      iy += major_dy + (minor_dy & below);
+    } else {
+      index += major_step + (minor_step & static_cast<std::ptrdiff_t>(below));
+    }
+  }
+  // The loop ends on the end cell.
+  if constexpr (kChecked) {
+    if (ix >= 0 && iy >= 0 && ix < nx_ && iy < ny_) Add(Index(ix, iy), hit ? hit_ : miss_);
+  } else {
+    Add(static_cast<std::size_t>(index), hit ? hit_ : miss_);
+  }
+}
+
 void OccupancyGrid::InsertBeam(const Vec2& origin, const Vec2& end, bool hit) {
-  // Cell coordinates (continuous), then an integer DDA (Amanatides & Woo) from the origin's cell
-  // to the end's; cells outside the grid are skipped.
   const double inv = 1.0 / options_.resolution;
   const double x0 = (origin.x() - origin_.x()) * inv;
   const double y0 = (origin.y() - origin_.y()) * inv;
   const double x1 = (end.x() - origin_.x()) * inv;
   const double y1 = (end.y() - origin_.y()) * inv;
-  if (!(std::isfinite(x0) && std::isfinite(y0) && std::isfinite(x1) && std::isfinite(y1))) return;
-  int ix = static_cast<int>(std::floor(x0));
-  int iy = static_cast<int>(std::floor(y0));
+  // Far outside the grid (or not finite): nothing to do, and the cell indices must fit an int.
+  constexpr double kFar = 1 << 29;
+  if (!(std::abs(x0) < kFar && std::abs(y0) < kFar && std::abs(x1) < kFar && std::abs(y1) < kFar))
+    return;
+  const int ix = static_cast<int>(std::floor(x0));
+  const int iy = static_cast<int>(std::floor(y0));
   const int end_x = static_cast<int>(std::floor(x1));
   const int end_y = static_cast<int>(std::floor(y1));
-  const double dx = x1 - x0;
-  const double dy = y1 - y0;
-  const int step_x = dx > 0 ? 1 : -1;
-  const int step_y = dy > 0 ? 1 : -1;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  const double delta_x = dx != 0.0 ? std::abs(1.0 / dx) : kInf;
-  const double delta_y = dy != 0.0 ? std::abs(1.0 / dy) : kInf;
-  double t_x = dx != 0.0 ? ((dx > 0 ? ix + 1 - x0 : x0 - ix) * delta_x) : kInf;
-  double t_y = dy != 0.0 ? ((dy > 0 ? iy + 1 - y0 : y0 - iy) * delta_y) : kInf;
-  const int steps = std::abs(end_x - ix) + std::abs(end_y - iy);
   const auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < nx_ && y < ny_; };
-  for (int n = 0; n < steps; ++n) {
-    if (inside(ix, iy)) Add(Index(ix, iy), miss_);
-    if (t_x < t_y) {
-      ix += step_x;
-      t_x += delta_x;
-    } else {
-      iy += step_y;
-      t_y += delta_y;
-    }
-  }
-  // The end cell (the DDA may stop one cell off when rounding swaps two steps; use the end's own
-  // cell for the hit).
-  if (inside(end_x, end_y)) Add(Index(end_x, end_y), hit ? hit_ : miss_);
+  // The grid is a rectangle: with both ends inside, so is every cell between.
+  if (inside(ix, iy) && inside(end_x, end_y))
+    TraceCells<false>(ix, iy, end_x, end_y, hit);
+  else
+    TraceCells<true>(ix, iy, end_x, end_y, hit);
 }
 
 double OccupancyGrid::LogOdds(int ix, int iy) const {
-  const std::int16_t cell = cells_[Index(ix, iy)];
-  return cell == kUnobserved ? 0.0 : cell / kScale;
+  const std::int8_t cell = cells_[Index(ix, iy)];
+  return cell == kUnobserved ? 0.0 : cell / scale_;
 }
 
 OccupancyRaster OccupancyGrid::Raster() const {
@@ -137,9 +174,9 @@ OccupancyRaster OccupancyGrid::Raster() const {
   raster.probability.resize(ny_, nx_);
   for (int iy = 0; iy < ny_; ++iy)
     for (int ix = 0; ix < nx_; ++ix) {
-      const std::int16_t cell = cells_[Index(ix, iy)];
+      const std::int8_t cell = cells_[Index(ix, iy)];
       raster.probability(iy, ix) = cell == kUnobserved ? std::numeric_limits<double>::quiet_NaN()
-                                                       : 1.0 / (1.0 + std::exp(-cell / kScale));
+                                                       : 1.0 / (1.0 + std::exp(-cell / scale_));
     }
   return raster;
 }

@@ -22,16 +22,25 @@ TEST(OccupancyGrid, ABeamClearsItsCellsAndMarksItsEnd) {
   OccupancyGrid grid(Box2(Vec2::Zero(), Vec2(1.0, 1.0)), {.resolution = 0.1});
   ASSERT_EQ(grid.width(), 10);
   grid.InsertBeam(Vec2(0.05, 0.55), Vec2(0.55, 0.55), true);
-  for (int ix = 0; ix < 5; ++ix) EXPECT_DOUBLE_EQ(grid.LogOdds(ix, 5), -0.4) << ix;
-  EXPECT_DOUBLE_EQ(grid.LogOdds(5, 5), 0.85);
+  // 8-bit log-odds: within half a step (4 / 127 / 2) of the model's values.
+  constexpr double kHalfStep = 0.5 * 4.0 / 127.0;
+  for (int ix = 0; ix < 5; ++ix) EXPECT_NEAR(grid.LogOdds(ix, 5), -0.4, kHalfStep) << ix;
+  EXPECT_NEAR(grid.LogOdds(5, 5), 0.85, kHalfStep);
   EXPECT_FALSE(grid.Observed(6, 5));
   EXPECT_FALSE(grid.Observed(2, 4));
-  // A diagonal beam visits a 4-connected chain of cells.
+  // A slanted beam visits Bresenham's line: one cell per column, 9 steps from (0, 0) to
+  // (9, 4), each within half a cell of the line between the cells' centres.
   grid.InsertBeam(Vec2(0.05, 0.05), Vec2(0.95, 0.42), false);
   int observed = 0;
   for (int iy = 0; iy < 5; ++iy)
-    for (int ix = 0; ix < 10; ++ix) observed += grid.Observed(ix, iy) ? 1 : 0;
-  EXPECT_EQ(observed, 9 + 4 + 1);  // |Δx| + |Δy| steps, plus the first cell
+    for (int ix = 0; ix < 10; ++ix) {
+      if (!grid.Observed(ix, iy)) continue;
+      ++observed;
+      EXPECT_LE(std::abs(iy - 4.0 * ix / 9.0), 0.5 + 1e-12) << ix << ", " << iy;
+    }
+  EXPECT_EQ(observed, 9 + 1);
+  EXPECT_TRUE(grid.Observed(0, 0));
+  EXPECT_TRUE(grid.Observed(9, 4));
 }
 
 TEST(OccupancyGrid, SaturatesAtTheLimit) {

@@ -2,8 +2,9 @@
 /// The standard log-odds occupancy grid (Paskin & Thrun, Sec. 1.2; Thrun, Burgard & Fox, ch. 9)
 /// with the laser inverse sensor model: each beam lowers the log-odds of the cells it crosses
 /// before its end point and raises that of the end point's cell; max-range readings clear the
-/// cells up to the insertion range. Log-odds are 16-bit fixed point, saturated at ±l_max, so
-/// that a grid at 5 cm of a building stays in cache and updates cost an add and a clamp.
+/// cells up to the insertion range. Log-odds are 8-bit fixed point (±l_max is ±127, a step of
+/// l_max/127 = 0.03 at the default l_max = 4), saturated, so that a grid at 5 cm of a building
+/// floor stays in cache and updates cost an add and a clamp.
 
 #include <algorithm>
 #include <cstdint>
@@ -40,7 +41,9 @@ class OccupancyGrid {
   /// Inserts every usable beam of a scan (invalid readings are skipped). Returns the number of
   /// beams inserted.
   std::size_t Insert(const Scan& scan);
-  /// One beam from `origin` to `end`; `hit` marks the end cell occupied.
+  /// One beam from `origin` to `end`: the cells of Bresenham's line from the origin's cell to
+  /// the end's (8-connected, one per step along the major axis) are free, the end's cell is
+  /// occupied when `hit`.
   void InsertBeam(const Vec2& origin, const Vec2& end, bool hit);
 
   [[nodiscard]] int width() const { return nx_; }
@@ -54,15 +57,24 @@ class OccupancyGrid {
   [[nodiscard]] OccupancyRaster Raster() const;
 
  private:
-  static constexpr std::int16_t kUnobserved = INT16_MIN;
+  static constexpr std::int8_t kUnobserved = INT8_MIN;
+  static constexpr int kLimit = INT8_MAX;
   [[nodiscard]] std::size_t Index(int ix, int iy) const {
     return static_cast<std::size_t>(iy) * static_cast<std::size_t>(nx_) +
            static_cast<std::size_t>(ix);
   }
-  void Add(std::size_t index, int delta) {
-    std::int16_t& cell = cells_[index];
+  template <bool kChecked>
+  void TraceCells(int ix, int iy, int end_x, int end_y, bool hit);
+  /// A miss: only the lower limit can be reached.
+  void AddMiss(std::size_t index) {
+    std::int8_t& cell = cells_[index];
     const int current = cell == kUnobserved ? 0 : cell;
-    cell = static_cast<std::int16_t>(std::clamp(current + delta, -limit_, limit_));
+    cell = static_cast<std::int8_t>(std::max(current + miss_, -limit_));
+  }
+  void Add(std::size_t index, int delta) {
+    std::int8_t& cell = cells_[index];
+    const int current = cell == kUnobserved ? 0 : cell;
+    cell = static_cast<std::int8_t>(std::clamp(current + delta, -limit_, limit_));
   }
 
   GridOptions options_;
@@ -72,7 +84,10 @@ class OccupancyGrid {
   int hit_ = 0;
   int miss_ = 0;
   int limit_ = 0;
-  std::vector<std::int16_t> cells_;
+  double scale_ = 1.0;  // fixed-point steps per unit of log-odds
+  std::vector<std::int8_t> cells_;
+  std::vector<double> beam_angles_;  // of the last scan inserted
+  std::vector<Vec2> beam_directions_;
 };
 
 }  // namespace priormap::grid
