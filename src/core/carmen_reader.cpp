@@ -8,6 +8,7 @@
 //   TRUEPOS          true_x true_y true_theta odom_x odom_y odom_theta [timestamps]
 //   PARAM            name value...
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -28,8 +29,8 @@ struct Token {
   int col = 0;  // 1-based
 };
 
-std::vector<Token> Tokenize(std::string_view line) {
-  std::vector<Token> tokens;
+void Tokenize(std::string_view line, std::vector<Token>& tokens) {
+  tokens.clear();
   std::size_t i = 0;
   while (i < line.size()) {
     while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
@@ -37,7 +38,6 @@ std::vector<Token> Tokenize(std::string_view line) {
     while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
     if (i > start) tokens.push_back({line.substr(start, i - start), static_cast<int>(start) + 1});
   }
-  return tokens;
 }
 
 std::optional<double> ParseDouble(std::string_view text) {
@@ -57,9 +57,6 @@ std::optional<long long> ParseInteger(std::string_view text) {
   long long value = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  // "-nan" and "nan" mean the same missing value; one NaN keeps a round trip through formats
-  // without a sign for NaN (JSON's null) the same.
-  if (std::isnan(value)) return std::numeric_limits<double>::quiet_NaN();
   return value;
 }
 
@@ -120,10 +117,19 @@ class FieldReader {
   }
 
   Se2 Pose(std::string_view what) {
-    const double x = FiniteNumber(fmt::format("{} x", what));
-    const double y = FiniteNumber(fmt::format("{} y", what));
-    const double theta = FiniteNumber(fmt::format("{} theta", what));
-    return {x, y, theta};
+    std::array<double, 3> v{};
+    constexpr std::array<std::string_view, 3> kAxes{"x", "y", "theta"};
+    for (std::size_t k = 0; k < 3; ++k) {
+      // The label of the diagnostic is formatted only when there is one to report.
+      const auto parsed = next_ < tokens_.size() ? ParseDouble(tokens_[next_].text) : std::nullopt;
+      if (parsed && std::isfinite(*parsed)) {
+        v[k] = *parsed;
+        ++next_;
+      } else {
+        v[k] = FiniteNumber(fmt::format("{} {}", what, kAxes[k]));
+      }
+    }
+    return {v[0], v[1], v[2]};
   }
 
   std::string_view Word(std::string_view what) { return Take(what).text; }
@@ -218,14 +224,20 @@ class CarmenParser {
   }
 
   void ParseLine(std::string_view line, int line_number) {
-    const std::vector<Token> tokens = Tokenize(line);
+    Tokenize(line, tokens_);  // one buffer for every line: no allocation per line
+    const std::vector<Token>& tokens = tokens_;
     if (tokens.empty()) return;
     const std::string_view type = tokens[0].text;
     if (type.front() == '#') {
       ++stats_.comment_lines;
       return;
     }
-    ++stats_.records[std::string(type)];
+    // Most lines repeat the previous one's type: its counter is kept (map nodes do not move).
+    if (type != last_type_) {
+      last_type_count_ = &stats_.records[std::string(type)];
+      last_type_.assign(type);
+    }
+    ++*last_type_count_;
     FieldReader fields(tokens, type, static_cast<int>(line.size()));
     try {
       if (type == "FLASER" || type == "RLASER") {
@@ -397,6 +409,9 @@ class CarmenParser {
   Log log_;
   std::vector<std::optional<double>> own_max_ranges_;
   std::vector<Diagnostic> diagnostics_;
+  std::vector<Token> tokens_;
+  std::string last_type_;
+  int* last_type_count_ = nullptr;
 };
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include <cmath>
 #include <map>
+#include <vector>
 
 #include <priormap/core/carmen_io.hpp>
 
@@ -14,17 +15,24 @@ constexpr double kMinIsolation = 10.0;   // sentinel cluster / comparison band
 }  // namespace
 
 std::optional<double> DetectMaxRangeSentinel(const std::vector<double>& readings) {
-  std::map<long long, int> centimetre_counts;
+  // Readings in centimetres: a dense histogram up to kDenseCm (every laser's range), a map for
+  // the rare readings beyond.
+  constexpr long long kDenseCm = 100000;
+  std::vector<int> dense(kDenseCm + 1, 0);
+  std::map<long long, int> sparse;
   for (double r : readings) {
-    if (std::isfinite(r) && r > 0.0) ++centimetre_counts[std::llround(r * 100.0)];
-  }
-  std::optional<long long> sentinel_cm;
-  for (auto it = centimetre_counts.rbegin(); it != centimetre_counts.rend(); ++it) {
-    if (it->second >= kMinSentinelCount) {
-      sentinel_cm = it->first;
-      break;
+    if (!(std::isfinite(r) && r > 0.0)) continue;
+    if (r * 100.0 < static_cast<double>(kDenseCm)) {
+      ++dense[static_cast<std::size_t>(std::llround(r * 100.0))];
+    } else {
+      ++sparse[std::llround(r * 100.0)];
     }
   }
+  std::optional<long long> sentinel_cm;
+  for (auto it = sparse.rbegin(); it != sparse.rend() && !sentinel_cm; ++it)
+    if (it->second >= kMinSentinelCount) sentinel_cm = it->first;
+  for (long long cm = kDenseCm; cm >= 0 && !sentinel_cm; --cm)
+    if (dense[static_cast<std::size_t>(cm)] >= kMinSentinelCount) sentinel_cm = cm;
   if (!sentinel_cm) return std::nullopt;
   const double threshold = static_cast<double>(*sentinel_cm) / 100.0 - kSentinelBand;
   long long cluster = 0, below = 0;
