@@ -36,10 +36,20 @@ const Log* Cached(const std::string& name) {
   return &logs.emplace(name, std::move(log).value()).first->second;
 }
 
-std::size_t Readings(const Log& log) {
-  std::size_t n = 0;
-  for (const Scan& scan : log.scans) n += scan.ranges.size();
-  return n;
+// The log of a benchmark's argument, or null (the benchmark then reports the missing data).
+const Log* LogOrSkip(benchmark::State& state, const std::string& name) {
+  const Log* log = Cached(name);
+  if (!log) state.SkipWithError("../shared/data is absent");
+  return log;
+}
+
+// Every reading offered to the grid counts, once per iteration.
+void CountBeams(benchmark::State& state, const Log& log) {
+  std::size_t readings = 0;
+  for (const Scan& scan : log.scans) readings += scan.ranges.size();
+  state.counters["beams_per_s"] =
+      benchmark::Counter(static_cast<double>(readings) * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate);
 }
 
 void BM_ReadIntelLogGz(benchmark::State& state) {
@@ -56,11 +66,8 @@ void BM_ReadIntelLogGz(benchmark::State& state) {
 BENCHMARK(BM_ReadIntelLogGz)->Unit(benchmark::kMillisecond);
 
 void BM_OurGrid(benchmark::State& state, const std::string& name) {
-  const Log* log = Cached(name);
-  if (!log) {
-    state.SkipWithError("../shared/data is absent");
-    return;
-  }
+  const Log* log = LogOrSkip(state, name);
+  if (!log) return;
   grid::GridOptions options;
   options.resolution = 0.05;
   const Box2 extent = grid::OccupancyGrid::ExtentOf(*log, 0, log->scans.size(), options);
@@ -69,22 +76,18 @@ void BM_OurGrid(benchmark::State& state, const std::string& name) {
     for (const Scan& scan : log->scans) map.Insert(scan);
     benchmark::DoNotOptimize(map);
   }
-  state.counters["beams_per_s"] = benchmark::Counter(
-      static_cast<double>(Readings(*log)) * static_cast<double>(state.iterations()),
-      benchmark::Counter::kIsRate);
+  CountBeams(state, *log);
 }
 BENCHMARK_CAPTURE(BM_OurGrid, intel, std::string("intel"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_OurGrid, freiburg_079, std::string("freiburg-079"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OurGrid, freiburg_079, std::string("freiburg-079"))
+    ->Unit(benchmark::kMillisecond);
 
 #ifdef PRIORMAP_HAVE_MRPT
 // The same scans as MRPT observations: its scans are evenly spread over the aperture around
 // the sensor's x axis, so the sensor is turned to the middle of ours.
 void BM_MrptGrid(benchmark::State& state, const std::string& name) {
-  const Log* log = Cached(name);
-  if (!log) {
-    state.SkipWithError("../shared/data is absent");
-    return;
-  }
+  const Log* log = LogOrSkip(state, name);
+  if (!log) return;
   grid::GridOptions options;
   const Box2 extent = grid::OccupancyGrid::ExtentOf(*log, 0, log->scans.size(), options);
   std::vector<std::pair<mrpt::obs::CObservation2DRangeScan, mrpt::poses::CPose3D>> observations;
@@ -103,8 +106,8 @@ void BM_MrptGrid(benchmark::State& state, const std::string& name) {
       obs.setScanRange(i, valid ? static_cast<float>(scan.ranges[i]) : 0.0f);
       obs.setScanRangeValidity(i, valid);
     }
-    observations.emplace_back(
-        std::move(obs), mrpt::poses::CPose3D(scan.pose.x(), scan.pose.y(), 0, scan.pose.theta(), 0, 0));
+    observations.emplace_back(std::move(obs), mrpt::poses::CPose3D(scan.pose.x(), scan.pose.y(), 0,
+                                                                   scan.pose.theta(), 0, 0));
   }
   for (auto _ : state) {
     mrpt::maps::COccupancyGridMap2D map(
@@ -114,12 +117,11 @@ void BM_MrptGrid(benchmark::State& state, const std::string& name) {
     for (const auto& [obs, pose] : observations) map.insertObservation(obs, pose);
     benchmark::DoNotOptimize(map);
   }
-  state.counters["beams_per_s"] = benchmark::Counter(
-      static_cast<double>(Readings(*log)) * static_cast<double>(state.iterations()),
-      benchmark::Counter::kIsRate);
+  CountBeams(state, *log);
 }
 BENCHMARK_CAPTURE(BM_MrptGrid, intel, std::string("intel"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_MrptGrid, freiburg_079, std::string("freiburg-079"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MrptGrid, freiburg_079, std::string("freiburg-079"))
+    ->Unit(benchmark::kMillisecond);
 #endif
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -236,6 +237,21 @@ extern "C" void RequestStop(int) {
   g_stop_requested = true;
 }
 
+// Installs RequestStop for SIGINT and SIGTERM while it lives.
+class StopOnSignals {
+ public:
+  StopOnSignals() {
+    std::signal(SIGINT, RequestStop);
+    std::signal(SIGTERM, RequestStop);
+  }
+  ~StopOnSignals() {
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+  }
+  StopOnSignals(const StopOnSignals&) = delete;
+  StopOnSignals& operator=(const StopOnSignals&) = delete;
+};
+
 // One status line: redrawn in place on a terminal, every 10 % elsewhere.
 class MappingStatus {
  public:
@@ -279,7 +295,12 @@ void RunMappingCommand(MappingCliOptions o) {
   if (!o.anneal) o.mapping.anneal_steps = 0;
   EnsureDirectory(o.out);
   const std::filesystem::path dir(o.out);
-  if (!resuming) WriteTextFileAtomically(dir / "run.json", RunJson(o).dump(2) + "\n");
+  if (!resuming) {
+    // A new run in this directory: what an earlier one left would be taken for this one's.
+    std::filesystem::remove_all(dir / "checkpoints");
+    std::filesystem::remove(dir / "summary.json");
+    WriteTextFileAtomically(dir / "run.json", RunJson(o).dump(2) + "\n");
+  }
   fmt::print(stderr, "{} beams from {} sensor positions, R = {} m\n", data->beams.size(),
              data->sensors.size(), data->max_range);
 
@@ -288,23 +309,28 @@ void RunMappingCommand(MappingCliOptions o) {
                                     .resume = resuming,
                                     .stop_after_steps = o.stop_after_steps,
                                     .stop = &g_stop_requested};
-  std::signal(SIGINT, RequestStop);
-  std::signal(SIGTERM, RequestStop);
   MappingStatus status;
   prf::MappingResult r;
-  try {
-    r = prf::RunMapping(data, o.mapping, std::ref(status), session);
-  } catch (const BinaryFormatError& e) {
-    throw UserError(fmt::format("cannot resume: {}", e.what()));
+  {
+    const StopOnSignals stop_on_signals;
+    try {
+      r = prf::RunMapping(data, o.mapping, std::ref(status), session);
+    } catch (const BinaryFormatError& e) {
+      throw UserError(fmt::format("cannot resume: {}", e.what()));
+    }
   }
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
   if (r.resumed_steps > 0)
     fmt::print(stderr, "resumed {} steps from {}\n", r.resumed_steps,
                session.checkpoint_directory.string());
   if (!r.complete) {
     fmt::print("stopped and checkpointed in {}; continue with: priormap prf --resume {}\n",
                session.checkpoint_directory.string(), o.out);
+    // Stopped by a signal: the shell's convention for an interrupted command, so that a
+    // scheduler does not take the run for finished.
+    if (g_stop_requested) {
+      std::fflush(stdout);
+      std::exit(130);
+    }
     return;
   }
 

@@ -22,10 +22,11 @@ std::optional<double> DetectMaxRangeSentinel(const std::vector<double>& readings
   std::map<long long, int> sparse;
   for (double r : readings) {
     if (!(std::isfinite(r) && r > 0.0)) continue;
-    if (r * 100.0 < static_cast<double>(kDenseCm)) {
-      ++dense[static_cast<std::size_t>(std::llround(r * 100.0))];
+    const long long cm = std::llround(r * 100.0);
+    if (cm <= kDenseCm) {
+      ++dense[static_cast<std::size_t>(cm)];
     } else {
-      ++sparse[std::llround(r * 100.0)];
+      ++sparse[cm];
     }
   }
   std::optional<long long> sentinel_cm;

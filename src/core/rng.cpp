@@ -29,7 +29,12 @@ void Rng::Save(BinaryWriter& out) const {
 void Rng::Load(BinaryReader& in) {
   std::istringstream state(in.GetString());
   state >> engine_;
-  if (state.fail()) in.Fail("an invalid random generator state");
+  // An all-zero state is a fixed point of the Mersenne Twister (only zeros, and Normal() would
+  // never return): no seeded generator reaches it.
+  std::mt19937_64 zero_probe = engine_;
+  bool all_zero = true;
+  for (int i = 0; i < 624 && all_zero; ++i) all_zero = zero_probe() == 0;
+  if (state.fail() || all_zero) in.Fail("an invalid random generator state");
   spare_normal_ = in.Get<double>();
   has_spare_normal_ = in.Get<std::uint8_t>() != 0;
 }

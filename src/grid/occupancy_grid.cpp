@@ -41,6 +41,9 @@ OccupancyGrid::OccupancyGrid(const Box2& extent, GridOptions options) : options_
     throw std::invalid_argument(fmt::format("resolution {} is not positive", options_.resolution));
   if (!(options_.log_odds_hit > 0.0 && options_.log_odds_miss < 0.0))
     throw std::invalid_argument("log-odds of a hit must be positive and of a miss negative");
+  if (!(options_.log_odds_hit <= options_.log_odds_limit &&
+        -options_.log_odds_miss <= options_.log_odds_limit))
+    throw std::invalid_argument("log-odds of a hit or a miss must not exceed the limit");
   if (!(options_.log_odds_limit > 0.0 && options_.log_odds_limit <= 100.0))
     throw std::invalid_argument("the log-odds limit must be in (0, 100]");
   if (extent.isEmpty()) throw std::invalid_argument("the grid's extent is empty");

@@ -519,7 +519,10 @@ Coloring Coloring::Load(BinaryReader& in, const Window& window, double cell_size
   // The bytes each element takes bound the counts by what is left, before anything is allocated.
   constexpr std::size_t kVertexBytes = 2 * 8 + 3 * 4 + 8 + 4;
   constexpr std::size_t kEdgeBytes = 2 * 4 + 8 + 4;
-  c.vertices_.resize(in.GetCount(in.remaining() / kVertexBytes, "vertices"));
+  // And a cap far above any map (the validity check below is quadratic in the edges).
+  constexpr std::uint64_t kMaxElements = std::uint64_t{1} << 17;
+  c.vertices_.resize(in.GetCount(
+      std::min<std::uint64_t>(kMaxElements, in.remaining() / kVertexBytes), "vertices"));
   for (ColoringVertex& v : c.vertices_) {
     const double x = in.Get<double>();
     v.position = Vec2(x, in.Get<double>());
@@ -529,7 +532,8 @@ Coloring Coloring::Load(BinaryReader& in, const Window& window, double cell_size
     v.log_sin = in.Get<double>();
     v.slot = in.Get<std::int32_t>();
   }
-  c.edges_.resize(in.GetCount(in.remaining() / kEdgeBytes, "edges"));
+  c.edges_.resize(
+      in.GetCount(std::min<std::uint64_t>(kMaxElements, in.remaining() / kEdgeBytes), "edges"));
   for (ColoringEdge& e : c.edges_) {
     e.vertices[0] = in.Get<VertexId>();
     e.vertices[1] = in.Get<VertexId>();

@@ -58,6 +58,7 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
 
   const auto chains = static_cast<std::size_t>(options.chains);
   const std::filesystem::path& checkpoints = session.checkpoint_directory;
+  PRIORMAP_CHECK(!session.resume || !checkpoints.empty(), "resuming needs a checkpoint directory");
   const std::uint64_t fingerprint = RunFingerprint(*data, options);
   if (!checkpoints.empty()) std::filesystem::create_directories(checkpoints);
   const auto make_likelihood = [&] {
@@ -69,7 +70,8 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
   // Chains from their checkpoints (or afresh), before any runs, so that progress counts them.
   std::vector<std::unique_ptr<PrfSampler>> samplers(chains);
   std::vector<std::unique_ptr<PosteriorEstimates>> estimates(chains);
-  std::vector<bool> recording(chains, false);
+  // Bytes, not vector<bool>'s packed bits: the chains write their flags from parallel threads.
+  std::vector<std::uint8_t> recording(chains, 0);
   std::vector<std::uint64_t> session_start(chains, 0);
   result.chains.resize(chains);
   tbb::parallel_for(std::size_t{0}, chains, [&](std::size_t c) {
@@ -80,8 +82,10 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
       LoadedChain loaded =
           LoadChainCheckpoint(path, fingerprint, result.window, options, make_likelihood(),
                               estimates[c].get(), &result.chains[c]);
+      if (loaded.sampler->steps() > options.burn_in + options.samples)
+        throw BinaryFormatError(path.string() + ": a chain past the run's end");
       samplers[c] = std::move(loaded.sampler);
-      recording[c] = loaded.recording;
+      recording[c] = loaded.recording ? 1 : 0;
       if (recording[c]) samplers[c]->ContinueRecordingInto(estimates[c].get());
     } else {
       samplers[c] =
@@ -126,7 +130,7 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
       }
       if (s >= options.burn_in && !recording[c]) {
         sampler.RecordInto(estimates[c].get());
-        recording[c] = true;
+        recording[c] = 1;
       }
       std::uint64_t target = std::min(end, s + options.chunk);
       if (s < options.burn_in) {
@@ -158,7 +162,7 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
     }
     if (sampler.steps() >= end && !recording[c]) {  // no samples: recording never began
       sampler.RecordInto(estimates[c].get());
-      recording[c] = true;
+      recording[c] = 1;
     }
     checkpoint(true);
     summary.counters = sampler.counters();
@@ -207,20 +211,22 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
     std::size_t best = 0;
     for (std::size_t c = 1; c < chains; ++c)
       if (result.chains[c].log_posterior > result.chains[best].log_posterior) best = c;
+    const std::uint64_t stages = 100;
+    const std::uint64_t per_stage = std::max<std::uint64_t>(1, options.anneal_steps / stages);
     std::unique_ptr<PrfSampler> annealing;
     const auto path = AnnealCheckpointPath(checkpoints);
     if (session.resume && std::filesystem::exists(path)) {
       LoadedAnneal loaded =
           LoadAnnealCheckpoint(path, fingerprint, result.window, options, make_likelihood());
       if (loaded.chain != best) throw BinaryFormatError(path.string() + ": of another chain");
+      if (loaded.sampler->steps() < end || loaded.sampler->steps() > end + stages * per_stage)
+        throw BinaryFormatError(path.string() + ": an annealing step outside the annealing");
       annealing = std::move(loaded.sampler);
     } else {
       annealing = std::move(samplers[best]);
       annealing->RecordInto(nullptr);
     }
     const std::uint64_t first = annealing->steps();
-    const std::uint64_t stages = 100;
-    const std::uint64_t per_stage = std::max<std::uint64_t>(1, options.anneal_steps / stages);
     auto last_checkpoint = Clock::now();
     while (annealing->steps() < end + stages * per_stage) {
       const std::uint64_t a = annealing->steps() - end;

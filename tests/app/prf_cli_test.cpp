@@ -186,6 +186,15 @@ TEST_F(MappingCli, ResumeRefusesWhatWouldMakeAnotherRun) {
   testing::WriteAll(checkpoint, bytes);
   EXPECT_THAT(RunFailing({"prf", "--resume", Work("run").string()}).err,
               HasSubstr("checksum mismatch"));
+  // A new run in the directory replaces the stopped one, whose checkpoints it must not meet.
+  ASSERT_EQ(Run({"prf", "--log", "room.log", "--beam-step", "8", "--p", "0.3", "--samples",
+                 "4000", "--burn-in", "4000", "--chains", "1", "--stop-after-steps", "3000", "-o",
+                 "run"})
+                .status,
+            0);
+  const auto r = Run({"prf", "--resume", Work("run").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("resumed 3000 steps"));
 }
 
 TEST_F(MappingCli, GridWritesTheMapAndASummary) {

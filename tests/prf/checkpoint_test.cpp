@@ -9,6 +9,7 @@
 
 #include <priormap/core/binary_io.hpp>
 #include <priormap/core/range_sensor.hpp>
+#include <priormap/core/rng.hpp>
 #include <priormap/core/scene.hpp>
 #include <priormap/core/simulate.hpp>
 #include <priormap/prf/chain_checkpoint.hpp>
@@ -66,6 +67,17 @@ TEST(BinaryIo, SealedDataRoundTripsAndDamageIsRefused) {
   std::string flipped = sealed;
   flipped.back() ^= 1;
   EXPECT_THAT(refused(flipped, "TESTKIND", 2), HasSubstr("checksum"));
+
+  // A generator state of all zeros (a fixed point no seed reaches) is refused.
+  BinaryWriter zero_state;
+  std::string zeros;
+  for (int i = 0; i < 312; ++i) zeros += "0 ";
+  zero_state.PutString(zeros + "0");
+  zero_state.Put(0.0);
+  zero_state.Put<std::uint8_t>(0);
+  BinaryReader zero_in(zero_state.bytes(), "rng");
+  Rng rng(1);
+  EXPECT_THROW(rng.Load(zero_in), BinaryFormatError);
 
   // A length beyond the data is refused before anything is allocated.
   BinaryWriter lying;
