@@ -84,6 +84,10 @@ void AddGridCommand(CLI::App& app) {
   cmd->add_option("--resolution", o->grid.resolution, "Cell size, m")
       ->check(PositiveValue())
       ->capture_default_str();
+  cmd->add_option("--beam-step", o->grid.beam_step,
+                  "Use every k-th beam of each scan (as prf --beam-step, for equal data)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
+      ->capture_default_str();
   cmd->add_option("--max-range", o->grid.max_range,
                   "Beams are inserted up to this range; max readings clear up to it, m")
       ->check(PositiveValue())

@@ -37,6 +37,7 @@ std::optional<BeamToInsert> ToInsert(const Scan& scan, std::size_t i, const Grid
 }  // namespace
 
 OccupancyGrid::OccupancyGrid(const Box2& extent, GridOptions options) : options_(options) {
+  if (options_.beam_step == 0) throw std::invalid_argument("the beam step must be positive");
   if (!(options_.resolution > 0.0))
     throw std::invalid_argument(fmt::format("resolution {} is not positive", options_.resolution));
   if (!(options_.log_odds_hit > 0.0 && options_.log_odds_miss < 0.0))
@@ -67,7 +68,7 @@ Box2 OccupancyGrid::ExtentOf(const Log& log, std::size_t first, std::size_t end,
     const Scan& scan = log.scans[k];
     if (!scan.pose.IsFinite()) continue;
     box.extend(scan.pose.translation());
-    for (std::size_t i = 0; i < scan.size(); ++i)
+    for (std::size_t i = 0; i < scan.size(); i += std::max<std::size_t>(1, options.beam_step))
       if (const auto beam = ToInsert(scan, i, options))
         box.extend(scan.pose.Transform(beam->range * UnitVector(scan.angles[i])));
   }
@@ -90,7 +91,7 @@ std::size_t OccupancyGrid::Insert(const Scan& scan) {
   const double c = std::cos(scan.pose.theta());
   const double s = std::sin(scan.pose.theta());
   std::size_t inserted = 0;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
+  for (std::size_t i = 0; i < scan.size(); i += options_.beam_step) {
     const auto beam = ToInsert(scan, i, options_);
     if (!beam) continue;
     const Vec2& u = beam_directions_[i];

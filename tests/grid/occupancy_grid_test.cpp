@@ -54,6 +54,28 @@ TEST(OccupancyGrid, RejectsBadOptions) {
   EXPECT_THROW(OccupancyGrid(Box2(Vec2::Zero(), Vec2::Ones()), {.resolution = 0.0}),
                std::invalid_argument);
   EXPECT_THROW(OccupancyGrid(Box2(), {}), std::invalid_argument);
+  EXPECT_THROW(OccupancyGrid(Box2(Vec2::Zero(), Vec2::Ones()), {.beam_step = 0}),
+               std::invalid_argument);
+}
+
+TEST(OccupancyGrid, ABeamStepInsertsTheBeamsThePrfSelects) {
+  const Scene scene = *BuiltinScene("rectangle");
+  const RangeSensor sensor = *RangeSensor::Preset("lms200");
+  const Log log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, 0.5, 1.0), 3);
+  const Scan& scan = log.scans.at(0);
+  const GridOptions every{.resolution = 0.05};
+  const GridOptions third{.resolution = 0.05, .beam_step = 3};
+  OccupancyGrid all(OccupancyGrid::ExtentOf(log, 0, 1, every), every);
+  OccupancyGrid some(OccupancyGrid::ExtentOf(log, 0, 1, third), third);
+  std::size_t usable = 0, usable_thirds = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.status[i] == BeamStatus::kInvalid) continue;
+    ++usable;
+    if (i % 3 == 0) ++usable_thirds;
+  }
+  EXPECT_EQ(all.Insert(scan), usable);
+  EXPECT_EQ(some.Insert(scan), usable_thirds);
+  EXPECT_LT(usable_thirds, usable / 2);
 }
 
 TEST(OccupancyGrid, MapsASimulatedRoomFreeInsideAndOccupiedOnItsWalls) {

@@ -26,6 +26,8 @@ struct GridOptions {
   double max_range = 20.0;
   bool max_readings_clear = true;
   double margin = 1.0;  // m around the data, for the grid's extent
+  /// Every k-th beam of each scan (the PRF's --beam-step, for comparisons at equal data).
+  std::size_t beam_step = 1;
 };
 
 class OccupancyGrid {
