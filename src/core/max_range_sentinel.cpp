@@ -11,6 +11,7 @@ constexpr int kMinSentinelCount = 10;
 constexpr double kSentinelBand = 0.5;    // m below the sentinel that still count as "no return"
 constexpr double kComparisonBand = 2.0;  // m below that band, where real returns would be
 constexpr double kMinIsolation = 10.0;   // sentinel cluster / comparison band
+constexpr double kMaxCm = 1e15;          // 10,000 km
 
 }  // namespace
 
@@ -21,7 +22,9 @@ std::optional<double> DetectMaxRangeSentinel(const std::vector<double>& readings
   std::vector<int> dense(kDenseCm + 1, 0);
   std::map<long long, int> sparse;
   for (double r : readings) {
-    if (!(std::isfinite(r) && r > 0.0)) continue;
+    // Beyond kMaxCm no laser reports a range; such readings cannot be a sentinel, and their
+    // centimetres would not fit a long long.
+    if (!(std::isfinite(r) && r > 0.0 && r * 100.0 < kMaxCm)) continue;
     const long long cm = std::llround(r * 100.0);
     if (cm <= kDenseCm) {
       ++dense[static_cast<std::size_t>(cm)];

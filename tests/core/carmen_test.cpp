@@ -371,6 +371,16 @@ TEST(Carmen, NonFiniteReadingsDoNotMakeASentinel) {
   EXPECT_DOUBLE_EQ(DetectMaxRangeSentinel(readings).value_or(0.0), 81.41);
 }
 
+TEST(Carmen, AbsurdlyLargeReadingsDoNotMakeASentinel) {
+  // Found by the fuzzer: readings whose centimetres overflow a long long.
+  std::vector<double> readings = Continuous(1000);
+  readings.insert(readings.end(), 20, 1e300);
+  readings.insert(readings.end(), 20, 9.3e16);
+  EXPECT_EQ(DetectMaxRangeSentinel(readings), std::nullopt);
+  readings.insert(readings.end(), 20, 81.91);
+  EXPECT_DOUBLE_EQ(DetectMaxRangeSentinel(readings).value_or(0.0), 81.41);
+}
+
 // A log whose readings include 12 sentinels of 81.83 m among ordinary returns.
 std::string LogWithSentinel() {
   std::string text;
