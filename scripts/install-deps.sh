@@ -10,6 +10,8 @@ packages=(
   g++ make cmake ninja-build pkg-config
   # libraries (all from Debian, see README "Dependencies")
   libeigen3-dev libcli11-dev nlohmann-json3-dev libfmt-dev libcairo2-dev libtbb-dev zlib1g-dev
+  # whole-buffer gunzip for the log readers (zlib reads them when it is absent)
+  libdeflate-dev
   # a font for figure labels (Cairo's toy text API goes through fontconfig)
   fonts-dejavu-core
   # tests and benchmarks; clang and its runtime for the libFuzzer harnesses

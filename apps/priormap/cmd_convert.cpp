@@ -1,9 +1,17 @@
-// priormap convert: between CARMEN logs (plain or .gz) and priormap JSON.
+// priormap convert: between CARMEN logs (plain or .gz) and priormap JSON; from the RoboND sonar
+// files (a measurement file and a pose file) to either.
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
+#include <priormap/core/robond_sonar_io.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -11,15 +19,35 @@
 namespace priormap::app {
 namespace {
 
+constexpr const char* kRoboNdSonar = "roboND-sonar";
+
 struct ConvertOptions {
-  std::string input;
+  std::vector<std::string> inputs;
   std::string out;
   std::optional<std::string> from, to;
   std::optional<double> max_range, min_range, fov_deg, sigma;
   std::optional<std::string> poses;
 };
 
+// The RoboND sonar files, converted as documented in docs/formats.md.
+Log ReadRoboNd(const ConvertOptions& o) {
+  if (o.inputs.size() != 2)
+    throw UserError(
+        fmt::format("--from {} reads two files: measurement.txt poses.txt", kRoboNdSonar));
+  RoboNdSonarOptions options;
+  if (o.min_range) options.min_range = *o.min_range;
+  if (o.max_range) options.no_echo_mm = *o.max_range * 1000.0;
+  Log log = ValueOrThrow(ReadRoboNdSonar(o.inputs[0], o.inputs[1], options));
+  if (o.poses) log.pose_source = *PoseSourceFromString(*o.poses);
+  return log;
+}
+
 void Run(const ConvertOptions& o) {
+  const bool robond = o.from && *o.from == kRoboNdSonar;
+  if (!robond && o.inputs.size() != 1)
+    throw UserError(
+        fmt::format("convert reads one log (two files only with --from {})", kRoboNdSonar));
+  const std::string& input = o.inputs[0];
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
   if (o.min_range) carmen.min_range = *o.min_range;
@@ -27,14 +55,28 @@ void Run(const ConvertOptions& o) {
   if (o.sigma) carmen.sigma = *o.sigma;
   if (o.poses) carmen.pose_source = *PoseSourceFromString(*o.poses);
 
-  const std::string text = ValueOrThrow(ReadFileText(o.input));
-  const LogFormat from = o.from ? *LogFormatFromString(*o.from) : SniffLogFormat(text);
+  std::optional<LogFormat> from;
   CarmenReadStats stats;
-  Log log = ValueOrThrow(from == LogFormat::kJson ? ParseJsonLog(text, o.input)
-                                                  : ParseCarmenLog(text, o.input, carmen, &stats));
-  if (from == LogFormat::kJson && o.poses) log.pose_source = carmen.pose_source;
+  Log log;
+  if (robond) {
+    log = ReadRoboNd(o);
+  } else {
+    const std::string text = ValueOrThrow(ReadFileText(input));
+    from = o.from ? *LogFormatFromString(*o.from) : SniffLogFormat(text);
+    log = ValueOrThrow(from == LogFormat::kJson ? ParseJsonLog(text, input)
+                                                : ParseCarmenLog(text, input, carmen, &stats));
+    if (from == LogFormat::kJson && o.poses) log.pose_source = carmen.pose_source;
+  }
 
   const LogFormat to = o.to ? *LogFormatFromString(*o.to) : LogFormatFromPath(o.out);
+  const auto rings = std::count_if(log.scans.begin(), log.scans.end(),
+                                   [](const Scan& scan) { return scan.sonar.has_value(); });
+  // CARMEN's laser records have no cone: a ring written there would come back as a laser scan.
+  if (to == LogFormat::kCarmen && rings > 0)
+    throw UserError(
+        fmt::format("{} holds {} sonar rings, which CARMEN cannot carry; write "
+                    "priormap JSON (.json or .json.gz)",
+                    input, rings));
   WriteLog(log, o.out, to);
 
   std::size_t valid = 0, max_range = 0, invalid = 0;
@@ -45,9 +87,11 @@ void Run(const ConvertOptions& o) {
       invalid += s == BeamStatus::kInvalid;
     }
   }
-  fmt::print("read {} ({}): {}, {} odometry, {} true poses, {} params\n", o.input, ToString(from),
-             Plural(log.scans.size(), "scan"), log.odometry.size(), log.true_poses.size(),
-             log.params.size());
+  fmt::print("read {} ({}): {}{}, {} odometry, {} true poses, {} params\n",
+             fmt::join(o.inputs, " "), from ? ToString(*from) : kRoboNdSonar,
+             Plural(log.scans.size(), "scan"),
+             rings > 0 ? fmt::format(" ({} sonar rings)", rings) : "", log.odometry.size(),
+             log.true_poses.size(), log.params.size());
   fmt::print("readings: {} valid, {} max-range, {} invalid\n", valid, max_range, invalid);
   if (from == LogFormat::kCarmen) {
     if (o.max_range) {
@@ -76,19 +120,27 @@ void Run(const ConvertOptions& o) {
 void AddConvertCommand(CLI::App& app) {
   auto o = std::make_shared<ConvertOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "convert", "Convert a log between CARMEN (plain or .gz) and priormap JSON");
-  cmd->add_option("input", o->input, "Input log")->required();
+      "convert",
+      "Convert a log between CARMEN (plain or .gz) and priormap JSON, or the RoboND sonar files "
+      "(--from roboND-sonar measurement.txt poses.txt) to priormap JSON");
+  cmd->add_option("input", o->inputs,
+                  "Input log (with --from roboND-sonar: measurement.txt poses.txt)")
+      ->required()
+      ->expected(1, 2);
   cmd->add_option("-o,--out", o->out,
                   "Output file: .json / .json.gz (JSON) or anything else (CARMEN); .gz compresses")
       ->required();
   cmd->add_option("--from", o->from, "Input format (default: from the content)")
-      ->check(CLI::IsMember({"carmen", "json"}));
+      ->check(CLI::IsMember({"carmen", "json", kRoboNdSonar}));
   cmd->add_option("--to", o->to, "Output format (default: from the extension)")
       ->check(CLI::IsMember({"carmen", "json"}));
   cmd->add_option("--max-range", o->max_range,
-                  "CARMEN: readings at or above this are max-range (default: detected)")
+                  "CARMEN: readings at or above this are max-range (default: detected); "
+                  "roboND-sonar: the no-echo range (default 5.11 m)")
       ->check(PositiveValue());
-  cmd->add_option("--min-range", o->min_range, "CARMEN: readings below this are invalid")
+  cmd->add_option("--min-range", o->min_range,
+                  "CARMEN and roboND-sonar: readings below this are invalid (roboND default: "
+                  "0.17 m)")
       ->check(NonNegativeValue());
   cmd->add_option("--fov", o->fov_deg,
                   "CARMEN: field of view of FLASER/RLASER lines, degrees (default 180)")

@@ -17,6 +17,8 @@
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "log_selection.hpp"
+#include "sensor_choice.hpp"
+#include "sonar_grid_command.hpp"
 
 namespace priormap::app {
 namespace {
@@ -25,7 +27,9 @@ struct GridCliOptions {
   std::string log;
   std::string range = ":";
   std::string out;
+  std::string sensor = "auto";  // --sensor: auto, laser or sonar
   grid::GridOptions grid;
+  bool max_range_given = false;
 };
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
@@ -37,6 +41,13 @@ void RunGridCommand(const GridCliOptions& o) {
   const Log log = ValueOrThrow(ReadLog(o.log));
   const double read_time = SecondsSince(read_start);
   const auto [first, end] = SelectedScans(ParseScanRange(o.range), log.scans.size());
+  if (ResolveSensor(o.sensor, log, first, end) == Sensor::kSonar) {
+    grid::SonarGridOptions sonar;
+    sonar.resolution = o.grid.resolution;
+    if (o.max_range_given) sonar.max_range = o.grid.max_range;
+    RunSonarGrid(log, o.log, first, end, sonar, o.out, read_time);
+    return;
+  }
   const Box2 extent = grid::OccupancyGrid::ExtentOf(log, first, end, o.grid);
   if (extent.isEmpty()) throw UserError("the selected scans have no usable reading");
   EnsureDirectory(o.out);
@@ -75,7 +86,8 @@ void RunGridCommand(const GridCliOptions& o) {
 void AddGridCommand(CLI::App& app) {
   auto o = std::make_shared<GridCliOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "grid", "Log-odds occupancy grid of a localized laser log (PNG, map_server PGM + YAML)");
+      "grid",
+      "Log-odds occupancy grid of a localized laser or sonar log (PNG, map_server PGM + YAML)");
   cmd->add_option("--log", o->log, "Localized log (CARMEN or priormap JSON, .gz or not)")
       ->required();
   cmd->add_option("--range", o->range, "Scans a:b of the log (b exclusive; a: or :b)")
@@ -84,15 +96,24 @@ void AddGridCommand(CLI::App& app) {
   cmd->add_option("--resolution", o->grid.resolution, "Cell size, m")
       ->check(PositiveValue())
       ->capture_default_str();
+  cmd->add_option("--sensor", o->sensor,
+                  "Laser beams or sonar cones (the arc model); auto: sonar when the scans are "
+                  "sonar rings")
+      ->check(CLI::IsMember({"auto", "laser", "sonar"}))
+      ->capture_default_str();
   cmd->add_option("--beam-step", o->grid.beam_step,
                   "Use every k-th beam of each scan (as prf --beam-step, for equal data)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
       ->capture_default_str();
   cmd->add_option("--max-range", o->grid.max_range,
-                  "Beams are inserted up to this range; max readings clear up to it, m")
+                  "Beams are inserted up to this range; max readings clear up to it, m (sonar: "
+                  "5 m unless given)")
       ->check(PositiveValue())
       ->capture_default_str();
-  cmd->callback([o] { RunGridCommand(*o); });
+  cmd->callback([o, cmd] {
+    o->max_range_given = cmd->count("--max-range") > 0;
+    RunGridCommand(*o);
+  });
 }
 
 }  // namespace priormap::app

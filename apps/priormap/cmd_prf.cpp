@@ -24,11 +24,13 @@
 #include <priormap/prf/moves.hpp>
 #include <priormap/prf/polygon_map.hpp>
 #include <priormap/prf/prior_stats.hpp>
+#include <priormap/prf/sonar_mapping.hpp>
 #include <priormap/render/prf_figures.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "log_selection.hpp"
+#include "sensor_choice.hpp"
 
 namespace priormap::app {
 namespace {
@@ -158,6 +160,7 @@ struct MappingCliOptions {
   prf::LaserSelection selection;
   prf::MappingOptions mapping;
   bool anneal = false;
+  std::string sensor = "auto";  // --sensor: auto, laser or sonar
   // How this session runs (not part of the run: not saved in run.json).
   std::string resume;
   double checkpoint_every_s = 5.0;
@@ -168,8 +171,9 @@ struct MappingCliOptions {
 nlohmann::json RunJson(const MappingCliOptions& o) {
   const prf::MappingOptions& m = o.mapping;
   return {{"format", "priormap prf run"},
-          {"version", 1},
+          {"version", 2},
           {"log", std::filesystem::absolute(o.log).string()},
+          {"sensor", o.sensor},
           {"range", o.range},
           {"beam_step", o.selection.beam_step},
           {"max_range", o.selection.max_range},
@@ -182,6 +186,8 @@ nlohmann::json RunJson(const MappingCliOptions& o) {
           {"anneal_steps", m.anneal_steps},
           {"sigma", m.model.sigma},
           {"cell_size", m.cell_size},
+          {"guided_births", m.sampler.weights[prf::MoveKind::kGuidedTriangle]},
+          {"guide_jitter", m.guide_jitter},
           {"resolution", m.raster_resolution},
           {"trace_every", m.trace_every},
           {"check", m.sampler.check_invariants}};
@@ -199,9 +205,11 @@ MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCli
   MappingCliOptions o = session;
   try {
     const nlohmann::json j = nlohmann::json::parse(text);
-    if (j.at("format") != "priormap prf run" || j.at("version") != 1)
+    if (j.at("format") != "priormap prf run" || j.at("version") != 2)
       throw UserError(fmt::format("{}: not a run file of this version", path.string()));
     o.log = j.at("log").get<std::string>();
+    // Runs written before --sensor existed are laser runs.
+    o.sensor = j.contains("sensor") ? j.at("sensor").get<std::string>() : "laser";
     o.range = j.at("range").get<std::string>();
     o.selection.beam_step = j.at("beam_step").get<std::size_t>();
     o.selection.max_range = j.at("max_range").get<double>();
@@ -215,6 +223,8 @@ MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCli
     m.anneal_steps = j.at("anneal_steps").get<std::uint64_t>();
     m.model.sigma = j.at("sigma").get<double>();
     m.cell_size = j.at("cell_size").get<double>();
+    m.sampler.weights[prf::MoveKind::kGuidedTriangle] = j.at("guided_births").get<double>();
+    m.guide_jitter = j.at("guide_jitter").get<double>();
     m.raster_resolution = j.at("resolution").get<double>();
     m.trace_every = j.at("trace_every").get<std::uint64_t>();
     m.sampler.check_invariants = j.at("check").get<bool>();
@@ -277,20 +287,54 @@ class MappingStatus {
   int last_percent_ = -1;
 };
 
+// The run's readings, laser beams or sonar cones (--sensor), as RunMapping takes them.
+struct SelectedData {
+  prf::MappingData mapping;
+  bool sonar = false;
+  std::size_t readings = 0;
+  std::vector<Vec2> sensors;
+  double max_range = 0.0;
+};
+
+SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
+  SelectedData d;
+  const std::size_t end = o.selection.end_scan.value_or(log.scans.size());
+  d.sonar = ResolveSensor(o.sensor, log, o.selection.first_scan, end) == Sensor::kSonar;
+  if (d.sonar) {
+    auto selected = prf::SelectSonarReadings(log, {.first_scan = o.selection.first_scan,
+                                                   .end_scan = o.selection.end_scan,
+                                                   .max_range = o.selection.max_range});
+    if (auto* problem = std::get_if<std::string>(&selected)) throw UserError(*problem);
+    const auto sonar =
+        std::make_shared<const prf::SonarData>(std::get<prf::SonarData>(std::move(selected)));
+    d.mapping = prf::SonarMappingData(sonar, prf::SonarModel{}, o.mapping);
+    d.readings = sonar->readings.size();
+    d.sensors = sonar->sensors;
+    d.max_range = sonar->max_range;
+    return d;
+  }
+  auto selected = prf::SelectBeams(log, o.selection);
+  if (auto* problem = std::get_if<std::string>(&selected)) throw UserError(*problem);
+  const auto laser =
+      std::make_shared<const prf::LaserData>(std::get<prf::LaserData>(std::move(selected)));
+  if (const std::string problem = o.mapping.model.Problem(); !problem.empty())
+    throw UserError("laser model: " + problem);
+  d.mapping = prf::LaserMappingData(laser, o.mapping);
+  d.readings = laser->beams.size();
+  d.sensors = laser->sensors;
+  d.max_range = laser->max_range;
+  return d;
+}
+
 void RunMappingCommand(MappingCliOptions o) {
   const bool resuming = !o.resume.empty();
   if (resuming) o = RunFromJson(o.resume, o);
-  if (o.log.empty()) throw UserError("--log is required (or a subcommand: prior-stats)");
+  if (o.log.empty()) throw UserError("--log is required (or a subcommand: prior-stats, study)");
   if (o.out.empty()) throw UserError("-o/--out is required");
   const Log log = ValueOrThrow(ReadLog(o.log));
   std::tie(o.selection.first_scan, o.selection.end_scan) =
       SelectedScans(ParseScanRange(o.range), log.scans.size());
-  auto selected = prf::SelectBeams(log, o.selection);
-  if (auto* problem = std::get_if<std::string>(&selected)) throw UserError(*problem);
-  const auto data =
-      std::make_shared<const prf::LaserData>(std::get<prf::LaserData>(std::move(selected)));
-  if (const std::string problem = o.mapping.model.Problem(); !problem.empty())
-    throw UserError("laser model: " + problem);
+  const SelectedData data = SelectData(log, o);
   if (o.anneal && o.mapping.anneal_steps == 0) o.mapping.anneal_steps = o.mapping.samples;
   if (!o.anneal) o.mapping.anneal_steps = 0;
   EnsureDirectory(o.out);
@@ -301,8 +345,8 @@ void RunMappingCommand(MappingCliOptions o) {
     std::filesystem::remove(dir / "summary.json");
     WriteTextFileAtomically(dir / "run.json", RunJson(o).dump(2) + "\n");
   }
-  fmt::print(stderr, "{} beams from {} sensor positions, R = {} m\n", data->beams.size(),
-             data->sensors.size(), data->max_range);
+  fmt::print(stderr, "{} {} from {} sensor positions, R = {} m\n", data.readings,
+             data.sonar ? "sonar readings" : "beams", data.sensors.size(), data.max_range);
 
   const prf::MappingSession session{.checkpoint_directory = dir / "checkpoints",
                                     .checkpoint_every_s = o.checkpoint_every_s,
@@ -314,7 +358,7 @@ void RunMappingCommand(MappingCliOptions o) {
   {
     const StopOnSignals stop_on_signals;
     try {
-      r = prf::RunMapping(data, o.mapping, std::ref(status), session);
+      r = prf::RunMapping(data.mapping, o.mapping, std::ref(status), session);
     } catch (const BinaryFormatError& e) {
       throw UserError(fmt::format("cannot resume: {}", e.what()));
     }
@@ -339,12 +383,12 @@ void RunMappingCommand(MappingCliOptions o) {
   WriteMapServerMap(dir / "posterior.yaml", posterior);
   render::SaveProbabilityFigure(dir / "posterior.png", posterior,
                                 fmt::format("PRF posterior P(black), p = {}", o.mapping.sampler.p),
-                                data->sensors);
+                                data.sensors);
   const OccupancyRaster white{.probability = (1.0 - r.white_fraction.array()).matrix(),
                               .origin = r.raster.origin,
                               .resolution = r.raster.cell.x()};
   render::SaveProbabilityFigure(dir / "not_white.png", white, "PRF: 1 - P(cell completely white)",
-                                data->sensors);
+                                data.sensors);
   std::string trace = "sample";
   for (std::size_t c = 0; c < r.chains.size(); ++c) trace += fmt::format(",chain{}", c);
   trace += "\n";
@@ -360,8 +404,9 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["log"] = std::filesystem::absolute(o.log).string();
   summary["resumed_steps"] = r.resumed_steps;
   summary["range"] = o.range;
-  summary["beams"] = data->beams.size();
-  summary["sensor_positions"] = data->sensors.size();
+  summary["sensor"] = data.sonar ? "sonar" : "laser";
+  summary["beams"] = data.readings;  // sonar: readings (cones)
+  summary["sensor_positions"] = data.sensors.size();
   summary["p"] = o.mapping.sampler.p;
   summary["seed"] = o.mapping.seed;
   summary["chains"] = o.mapping.chains;
@@ -416,6 +461,10 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
   cmd.add_option("--log", o->log, "Localized laser log (CARMEN or priormap JSON, .gz or not)");
   cmd.add_option("--range", o->range, "Scans a:b of the log (b exclusive; a: or :b)")
       ->capture_default_str();
+  cmd.add_option("--sensor", o->sensor,
+                 "Map from laser beams or sonar cones; auto: sonar when the scans are sonar rings")
+      ->check(CLI::IsMember({"auto", "laser", "sonar"}))
+      ->capture_default_str();
   cmd.add_option("--beam-step", o->selection.beam_step, "Use every k-th beam of each scan")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
       ->capture_default_str();
@@ -439,6 +488,16 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
   cmd.add_flag("--anneal", o->anneal, "Anneal the best chain to a MAP polygonal map");
   cmd.add_option("--anneal-steps", m.anneal_steps, "Annealing steps (default: --samples)");
   cmd.add_option("--sigma", m.model.sigma, "Range noise of the beam model, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd.add_option("--guided-births", m.sampler.weights[prf::MoveKind::kGuidedTriangle],
+                 "Weight of the guided triangle births, which put an edge along the readings' end "
+                 "points (the other kinds weigh 0.5 to 2); 0 switches them off")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd.add_option("--guide-jitter", m.guide_jitter,
+                 "Half-width of the squares around the end points where guided births put their "
+                 "vertices, m")
       ->check(PositiveValue())
       ->capture_default_str();
   cmd.add_option("--cell-size", m.cell_size, "Cell of the edge and beam indices, m")
@@ -473,11 +532,13 @@ void AddPrfCommand(CLI::App& app) {
   auto o = std::make_shared<MappingCliOptions>();
   CLI::App* cmd = app.add_subcommand(
       "prf",
-      "Polygonal random field map of a localized laser log (Paskin & Thrun): posterior chains, "
-      "P(black), R-hat, --anneal for a MAP polygon map; or the subcommand prior-stats");
+      "Polygonal random field map of a localized laser or sonar log (Paskin & Thrun): posterior "
+      "chains, P(black), R-hat, --anneal for a MAP polygon map; or the subcommands prior-stats, "
+      "study");
   cmd->require_subcommand(0, 1);
   AddMappingOptions(*cmd, o);
   AddPriorStats(*cmd);
+  AddPrfStudyCommand(*cmd);
   cmd->callback([o, cmd] {
     if (!cmd->get_subcommands().empty()) return;
     if (!o->resume.empty()) {

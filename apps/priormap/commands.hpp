@@ -12,6 +12,8 @@ void AddPriorCommand(CLI::App& app);
 void AddScanCommand(CLI::App& app);
 void AddSlamCommand(CLI::App& app);
 void AddPrfCommand(CLI::App& app);
+/// `prf study`, registered on the prf command by AddPrfCommand.
+void AddPrfStudyCommand(CLI::App& prf_cmd);
 void AddGridCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);

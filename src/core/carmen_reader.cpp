@@ -19,6 +19,9 @@
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/file_io.hpp>
 
+#include "gunzip.hpp"
+#include "number_text.hpp"
+
 namespace priormap {
 namespace {
 
@@ -29,36 +32,30 @@ struct Token {
   int col = 0;  // 1-based
 };
 
+// Fields are separated by runs of spaces, tabs and carriage returns; any other byte belongs to
+// a field.
+bool IsSeparator(char c) {
+  // Most bytes are field bytes above ' ': one comparison settles them.
+  return static_cast<unsigned char>(c) <= ' ' && (c == ' ' || c == '\t' || c == '\r');
+}
+
 void Tokenize(std::string_view line, std::vector<Token>& tokens) {
   tokens.clear();
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
-    if (i > start) tokens.push_back({line.substr(start, i - start), static_cast<int>(start) + 1});
+  const char* const begin = line.data();
+  const char* const end = begin + line.size();
+  const char* p = begin;
+  for (;;) {
+    while (p != end && IsSeparator(*p)) ++p;
+    if (p == end) return;
+    const char* const start = p;
+    while (p != end && !IsSeparator(*p)) ++p;
+    tokens.push_back({std::string_view(start, static_cast<std::size_t>(p - start)),
+                      static_cast<int>(start - begin) + 1});
   }
 }
 
-std::optional<double> ParseDouble(std::string_view text) {
-  // from_chars takes no '+' sign; accept one, but not "+-1".
-  if (text.size() > 1 && text.front() == '+' && text[1] != '-' && text[1] != '+')
-    text.remove_prefix(1);
-  double value = 0.0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  // "-nan" and "nan" mean the same missing value; one NaN keeps a round trip through formats
-  // without a sign for NaN (JSON's null) the same.
-  if (std::isnan(value)) return std::numeric_limits<double>::quiet_NaN();
-  return value;
-}
-
-std::optional<long long> ParseInteger(std::string_view text) {
-  long long value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  return value;
-}
+using detail::ParseDouble;
+using detail::ParseInteger;
 
 // A field that failed to parse: its diagnostic is already recorded.
 struct FieldError {};
@@ -116,7 +113,26 @@ class FieldReader {
     return static_cast<int>(*v);
   }
 
+  // `count` numbers, every one finite when `finite`, if the next `count` fields are such; false
+  // (and nothing read) otherwise, for the field-by-field path to report what is wrong. The fast
+  // path of whole records.
+  bool TryNumbers(double* values, std::size_t count, bool finite) {
+    if (remaining() < count) return false;
+    for (std::size_t k = 0; k < count; ++k) {
+      const auto v = ParseDouble(tokens_[next_ + k].text);
+      if (!v || (finite && !std::isfinite(*v))) return false;
+      values[k] = *v;
+    }
+    next_ += count;
+    return true;
+  }
+
   Se2 Pose(std::string_view what) {
+    if (std::array<double, 3> v{}; TryNumbers(v.data(), 3, true)) return {v[0], v[1], v[2]};
+    return PoseFieldByField(what);
+  }
+
+  Se2 PoseFieldByField(std::string_view what) {
     std::array<double, 3> v{};
     constexpr std::array<std::string_view, 3> kAxes{"x", "y", "theta"};
     for (std::size_t k = 0; k < 3; ++k) {
@@ -195,6 +211,7 @@ class CarmenParser {
       : name_(name), options_(options), stats_(stats) {}
 
   Result<Log> Parse(std::string_view text) {
+    Reserve(text);
     int line_number = 0;
     std::size_t start = 0;
     while (start < text.size() && !TooManyErrors()) {
@@ -217,6 +234,39 @@ class CarmenParser {
   }
 
  private:
+  // The records' vectors sized once, from a count of the lines by their first field: each
+  // reallocation of a vector of megabytes is fresh memory, whose page faults cost more than
+  // this pass.
+  void Reserve(std::string_view text) {
+    std::size_t scans = 0, odometry = 0, true_poses = 0, params = 0;
+    const auto starts = [](std::string_view line, std::string_view type) {
+      return line.substr(0, type.size()) == type && line.size() > type.size() &&
+             IsSeparator(line[type.size()]);
+    };
+    for (std::size_t start = 0; start < text.size();) {
+      std::size_t end = text.find('\n', start);
+      if (end == std::string_view::npos) end = text.size();
+      std::string_view line = text.substr(start, end - start);
+      while (!line.empty() && IsSeparator(line.front())) line.remove_prefix(1);
+      if (starts(line, "ODOM")) {
+        ++odometry;
+      } else if (starts(line, "FLASER") || starts(line, "RLASER") || starts(line, "ROBOTLASER1")) {
+        ++scans;
+      } else if (starts(line, "TRUEPOS")) {
+        ++true_poses;
+      } else if (starts(line, "PARAM")) {
+        ++params;
+      }
+      start = end + 1;
+    }
+    log_.scans.reserve(scans);
+    own_max_ranges_.reserve(scans);
+    log_.odometry.reserve(odometry);
+    log_.true_poses.reserve(true_poses);
+    log_.params.reserve(params);
+    log_.order.reserve(scans + odometry + true_poses + params);
+  }
+
   // At least one diagnostic is always allowed: with max_diagnostics <= 0 nothing would be read
   // and a valid log would be reported as having no records.
   bool TooManyErrors() const {
@@ -261,7 +311,8 @@ class CarmenParser {
 
   std::vector<double> Readings(FieldReader& fields, long long n) {
     std::vector<double> ranges(static_cast<std::size_t>(n));
-    for (double& r : ranges) r = fields.Number("a range reading");
+    if (!fields.TryNumbers(ranges.data(), ranges.size(), false))
+      for (double& r : ranges) r = fields.Number("a range reading");
     return ranges;
   }
 
@@ -329,6 +380,7 @@ class CarmenParser {
     laser.start_angle = start_angle;
     laser.fov = fov;
     laser.angular_resolution = resolution;
+    laser.maximum_range = max_range;
     scan.pose = fields.Pose("laser pose");
     scan.robot_pose = fields.Pose("robot pose");
     laser.tv = fields.Number("tv");
@@ -387,11 +439,11 @@ class CarmenParser {
   // the no-return sentinel detected among the scans without their own (FLASER/RLASER carry
   // none); else none (+inf). Detection needs every reading, so statuses are set last.
   void FinishScans() {
-    std::vector<double> readings;
-    for (std::size_t k = 0; k < log_.scans.size(); ++k) {
-      if (own_max_ranges_[k]) continue;
-      readings.insert(readings.end(), log_.scans[k].ranges.begin(), log_.scans[k].ranges.end());
-    }
+    // The scans' readings in place: a copy of them all is megabytes of fresh pages.
+    std::vector<std::span<const double>> readings;
+    readings.reserve(log_.scans.size());
+    for (std::size_t k = 0; k < log_.scans.size(); ++k)
+      if (!own_max_ranges_[k]) readings.emplace_back(log_.scans[k].ranges);
     stats_.detected_max_range = DetectMaxRangeSentinel(readings);
     for (std::size_t k = 0; k < log_.scans.size(); ++k) {
       Scan& scan = log_.scans[k];
@@ -437,9 +489,9 @@ Result<Log> ParseCarmenLog(std::string_view text, const std::string& name,
 
 Result<Log> ReadCarmenLog(const std::filesystem::path& path, const CarmenReadOptions& options,
                           CarmenReadStats* stats) {
-  Result<std::string> text = ReadFileText(path);
-  if (!text) return text.diagnostics();
-  return ParseCarmenLog(text.value(), path.string(), options, stats);
+  const Result<detail::ByteBuffer> bytes = detail::ReadWholeFile(path);
+  if (!bytes) return bytes.diagnostics();
+  return ParseCarmenLog(bytes.value().view(), path.string(), options, stats);
 }
 
 }  // namespace priormap

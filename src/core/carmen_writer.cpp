@@ -149,8 +149,12 @@ void AppendScan(std::string& out, const Scan& scan, std::size_t index) {
                        : scan.size() > 1 ? resolution * static_cast<double>(scan.size() - 1)
                                          : 0.0;
     RequireFinite(fov, "field of view", record);
+    // The record's own maximum_range as read: writing the detected one in its place would make
+    // the record's readings leave the detection when the log is read again.
+    const double max_range =
+        own_fov && carmen.maximum_range ? *carmen.maximum_range : scan.max_range;
     fmt::format_to(std::back_inserter(out), "ROBOTLASER1 {} {} {} {} {} {} {} {}",
-                   carmen.laser_type, start, fov, resolution, scan.max_range, carmen.accuracy,
+                   carmen.laser_type, start, fov, resolution, max_range, carmen.accuracy,
                    carmen.remission_mode, scan.size());
     AppendNumbers(out, scan.ranges);
     fmt::format_to(std::back_inserter(out), " {}", carmen.remissions.size());

@@ -1,6 +1,7 @@
 // priormap.scan / priormap.log JSON documents (docs/formats.md).
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include <climits>
 #include <fmt/format.h>
@@ -54,6 +55,7 @@ OrderedJson CarmenLaserToJson(const CarmenLaserFields& c) {
   j["start_angle"] = detail::NumberToJson(c.start_angle);
   j["fov"] = detail::NumberToJson(c.fov);
   j["angular_resolution"] = detail::NumberToJson(c.angular_resolution);
+  if (c.maximum_range) j["maximum_range"] = detail::NumberToJson(*c.maximum_range);
   j["accuracy"] = detail::NumberToJson(c.accuracy);
   j["remission_mode"] = c.remission_mode;
   j["remissions"] = detail::NumbersToJson(c.remissions);
@@ -69,6 +71,24 @@ OrderedJson CarmenRecordToJson(const CarmenRecordFields& c) {
   return {{"has_timestamps", c.has_timestamps},
           {"host", c.host},
           {"logger_timestamp", detail::NumberToJson(c.logger_timestamp)}};
+}
+
+OrderedJson SonarToJson(const SonarFields& sonar) {
+  OrderedJson j;
+  j["spread"] = detail::NumberToJson(sonar.spread);
+  if (!sonar.origins.empty()) {
+    OrderedJson origins = OrderedJson::array();
+    for (const Vec2& o : sonar.origins)
+      origins.push_back({detail::NumberToJson(o.x()), detail::NumberToJson(o.y())});
+    j["origins"] = std::move(origins);
+  }
+  if (!sonar.true_echo.empty() || !sonar.true_feature.empty()) {
+    OrderedJson echo = OrderedJson::array();
+    for (SonarEcho e : sonar.true_echo) echo.push_back(ToString(e));
+    j["true_echo"] = std::move(echo);
+    j["true_feature"] = sonar.true_feature;
+  }
+  return j;
 }
 
 bool StatusesAreDerivable(const Scan& scan) {
@@ -120,6 +140,7 @@ OrderedJson ScanToJson(const Scan& scan, OrderedJson j) {
     j["true_outlier"] = scan.truth->outlier;
   }
   if (scan.carmen) j["carmen"] = CarmenLaserToJson(*scan.carmen);
+  if (scan.sonar) j["sonar"] = SonarToJson(*scan.sonar);
   return j;
 }
 
@@ -237,6 +258,7 @@ CarmenLaserFields ReadCarmenLaser(const JsonNode& node) {
   c.start_angle = number("start_angle", 0.0);
   c.fov = number("fov", 0.0);
   c.angular_resolution = number("angular_resolution", 0.0);
+  c.maximum_range = OptionalNumber(node, "maximum_range", "maximum_range");
   c.accuracy = number("accuracy", 0.0);
   if (const auto n = detail::OptionalMember(node, "remission_mode"))
     c.remission_mode =
@@ -249,6 +271,44 @@ CarmenLaserFields ReadCarmenLaser(const JsonNode& node) {
   c.side_safety_dist = number("side_safety_dist", 0.0);
   c.turn_axis = number("turn_axis", 0.0);
   return c;
+}
+
+// The "sonar" member of a ring's scan record (docs/formats.md): n readings.
+SonarFields ReadSonar(const JsonNode& node, std::size_t n) {
+  detail::RequireObject(node, "\"sonar\" fields");
+  SonarFields sonar;
+  const JsonNode spread = detail::Member(node, "spread");
+  sonar.spread = detail::FiniteNumber(spread, "the sonar cone's spread");
+  if (!(sonar.spread > 0.0 && sonar.spread < std::numbers::pi))
+    detail::Fail(spread, fmt::format("expected the sonar cone's full angle in (0, pi) rad, got {}",
+                                     sonar.spread));
+  if (const auto origins = detail::OptionalMember(node, "origins")) {
+    if (detail::ArraySize(*origins, "\"origins\"") != n)
+      detail::Fail(*origins,
+                   fmt::format("expected {} transducer origins [x, y], one per reading", n));
+    for (std::size_t i = 0; i < n; ++i)
+      sonar.origins.push_back(detail::Point(detail::Element(*origins, i), "a transducer origin"));
+  }
+  const auto echo = detail::OptionalMember(node, "true_echo");
+  const auto feature = detail::OptionalMember(node, "true_feature");
+  if (echo.has_value() != feature.has_value())
+    detail::Fail(node, "expected both \"true_echo\" and \"true_feature\", or neither");
+  if (echo) {
+    if (detail::ArraySize(*echo, "\"true_echo\"") != n)
+      detail::Fail(*echo, fmt::format("expected {} entries in \"true_echo\"", n));
+    for (std::size_t i = 0; i < n; ++i) {
+      const JsonNode e = detail::Element(*echo, i);
+      const std::string name = detail::String(e, "a sonar echo kind");
+      const auto kind = SonarEchoFromString(name);
+      if (!kind)
+        detail::Fail(e, fmt::format("expected a sonar echo kind (\"none\", \"surface\", "
+                                    "\"corner\", \"multipath\" or \"spurious\"), got \"{}\"",
+                                    name));
+      sonar.true_echo.push_back(*kind);
+    }
+    sonar.true_feature = SizedInts(node, "true_feature", n, -1, std::numeric_limits<int>::max());
+  }
+  return sonar;
 }
 
 std::optional<CarmenRecordFields> ReadCarmenRecord(const JsonNode& record) {
@@ -312,6 +372,7 @@ Scan ReadScan(const JsonNode& node) {
   }
   if (const auto carmen = detail::OptionalMember(node, "carmen"))
     scan.carmen = ReadCarmenLaser(*carmen);
+  if (const auto sonar = detail::OptionalMember(node, "sonar")) scan.sonar = ReadSonar(*sonar, n);
   if (const std::vector<std::string> problems = scan.Problems(); !problems.empty()) {
     detail::Fail(node, "inconsistent scan: " + problems.front());
   }

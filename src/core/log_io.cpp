@@ -1,7 +1,8 @@
 #include <algorithm>
 
-#include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
+
+#include "gunzip.hpp"
 
 namespace priormap {
 
@@ -36,13 +37,14 @@ LogFormat LogFormatFromPath(const std::filesystem::path& path) {
 
 Result<Log> ReadLog(const std::filesystem::path& path, std::optional<LogFormat> format,
                     const CarmenReadOptions& carmen_options) {
-  Result<std::string> text = ReadFileText(path);
-  if (!text) return text.diagnostics();
-  switch (format.value_or(SniffLogFormat(text.value()))) {
+  const Result<detail::ByteBuffer> bytes = detail::ReadWholeFile(path);
+  if (!bytes) return bytes.diagnostics();
+  const std::string_view text = bytes.value().view();
+  switch (format.value_or(SniffLogFormat(text))) {
     case LogFormat::kJson:
-      return ParseJsonLog(text.value(), path.string());
+      return ParseJsonLog(text, path.string());
     case LogFormat::kCarmen:
-      return ParseCarmenLog(text.value(), path.string(), carmen_options);
+      return ParseCarmenLog(text, path.string(), carmen_options);
   }
   return Diagnostic{path.string(), 0, 0, "unknown log format"};
 }

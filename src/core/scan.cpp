@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -18,6 +19,29 @@ const char* ToString(BeamStatus status) {
       return "invalid";
   }
   return "?";
+}
+
+const char* ToString(SonarEcho echo) {
+  switch (echo) {
+    case SonarEcho::kNone:
+      return "none";
+    case SonarEcho::kSurface:
+      return "surface";
+    case SonarEcho::kCorner:
+      return "corner";
+    case SonarEcho::kMultipath:
+      return "multipath";
+    case SonarEcho::kSpurious:
+      return "spurious";
+  }
+  return "?";
+}
+
+std::optional<SonarEcho> SonarEchoFromString(std::string_view name) {
+  for (const SonarEcho echo : {SonarEcho::kNone, SonarEcho::kSurface, SonarEcho::kCorner,
+                               SonarEcho::kMultipath, SonarEcho::kSpurious})
+    if (name == ToString(echo)) return echo;
+  return std::nullopt;
 }
 
 BeamStatus ClassifyReading(double range, double min_range, double max_range) {
@@ -59,7 +83,8 @@ std::vector<std::string> Scan::Problems() const {
   require_size(angles.size(), "angles");
   require_size(sigma.size(), "sigma");
   require_size(status.size(), "status");
-  for (std::size_t i = 0; i + 1 < angles.size(); ++i) {
+  // A ring's transducers point where they are mounted, in no particular order.
+  for (std::size_t i = 0; !sonar && i + 1 < angles.size(); ++i) {
     if (!(angles[i + 1] > angles[i])) {
       problems.push_back(fmt::format("angles must increase (beam {} to {})", i, i + 1));
       break;
@@ -86,6 +111,19 @@ std::vector<std::string> Scan::Problems() const {
     require_size(truth->surface.size(), "true_surface");
     require_size(truth->region.size(), "true_region");
     require_size(truth->outlier.size(), "true_outlier");
+  }
+  if (sonar) {
+    if (!(sonar->spread > 0.0 && sonar->spread < std::numbers::pi))
+      problems.push_back(
+          fmt::format("the sonar cone's spread must be in (0, pi) rad (got {})", sonar->spread));
+    if (!sonar->origins.empty()) require_size(sonar->origins.size(), "the sonar origins");
+    if (std::any_of(sonar->origins.begin(), sonar->origins.end(),
+                    [](const Vec2& o) { return !o.allFinite(); }))
+      problems.push_back("the sonar origins must be finite");
+    if (!sonar->true_echo.empty() || !sonar->true_feature.empty()) {
+      require_size(sonar->true_echo.size(), "true_echo");
+      require_size(sonar->true_feature.size(), "true_feature");
+    }
   }
   return problems;
 }

@@ -62,8 +62,9 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
   out.Put(s.vertex_birth_width);
   out.PutVector(s.step_scales);
   const LaserModel& m = options.model;
-  for (double v : {m.sigma, m.hit_weight, m.outlier_weight, m.max_weight, options.cell_size,
-                   options.margin, options.raster_resolution, options.anneal_final_temperature})
+  for (double v :
+       {m.sigma, m.hit_weight, m.outlier_weight, m.max_weight, options.cell_size, options.margin,
+        options.raster_resolution, options.anneal_final_temperature, options.guide_jitter})
     out.Put(v);
   for (std::uint64_t v :
        {options.samples, options.burn_in, options.seed, options.trace_every, options.anneal_steps})

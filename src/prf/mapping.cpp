@@ -44,26 +44,61 @@ std::vector<Vec2> TracePoints(const LaserData& data, const Window& window, int c
   return points;
 }
 
+// The end points of the readings that hit something, inside the window: the guide points of
+// the guided triangle births.
+std::vector<Vec2> HitPoints(const LaserData& data, const Window& window) {
+  std::vector<Vec2> points;
+  for (const LaserBeam& beam : data.beams) {
+    if (beam.max_reading) continue;
+    const Vec2 p = beam.origin + beam.range * beam.direction;
+    if (window.ContainsInterior(p)) points.push_back(p);
+  }
+  return points;
+}
+
 }  // namespace
+
+MappingData LaserMappingData(std::shared_ptr<const LaserData> data, const MappingOptions& options) {
+  MappingData d;
+  d.window = WindowAround(*data, options.margin);
+  d.trace_points = TracePoints(*data, d.window, options.trace_points);
+  d.guide_points = HitPoints(*data, d.window);
+  d.fingerprint = RunFingerprint(*data, options);
+  d.make_data_term = [data, model = options.model, cell_size = options.cell_size] {
+    return std::make_unique<LaserLikelihood>(data, model, cell_size);
+  };
+  return d;
+}
 
 MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOptions& options,
                          const std::function<void(const MappingProgress&)>& progress,
                          const MappingSession& session) {
-  PRIORMAP_CHECK(options.chains >= 1, "at least one chain");
-  PRIORMAP_CHECK(options.trace_every >= 1 && options.chunk >= 1, "positive trace and chunk");
+  return RunMapping(LaserMappingData(std::move(data), options), options, progress, session);
+}
+
+MappingResult RunMapping(const MappingData& data, const MappingOptions& run_options,
+                         const std::function<void(const MappingProgress&)>& progress,
+                         const MappingSession& session) {
+  PRIORMAP_CHECK(run_options.chains >= 1, "at least one chain");
+  PRIORMAP_CHECK(run_options.trace_every >= 1 && run_options.chunk >= 1,
+                 "positive trace and chunk");
   const auto start = Clock::now();
   MappingResult result;
-  result.window = WindowAround(*data, options.margin);
-  result.trace_points = TracePoints(*data, result.window, options.trace_points);
+  result.window = data.window;
+  // The options with the guide of the guided births, which every sampler (fresh, restored or
+  // annealing) shares.
+  MappingOptions options = run_options;
+  if (!options.sampler.guide && options.sampler.weights[MoveKind::kGuidedTriangle] > 0.0)
+    options.sampler.guide = std::make_shared<const BirthGuide>(
+        data.guide_points, options.sampler.birth_scale, options.guide_jitter);
+  result.trace_points = data.trace_points;
 
   const auto chains = static_cast<std::size_t>(options.chains);
   const std::filesystem::path& checkpoints = session.checkpoint_directory;
   PRIORMAP_CHECK(!session.resume || !checkpoints.empty(), "resuming needs a checkpoint directory");
-  const std::uint64_t fingerprint = RunFingerprint(*data, options);
+  const std::uint64_t fingerprint = data.fingerprint;
   if (!checkpoints.empty()) std::filesystem::create_directories(checkpoints);
-  const auto make_likelihood = [&] {
-    return std::make_unique<LaserLikelihood>(data, options.model, options.cell_size);
-  };
+  const auto make_likelihood = [&] { return data.make_data_term(); };
   SamplerOptions sampler_options = options.sampler;
   sampler_options.temperature = 1.0;
 

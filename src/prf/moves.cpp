@@ -15,10 +15,12 @@ constexpr std::array<std::string_view, kNumMoveTypes> kTypeNames{"triangle_birth
                                                                  "boundary_move",
                                                                  "recolor",
                                                                  "local_recolor",
-                                                                 "slide"};
+                                                                 "slide",
+                                                                 "guided_triangle_birth",
+                                                                 "guided_triangle_death"};
 constexpr std::array<std::string_view, kNumMoveKinds> kKindNames{
     "triangle",      "boundary_triangle", "corner",        "vertex", "interior_move",
-    "boundary_move", "recolor",           "local_recolor", "slide"};
+    "boundary_move", "recolor",           "local_recolor", "slide",  "guided_triangle"};
 
 }  // namespace
 

@@ -49,6 +49,12 @@ PriorStatsResult RunPriorStats(const PriorStatsOptions& options) {
   sampler_options.p = options.p;
   sampler_options.birth_scale *= side;
   for (double& scale : sampler_options.step_scales) scale *= side;
+  if (!options.guide_points.empty()) {
+    std::vector<Vec2> guide_points;
+    for (const Vec2& g : options.guide_points) guide_points.push_back(side * g);
+    sampler_options.guide = std::make_shared<const BirthGuide>(
+        std::move(guide_points), sampler_options.birth_scale, options.guide_jitter * side);
+  }
   // About one expected edge per cell keeps crossing tests and local recolors cheap.
   const double expected_edges = ExpectedEdges(options.p, window);
   const int cells_per_side =

@@ -44,8 +44,11 @@ PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t 
                    "step scales must be positive and below half the perimeter");
   PRIORMAP_CHECK(options_.temperature > 0.0, "the temperature must be positive");
   double total = 0.0;
-  for (double w : options_.weights.weight) {
+  const bool guided = options_.guide && options_.guide->size() > 0;
+  for (int k = 0; k < kNumMoveKinds; ++k) {
+    double w = options_.weights.weight[static_cast<std::size_t>(k)];
     PRIORMAP_CHECK(w >= 0.0, "move weights must be non-negative");
+    if (static_cast<MoveKind>(k) == MoveKind::kGuidedTriangle && !guided) w = 0.0;
     total += w;
     cumulative_weights_.push_back(total);
   }
@@ -63,7 +66,9 @@ MoveType PrfSampler::ChooseType() {
       static_cast<int>(std::upper_bound(cumulative_weights_.begin(), cumulative_weights_.end(), u) -
                        cumulative_weights_.begin());
   // u can round up to the total; then take the last kind that has weight.
-  while (kind >= kNumMoveKinds || options_.weights.weight[static_cast<std::size_t>(kind)] == 0.0)
+  while (kind >= kNumMoveKinds ||
+         cumulative_weights_[static_cast<std::size_t>(kind)] ==
+             (kind > 0 ? cumulative_weights_[static_cast<std::size_t>(kind) - 1] : 0.0))
     --kind;
   switch (static_cast<MoveKind>(kind)) {
     case MoveKind::kTriangle:
@@ -85,6 +90,8 @@ MoveType PrfSampler::ChooseType() {
       return MoveType::kLocalRecolor;
     case MoveKind::kSlide:
       return MoveType::kSlide;
+    case MoveKind::kGuidedTriangle:
+      return rng_.Bernoulli(0.5) ? MoveType::kGuidedTriangleBirth : MoveType::kGuidedTriangleDeath;
   }
   return MoveType::kInteriorMove;
 }
@@ -153,6 +160,10 @@ bool PrfSampler::Propose(MoveType type, Edit* edit, double* log_q) {
       return ProposeRecolor(edit, log_q, true);
     case MoveType::kSlide:
       return ProposeSlide(edit);
+    case MoveType::kGuidedTriangleBirth:
+      return ProposeGuidedTriangleBirth(edit, log_q);
+    case MoveType::kGuidedTriangleDeath:
+      return ProposeGuidedTriangleDeath(edit, log_q);
   }
   return false;
 }
@@ -221,23 +232,16 @@ int SharedCorner(int side1, int side2) {
 
 // ---- births and deaths --------------------------------------------------------------------
 
-bool PrfSampler::ProposeTriangleBirth(Edit* edit, double* log_q) {
-  const Window& w = coloring_.window();
-  const double r = options_.birth_scale;
-  const Vec2 a(rng_.Uniform(w.min.x(), w.max.x()), rng_.Uniform(w.min.y(), w.max.y()));
-  const Vec2 b = a + Vec2(rng_.Uniform(-r, r), rng_.Uniform(-r, r));
-  const Vec2 c = a + Vec2(rng_.Uniform(-r, r), rng_.Uniform(-r, r));
+void PrfSampler::AddTriangle(const Vec2& a, const Vec2& b, const Vec2& c, Edit* edit) {
   for (const Vec2& x : {a, b, c}) edit->new_vertices.push_back({x, kInterior});
   edit->added_edges.push_back({Fresh(0), Fresh(1)});
   edit->added_edges.push_back({Fresh(1), Fresh(2)});
   edit->added_edges.push_back({Fresh(2), Fresh(0)});
   for (const Vec2& x : {a, b, c}) edit->flipped_region.push_back(x);
-  const double n_after = static_cast<double>(coloring_.interior_vertices().size() + 3);
-  *log_q = std::log(3.0 / n_after) - std::log(TriangleDensity(a, b, c));
-  return true;
 }
 
-bool PrfSampler::ProposeTriangleDeath(Edit* edit, double* log_q) {
+bool PrfSampler::ProposeFreeTriangleRemoval(Edit* edit, double* log_pi,
+                                            std::array<Vec2, 3>* corners) {
   const auto drawn = DrawInteriorVertex();
   if (!drawn) return false;
   const auto [v, u, x, n_interior] = *drawn;
@@ -245,15 +249,60 @@ bool PrfSampler::ProposeTriangleDeath(Edit* edit, double* log_q) {
   if (coloring_.vertex(u).side != kInterior || coloring_.vertex(x).side != kInterior) return false;
   const EdgeId closing = OtherEdge(coloring_.vertex(u), vertex.edges[0]);
   if (coloring_.Other(closing, u) != x) return false;
-  const double density =
-      TriangleDensity(vertex.position, coloring_.vertex(u).position, coloring_.vertex(x).position);
-  if (density == 0.0) return false;
   for (EdgeId e : {vertex.edges[0], vertex.edges[1], closing}) edit->removed_edges.push_back(e);
+  int k = 0;
   for (VertexId y : {v, u, x}) {
     edit->removed_vertices.push_back(y);
     edit->flipped_region.push_back(coloring_.vertex(y).position);
+    (*corners)[k++] = coloring_.vertex(y).position;
   }
-  *log_q = std::log(density) - std::log(3.0 / static_cast<double>(n_interior));
+  // A given triangle is drawn through any of its three vertices.
+  *log_pi = std::log(3.0 / static_cast<double>(n_interior));
+  return true;
+}
+
+bool PrfSampler::ProposeTriangleBirth(Edit* edit, double* log_q) {
+  const Window& w = coloring_.window();
+  const double r = options_.birth_scale;
+  const Vec2 a(rng_.Uniform(w.min.x(), w.max.x()), rng_.Uniform(w.min.y(), w.max.y()));
+  const Vec2 b = a + Vec2(rng_.Uniform(-r, r), rng_.Uniform(-r, r));
+  const Vec2 c = a + Vec2(rng_.Uniform(-r, r), rng_.Uniform(-r, r));
+  AddTriangle(a, b, c, edit);
+  const double n_after = static_cast<double>(coloring_.interior_vertices().size() + 3);
+  *log_q = std::log(3.0 / n_after) - std::log(TriangleDensity(a, b, c));
+  return true;
+}
+
+bool PrfSampler::ProposeTriangleDeath(Edit* edit, double* log_q) {
+  std::array<Vec2, 3> t;
+  double log_pi = 0.0;
+  if (!ProposeFreeTriangleRemoval(edit, &log_pi, &t)) return false;
+  const double density = TriangleDensity(t[0], t[1], t[2]);
+  if (density == 0.0) return false;  // the birth could not have proposed it
+  *log_q = std::log(density) - log_pi;
+  return true;
+}
+
+// The guided births are a kind of their own: each birth/death pair is in detailed balance by
+// itself, with the guide's density in place of the blind one (docs/prf-moves.md).
+bool PrfSampler::ProposeGuidedTriangleBirth(Edit* edit, double* log_q) {
+  Vec2 a, b, c;
+  options_.guide->Draw(rng_, &a, &b, &c);
+  const double density = options_.guide->Density(a, b, c);
+  if (density == 0.0) return false;  // rounding at the edge of a square: measure zero
+  AddTriangle(a, b, c, edit);
+  const double n_after = static_cast<double>(coloring_.interior_vertices().size() + 3);
+  *log_q = std::log(3.0 / n_after) - std::log(density);
+  return true;
+}
+
+bool PrfSampler::ProposeGuidedTriangleDeath(Edit* edit, double* log_q) {
+  std::array<Vec2, 3> t;
+  double log_pi = 0.0;
+  if (!ProposeFreeTriangleRemoval(edit, &log_pi, &t)) return false;
+  const double density = options_.guide->Density(t[0], t[1], t[2]);
+  if (density == 0.0) return false;
+  *log_q = std::log(density) - log_pi;
   return true;
 }
 

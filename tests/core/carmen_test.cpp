@@ -349,7 +349,7 @@ TEST(Carmen, ContinuousDistributionHasNoSentinel) {
   // Every centimetre value from 0.5 to 30 m occurs often, the largest one included, but it is
   // not isolated from the readings just below it.
   EXPECT_EQ(DetectMaxRangeSentinel(Continuous(100000)), std::nullopt);
-  EXPECT_EQ(DetectMaxRangeSentinel({}), std::nullopt);
+  EXPECT_EQ(DetectMaxRangeSentinel(std::vector<double>{}), std::nullopt);
 }
 
 TEST(Carmen, SentinelMustStandApartFromTheReadingsBelowIt) {

@@ -1,13 +1,14 @@
-#include <priormap/core/scene.hpp>
-
 #include <gtest/gtest.h>
+
+#include <priormap/core/scene.hpp>
 
 namespace priormap {
 namespace {
 
 TEST(Scene, BuiltinsExistAndAreWellFormed) {
   const std::vector<std::string> names = BuiltinSceneNames();
-  EXPECT_EQ(names, (std::vector<std::string>{"square", "rectangle", "circle", "two-circles", "l-room", "corridor"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"square", "rectangle", "circle", "two-circles",
+                                             "l-room", "corridor", "office", "l-office"}));
   for (const std::string& name : names) {
     const std::optional<Scene> scene = BuiltinScene(name);
     ASSERT_TRUE(scene) << name;
@@ -27,16 +28,19 @@ TEST(Scene, BuiltinSizesAreAsDocumented) {
   EXPECT_TRUE(BuiltinScene("circle")->Bounds().sizes().isApprox(Vec2(4, 4)));
   const Scene two = *BuiltinScene("two-circles");
   ASSERT_EQ(two.surfaces.size(), 2u);
-  EXPECT_NE(std::get<Circle>(two.surfaces[0].shape).radius, std::get<Circle>(two.surfaces[1].shape).radius);
+  EXPECT_NE(std::get<Circle>(two.surfaces[0].shape).radius,
+            std::get<Circle>(two.surfaces[1].shape).radius);
   const Scene l_room = *BuiltinScene("l-room");
-  EXPECT_TRUE(std::any_of(l_room.surfaces.begin(), l_room.surfaces.end(), [](const SceneSurface& s) { return s.clutter; }));
+  EXPECT_TRUE(std::any_of(l_room.surfaces.begin(), l_room.surfaces.end(),
+                          [](const SceneSurface& s) { return s.clutter; }));
 }
 
 TEST(Scene, PrimitivesNumberRegionsAndKeepSurfaceIds) {
   const Scene scene = *BuiltinScene("l-room");
   const std::vector<ScenePrimitive> primitives = scene.Primitives();
   ASSERT_EQ(primitives.size(), 6u + 4u + 1u);  // six walls, a four-sided box, a bin
-  for (std::size_t i = 0; i < primitives.size(); ++i) EXPECT_EQ(primitives[i].region, static_cast<int>(i));
+  for (std::size_t i = 0; i < primitives.size(); ++i)
+    EXPECT_EQ(primitives[i].region, static_cast<int>(i));
   EXPECT_EQ(primitives[0].surface, 0);
   EXPECT_EQ(primitives[6].surface, 1);
   EXPECT_TRUE(primitives[6].clutter);

@@ -1,8 +1,13 @@
-// The log-odds occupancy grid: one beam's cells by hand, saturation, a simulated room mapped
-// free inside and occupied on its walls, and the ROS map_server pair it is saved as.
+// The log-odds occupancy grid: one beam's cells by hand, saturation, the raster of random beams
+// and scans against a straightforward reference, a simulated room mapped free inside and
+// occupied on its walls, and the ROS map_server pair it is saved as.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <sstream>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -48,6 +53,163 @@ TEST(OccupancyGrid, SaturatesAtTheLimit) {
   for (int i = 0; i < 100; ++i) grid.InsertBeam(Vec2(0.05, 0.55), Vec2(0.55, 0.55), true);
   EXPECT_DOUBLE_EQ(grid.LogOdds(5, 5), 4.0);
   EXPECT_DOUBLE_EQ(grid.LogOdds(1, 5), -4.0);
+}
+
+// The grid as the textbook writes it: doubles in a row-major array, NaN for unobserved, every
+// beam a Bresenham loop with an error term and a bounds check per cell, saturated with a clamp.
+// Cell indices and fixed-point steps are computed as the grid does (that is the definition of
+// the grid's cells, not what is under test).
+class ReferenceGrid {
+ public:
+  ReferenceGrid(const Box2& extent, const GridOptions& options)
+      : options_(options), origin_(extent.min()), scale_(127.0 / options.log_odds_limit) {
+    const Vec2 size = extent.sizes() / options.resolution;
+    width_ = std::max(1, static_cast<int>(std::ceil(size.x())));
+    height_ = std::max(1, static_cast<int>(std::ceil(size.y())));
+    cells_.assign(static_cast<std::size_t>(width_) * height_, kUnobserved);
+    hit_ = std::max(1, static_cast<int>(std::lround(options.log_odds_hit * scale_)));
+    miss_ = std::min(-1, static_cast<int>(std::lround(options.log_odds_miss * scale_)));
+  }
+
+  void InsertBeam(const Vec2& origin, const Vec2& end, bool hit) {
+    const double inv = 1.0 / options_.resolution;
+    const double x0 = (origin.x() - origin_.x()) * inv, y0 = (origin.y() - origin_.y()) * inv;
+    const double x1 = (end.x() - origin_.x()) * inv, y1 = (end.y() - origin_.y()) * inv;
+    for (const double c : {x0, y0, x1, y1})
+      if (!(std::abs(c) < (1 << 29))) return;
+    const long ix = std::lround(std::floor(x0)), iy = std::lround(std::floor(y0));
+    const long ex = std::lround(std::floor(x1)), ey = std::lround(std::floor(y1));
+    const long adx = std::abs(ex - ix), ady = std::abs(ey - iy);
+    const bool x_major = adx >= ady;
+    const long major = x_major ? adx : ady, minor = x_major ? ady : adx;
+    long error = major / 2, x = ix, y = iy;
+    for (long n = 0; n < major; ++n) {
+      Add(x, y, miss_);
+      error -= minor;
+      const bool minor_step = error < 0;
+      if (minor_step) error += major;
+      if (x_major || minor_step) x += ex > ix ? 1 : -1;
+      if (!x_major || minor_step) y += ey > iy ? 1 : -1;
+    }
+    Add(ex, ey, hit ? hit_ : miss_);
+  }
+
+  void Insert(const Scan& scan) {
+    if (!scan.pose.IsFinite()) return;
+    const double c = std::cos(scan.pose.theta()), s = std::sin(scan.pose.theta());
+    for (std::size_t i = 0; i < scan.size(); i += options_.beam_step) {
+      double range = scan.ranges[i];
+      bool hit = true;
+      if (scan.status[i] == BeamStatus::kInvalid) continue;
+      if (scan.status[i] == BeamStatus::kMaxRange) {
+        if (!options_.max_readings_clear) continue;
+        range = options_.max_range;
+        hit = false;
+      } else if (range > options_.max_range) {
+        range = options_.max_range;
+        hit = false;
+      }
+      const Vec2 u = UnitVector(scan.angles[i]);
+      const Vec2 direction(c * u.x() - s * u.y(), s * u.x() + c * u.y());
+      InsertBeam(scan.pose.translation(), scan.pose.translation() + range * direction, hit);
+    }
+  }
+
+  // NaN where unobserved.
+  double LogOdds(int ix, int iy) const {
+    const int cell = cells_[static_cast<std::size_t>(iy) * width_ + ix];
+    return cell == kUnobserved ? std::numeric_limits<double>::quiet_NaN() : cell / scale_;
+  }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  static constexpr int kUnobserved = -128;
+
+  void Add(long x, long y, int delta) {
+    if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
+    int& cell = cells_[static_cast<std::size_t>(y) * width_ + x];
+    cell = std::clamp((cell == kUnobserved ? 0 : cell) + delta, -127, 127);
+  }
+
+  GridOptions options_;
+  Vec2 origin_;
+  double scale_;
+  int width_ = 0, height_ = 0, hit_ = 0, miss_ = 0;
+  std::vector<int> cells_;
+};
+
+void ExpectSameGrid(const OccupancyGrid& grid, const ReferenceGrid& reference) {
+  ASSERT_EQ(grid.width(), reference.width());
+  ASSERT_EQ(grid.height(), reference.height());
+  const OccupancyRaster raster = grid.Raster();
+  int differences = 0;
+  for (int iy = 0; iy < grid.height(); ++iy)
+    for (int ix = 0; ix < grid.width(); ++ix) {
+      const double expected = reference.LogOdds(ix, iy);
+      const bool same = std::isnan(expected)
+                            ? !grid.Observed(ix, iy) && std::isnan(raster.probability(iy, ix))
+                            : grid.Observed(ix, iy) && grid.LogOdds(ix, iy) == expected &&
+                                  raster.probability(iy, ix) == 1.0 / (1.0 + std::exp(-expected));
+      if (!same && ++differences <= 5)
+        ADD_FAILURE() << "cell (" << ix << ", " << iy << "): " << grid.LogOdds(ix, iy)
+                      << (grid.Observed(ix, iy) ? "" : " (unobserved)") << ", reference "
+                      << expected;
+    }
+  EXPECT_EQ(differences, 0);
+}
+
+TEST(OccupancyGrid, RandomBeamsGiveTheReferenceRaster) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> inside(0.0, 6.0), around(-2.0, 8.0);
+  for (const double resolution : {0.05, 0.1, 0.37}) {
+    const GridOptions options{.resolution = resolution, .log_odds_limit = 2.5};
+    const Box2 extent(Vec2(0.0, 0.0), Vec2(6.0, 4.5));
+    OccupancyGrid grid(extent, options);
+    ReferenceGrid reference(extent, options);
+    for (int beam = 0; beam < 3000; ++beam) {
+      // Origins inside and ends anywhere around the grid, or both ends around it.
+      const bool from_inside = beam % 3 != 0;
+      const Vec2 origin(from_inside ? inside(rng) : around(rng),
+                        from_inside ? 0.75 * inside(rng) : around(rng));
+      const Vec2 end(around(rng), around(rng));
+      const bool hit = beam % 2 == 0;
+      grid.InsertBeam(origin, end, hit);
+      reference.InsertBeam(origin, end, hit);
+    }
+    ExpectSameGrid(grid, reference);
+  }
+}
+
+TEST(OccupancyGrid, RandomScansGiveTheReferenceRaster) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> position(0.5, 9.5), heading(-M_PI, M_PI), range(0.0, 12.0);
+  for (const bool clear : {true, false}) {
+    const GridOptions options{.resolution = 0.05, .max_range = 8.0, .max_readings_clear = clear};
+    const Box2 extent(Vec2(0.0, 0.0), Vec2(10.0, 10.0));
+    OccupancyGrid grid(extent, options);
+    ReferenceGrid reference(extent, options);
+    for (int k = 0; k < 40; ++k) {
+      Scan scan;
+      scan.pose = Se2(position(rng), position(rng), heading(rng));
+      scan.angles = EvenlySpacedAngles(181, -M_PI / 2, M_PI / 2);
+      scan.max_range = 10.0;
+      scan.min_range = 0.1;
+      for (std::size_t i = 0; i < scan.angles.size(); ++i) {
+        // Returns within and beyond the insertion range, max-range and unusable readings.
+        const int kind = std::uniform_int_distribution<int>(0, 9)(rng);
+        scan.ranges.push_back(kind == 0   ? 10.0
+                              : kind == 1 ? 0.05
+                              : kind == 2 ? std::numeric_limits<double>::quiet_NaN()
+                                          : range(rng));
+      }
+      scan.sigma.assign(scan.ranges.size(), 0.01);
+      scan.ClassifyAll();
+      grid.Insert(scan);
+      reference.Insert(scan);
+    }
+    ExpectSameGrid(grid, reference);
+  }
 }
 
 TEST(OccupancyGrid, RejectsBadOptions) {

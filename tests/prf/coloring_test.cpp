@@ -194,6 +194,10 @@ TEST(Coloring, EveryMoveReversesExactlyItsRegion) {
   options.p = 3.0;
   options.birth_scale = 0.4;
   options.step_scales = {0.05, 0.3, 0.9};  // boundary moves that pass corners
+  std::vector<Vec2> guide_points;
+  Rng guide_rng(5);
+  for (int i = 0; i < 100; ++i) guide_points.emplace_back(guide_rng.Uniform(), guide_rng.Uniform());
+  options.guide = std::make_shared<const BirthGuide>(guide_points, options.birth_scale, 0.05);
   PrfSampler sampler(Coloring(kUnit, 0.125), options, 21);
   sampler.Run(3000);
   Coloring coloring = sampler.coloring();

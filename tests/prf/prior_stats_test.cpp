@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <priormap/core/rng.hpp>
 #include <priormap/prf/prior_stats.hpp>
 
 #ifndef PRIORMAP_PRF_CHAIN_SCALE
@@ -47,8 +48,26 @@ void ExpectMatchesArak(const PriorStatsResult& r, const std::string& what) {
   EXPECT_LT(r.edges.standard_error, 0.05 * r.expected_edges);
 }
 
+// Guide points for the guided triangle births: points along three walls, as range data would
+// give, and scattered ones that spread guided births over most of the window, so that they make
+// a good part of the structure and a wrong density shows in the statistics. The guide changes
+// only the proposals, so the closed forms hold whatever it holds.
+std::vector<Vec2> GuidePoints() {
+  std::vector<Vec2> points;
+  for (int i = 0; i <= 40; ++i) {
+    const double t = i / 40.0;
+    points.emplace_back(0.1 + 0.8 * t, 0.3);
+    points.emplace_back(0.7, 0.1 + 0.6 * t);
+    points.emplace_back(0.2 + 0.3 * t, 0.6 + 0.3 * t);
+  }
+  Rng rng(3);
+  for (int i = 0; i < 300; ++i) points.emplace_back(rng.Uniform(), rng.Uniform());
+  return points;
+}
+
 PriorStatsOptions Chain(double p, std::uint64_t seed) {
   PriorStatsOptions options;
+  options.guide_points = GuidePoints();
   options.p = p;
   options.seed = seed;
   options.samples = 20000 * PRIORMAP_PRF_CHAIN_SCALE;
@@ -105,6 +124,12 @@ std::vector<Subset> Subsets() {
       {"without_boundary_triangle",
        {MoveKind::kTriangle, MoveKind::kCorner, MoveKind::kVertex, MoveKind::kBoundaryMove},
        MoveKind::kCorner});
+  // Guided triangles in place of the blind ones (closed polygons also come from recolors, as
+  // without_triangle shows), so that their births and deaths carry the interior structure.
+  subsets.push_back({"guided_instead_of_triangle",
+                     {MoveKind::kGuidedTriangle, MoveKind::kBoundaryTriangle, MoveKind::kCorner,
+                      MoveKind::kVertex, MoveKind::kBoundaryMove, MoveKind::kRecolor},
+                     MoveKind::kGuidedTriangle});
   // Straight boundary-to-boundary edges from a vertex death on a boundary triangle.
   subsets.push_back({"without_corner",
                      {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kVertex,

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -64,5 +65,8 @@ void WriteCarmenLog(const Log& log, const std::filesystem::path& path);
 /// outnumber those in [s - 2.5, s - 0.5) m at least ten to one; the threshold is then s - 0.5 m.
 /// Covers the SICK codes (81.83, 81.91), ACES (50.0), Oerebro (32.77) and the ~51 m clusters.
 [[nodiscard]] std::optional<double> DetectMaxRangeSentinel(const std::vector<double>& readings);
+/// The same over several groups of readings (a log's scans, read in place).
+[[nodiscard]] std::optional<double> DetectMaxRangeSentinel(
+    std::span<const std::span<const double>> groups);
 
 }  // namespace priormap

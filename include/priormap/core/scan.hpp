@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <priormap/core/banded_matrix.hpp>
@@ -46,10 +47,45 @@ struct CarmenLaserFields {
   double start_angle = 0.0;
   double fov = 0.0;
   double angular_resolution = 0.0;
+  /// The record's maximum_range field as read (≤ 0 or NaN: none; the scan's max_range then
+  /// comes from detection), written back as read so that a rewritten log parses the same.
+  std::optional<double> maximum_range;
   double accuracy = 0.0;
   int remission_mode = 0;
   std::vector<double> remissions;
   double tv = 0.0, rv = 0.0, forward_safety_dist = 0.0, side_safety_dist = 0.0, turn_axis = 0.0;
+};
+
+/// What caused a sonar reading, in a simulated ring's ground truth.
+enum class SonarEcho : std::uint8_t {
+  kNone = 0,       ///< no echo: a max-range reading
+  kSurface = 1,    ///< a surface seen close to perpendicular
+  kCorner = 2,     ///< a corner or the free end of a wall
+  kMultipath = 3,  ///< an echo off a surface, returned by another one: too long
+  kSpurious = 4,   ///< unrelated to the scene (crosstalk, noise)
+};
+
+[[nodiscard]] const char* ToString(SonarEcho echo);
+/// Inverse of ToString; nullopt for an unknown name.
+[[nodiscard]] std::optional<SonarEcho> SonarEchoFromString(std::string_view name);
+
+/// A sonar ring's readings are cones, not rays: reading i is the distance to the first echo
+/// from anywhere in the cone of full angle `spread` around angles[i] (docs/sonar.md).
+struct SonarFields {
+  double spread = 0.3490658503988659;  ///< full cone angle, rad, in (0, pi); 20 deg by default
+  /// Where each transducer sits in the sensor frame, one per reading; empty when all sit at
+  /// the sensor's origin.
+  std::vector<Vec2> origins;
+  /// Ground truth of a simulated ring (else empty): what caused each reading, and which
+  /// feature: for a surface or a multipath echo the region (Scene::Primitives index) it left
+  /// from, for a corner its index in SceneCorners(scene); -1 otherwise.
+  std::vector<SonarEcho> true_echo;
+  std::vector<int> true_feature;
+
+  /// Where reading i's cone starts, in the sensor frame.
+  [[nodiscard]] Vec2 Origin(std::size_t i) const {
+    return origins.empty() ? Vec2::Zero() : origins[i];
+  }
 };
 
 struct Scan {
@@ -71,6 +107,8 @@ struct Scan {
 
   std::optional<ScanTruth> truth;
   std::optional<CarmenLaserFields> carmen;
+  /// Set for a sonar ring (its readings are cones; angles need not increase), unset for a laser.
+  std::optional<SonarFields> sonar;
 
   [[nodiscard]] std::size_t size() const { return ranges.size(); }
   [[nodiscard]] bool IsValid(std::size_t i) const { return status[i] == BeamStatus::kValid; }

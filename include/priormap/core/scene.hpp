@@ -50,7 +50,9 @@ struct Scene {
   [[nodiscard]] std::vector<std::string> Problems() const;
 };
 
-/// Names of the built-in scenes: square, rectangle, circle, two-circles, l-room, corridor.
+/// Names of the built-in scenes: square, rectangle, circle, two-circles, l-room, corridor,
+/// office, l-office (corridors with rooms behind doorways; their free space is the inside of
+/// one closed wall polyline, and their default pose, in the corridor, cannot see every wall).
 [[nodiscard]] std::vector<std::string> BuiltinSceneNames();
 
 /// A built-in scene, centred on the origin; nullopt for an unknown name.

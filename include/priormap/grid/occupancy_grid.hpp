@@ -3,17 +3,14 @@
 /// with the laser inverse sensor model: each beam lowers the log-odds of the cells it crosses
 /// before its end point and raises that of the end point's cell; max-range readings clear the
 /// cells up to the insertion range. Log-odds are 8-bit fixed point (±l_max is ±127, a step of
-/// l_max/127 = 0.03 at the default l_max = 4), saturated, so that a grid at 5 cm of a building
-/// floor stays in cache and updates cost an add and a clamp.
+/// l_max/127 = 0.03 at the default l_max = 4), saturated (LogOddsCells), so that a grid at 5 cm
+/// of a building floor stays in cache and an update is a table lookup.
 
-#include <algorithm>
-#include <cstdint>
 #include <vector>
-
-#include <climits>
 
 #include <priormap/core/log.hpp>
 #include <priormap/core/map_server.hpp>
+#include <priormap/grid/log_odds_cells.hpp>
 
 namespace priormap::grid {
 
@@ -48,46 +45,33 @@ class OccupancyGrid {
   /// occupied when `hit`.
   void InsertBeam(const Vec2& origin, const Vec2& end, bool hit);
 
-  [[nodiscard]] int width() const { return nx_; }
-  [[nodiscard]] int height() const { return ny_; }
+  [[nodiscard]] int width() const { return cells_.width(); }
+  [[nodiscard]] int height() const { return cells_.height(); }
   [[nodiscard]] const GridOptions& options() const { return options_; }
   [[nodiscard]] Vec2 origin() const { return origin_; }
   /// Log-odds of a cell (0 when never observed).
   [[nodiscard]] double LogOdds(int ix, int iy) const;
-  [[nodiscard]] bool Observed(int ix, int iy) const { return cells_[Index(ix, iy)] != kUnobserved; }
+  [[nodiscard]] bool Observed(int ix, int iy) const {
+    return cells_.Get(ix, iy) != LogOddsCells::kUnobserved;
+  }
   /// P(occupied) per cell, NaN where never observed, row 0 at the bottom.
   [[nodiscard]] OccupancyRaster Raster() const;
+  /// The fixed-point cells: the log-odds of cell (ix, iy) is cells().Get(ix, iy) / scale().
+  [[nodiscard]] const LogOddsCells& cells() const { return cells_; }
+  /// Fixed-point steps per unit of log-odds.
+  [[nodiscard]] double scale() const { return scale_; }
 
  private:
-  static constexpr std::int8_t kUnobserved = INT8_MIN;
-  static constexpr int kLimit = INT8_MAX;
-  [[nodiscard]] std::size_t Index(int ix, int iy) const {
-    return static_cast<std::size_t>(iy) * static_cast<std::size_t>(nx_) +
-           static_cast<std::size_t>(ix);
-  }
-  template <bool kChecked>
-  void TraceCells(int ix, int iy, int end_x, int end_y, bool hit);
-  /// A miss: only the lower limit can be reached.
-  void AddMiss(std::size_t index) {
-    std::int8_t& cell = cells_[index];
-    const int current = cell == kUnobserved ? 0 : cell;
-    cell = static_cast<std::int8_t>(std::max(current + miss_, -limit_));
-  }
-  void Add(std::size_t index, int delta) {
-    std::int8_t& cell = cells_[index];
-    const int current = cell == kUnobserved ? 0 : cell;
-    cell = static_cast<std::int8_t>(std::clamp(current + delta, -limit_, limit_));
-  }
+  /// A beam from cell (ix, iy) to the point (x1, y1) in cell units (metres from origin_ over
+  /// the resolution): every beam of a scan shares its first cell.
+  void TraceBeam(int ix, int iy, double x1, double y1, bool hit);
 
   GridOptions options_;
   Vec2 origin_;
-  int nx_ = 0;
-  int ny_ = 0;
-  int hit_ = 0;
-  int miss_ = 0;
-  int limit_ = 0;
-  double scale_ = 1.0;  // fixed-point steps per unit of log-odds
-  std::vector<std::int8_t> cells_;
+  double scale_ = 1.0;
+  LogOddsCells cells_;
+  CellUpdate miss_;
+  CellUpdate hit_;
   std::vector<double> beam_angles_;  // of the last scan inserted
   std::vector<Vec2> beam_directions_;
 };

@@ -1,9 +1,9 @@
 #pragma once
-/// PRF mapping from localized laser data (Paskin & Thrun, Sec. 2–3): several Metropolis–Hastings
-/// chains of the posterior in parallel (oneTBB), each recording the running estimates after its
-/// burn-in and traces for convergence (the log-posterior and the colours of fixed points, whose
-/// split-R̂ across chains is reported), and optionally simulated annealing from the best chain's
-/// final state to a MAP polygonal map.
+/// PRF mapping from localized laser or sonar data (Paskin & Thrun, Sec. 2–3; sonar's data in
+/// sonar_mapping.hpp): several Metropolis–Hastings chains of the posterior in parallel (oneTBB),
+/// each recording the running estimates after its burn-in and traces for convergence (the
+/// log-posterior and the colours of fixed points, whose split-R̂ across chains is reported), and
+/// optionally simulated annealing from the best chain's final state to a MAP polygonal map.
 
 #include <array>
 #include <atomic>
@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include <priormap/prf/coloring.hpp>
+#include <priormap/prf/data_term.hpp>
 #include <priormap/prf/laser_data.hpp>
 #include <priormap/prf/laser_model.hpp>
 #include <priormap/prf/moves.hpp>
@@ -27,9 +28,12 @@ namespace priormap::prf {
 struct MappingOptions {
   SamplerOptions sampler;  // p, move weights, scales (temperature is set by the run)
   LaserModel model;
-  double cell_size = 0.5;           // of the edge and beam indices, m
-  double margin = 1.0;              // window around the data, m
-  double raster_resolution = 0.1;   // of the P(black) and white-fraction rasters, m
+  double cell_size = 0.5;          // of the edge and beam indices, m
+  double margin = 1.0;             // window around the data, m
+  double raster_resolution = 0.1;  // of the P(black) and white-fraction rasters, m
+  /// δ of the guided triangle births, whose guide points are the readings' end points (not
+  /// max readings); their pair radius is the sampler's birth_scale. m.
+  double guide_jitter = 0.05;
   std::uint64_t samples = 1000000;  // steps recorded per chain, after the burn-in
   std::uint64_t burn_in = 200000;   // steps per chain
   int chains = 2;
@@ -95,9 +99,29 @@ struct MappingResult {
   std::uint64_t resumed_steps = 0;  // steps restored from checkpoints, all chains
 };
 
+/// What a run needs of its data, whatever the sensor (laser beams, sonar cones).
+struct MappingData {
+  Window window;
+  std::vector<Vec2> trace_points;  // whose colours enter R̂
+  std::vector<Vec2> guide_points;  // of the guided triangle births: where readings ended
+  /// Identifies the run (data, data model and options): checkpoints of another are refused.
+  std::uint64_t fingerprint = 0;
+  /// A fresh data term, one per chain.
+  std::function<std::unique_ptr<DataTerm>()> make_data_term;
+};
+
+/// The laser run's data: the window around the beams (options.margin), the trace and guide
+/// points from the beams that hit, the LaserLikelihood of options.model.
+[[nodiscard]] MappingData LaserMappingData(std::shared_ptr<const LaserData> data,
+                                           const MappingOptions& options);
+
 /// Runs the chains; `progress` (may be empty) is called from the chains' threads, serialized.
 /// Throws BinaryFormatError when resuming from a damaged checkpoint or one of another run, and
 /// IoError when a checkpoint cannot be written.
+[[nodiscard]] MappingResult RunMapping(const MappingData& data, const MappingOptions& options,
+                                       const std::function<void(const MappingProgress&)>& progress,
+                                       const MappingSession& session = {});
+/// RunMapping of LaserMappingData(data, options).
 [[nodiscard]] MappingResult RunMapping(std::shared_ptr<const LaserData> data,
                                        const MappingOptions& options,
                                        const std::function<void(const MappingProgress&)>& progress,

@@ -20,8 +20,9 @@ enum class MoveKind : int {
   kRecolor,           // recolor quadrilateral, two edges drawn uniformly (Fig. 2h)
   kLocalRecolor,      // recolor with the second edge from the first's grid cells (Fig. 2i)
   kSlide,             // slide a vertex along one of its edges (Fig. 2j)
+  kGuidedTriangle,    // triangle birth/death with a data-guided birth (birth_guide.hpp)
 };
-inline constexpr int kNumMoveKinds = 9;
+inline constexpr int kNumMoveKinds = 10;
 
 enum class MoveType : int {
   kTriangleBirth,
@@ -37,8 +38,10 @@ enum class MoveType : int {
   kRecolor,
   kLocalRecolor,
   kSlide,
+  kGuidedTriangleBirth,
+  kGuidedTriangleDeath,
 };
-inline constexpr int kNumMoveTypes = 13;
+inline constexpr int kNumMoveTypes = 15;
 
 /// snake_case names, as in summary.json and on the command line ("triangle_birth", ...).
 [[nodiscard]] std::string_view MoveTypeName(MoveType type);
@@ -70,9 +73,10 @@ using MoveCounters = std::array<MoveCounter, kNumMoveTypes>;
   return total;
 }
 
-/// Relative weight of each move kind; zero switches a kind off.
+/// Relative weight of each move kind; zero switches a kind off. Guided triangles need a guide
+/// (SamplerOptions::guide); without one their weight counts as zero.
 struct MoveWeights {
-  std::array<double, kNumMoveKinds> weight{1.0, 1.0, 1.0, 2.0, 2.0, 1.0, 0.5, 1.0, 1.0};
+  std::array<double, kNumMoveKinds> weight{1.0, 1.0, 1.0, 2.0, 2.0, 1.0, 0.5, 1.0, 1.0, 3.0};
 
   [[nodiscard]] double& operator[](MoveKind kind) { return weight[static_cast<int>(kind)]; }
   [[nodiscard]] double operator[](MoveKind kind) const { return weight[static_cast<int>(kind)]; }

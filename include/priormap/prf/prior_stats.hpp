@@ -22,12 +22,18 @@ struct PriorStatsOptions {
   std::vector<double> distances{0.05, 0.1, 0.2, 0.4};  // in units of the window side
   int segments_per_distance = 16;  // fixed segments of each length, placed at random
   int colour_points = 16;          // fixed points whose colours give P(black)
+  /// Guide points of the guided triangle births, in units of the window side (none: the kind
+  /// is off). Any points will do: the guide changes the proposals, never the target, which is
+  /// what the closed forms check. Their pair radius is birth_scale; their jitter:
+  std::vector<Vec2> guide_points;
+  double guide_jitter = 0.03;  // in units of the window side
   std::size_t batches = 40;
   /// Sampler settings; birth_scale and step_scales are multiplied by the window side.
   SamplerOptions sampler{.p = 1.0,
                          .weights = {},
                          .birth_scale = 0.3,
                          .vertex_birth_width = 0.5,
+                         .guide = nullptr,
                          .step_scales = {0.01, 0.05, 0.2},
                          .temperature = 1.0,
                          .check_invariants = false};

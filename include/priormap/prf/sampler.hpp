@@ -4,12 +4,14 @@
 /// Arak measure (eqs. 1–3). docs/prf-moves.md derives every proposal density and ratio that
 /// Propose returns.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
 
 #include <priormap/core/rng.hpp>
+#include <priormap/prf/birth_guide.hpp>
 #include <priormap/prf/coloring.hpp>
 #include <priormap/prf/data_term.hpp>
 #include <priormap/prf/estimates.hpp>
@@ -27,6 +29,9 @@ struct SamplerOptions {
   /// κ of the vertex birth: the new vertex is uniform in the rectangle along the edge with
   /// half-width κ|e|.
   double vertex_birth_width = 0.5;
+  /// Where the data put surfaces, for the guided triangle births (their kind is off without
+  /// one). Shared, read-only, by every chain.
+  std::shared_ptr<const BirthGuide> guide;
   /// Half-widths of the symmetric random-walk steps of the vertex moves; each step draws one.
   std::vector<double> step_scales{0.02, 0.1, 0.5};
   /// The target is λ(dχ) · (exp(−F₀) · likelihood)^(1/temperature): 1 samples the posterior,
@@ -102,6 +107,13 @@ class PrfSampler {
   MoveType ChooseType();
   bool ProposeTriangleBirth(Edit* edit, double* log_q);
   bool ProposeTriangleDeath(Edit* edit, double* log_q);
+  bool ProposeGuidedTriangleBirth(Edit* edit, double* log_q);
+  bool ProposeGuidedTriangleDeath(Edit* edit, double* log_q);
+  /// The free triangle (three interior vertices, each adjacent to the other two) at a vertex
+  /// drawn uniformly, as a death edit with π = 3 / n_i, or false when the vertex has none.
+  bool ProposeFreeTriangleRemoval(Edit* edit, double* log_pi, std::array<Vec2, 3>* corners);
+  /// Adds the triangle abc as a birth edit.
+  static void AddTriangle(const Vec2& a, const Vec2& b, const Vec2& c, Edit* edit);
   bool ProposeBoundaryTriangleBirth(Edit* edit, double* log_q);
   bool ProposeBoundaryTriangleDeath(Edit* edit, double* log_q);
   bool ProposeCornerBirth(Edit* edit, double* log_q);

@@ -1,0 +1,99 @@
+// Polygonal random fields on sonar (issue 7's speed), one core: Metropolis-Hastings proposals per
+// second with the sonar likelihood on the real RoboND rings and on simulated office logs of about
+// 3,000 and 29,000 readings (the paper's Gates Hall set has 29,120), and the sonar grid's rate.
+// Each proposal benchmark burns its chain in first (setup, untimed), then times further steps.
+#include <memory>
+#include <optional>
+
+#include <benchmark/benchmark.h>
+
+#include <priormap/core/robond_sonar_io.hpp>
+#include <priormap/core/sonar_simulate.hpp>
+#include <priormap/grid/sonar_grid.hpp>
+#include <priormap/prf/sampler.hpp>
+#include <priormap/prf/sonar_likelihood.hpp>
+
+namespace {
+
+using namespace priormap;
+using namespace priormap::prf;
+
+constexpr double kCellSize = 0.5;
+constexpr std::uint64_t kBurnIn = 200000;
+constexpr std::uint64_t kStepsPerIteration = 5000;
+
+const Log* RoboNdLog() {
+  static const std::optional<Log> log = []() -> std::optional<Log> {
+    auto read = ReadRoboNdSonar(PRIORMAP_SHARED_DATA_DIR "/sonar-roboND/measurement.txt",
+                                PRIORMAP_SHARED_DATA_DIR "/sonar-roboND/poses.txt");
+    if (!read.ok()) return std::nullopt;
+    return std::move(read).value();
+  }();
+  return log ? &*log : nullptr;
+}
+
+// The office scene's trajectory (25 m at 0.25 m/s) with a pioneer16 ring at `rate` rings per
+// second.
+Log OfficeLog(double rate) {
+  const Scene scene = *BuiltinScene("office");
+  const auto trajectory = TrajectoryFromWaypoints(scene.waypoints, 0.25, rate);
+  return SimulateSonarLog(scene, *SonarSensor::Preset("pioneer16"), trajectory, 1);
+}
+
+void ProposalsPerSecond(benchmark::State& state, const Log& log, double max_range) {
+  auto selected =
+      SelectSonarReadings(log, {.first_scan = 0, .end_scan = std::nullopt, .max_range = max_range});
+  auto data = std::make_shared<const SonarData>(std::get<SonarData>(std::move(selected)));
+  SamplerOptions options;
+  options.p = 0.1;
+  PrfSampler sampler(Coloring(WindowAround(*data, 1.0), kCellSize), options, 1,
+                     std::make_unique<SonarLikelihood>(data, SonarModel{}));
+  sampler.Run(kBurnIn);
+  for (auto _ : state) sampler.Run(kStepsPerIteration);
+  state.counters["readings"] = static_cast<double>(data->readings.size());
+  state.counters["edges"] = sampler.coloring().stats().edges;
+  state.counters["log_posterior"] = sampler.LogPosterior();
+  state.counters["acceptance"] = Total(sampler.counters()).AcceptanceRate();
+  state.counters["proposals_per_s"] = benchmark::Counter(
+      static_cast<double>(kStepsPerIteration * state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_SonarProposalsRoboNd(benchmark::State& state) {
+  const Log* log = RoboNdLog();
+  if (log == nullptr) {
+    state.SkipWithError("../shared/data/sonar-roboND is not readable");
+    return;
+  }
+  ProposalsPerSecond(state, *log, 5.11);
+}
+BENCHMARK(BM_SonarProposalsRoboNd)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// 2 rings/s: about 3,300 readings; 18 rings/s: about 29,000.
+void BM_SonarProposalsOffice(benchmark::State& state) {
+  ProposalsPerSecond(state, OfficeLog(static_cast<double>(state.range(0))), 5.0);
+}
+BENCHMARK(BM_SonarProposalsOffice)
+    ->Arg(2)
+    ->Arg(18)
+    ->ArgName("rings_per_s")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+void BM_SonarGridInsert(benchmark::State& state) {
+  const Log log = OfficeLog(18.0);
+  const grid::SonarGridOptions options;
+  const Box2 extent = grid::SonarGrid::ExtentOf(log, 0, log.scans.size(), options);
+  std::size_t readings = 0;
+  for (auto _ : state) {
+    grid::SonarGrid map(extent, options);
+    for (const Scan& ring : log.scans) readings += map.Insert(ring);
+    benchmark::DoNotOptimize(map.LogOdds(0, 0));
+  }
+  state.counters["readings_per_s"] =
+      benchmark::Counter(static_cast<double>(readings), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_SonarGridInsert)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

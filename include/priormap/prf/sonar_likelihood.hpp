@@ -1,0 +1,113 @@
+#pragma once
+/// The PRF sonar likelihood (Paskin & Thrun, Sec. 2.3) with dynamic indexing: each reading is
+/// listed in the grid cells that overlap its cone up to its farthest contact (the farthest point
+/// it sees, or R where part of its cone sees nothing), so an edit recomputes only the readings
+/// listed in the cells of the edges it removes or adds, and a recomputed reading is re-listed on
+/// its new extent.
+///
+/// A listed reading is recomputed only when the edit removes an edge it sees, or adds one that
+/// meets its cone within its extent; a recomputation sweeps the cone anew (sonar_visibility.hpp)
+/// over the edges the coloring's index holds in the cone's cells up to R. A sensor inside the
+/// region an edit reverses would turn black, which has likelihood zero.
+///
+/// The index is the coloring's own cell grid, so that one list of cells per cone (computed once,
+/// shared by the copies of the term) serves both the gathering of edges and the listing.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <priormap/prf/data_term.hpp>
+#include <priormap/prf/sonar_data.hpp>
+#include <priormap/prf/sonar_model.hpp>
+#include <priormap/prf/sonar_visibility.hpp>
+
+namespace priormap::prf {
+
+class SonarLikelihood final : public DataTerm {
+ public:
+  SonarLikelihood(std::shared_ptr<const SonarData> data, SonarModel model);
+
+  std::optional<std::string> Reset(const Coloring& coloring) override;
+  std::optional<FixedLogLik> Evaluate(const Coloring& coloring, const Edit& edit) override;
+  void Commit(std::span<const EdgeId> added_edges) override;
+  [[nodiscard]] FixedLogLik log_likelihood() const override { return total_; }
+  [[nodiscard]] FixedLogLik RecomputeLogLikelihood(const Coloring& coloring) const override;
+  [[nodiscard]] std::optional<std::string> FindInconsistency(
+      const Coloring& coloring) const override;
+  [[nodiscard]] std::unique_ptr<DataTerm> Clone() const override;
+
+  [[nodiscard]] const SonarData& data() const { return *data_; }
+  [[nodiscard]] const SonarModel& model() const { return model_; }
+  /// The farthest point reading `i` sees (R where part of its cone sees nothing).
+  [[nodiscard]] double extent(std::size_t i) const { return state_[i].extent; }
+  /// What reading `i` sees in `coloring` (tests, figures), its pieces naming the edge ids seen.
+  [[nodiscard]] SonarView View(const Coloring& coloring, std::size_t i) const;
+
+ private:
+  // Cells overlapping each cone up to R (conservatively), nearest first, with their distance
+  // to the apex: a cone up to extent e is listed in the prefix whose distance is at most e.
+  struct ConeCells {
+    CellGrid grid;
+    std::vector<std::uint32_t> offsets;  // reading i: [offsets[i], offsets[i + 1])
+    std::vector<std::int32_t> cells;
+    std::vector<double> near;
+  };
+  struct ReadingState {
+    double extent = 0.0;
+    FixedLogLik log_lik = 0;
+    std::uint32_t version = 0;
+    std::uint32_t listed_cells = 0;
+    std::vector<EdgeId> contacts;  // the edges it sees, sorted
+  };
+  struct Entry {
+    std::int32_t reading;
+    std::uint32_t version;
+  };
+  struct Change {
+    std::int32_t reading;
+    double extent;
+    FixedLogLik log_lik;
+    std::uint32_t contacts_begin;  // into pending_contacts_; added edge k is -1 - k
+    std::uint32_t contacts_end;
+  };
+  struct ReadingResult {
+    FixedLogLik log_lik;
+    double extent;
+  };
+
+  /// Sweeps reading i's cone over the coloring's edges in its cells, less those `ignoring`
+  /// removes, plus `added` (tagged -1 - k); the view is left in view_.
+  ReadingResult Compute(const Coloring& coloring, std::size_t i, const Edit* ignoring,
+                        std::span<const Segment> added) const;
+  [[nodiscard]] bool SensorFlips(const Edit& edit) const;
+  void CollectReadings(const Vec2& a, const Vec2& b);
+  [[nodiscard]] std::uint32_t ListedCellCount(std::size_t i, double extent) const;
+  void ListReading(std::size_t i);
+  void RebuildIndex();
+
+  std::shared_ptr<const SonarData> data_;
+  SonarModel model_;
+  std::shared_ptr<const ConeCells> cone_cells_;
+  Window window_;
+  std::vector<ReadingState> state_;
+  std::vector<std::vector<Entry>> cells_;
+  std::vector<std::vector<std::int32_t>> sensor_cells_;
+  FixedLogLik total_ = 0;
+  std::size_t live_entries_ = 0;
+  std::size_t stale_entries_ = 0;
+  // Scratch of Evaluate, read by Commit.
+  std::vector<std::int32_t> candidates_;
+  VisitMarks reading_marks_;
+  std::vector<Change> pending_;
+  std::vector<std::int32_t> pending_contacts_;
+  FixedLogLik pending_delta_ = 0;
+  // Scratch of every sweep.
+  mutable ConeSweep sweep_;
+  mutable SonarView view_;
+  mutable std::vector<TaggedSegment> segments_;
+  mutable VisitMarks edge_marks_;
+  mutable std::size_t edge_marks_size_ = 0;
+};
+
+}  // namespace priormap::prf

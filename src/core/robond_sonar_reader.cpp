@@ -1,0 +1,183 @@
+// The RoboND sonar files (docs/formats.md): two whitespace-separated text files, read line by
+// line in step, every problem reported at its file:line:col.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/file_io.hpp>
+#include <priormap/core/robond_sonar_io.hpp>
+
+namespace priormap {
+namespace {
+
+struct Token {
+  std::string_view text;
+  int col = 0;  // 1-based
+};
+
+// One non-blank line of a file, split at spaces and tabs.
+struct Line {
+  int number = 0;   // 1-based
+  int end_col = 0;  // one past the last character, where a missing field is reported
+  std::vector<Token> tokens;
+};
+
+std::vector<Line> SplitLines(std::string_view text) {
+  std::vector<Line> lines;
+  int number = 0;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    ++number;
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    Line parsed{.number = number, .end_col = static_cast<int>(line.size()) + 1, .tokens = {}};
+    std::size_t i = 0;
+    while (i < line.size()) {
+      if (line[i] == ' ' || line[i] == '\t') {
+        ++i;
+        continue;
+      }
+      const std::size_t token_start = i;
+      while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
+      parsed.tokens.push_back(
+          {line.substr(token_start, i - token_start), static_cast<int>(token_start) + 1});
+    }
+    if (!parsed.tokens.empty()) lines.push_back(std::move(parsed));
+    start = end + 1;
+  }
+  return lines;
+}
+
+// Thrown with the diagnostic of the first problem; caught at the entry point.
+struct ParseFailure {
+  Diagnostic diagnostic;
+};
+
+[[noreturn]] void Fail(const std::string& file, int line, int col, std::string message) {
+  throw ParseFailure{{file, line, col, std::move(message)}};
+}
+
+// The fields of one line, each a finite number.
+class Fields {
+ public:
+  Fields(const std::string& file, const Line& line, std::size_t expected, const char* layout)
+      : file_(file), line_(line) {
+    if (line.tokens.size() > expected)
+      Fail(file, line.number, line.tokens[expected].col,
+           fmt::format("expected {} fields ({}), found more: {}", expected, layout,
+                       QuoteForMessage(line.tokens[expected].text)));
+    if (line.tokens.size() < expected)
+      Fail(file, line.number, line.end_col,
+           fmt::format("expected {} fields ({}), got {}", expected, layout, line.tokens.size()));
+  }
+
+  [[nodiscard]] double Number(std::size_t i, const char* what) const {
+    const Token& t = line_.tokens[i];
+    std::string_view text = t.text;
+    if (text.size() > 1 && text.front() == '+' && text[1] != '-') text.remove_prefix(1);
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+      Fail(file_, line_.number, t.col,
+           fmt::format("expected {} (a finite number), got {}", what, QuoteForMessage(t.text)));
+    return value;
+  }
+  [[nodiscard]] int col(std::size_t i) const { return line_.tokens[i].col; }
+
+ private:
+  const std::string& file_;
+  const Line& line_;
+};
+
+constexpr std::size_t kRingSize = 8;
+
+Log Parse(std::string_view measurements, const std::string& measurements_name,
+          std::string_view poses, const std::string& poses_name,
+          const RoboNdSonarOptions& options) {
+  const std::vector<Line> z_lines = SplitLines(measurements);
+  const std::vector<Line> pose_lines = SplitLines(poses);
+  if (z_lines.empty()) Fail(measurements_name, 1, 1, "no measurement lines (t_ms z_0 .. z_7)");
+  const std::size_t rings = std::min(z_lines.size(), pose_lines.size());
+  if (z_lines.size() != pose_lines.size()) {
+    const bool fewer_poses = pose_lines.size() < z_lines.size();
+    const std::string& name = fewer_poses ? poses_name : measurements_name;
+    const Line& unmatched = fewer_poses ? z_lines[rings] : pose_lines[rings];
+    Fail(fewer_poses ? measurements_name : poses_name, unmatched.number, 1,
+         fmt::format("this is line {} with data, but {} has {} (one pose per measurement line)",
+                     rings + 1, name, rings));
+  }
+  Log log;
+  log.pose_source = PoseSource::kGroundTruth;
+  const double max_range = options.no_echo_mm / 1000.0;
+  for (std::size_t k = 0; k < rings; ++k) {
+    const Fields z(measurements_name, z_lines[k], 1 + kRingSize, "t_ms and 8 ranges in mm");
+    const Fields p(poses_name, pose_lines[k], 4, "t_ms, x_mm, y_mm, theta in tenths of a degree");
+    const double t_z = z.Number(0, "a time in ms");
+    const double t_pose = p.Number(0, "a time in ms");
+    if (t_pose != t_z)
+      Fail(poses_name, pose_lines[k].number, p.col(0),
+           fmt::format("time {} ms differs from the {} ms of {}:{} (line {} of each file must be "
+                       "the same ring)",
+                       t_pose, t_z, measurements_name, z_lines[k].number, k + 1));
+    Scan scan;
+    scan.channel = "SONAR";
+    scan.timestamp = t_z / 1000.0;
+    scan.pose = Se2(p.Number(1, "x in mm") / 1000.0, p.Number(2, "y in mm") / 1000.0,
+                    WrapAngle(DegToRad(p.Number(3, "theta in tenths of a degree") / 10.0)));
+    scan.angles = options.bearings;
+    scan.min_range = options.min_range;
+    scan.max_range = max_range;
+    for (std::size_t i = 0; i < kRingSize; ++i) {
+      const double mm = z.Number(1 + i, "a range in mm");
+      if (mm < 0.0)
+        Fail(measurements_name, z_lines[k].number, z.col(1 + i),
+             fmt::format("expected a range in mm >= 0, got {}", mm));
+      const double range = mm >= options.no_echo_mm ? max_range : mm / 1000.0;
+      scan.ranges.push_back(range);
+      scan.sigma.push_back(std::max(options.sigma_min, options.sigma_relative * range));
+    }
+    scan.ClassifyAll();
+    scan.sonar.emplace().spread = options.spread;
+    log.scans.push_back(std::move(scan));
+  }
+  return log;
+}
+
+}  // namespace
+
+std::vector<double> RoboNdSonarOptions::RoboNdBearings() {
+  std::vector<double> bearings;
+  for (double degrees : {-90.0, -37.5, -22.5, -7.5, 7.5, 22.5, 37.5, 90.0})
+    bearings.push_back(DegToRad(degrees));
+  return bearings;
+}
+
+Result<Log> ParseRoboNdSonar(std::string_view measurements, const std::string& measurements_name,
+                             std::string_view poses, const std::string& poses_name,
+                             const RoboNdSonarOptions& options) {
+  if (options.bearings.size() != kRingSize)
+    return Diagnostic{"", 0, 0,
+                      fmt::format("the RoboND ring has {} transducers; {} bearings given",
+                                  kRingSize, options.bearings.size())};
+  try {
+    return Parse(measurements, measurements_name, poses, poses_name, options);
+  } catch (const ParseFailure& failure) {
+    return failure.diagnostic;
+  }
+}
+
+Result<Log> ReadRoboNdSonar(const std::filesystem::path& measurements,
+                            const std::filesystem::path& poses, const RoboNdSonarOptions& options) {
+  Result<std::string> z = ReadFileText(measurements);
+  if (!z) return z.diagnostics();
+  Result<std::string> p = ReadFileText(poses);
+  if (!p) return p.diagnostics();
+  return ParseRoboNdSonar(z.value(), measurements.string(), p.value(), poses.string(), options);
+}
+
+}  // namespace priormap

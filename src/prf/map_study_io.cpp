@@ -1,0 +1,162 @@
+#include <cmath>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <priormap/prf/map_study_io.hpp>
+
+namespace priormap::prf {
+namespace {
+
+nlohmann::json Number(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json ScoreJson(const ClassificationScore& s) {
+  return {{"points", s.points},
+          {"decided", s.decided},
+          {"correct", s.correct},
+          {"accuracy", Number(s.Accuracy())},
+          {"coverage", Number(s.Coverage())},
+          {"decided_accuracy", Number(s.DecidedAccuracy())}};
+}
+
+nlohmann::json MethodsJson(const std::vector<MethodScores>& methods) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const MethodScores& m : methods)
+    out[m.method] = {{"observed", ScoreJson(m.classification.observed)},
+                     {"sparse", ScoreJson(m.classification.sparse)},
+                     {"covered", ScoreJson(m.classification.covered)},
+                     {"seconds", m.seconds}};
+  return out;
+}
+
+nlohmann::json CaseJson(const MapStudyCase& c) {
+  nlohmann::json poses = nlohmann::json::array();
+  for (const Se2& pose : c.poses) poses.push_back({pose.x(), pose.y(), pose.theta()});
+  std::size_t hits = 0;
+  for (const LaserBeam& beam : c.data->beams) hits += beam.max_reading ? 0 : 1;
+  nlohmann::json j = {
+      {"scene", c.scene},
+      {"sensor", c.sensor},
+      {"seed", c.seed},
+      {"poses", poses},
+      {"beams", c.data->beams.size()},
+      {"hits", hits},
+      {"max_range", c.data->max_range},
+      {"window",
+       {c.prf.window.min.x(), c.prf.window.min.y(), c.prf.window.max.x(), c.prf.window.max.y()}},
+      {"methods", MethodsJson(c.methods)},
+      {"prf",
+       {{"proposals", c.prf.proposals},
+        {"proposals_per_second", static_cast<double>(c.prf.proposals) / c.prf.sampling_time_s},
+        {"rhat_log_posterior", Number(c.prf.rhat_log_posterior)},
+        {"rhat_point_colours", Number(c.prf.rhat_point_colours)}}},
+      {"wall_time_s", c.wall_time_s}};
+  if (c.prf.map)
+    j["map"] = {{"edges", c.prf.map->stats().edges},
+                {"scored_length_m", c.walls.scored_length},
+                {"border_length_m", c.walls.border_length},
+                {"mean_distance_m", Number(c.walls.mean_distance)},
+                {"p90_distance_m", Number(c.walls.p90_distance)},
+                {"max_distance_m", Number(c.walls.max_distance)},
+                {"wall_points", c.walls.wall_points},
+                {"recovered_fraction", Number(c.walls.recovered_fraction)}};
+  return j;
+}
+
+std::string Percent(double value) {
+  return std::isfinite(value) ? fmt::format("{:.1f}", 100.0 * value) : "–";
+}
+
+std::string Centimetres(double value) {
+  return std::isfinite(value) ? fmt::format("{:.1f}", 100.0 * value) : "–";
+}
+
+const MethodScores* Find(const std::vector<MethodScores>& methods, const std::string& name) {
+  for (const MethodScores& m : methods)
+    if (m.method == name) return &m;
+  return nullptr;
+}
+
+// "accuracy (coverage)" of a method over one part, in percent.
+std::string Cell(const MethodScores* m, const ClassificationScore MapClassification::*part,
+                 bool coverage) {
+  if (!m) return "–";
+  const ClassificationScore& s = m->classification.*part;
+  return coverage ? fmt::format("{} ({})", Percent(s.Accuracy()), Percent(s.Coverage()))
+                  : Percent(s.Accuracy());
+}
+
+}  // namespace
+
+std::string MapStudySummaryJson(const MapStudyResult& study, const MapStudyOptions& options) {
+  const MappingOptions& m = options.mapping;
+  std::vector<std::string> scenes, sensors;
+  for (const Scene& scene : options.scenes) scenes.push_back(scene.name);
+  for (const RangeSensor& sensor : options.sensors) sensors.push_back(sensor.name);
+  nlohmann::json j;
+  j["format"] = "priormap.prf_study";
+  j["version"] = 1;
+  j["options"] = {{"scenes", scenes},
+                  {"sensors", sensors},
+                  {"poses", options.poses},
+                  {"beam_step", options.beam_step},
+                  {"max_range", options.max_range},
+                  {"resolution", options.resolution},
+                  {"band", options.band},
+                  {"truth_resolution", options.truth_resolution},
+                  {"wall_tolerance", options.walls.tolerance},
+                  {"p", m.sampler.p},
+                  {"sigma", m.model.sigma},
+                  {"samples", m.samples},
+                  {"burn_in", m.burn_in},
+                  {"chains", m.chains},
+                  {"anneal_steps", m.anneal_steps},
+                  {"seed", options.seed}};
+  j["wall_time_s"] = study.wall_time_s;
+  j["cases"] = nlohmann::json::array();
+  for (const MapStudyCase& c : study.cases) j["cases"].push_back(CaseJson(c));
+  j["overall"] = MethodsJson(study.overall);
+  return j.dump(2) + "\n";
+}
+
+std::string MapStudyMarkdownTable(const MapStudyResult& study) {
+  std::string table =
+      "| case | beams | observed cells (sparse %) | observed: grid (coverage) | PRF | MAP | "
+      "sparse: grid (coverage) | PRF | MAP | MAP walls: mean / p90 (cm) | recovered % | "
+      "grid ms | PRF s |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  const auto row = [&](const std::string& name, const std::string& beams,
+                       const std::vector<MethodScores>& methods, const std::string& walls,
+                       const std::string& recovered) {
+    const MethodScores* grid = Find(methods, "grid");
+    const MethodScores* posterior = Find(methods, "prf posterior");
+    const MethodScores* map = Find(methods, "prf map");
+    const ClassificationScore& observed = posterior->classification.observed;
+    const ClassificationScore& sparse = posterior->classification.sparse;
+    table += fmt::format(
+        "| {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} | {} | {} | {:.1f} | {:.1f} |\n", name,
+        beams, observed.points,
+        Percent(static_cast<double>(sparse.points) / static_cast<double>(observed.points)),
+        Cell(grid, &MapClassification::observed, true),
+        Cell(posterior, &MapClassification::observed, false),
+        Cell(map, &MapClassification::observed, false),
+        Cell(grid, &MapClassification::sparse, true),
+        Cell(posterior, &MapClassification::sparse, false),
+        Cell(map, &MapClassification::sparse, false), walls, recovered,
+        grid ? 1e3 * grid->seconds : 0.0, map ? map->seconds : posterior->seconds);
+  };
+  std::size_t beams = 0;
+  for (const MapStudyCase& c : study.cases) {
+    beams += c.data->beams.size();
+    row(c.Name(), std::to_string(c.data->beams.size()), c.methods,
+        fmt::format("{} / {}", Centimetres(c.walls.mean_distance),
+                    Centimetres(c.walls.p90_distance)),
+        Percent(c.walls.recovered_fraction));
+  }
+  if (study.cases.size() > 1) row("**all**", std::to_string(beams), study.overall, "–", "–");
+  return table;
+}
+
+}  // namespace priormap::prf

@@ -1,0 +1,337 @@
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include <priormap/core/check.hpp>
+#include <priormap/prf/sonar_likelihood.hpp>
+
+namespace priormap::prf {
+namespace {
+
+// A hair beyond the extent, so that a cell touching the cone exactly there is listed too.
+double Inflated(double extent) {
+  return extent * (1.0 + 1e-9) + 1e-9;
+}
+
+bool SameGrid(const CellGrid& a, const CellGrid& b) {
+  return a.origin == b.origin && a.cell == b.cell && a.nx == b.nx && a.ny == b.ny;
+}
+
+// The cells of `grid` that may overlap the cone up to R: those meeting its disc and both
+// half-planes of its wedge (a superset of the exact overlap), with their distance to the apex.
+void AppendConeCells(const CellGrid& grid, const SonarCone& cone,
+                     std::vector<std::pair<double, std::int32_t>>* out) {
+  const double h = cone.half_spread;
+  const double r = cone.max_range;
+  const Vec2 side = Perp(cone.axis);
+  Box2 box;
+  box.extend(cone.origin);
+  for (const double sign : {-1.0, 1.0})
+    box.extend(cone.origin + r * (std::cos(h) * cone.axis + sign * std::sin(h) * side));
+  for (const Vec2& direction : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1)})
+    if (cone.axis.dot(direction) >= std::cos(h)) box.extend(cone.origin + r * direction);
+  const Vec2 normals[2] = {-std::sin(h) * cone.axis + std::cos(h) * side,
+                           -std::sin(h) * cone.axis - std::cos(h) * side};
+  const int x0 = grid.ClampX(box.min().x()), x1 = grid.ClampX(box.max().x());
+  const int y0 = grid.ClampY(box.min().y()), y1 = grid.ClampY(box.max().y());
+  for (int iy = y0; iy <= y1; ++iy) {
+    for (int ix = x0; ix <= x1; ++ix) {
+      const Vec2 lo = grid.origin + Vec2(ix * grid.cell.x(), iy * grid.cell.y());
+      const Vec2 hi = lo + grid.cell;
+      const Vec2 gap = (lo - cone.origin).cwiseMax(cone.origin - hi).cwiseMax(0.0);
+      const double near = gap.norm();
+      if (near > r) continue;
+      bool in_wedge = true;
+      for (const Vec2& n : normals) {
+        double lowest = std::numeric_limits<double>::infinity();
+        for (const Vec2& corner : {lo, hi, Vec2(lo.x(), hi.y()), Vec2(hi.x(), lo.y())})
+          lowest = std::min(lowest, n.dot(corner - cone.origin));
+        in_wedge = in_wedge && lowest <= 0.0;
+      }
+      if (in_wedge) out->push_back({near, iy * grid.nx + ix});
+    }
+  }
+}
+
+}  // namespace
+
+SonarLikelihood::SonarLikelihood(std::shared_ptr<const SonarData> data, SonarModel model)
+    : data_(std::move(data)), model_(model) {
+  PRIORMAP_CHECK(data_ != nullptr && data_->max_range > 0.0, "sonar data without a max range");
+  const std::string problem = model_.Problem();
+  PRIORMAP_CHECK(problem.empty(), "sonar model: " + problem);
+  for (const SonarReading& r : data_->readings)
+    PRIORMAP_CHECK(r.cone.half_spread > 0.0 && r.cone.half_spread < std::numbers::pi / 2.0,
+                   "a sonar cone's half-angle must be in (0, pi/2)");
+}
+
+std::unique_ptr<DataTerm> SonarLikelihood::Clone() const {
+  return std::make_unique<SonarLikelihood>(*this);
+}
+
+SonarLikelihood::ReadingResult SonarLikelihood::Compute(const Coloring& coloring, std::size_t i,
+                                                        const Edit* ignoring,
+                                                        std::span<const Segment> added) const {
+  const SonarReading& reading = data_->readings[i];
+  const ConeCells& cc = *cone_cells_;
+  segments_.clear();
+  edge_marks_.NextRound();
+  for (std::uint32_t k = cc.offsets[i]; k < cc.offsets[i + 1]; ++k) {
+    for (const EdgeId e : coloring.cell_edges(cc.cells[k])) {
+      const auto id = static_cast<std::size_t>(e);
+      if (id >= edge_marks_size_) {
+        edge_marks_size_ = std::max(2 * edge_marks_size_, id + 1);
+        edge_marks_.resize(edge_marks_size_);
+      }
+      if (!edge_marks_.Mark(id)) continue;
+      if (ignoring != nullptr && ignoring->Removes(e)) continue;
+      segments_.push_back({coloring.EdgeSegment(e), e});
+    }
+  }
+  for (std::size_t k = 0; k < added.size(); ++k)
+    segments_.push_back({added[k], -1 - static_cast<std::int32_t>(k)});
+  sweep_.Compute(reading.cone, segments_, window_, &view_);
+  return {ToFixed(model_.LogLikelihood(reading.range, reading.max_reading, view_.features,
+                                       data_->max_range)),
+          view_.extent};
+}
+
+SonarView SonarLikelihood::View(const Coloring& coloring, std::size_t i) const {
+  Compute(coloring, i, nullptr, {});
+  SonarView view = view_;
+  for (VisiblePiece& piece : view.pieces)
+    if (piece.segment >= 0) piece.segment = segments_[static_cast<std::size_t>(piece.segment)].tag;
+  return view;
+}
+
+std::optional<std::string> SonarLikelihood::Reset(const Coloring& coloring) {
+  window_ = coloring.window();
+  const CellGrid& grid = coloring.grid();
+  if (!cone_cells_ || !SameGrid(cone_cells_->grid, grid)) {
+    auto cc = std::make_shared<ConeCells>();
+    cc->grid = grid;
+    std::vector<std::pair<double, std::int32_t>> cells;
+    cc->offsets.push_back(0);
+    for (const SonarReading& r : data_->readings) {
+      cells.clear();
+      AppendConeCells(grid, r.cone, &cells);
+      std::sort(cells.begin(), cells.end());
+      for (const auto& [near, cell] : cells) {
+        cc->near.push_back(near);
+        cc->cells.push_back(cell);
+      }
+      cc->offsets.push_back(static_cast<std::uint32_t>(cc->cells.size()));
+    }
+    cone_cells_ = std::move(cc);
+  }
+  sensor_cells_.assign(static_cast<std::size_t>(grid.NumCells()), {});
+  for (std::size_t s = 0; s < data_->sensors.size(); ++s) {
+    const Vec2& sensor = data_->sensors[s];
+    if (!window_.ContainsInterior(sensor))
+      return fmt::format("sensor {} at ({}, {}) lies outside the window", s, sensor.x(),
+                         sensor.y());
+    if (coloring.ColourAt(sensor) == Colour::kBlack)
+      return fmt::format("sensor {} at ({}, {}) lies in occupied space", s, sensor.x(), sensor.y());
+    sensor_cells_[static_cast<std::size_t>(grid.CellOf(sensor))].push_back(
+        static_cast<std::int32_t>(s));
+  }
+  const std::size_t n = data_->readings.size();
+  state_.assign(n, {});
+  reading_marks_ = VisitMarks();
+  reading_marks_.resize(n);
+  total_ = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ReadingResult result = Compute(coloring, i, nullptr, {});
+    ReadingState& state = state_[i];
+    state.log_lik = result.log_lik;
+    state.extent = result.extent;
+    state.contacts.assign(view_.contact_tags.begin(), view_.contact_tags.end());
+    total_ += state.log_lik;
+  }
+  RebuildIndex();
+  pending_.clear();
+  pending_contacts_.clear();
+  candidates_.clear();
+  return std::nullopt;
+}
+
+std::uint32_t SonarLikelihood::ListedCellCount(std::size_t i, double extent) const {
+  const ConeCells& cc = *cone_cells_;
+  const auto begin = cc.near.begin() + cc.offsets[i];
+  const auto end = cc.near.begin() + cc.offsets[i + 1];
+  return static_cast<std::uint32_t>(std::upper_bound(begin, end, Inflated(extent)) - begin);
+}
+
+void SonarLikelihood::ListReading(std::size_t i) {
+  ReadingState& state = state_[i];
+  const ConeCells& cc = *cone_cells_;
+  state.listed_cells = ListedCellCount(i, state.extent);
+  for (std::uint32_t k = 0; k < state.listed_cells; ++k)
+    cells_[static_cast<std::size_t>(cc.cells[cc.offsets[i] + k])].push_back(
+        {static_cast<std::int32_t>(i), state.version});
+  live_entries_ += state.listed_cells;
+}
+
+void SonarLikelihood::RebuildIndex() {
+  cells_.assign(static_cast<std::size_t>(cone_cells_->grid.NumCells()), {});
+  live_entries_ = 0;
+  stale_entries_ = 0;
+  for (std::size_t i = 0; i < state_.size(); ++i) ListReading(i);
+}
+
+bool SonarLikelihood::SensorFlips(const Edit& edit) const {
+  const std::span<const Vec2> region{edit.flipped_region.begin(), edit.flipped_region.size()};
+  bool flips = false;
+  ForEachCellUnder(cone_cells_->grid, region, [&](int cell) {
+    for (std::int32_t s : sensor_cells_[static_cast<std::size_t>(cell)])
+      flips = flips || RingContains(region, data_->sensors[static_cast<std::size_t>(s)]);
+  });
+  return flips;
+}
+
+void SonarLikelihood::CollectReadings(const Vec2& a, const Vec2& b) {
+  WalkCells(cone_cells_->grid, a, b, [&](int cell, double, double) {
+    auto& entries = cells_[static_cast<std::size_t>(cell)];
+    for (std::size_t k = 0; k < entries.size();) {
+      const Entry entry = entries[k];
+      const auto i = static_cast<std::size_t>(entry.reading);
+      if (entry.version != state_[i].version) {  // re-listed since: drop
+        entries[k] = entries.back();
+        entries.pop_back();
+        --stale_entries_;
+        continue;
+      }
+      if (reading_marks_.Mark(i)) candidates_.push_back(entry.reading);
+      ++k;
+    }
+    return true;
+  });
+}
+
+std::optional<FixedLogLik> SonarLikelihood::Evaluate(const Coloring& coloring, const Edit& edit) {
+  pending_.clear();
+  pending_contacts_.clear();
+  candidates_.clear();
+  pending_delta_ = 0;
+  if (SensorFlips(edit)) return std::nullopt;
+
+  reading_marks_.NextRound();
+  SmallVector<Segment, 4> added;
+  for (std::size_t k = 0; k < edit.added_edges.size(); ++k)
+    added.push_back(coloring.AddedSegment(edit, k));
+  for (EdgeId e : edit.removed_edges) {
+    const Segment s = coloring.EdgeSegment(e);
+    CollectReadings(s.a, s.b);
+  }
+  for (const Segment& s : added) CollectReadings(s.a, s.b);
+
+  for (const std::int32_t id : candidates_) {
+    const auto i = static_cast<std::size_t>(id);
+    const ReadingState& state = state_[i];
+    // Unchanged unless it loses an edge it sees or gains one in front of what it sees.
+    bool affected =
+        std::any_of(edit.removed_edges.begin(), edit.removed_edges.end(), [&](EdgeId e) {
+          return std::binary_search(state.contacts.begin(), state.contacts.end(), e);
+        });
+    for (std::size_t k = 0; !affected && k < added.size(); ++k)
+      affected = SegmentMeetsCone(added[k], data_->readings[i].cone, state.extent);
+    if (!affected) continue;
+    const ReadingResult result = Compute(coloring, i, &edit, {added.begin(), added.size()});
+    const std::vector<std::int32_t>& tags = view_.contact_tags;
+    if (result.log_lik == state.log_lik && result.extent == state.extent &&
+        std::equal(tags.begin(), tags.end(), state.contacts.begin(), state.contacts.end()))
+      continue;
+    const auto begin = static_cast<std::uint32_t>(pending_contacts_.size());
+    pending_contacts_.insert(pending_contacts_.end(), tags.begin(), tags.end());
+    pending_.push_back({.reading = id,
+                        .extent = result.extent,
+                        .log_lik = result.log_lik,
+                        .contacts_begin = begin,
+                        .contacts_end = static_cast<std::uint32_t>(pending_contacts_.size())});
+    pending_delta_ += result.log_lik - state.log_lik;
+  }
+  return pending_delta_;
+}
+
+void SonarLikelihood::Commit(std::span<const EdgeId> added_edges) {
+  for (const Change& change : pending_) {
+    const auto i = static_cast<std::size_t>(change.reading);
+    ReadingState& state = state_[i];
+    state.log_lik = change.log_lik;
+    state.contacts.clear();
+    for (std::uint32_t k = change.contacts_begin; k < change.contacts_end; ++k) {
+      const std::int32_t tag = pending_contacts_[k];
+      state.contacts.push_back(tag >= 0 ? tag : added_edges[static_cast<std::size_t>(-1 - tag)]);
+    }
+    std::sort(state.contacts.begin(), state.contacts.end());
+    if (change.extent == state.extent) continue;  // the same cells
+    state.extent = change.extent;
+    if (ListedCellCount(i, state.extent) == state.listed_cells) continue;
+    ++state.version;
+    live_entries_ -= state.listed_cells;
+    stale_entries_ += state.listed_cells;
+    ListReading(i);
+  }
+  total_ += pending_delta_;
+  pending_.clear();
+  pending_contacts_.clear();
+  pending_delta_ = 0;
+  if (stale_entries_ > live_entries_ + 1024) RebuildIndex();
+}
+
+FixedLogLik SonarLikelihood::RecomputeLogLikelihood(const Coloring& coloring) const {
+  FixedLogLik total = 0;
+  for (std::size_t i = 0; i < data_->readings.size(); ++i)
+    total += Compute(coloring, i, nullptr, {}).log_lik;
+  return total;
+}
+
+std::optional<std::string> SonarLikelihood::FindInconsistency(const Coloring& coloring) const {
+  for (std::size_t s = 0; s < data_->sensors.size(); ++s)
+    if (coloring.ColourAt(data_->sensors[s]) == Colour::kBlack)
+      return fmt::format("sensor {} is in black", s);
+  FixedLogLik total = 0;
+  std::size_t live = 0;
+  const ConeCells& cc = *cone_cells_;
+  for (std::size_t i = 0; i < data_->readings.size(); ++i) {
+    const ReadingState& state = state_[i];
+    const ReadingResult result = Compute(coloring, i, nullptr, {});
+    if (result.extent != state.extent)
+      return fmt::format("reading {}: extent {} kept, {} recomputed", i, state.extent,
+                         result.extent);
+    if (result.log_lik != state.log_lik)
+      return fmt::format("reading {}: log-likelihood {} kept, {} recomputed", i,
+                         FromFixed(state.log_lik), FromFixed(result.log_lik));
+    if (!std::equal(view_.contact_tags.begin(), view_.contact_tags.end(), state.contacts.begin(),
+                    state.contacts.end()))
+      return fmt::format("reading {}: the edges it sees differ from the recomputed ones", i);
+    total += state.log_lik;
+    // Listed exactly on the cells of its cone up to its extent.
+    if (state.listed_cells != ListedCellCount(i, state.extent))
+      return fmt::format("reading {} is listed in {} cells, its extent has {}", i,
+                         state.listed_cells, ListedCellCount(i, state.extent));
+    for (std::uint32_t k = 0; k < state.listed_cells; ++k) {
+      const auto& entries = cells_[static_cast<std::size_t>(cc.cells[cc.offsets[i] + k])];
+      if (std::none_of(entries.begin(), entries.end(), [&](const Entry& entry) {
+            return entry.reading == static_cast<std::int32_t>(i) && entry.version == state.version;
+          }))
+        return fmt::format("reading {} is missing from a cell of its cone", i);
+    }
+    live += state.listed_cells;
+  }
+  if (total != total_)
+    return fmt::format("total log-likelihood kept {} differs from the sum {}", FromFixed(total_),
+                       FromFixed(total));
+  std::size_t current = 0;
+  for (const auto& entries : cells_)
+    for (const Entry& entry : entries)
+      current += entry.version == state_[static_cast<std::size_t>(entry.reading)].version ? 1 : 0;
+  if (live != live_entries_ || current != live_entries_)
+    return fmt::format("{} live index entries counted, {} listed, {} in the cells", live_entries_,
+                       live, current);
+  return std::nullopt;
+}
+
+}  // namespace priormap::prf

@@ -1,0 +1,60 @@
+// End-to-end test of `priormap prf study`: a tiny study writes its summary (scores per case and
+// overall), its markdown table and the figures of each case; bad options are reported without
+// output.
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_fixture.hpp"
+#include "testing/temp_dir.hpp"
+
+namespace priormap {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+class PrfStudyCli : public priormap::testing::CliFixture {};
+
+TEST_F(PrfStudyCli, WritesSummaryTableAndFigures) {
+  const auto r = Run({"prf",          "study",   "--scenes",  "square",      "--sensors",
+                      "lms200,utm30", "--poses", "2",         "--beam-step", "6",
+                      "--samples",    "3000",    "--burn-in", "3000",        "--anneal-steps",
+                      "3000",         "--seed",  "3",         "-o",          "out"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("| square/lms200 | 62 |"));
+  const json summary = json::parse(testing::ReadAll(Work("out") / "summary.json"));
+  EXPECT_EQ(summary["format"], "priormap.prf_study");
+  EXPECT_EQ(summary["options"]["poses"], 2);
+  ASSERT_EQ(summary["cases"].size(), 2u);
+  const json& c = summary["cases"][0];
+  EXPECT_EQ(c["scene"], "square");
+  EXPECT_EQ(c["sensor"], "lms200");
+  EXPECT_EQ(c["beams"], 62);  // 31 of 181 beams from each of two poses
+  for (const char* method : {"grid", "prf posterior", "prf map"}) {
+    const json& m = c["methods"][method];
+    EXPECT_GT(m["observed"]["points"].get<int>(), 1000) << method;
+    EXPECT_EQ(m["observed"]["points"], c["methods"]["grid"]["observed"]["points"]) << method;
+    EXPECT_LE(m["observed"]["accuracy"].get<double>(), 1.0) << method;
+  }
+  EXPECT_TRUE(c["map"].contains("mean_distance_m"));
+  EXPECT_TRUE(summary["overall"].contains("prf posterior"));
+  EXPECT_THAT(testing::ReadAll(Work("out") / "table.md"), HasSubstr("| **all** |"));
+  for (const char* figure : {"truth", "grid", "posterior", "map"})
+    EXPECT_TRUE(testing::IsPng(
+        testing::ReadAll(Work("out") / "square-utm30" / (std::string(figure) + ".png"))))
+        << figure;
+}
+
+TEST_F(PrfStudyCli, RejectsUnknownScenesAndSensors) {
+  EXPECT_THAT(RunFailing({"prf", "study", "--sensors", "sonar9", "-o", "out"}).err,
+              HasSubstr("unknown sensor 'sonar9'"));
+  EXPECT_THAT(RunFailing({"prf", "study", "--scenes", "no-such-scene", "-o", "out"}).err,
+              HasSubstr("no-such-scene"));
+  EXPECT_NE(RunFailing({"prf", "study", "--poses", "0", "-o", "out"}).status, 0);
+}
+
+}  // namespace
+}  // namespace priormap

@@ -1,0 +1,104 @@
+// End-to-end tests of the sonar paths of the CLI: `priormap convert --from roboND-sonar` on the
+// real files and on malformed ones, and `priormap grid` / `priormap prf` on a simulated sonar
+// log (picked automatically, or refused when the sensor asked for is not in the log).
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <priormap/core/json_io.hpp>
+#include <priormap/core/sonar_simulate.hpp>
+
+#include "cli_fixture.hpp"
+#include "testing/temp_dir.hpp"
+
+namespace priormap {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+class SonarCli : public priormap::testing::CliFixture {
+ protected:
+  void WriteText(const std::string& name, const std::string& text) const {
+    std::ofstream(Work(name)) << text;
+  }
+  // A short simulated sonar log of the l-office in the working directory.
+  void WriteSonarLog(const std::string& name) const {
+    const Scene scene = *BuiltinScene("l-office");
+    const auto trajectory = TrajectoryFromWaypoints(scene.waypoints, 1.0, 1.0);
+    WriteJsonLog(SimulateSonarLog(scene, *SonarSensor::Preset("pioneer8"), trajectory, 2),
+                 Work(name));
+  }
+  json Summary(const std::string& dir) const {
+    return json::parse(testing::ReadAll(Work(dir) / "summary.json"));
+  }
+};
+
+TEST_F(SonarCli, ConvertsTheRoboNdFilesToOurJson) {
+  const auto shared = testing::SharedDataDir();
+  if (!shared) GTEST_SKIP() << "../shared/data is absent: no RoboND sonar files to convert";
+  const std::string z = (*shared / "sonar-roboND/measurement.txt").string();
+  const std::string p = (*shared / "sonar-roboND/poses.txt").string();
+  const auto r = Run({"convert", "--from", "roboND-sonar", z, p, "-o", "robond.json"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("413 sonar rings"));
+  EXPECT_THAT(r.out, HasSubstr("1068 max-range"));
+  const Result<Log> log = ReadJsonLog(Work("robond.json"));
+  ASSERT_TRUE(log.ok()) << log.error();
+  ASSERT_EQ(log.value().scans.size(), 413u);
+  EXPECT_TRUE(log.value().scans[0].sonar.has_value());
+  // CARMEN has no cones: refused, nothing written.
+  EXPECT_EQ(RunFailing({"convert", "--from", "roboND-sonar", z, p, "-o", "robond.log"}).status, 1);
+}
+
+TEST_F(SonarCli, ReportsMalformedRoboNdFilesAtFileLineAndColumn) {
+  WriteText("m.txt", "1 2 3 4 5 6 7 8 9\n2 1 2 3 x 5 6 7 8\n");
+  WriteText("p.txt", "1 0 0 0\n2 0 0 0\n");
+  const auto r =
+      RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err, HasSubstr("m.txt:2:9"));
+  EXPECT_THAT(r.err, HasSubstr("a range in mm"));
+  EXPECT_EQ(RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "-o", "x.json"}).status, 1);
+}
+
+TEST_F(SonarCli, GridAndPrfMapASonarLogWhichTheyRecogniseByItself) {
+  WriteSonarLog("sonar.json");
+  const auto grid = Run({"grid", "--log", "sonar.json", "-o", "grid"});
+  ASSERT_EQ(grid.status, 0) << grid.err;
+  EXPECT_EQ(Summary("grid")["sensor"], "sonar");
+  EXPECT_GT(Summary("grid")["readings"].get<int>(), 100);
+  EXPECT_TRUE(testing::IsPng(testing::ReadAll(Work("grid") / "grid.png")));
+
+  const auto prf = Run({"prf", "--log", "sonar.json", "--samples", "3000", "--burn-in", "3000",
+                        "--chains", "1", "--trace-every", "500", "--seed", "5", "-o", "prf"});
+  ASSERT_EQ(prf.status, 0) << prf.err;
+  EXPECT_THAT(prf.err, HasSubstr("sonar readings"));
+  const json summary = Summary("prf");
+  EXPECT_EQ(summary["sensor"], "sonar");
+  EXPECT_GT(summary["beams"].get<int>(), 100);
+  EXPECT_TRUE(testing::IsPng(testing::ReadAll(Work("prf") / "posterior.png")));
+
+  // A sonar run resumes exactly, like a laser one.
+  const std::vector<std::string> run = {
+      "prf",      "--log", "sonar.json",    "--samples", "3000",   "--burn-in", "3000",
+      "--chains", "1",     "--trace-every", "500",       "--seed", "5"};
+  auto stopped = run;
+  for (const char* arg : {"--stop-after-steps", "2500", "-o", "resumed"}) stopped.push_back(arg);
+  ASSERT_EQ(Run(stopped).status, 0);
+  ASSERT_EQ(Run({"prf", "--resume", "resumed"}).status, 0);
+  EXPECT_EQ(testing::ReadAll(Work("resumed") / "posterior.pgm"),
+            testing::ReadAll(Work("prf") / "posterior.pgm"));
+
+  EXPECT_THAT(RunFailing({"grid", "--log", "sonar.json", "--sensor", "laser", "-o", "g"}).err,
+              HasSubstr("--sensor laser"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--sensor", "laser", "-o", "p"}).err,
+              HasSubstr("--sensor laser"));
+}
+
+}  // namespace
+}  // namespace priormap

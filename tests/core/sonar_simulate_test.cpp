@@ -1,0 +1,194 @@
+// The sonar simulator against hand-worked geometry: a wall across the cone echoes at its
+// perpendicular distance with 1 % noise; an oblique wall alone is a specular miss (max range or
+// multipath); a corner seen from inside echoes at its distance; presets and scenes are sound.
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/polygon.hpp>
+#include <priormap/core/sonar_simulate.hpp>
+
+namespace priormap {
+namespace {
+
+Scene WallsScene(std::vector<Polyline> walls) {
+  Scene scene;
+  scene.name = "test";
+  for (Polyline& w : walls) scene.surfaces.push_back({std::move(w), false, "wall"});
+  return scene;
+}
+
+// One transducer at the robot's origin looking along +x.
+SonarSensor OneTransducer() {
+  SonarSensor sensor;
+  sensor.bearings = {0.0};
+  sensor.spurious_probability = 0.0;
+  return sensor;
+}
+
+TEST(SonarSimulator, AWallAcrossTheConeEchoesAtItsDistanceWithOnePercentNoise) {
+  const SonarScene scene(WallsScene({Polyline{{Vec2(3, -2), Vec2(3, 2)}, false}}));
+  SonarSensor sensor = OneTransducer();
+  Rng rng(1);
+  double sum = 0.0, sum_squares = 0.0;
+  int echoes = 0;
+  const int rings = 4000;
+  for (int k = 0; k < rings; ++k) {
+    const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0, 0), rng);
+    ASSERT_TRUE(ring.Problems().empty());
+    ASSERT_TRUE(ring.sonar);
+    if (ring.sonar->true_echo[0] != SonarEcho::kSurface) continue;
+    ++echoes;
+    EXPECT_EQ(ring.sonar->true_feature[0], 0);
+    EXPECT_NEAR(ring.truth->range[0], 3.0, 1e-12);
+    EXPECT_NEAR(ring.truth->alpha[0], std::numbers::pi, 1e-12);
+    const double error = ring.ranges[0] - 3.0;
+    sum += error;
+    sum_squares += error * error;
+  }
+  // Echo probability surface_return at normal incidence (the wall's ends are outside the cone).
+  const double p = sensor.surface_return;
+  EXPECT_NEAR(echoes / static_cast<double>(rings), p, 4.0 * std::sqrt(p * (1 - p) / rings));
+  const double sigma = 0.03;  // 1 % of 3 m
+  EXPECT_NEAR(sum / echoes, 0.0, 4.0 * sigma / std::sqrt(echoes));
+  EXPECT_NEAR(std::sqrt(sum_squares / echoes), sigma, 0.1 * sigma);
+}
+
+TEST(SonarSimulator, AnObliqueWallAloneIsASpecularMiss) {
+  // At 45 deg to the axis: every incidence in the 20 deg cone is 35 deg or more.
+  const SonarScene scene(WallsScene({Polyline{{Vec2(1, -2), Vec2(5, 2)}, false},
+                                     Polyline{{Vec2(-5, 1.5), Vec2(5, 1.5)}, false}}));
+  SonarSensor sensor = OneTransducer();
+  sensor.multipath_probability = 0.0;
+  Rng rng(2);
+  for (int k = 0; k < 200; ++k) {
+    const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0, 0), rng);
+    ASSERT_EQ(ring.sonar->true_echo[0], SonarEcho::kNone);
+    EXPECT_EQ(ring.status[0], BeamStatus::kMaxRange);
+  }
+  // With multipath, the wave mirrored up to the other wall comes back too late: the axis
+  // meets the mirror at (3, 0), then goes straight up to y = 1.5, 3 + 1.5 m in all.
+  sensor.multipath_probability = 1.0;
+  const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0, 0), rng);
+  ASSERT_EQ(ring.sonar->true_echo[0], SonarEcho::kMultipath);
+  EXPECT_EQ(ring.truth->outlier[0], 1);
+  EXPECT_NEAR(ring.truth->range[0], 4.5, 1e-5);
+  EXPECT_EQ(ring.sonar->true_feature[0], 0);
+}
+
+TEST(SonarSimulator, ACornerSeenFromInsideEchoesAtItsDistance) {
+  // Two walls meeting at (3, 0) at 90 deg, each at 45 deg to the axis: no surface echoes.
+  const Scene walls = WallsScene({Polyline{{Vec2(1, 2), Vec2(3, 0), Vec2(1, -2)}, false}});
+  const SonarScene scene(walls);
+  ASSERT_EQ(scene.corners.size(), 3u);
+  const SceneCorner& corner = scene.corners[1];
+  EXPECT_EQ(corner.point, Vec2(3, 0));
+  EXPECT_TRUE(corner.IsConcaveFrom(Vec2::Zero()));
+  EXPECT_FALSE(corner.IsConcaveFrom(Vec2(5, 0)));
+  EXPECT_TRUE(scene.corners[0].IsFreeEnd());
+  SonarSensor sensor = OneTransducer();
+  sensor.multipath_probability = 0.0;
+  Rng rng(3);
+  int corner_echoes = 0;
+  const int rings = 2000;
+  for (int k = 0; k < rings; ++k) {
+    const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0, 0), rng);
+    const SonarEcho echo = ring.sonar->true_echo[0];
+    ASSERT_TRUE(echo == SonarEcho::kCorner || echo == SonarEcho::kNone);
+    if (echo != SonarEcho::kCorner) continue;
+    ++corner_echoes;
+    EXPECT_EQ(ring.sonar->true_feature[0], 1);
+    EXPECT_NEAR(ring.ranges[0], 3.0, 0.2);
+  }
+  const double p = sensor.concave_corner_return;
+  EXPECT_NEAR(corner_echoes / static_cast<double>(rings), p, 4.0 * std::sqrt(p * (1 - p) / rings));
+}
+
+TEST(SonarSimulator, RingsCarryTheTransducersOffsetsAndSameSeedSameLog) {
+  const Scene scene = *BuiltinScene("office");
+  const SonarSensor sensor = *SonarSensor::Preset("pioneer16");
+  ASSERT_EQ(sensor.bearings.size(), 16u);
+  std::string why;
+  EXPECT_TRUE(sensor.IsValid(&why)) << why;
+  const auto trajectory = TrajectoryFromWaypoints(scene.waypoints, 0.5, 2.0);
+  const Log a = SimulateSonarLog(scene, sensor, trajectory, 9);
+  const Log b = SimulateSonarLog(scene, sensor, trajectory, 9);
+  ASSERT_EQ(a.scans.size(), trajectory.size());
+  EXPECT_TRUE(a.Problems().empty());
+  for (std::size_t k = 0; k < a.scans.size(); ++k) {
+    EXPECT_EQ(a.scans[k].ranges, b.scans[k].ranges);
+    EXPECT_EQ(a.scans[k].sonar->origins, sensor.offsets);
+  }
+  // The laser log of the same run has the same odometry.
+  RangeSensor laser = *RangeSensor::Preset("lms200");
+  const Log l = SimulateLog(scene, laser, trajectory, 9);
+  for (std::size_t k = 0; k < a.odometry.size(); ++k)
+    EXPECT_EQ(a.odometry[k].pose.translation(), l.odometry[k].pose.translation());
+  // In a building, most readings are surface or corner echoes or max range.
+  std::size_t echoes = 0, readings = 0;
+  for (const Scan& ring : a.scans) {
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      ++readings;
+      const SonarEcho e = ring.sonar->true_echo[i];
+      echoes += e == SonarEcho::kSurface || e == SonarEcho::kCorner;
+    }
+  }
+  EXPECT_GT(echoes, readings / 3);
+}
+
+TEST(SonarSensor, ReportsBadParameters) {
+  SonarSensor sensor = OneTransducer();
+  std::string why;
+  EXPECT_TRUE(sensor.IsValid(&why)) << why;
+  sensor.spread = std::numbers::pi;
+  EXPECT_FALSE(sensor.IsValid(&why));
+  sensor = OneTransducer();
+  sensor.offsets = {Vec2(0, 0), Vec2(1, 0)};
+  EXPECT_FALSE(sensor.IsValid(&why));
+  EXPECT_NE(why.find("offsets"), std::string::npos);
+  sensor = OneTransducer();
+  sensor.multipath_probability = 1.5;
+  EXPECT_FALSE(sensor.IsValid(&why));
+  EXPECT_FALSE(SonarSensor::Preset("nonesuch"));
+  for (const std::string& name : SonarSensor::PresetNames())
+    EXPECT_TRUE(SonarSensor::Preset(name)->IsValid(&why)) << name << ": " << why;
+}
+
+// Whether two segments of a closed polyline that are not neighbours touch.
+bool SelfIntersects(const Polyline& p) {
+  const std::size_t n = p.NumSegments();
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;
+      if (IntersectSegments(p.segment(i), p.segment(j))) return true;
+    }
+  return false;
+}
+
+TEST(BuiltinScenes, OfficesAreOneSimpleWallLoopWithThePathInsideClearOfWalls) {
+  for (const char* name : {"office", "l-office"}) {
+    const auto scene = BuiltinScene(name);
+    ASSERT_TRUE(scene) << name;
+    EXPECT_TRUE(scene->Problems().empty()) << name;
+    ASSERT_EQ(scene->surfaces.size(), 1u);
+    const Polyline& walls = std::get<Polyline>(scene->surfaces[0].shape);
+    ASSERT_TRUE(walls.closed);
+    EXPECT_FALSE(SelfIntersects(walls)) << name;
+    // Every trajectory pose is inside the free space and at least 0.3 m from a wall, so that a
+    // Pioneer's transducers (0.26 m from its centre at most) are inside too.
+    const auto trajectory = TrajectoryFromWaypoints(scene->waypoints, 0.2, 1.0);
+    for (const TimedPose& pose : trajectory) {
+      EXPECT_TRUE(RingContains(walls.points, pose.pose.translation())) << name;
+      EXPECT_GE(walls.Distance(pose.pose.translation()), 0.3) << name;
+    }
+    // Every doorway is a passage through a 0.2 m wall: four corners each.
+    const auto corners = SceneCorners(*scene);
+    EXPECT_EQ(corners.size(), walls.points.size());
+  }
+}
+
+}  // namespace
+}  // namespace priormap
