@@ -2,6 +2,7 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <unordered_map>
 
 #include <priormap/core/check.hpp>
 #include <priormap/prf/map_scores.hpp>
@@ -34,6 +35,35 @@ std::optional<Segment> ClipToBox(const Vec2& a, const Vec2& b, const Box2& box) 
 Box2 GridBox(const CellGrid& grid) {
   return {grid.origin, grid.origin + Vec2(grid.nx * grid.cell.x(), grid.ny * grid.cell.y())};
 }
+
+// Points hashed into square buckets of a given size, for "is any point within r <= size of p".
+class PointBuckets {
+ public:
+  PointBuckets(std::span<const Vec2> points, double size) : size_(size) {
+    for (const Vec2& q : points) buckets_[Key(Bucket(q.x()), Bucket(q.y()))].push_back(q);
+  }
+  [[nodiscard]] bool AnyWithin(const Vec2& p, double r) const {
+    const std::int64_t bx = Bucket(p.x()), by = Bucket(p.y());
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        const auto it = buckets_.find(Key(bx + dx, by + dy));
+        if (it == buckets_.end()) continue;
+        for (const Vec2& q : it->second)
+          if ((q - p).squaredNorm() <= r * r) return true;
+      }
+    return false;
+  }
+
+ private:
+  [[nodiscard]] std::int64_t Bucket(double v) const {
+    return static_cast<std::int64_t>(std::floor(v / size_));
+  }
+  static std::uint64_t Key(std::int64_t x, std::int64_t y) {
+    return (static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint32_t>(y);
+  }
+  double size_;
+  std::unordered_map<std::uint64_t, std::vector<Vec2>> buckets_;
+};
 
 void Count(Decision decision, bool truth_black, ClassificationScore* score) {
   ++score->points;
@@ -145,11 +175,14 @@ double WeightedQuantile(std::vector<double> values, std::vector<double> weights,
 
 WallScore ScoreWalls(std::span<const Segment> edges, const SceneTruth& truth,
                      const ObservedArea& observed, std::span<const Vec2> wall_points,
-                     const WallScoreOptions& options) {
-  PRIORMAP_CHECK(options.spacing > 0.0 && options.tolerance >= 0.0 && options.side_offset > 0.0,
-                 "positive spacing and side offset, and a non-negative tolerance");
+                     const WallScoreOptions& options, std::span<const Vec2> hits) {
+  PRIORMAP_CHECK(options.spacing > 0.0 && options.tolerance >= 0.0 && options.side_offset > 0.0 &&
+                     options.support_radius > 0.0,
+                 "positive spacing, side offset and support radius, and a non-negative tolerance");
   WallScore score;
   std::vector<double> distances, weights;
+  std::vector<double> supported_distances, supported_weights;
+  const PointBuckets hit_buckets(hits, options.support_radius);
   const auto seen = [&](const Vec2& p) { return observed.Classify(p) != Observation::kUnseen; };
   for (const Segment& edge : edges) {
     const double length = edge.Length();
@@ -161,19 +194,29 @@ WallScore ScoreWalls(std::span<const Segment> edges, const SceneTruth& truth,
       if (left && right) {
         distances.push_back(truth.DistanceToWall(p));
         weights.push_back(length / pieces);
+        if (hit_buckets.AnyWithin(p, options.support_radius)) {
+          supported_distances.push_back(distances.back());
+          supported_weights.push_back(weights.back());
+        }
       } else if (left || right) {
         score.border_length += length / pieces;
       }
     }
   }
-  score.scored_length = std::accumulate(weights.begin(), weights.end(), 0.0);
-  if (score.scored_length > 0.0) {
-    score.mean_distance =
-        std::inner_product(distances.begin(), distances.end(), weights.begin(), 0.0) /
-        score.scored_length;
-    score.max_distance = *std::max_element(distances.begin(), distances.end());
-    score.p90_distance = WeightedQuantile(distances, weights, 0.9);
-  }
+  const auto summarize = [](const std::vector<double>& d, const std::vector<double>& w,
+                            double* length, double* mean, double* p90, double* max) {
+    *length = std::accumulate(w.begin(), w.end(), 0.0);
+    if (*length <= 0.0) return;
+    *mean = std::inner_product(d.begin(), d.end(), w.begin(), 0.0) / *length;
+    *max = *std::max_element(d.begin(), d.end());
+    *p90 = WeightedQuantile(d, w, 0.9);
+  };
+  summarize(distances, weights, &score.scored_length, &score.mean_distance, &score.p90_distance,
+            &score.max_distance);
+  if (!hits.empty())
+    summarize(supported_distances, supported_weights, &score.supported_length,
+              &score.supported_mean_distance, &score.supported_p90_distance,
+              &score.supported_max_distance);
 
   score.wall_points = wall_points.size();
   if (!wall_points.empty()) {

@@ -156,7 +156,10 @@ MapStudyCase RunMapStudyCase(const Scene& scene, const RangeSensor& sensor,
     std::vector<Segment> edges;
     for (const EdgeId e : c.prf.map->edge_ids()) edges.push_back(c.prf.map->EdgeSegment(e));
     const std::vector<Vec2> wall_points = VisibleWallPoints(scene, observed, options.walls.spacing);
-    c.walls = ScoreWalls(edges, truth, observed, wall_points, options.walls);
+    std::vector<Vec2> hits;
+    for (const LaserBeam& beam : c.data->beams)
+      if (!beam.max_reading) hits.push_back(beam.origin + beam.range * beam.direction);
+    c.walls = ScoreWalls(edges, truth, observed, wall_points, options.walls, hits);
   }
   c.wall_time_s = Seconds(start);
   return c;

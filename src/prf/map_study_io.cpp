@@ -60,6 +60,10 @@ nlohmann::json CaseJson(const MapStudyCase& c) {
                 {"mean_distance_m", Number(c.walls.mean_distance)},
                 {"p90_distance_m", Number(c.walls.p90_distance)},
                 {"max_distance_m", Number(c.walls.max_distance)},
+                {"supported_length_m", c.walls.supported_length},
+                {"supported_mean_distance_m", Number(c.walls.supported_mean_distance)},
+                {"supported_p90_distance_m", Number(c.walls.supported_p90_distance)},
+                {"supported_max_distance_m", Number(c.walls.supported_max_distance)},
                 {"wall_points", c.walls.wall_points},
                 {"recovered_fraction", Number(c.walls.recovered_fraction)}};
   return j;
@@ -124,9 +128,9 @@ std::string MapStudySummaryJson(const MapStudyResult& study, const MapStudyOptio
 std::string MapStudyMarkdownTable(const MapStudyResult& study) {
   std::string table =
       "| case | beams | observed cells (sparse %) | observed: grid (coverage) | PRF | MAP | "
-      "sparse: grid (coverage) | PRF | MAP | MAP walls: mean / p90 (cm) | recovered % | "
-      "grid ms | PRF s |\n"
-      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      "sparse: grid (coverage) | PRF | MAP | MAP walls: mean / p90 (cm) | "
+      "walls where beams ended: mean / p90 (cm) | recovered % | grid ms | PRF s |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   const auto row = [&](const std::string& name, const std::string& beams,
                        const std::vector<MethodScores>& methods, const std::string& walls,
                        const std::string& recovered) {
@@ -151,11 +155,12 @@ std::string MapStudyMarkdownTable(const MapStudyResult& study) {
   for (const MapStudyCase& c : study.cases) {
     beams += c.data->beams.size();
     row(c.Name(), std::to_string(c.data->beams.size()), c.methods,
-        fmt::format("{} / {}", Centimetres(c.walls.mean_distance),
-                    Centimetres(c.walls.p90_distance)),
+        fmt::format("{} / {} | {} / {}", Centimetres(c.walls.mean_distance),
+                    Centimetres(c.walls.p90_distance), Centimetres(c.walls.supported_mean_distance),
+                    Centimetres(c.walls.supported_p90_distance)),
         Percent(c.walls.recovered_fraction));
   }
-  if (study.cases.size() > 1) row("**all**", std::to_string(beams), study.overall, "–", "–");
+  if (study.cases.size() > 1) row("**all**", std::to_string(beams), study.overall, "– | –", "–");
   return table;
 }
 

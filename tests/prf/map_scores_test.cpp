@@ -171,6 +171,36 @@ TEST(MapScores, EdgesAlongTheBorderOfTheUnseenAreNotWalls) {
   EXPECT_DOUBLE_EQ(score.recovered_fraction, 0.0);
 }
 
+TEST(MapScores, SupportedWallsAreThePiecesNearWhereBeamsEnded) {
+  const Scene scene = Room(4, 4);
+  const SceneTruth truth = SceneTruth::OfScene(scene);
+  const ObservedArea observed(scene, {{.pose = Se2(0, 0, 0), .fov = kTwoPi, .max_range = 8}}, 0.1);
+  const std::vector<Vec2> wall_points = VisibleWallPoints(scene, observed, 0.01);
+  // The walls inset by 2 cm, and a 1 m edge across the middle 1.75 m from the walls on average.
+  std::vector<Segment> edges = InsetWalls(2.0, 0.02);
+  edges.push_back({{-0.5, 0}, {0.5, 0}});
+  // Hits along the east wall only (y in [-1, 1]), and one 25 cm off the middle edge's end.
+  std::vector<Vec2> hits;
+  for (int k = 0; k <= 20; ++k) hits.emplace_back(2.0, -1.0 + 0.1 * k);
+  hits.emplace_back(0.75, 0.0);
+  WallScoreOptions options;
+  options.support_radius = 0.3;
+  const WallScore score = ScoreWalls(edges, truth, observed, wall_points, options, hits);
+  EXPECT_NEAR(score.scored_length, 4 * 3.96 + 1.0, 1e-9);
+  // Supported: the east wall's pieces within 0.3 m of a hit, y in [-1.3, 1.3] (2.6 m, 2 cm off),
+  // and the middle edge's pieces within 0.3 m of (0.75, 0), x in [0.45, 0.5] (1.75 m off).
+  EXPECT_NEAR(score.supported_length, 2.6 + 0.05, 0.03);  // pieces of 1 cm at three ends
+  const double mean = (2.6 * 0.02 + 0.05 * 1.525) / 2.65;
+  EXPECT_NEAR(score.supported_mean_distance, mean, 0.01);
+  EXPECT_NEAR(score.supported_p90_distance, 0.02, 1e-9);
+  EXPECT_NEAR(score.supported_max_distance, 1.545, 0.01);
+  // Without hits, nothing is supported and the supported scores are NaN.
+  const WallScore none = ScoreWalls(edges, truth, observed, wall_points, options);
+  EXPECT_EQ(none.supported_length, 0.0);
+  EXPECT_TRUE(std::isnan(none.supported_mean_distance));
+  EXPECT_NEAR(none.mean_distance, score.mean_distance, 1e-12);
+}
+
 TEST(MapStudy, PosesAreSpacedEvenlyAlongTheWaypointPath) {
   const Scene rectangle = *BuiltinScene("rectangle");  // a closed 10 m loop from (-1.5, -1)
   const std::vector<Se2> two = StudyPoses(rectangle, 2);

@@ -106,6 +106,11 @@ struct WallScoreOptions {
   /// m: an edge piece is a wall of the map when the points this far on both of its sides are
   /// observed (visible, or behind a seen surface).
   double side_offset = 0.02;
+  /// m: a wall piece is also *supported* when a beam ended (a hit, not a max reading) this close
+  /// to it: a wall the sensor perceived, as opposed to a boundary the map drew where nothing
+  /// echoed (the shadow behind a door jamb drawn through an unsampled sliver of visible space).
+  /// Generous, so that a wall drawn off its hits still counts, with its distance.
+  double support_radius = 0.3;
 };
 
 struct WallScore {
@@ -118,6 +123,11 @@ struct WallScore {
   double mean_distance = std::numeric_limits<double>::quiet_NaN();
   double p90_distance = std::numeric_limits<double>::quiet_NaN();
   double max_distance = std::numeric_limits<double>::quiet_NaN();
+  /// The same for the supported pieces (hits given to ScoreWalls); NaN without hits.
+  double supported_length = 0.0;
+  double supported_mean_distance = std::numeric_limits<double>::quiet_NaN();
+  double supported_p90_distance = std::numeric_limits<double>::quiet_NaN();
+  double supported_max_distance = std::numeric_limits<double>::quiet_NaN();
   /// Seen true wall points, and the fraction of them with a map edge within the tolerance.
   std::size_t wall_points = 0;
   double recovered_fraction = std::numeric_limits<double>::quiet_NaN();
@@ -128,9 +138,11 @@ struct WallScore {
 /// its sides are observed: it then claims a wall where the data could show one. Pieces with an
 /// unseen side are left out: where the map extrapolates, and along the border of the unseen,
 /// where an edge is the map's guess where the shadow behind a seen wall begins, not a wall.
-/// `wall_points`: the seen true walls (VisibleWallPoints).
+/// `wall_points`: the seen true walls (VisibleWallPoints). `hits`: where the data's beams ended,
+/// for the supported pieces' scores.
 [[nodiscard]] WallScore ScoreWalls(std::span<const Segment> edges, const SceneTruth& truth,
                                    const ObservedArea& observed, std::span<const Vec2> wall_points,
-                                   const WallScoreOptions& options = {});
+                                   const WallScoreOptions& options = {},
+                                   std::span<const Vec2> hits = {});
 
 }  // namespace priormap::prf
