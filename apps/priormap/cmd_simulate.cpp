@@ -5,6 +5,7 @@
 #include <priormap/core/json_io.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/core/simulate.hpp>
+#include <priormap/core/sonar_simulate.hpp>
 #include <priormap/render/scene_drawing.hpp>
 
 #include "cli_support.hpp"
@@ -49,13 +50,36 @@ RangeSensor MakeSensor(const SimulateOptions& o) {
   return sensor;
 }
 
+// A sonar ring preset (pioneer8, pioneer16, robond) with the options that apply to a ring;
+// nullopt when `o.sensor` names a laser.
+std::optional<SonarSensor> MakeSonarSensor(const SimulateOptions& o) {
+  std::optional<SonarSensor> sensor = SonarSensor::Preset(o.sensor);
+  if (!sensor) return std::nullopt;
+  if (o.beams || o.fov_deg || o.sigma || o.correlation || o.outliers || o.dropout)
+    throw UserError(fmt::format(
+        "--sensor {} is a sonar ring: --beams, --fov, --sigma, --correlation, --outliers and "
+        "--dropout apply to lasers only",
+        o.sensor));
+  if (o.min_range) sensor->min_range = *o.min_range;
+  if (o.max_range) sensor->max_range = *o.max_range;
+  std::string why;
+  if (!sensor->IsValid(&why)) throw UserError("sensor: " + why);
+  return sensor;
+}
+
 void Run(const SimulateOptions& o) {
   // Every check before the first write, so that a failure leaves nothing behind.
   const Scene scene = LoadScene(o.scene);
-  const RangeSensor sensor = MakeSensor(o);
+  const std::optional<SonarSensor> sonar = MakeSonarSensor(o);
+  const RangeSensor sensor = sonar ? RangeSensor{} : MakeSensor(o);
   if (o.out.empty() && !o.write_scene)
     throw UserError("--out is required (or --write-scene alone to export the scene)");
   const LogFormat format = o.format ? *LogFormatFromString(*o.format) : LogFormatFromPath(o.out);
+  if (sonar && !o.out.empty() && format != LogFormat::kJson)
+    throw UserError(
+        fmt::format("--out {}: sonar rings are written as JSON logs only (a CARMEN "
+                    "log has no record for cones); use a .json file",
+                    o.out));
   if (o.figure) RequireFigurePath(*o.figure, "--png");
   if (!o.out.empty()) RequireOutputDirectory(o.out, "--out");
   if (o.figure) RequireOutputDirectory(*o.figure, "--png");
@@ -71,9 +95,16 @@ void Run(const SimulateOptions& o) {
   }
 
   Log log;
-  if (o.log) {
+  if (o.log && sonar) {
+    log = SimulateSonarLog(scene, *sonar, TrajectoryFromWaypoints(scene.waypoints, o.speed, o.rate),
+                           o.seed);
+  } else if (o.log) {
     log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, o.speed, o.rate),
                       o.seed);
+  } else if (sonar) {
+    Rng rng(o.seed);
+    log.pose_source = PoseSource::kGroundTruth;
+    log.scans.push_back(SimulateSonarRing(SonarScene(scene), *sonar, pose, rng));
   } else {
     Rng rng(o.seed);
     log.pose_source = PoseSource::kGroundTruth;
@@ -92,13 +123,13 @@ void Run(const SimulateOptions& o) {
   }
   fmt::print("wrote {}: {} of {} beams from sensor {} in scene {} ({} valid readings)\n", o.out,
              Plural(log.scans.size(), "scan"), beams / std::max<std::size_t>(log.scans.size(), 1),
-             sensor.name, scene.name, valid);
+             sonar ? sonar->name : sensor.name, scene.name, valid);
 
   if (o.figure) {
     Box2 bounds = scene.Bounds();
     for (const Scan& scan : log.scans) bounds.extend(render::ScanBounds(scan));
     render::Figure figure(
-        bounds, {.title = fmt::format("{}: {} ({})", scene.name, sensor.name,
+        bounds, {.title = fmt::format("{}: {} ({})", scene.name, sonar ? sonar->name : sensor.name,
                                       o.log ? Plural(log.scans.size(), "scan") : "one scan")});
     render::DrawScene(figure, scene);
     if (o.log) {
@@ -121,7 +152,10 @@ void AddSimulateCommand(CLI::App& app) {
                   "Built-in scene (square, rectangle, circle, two-circles, l-room, corridor) or a "
                   "scene JSON file")
       ->capture_default_str();
-  cmd->add_option("--sensor", o->sensor, "Sensor preset: utm30 or lms200")->capture_default_str();
+  cmd->add_option("--sensor", o->sensor,
+                  "Sensor preset: a laser (utm30, lms200) or a sonar ring (pioneer8, pioneer16, "
+                  "robond; docs/sonar.md)")
+      ->capture_default_str();
   cmd->add_option("--beams", o->beams, "Number of beams (overrides the preset)")
       ->check(PositiveValue());
   cmd->add_option("--fov", o->fov_deg, "Field of view, degrees")->check(CLI::Range(0.0, 360.0));

@@ -1,6 +1,7 @@
 // End-to-end tests of the sonar paths of the CLI: `priormap convert --from roboND-sonar` on the
 // real files and on malformed ones, and `priormap grid` / `priormap prf` on a simulated sonar
 // log (picked automatically, or refused when the sensor asked for is not in the log).
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -53,6 +54,47 @@ TEST_F(SonarCli, ConvertsTheRoboNdFilesToOurJson) {
   EXPECT_TRUE(log.value().scans[0].sonar.has_value());
   // CARMEN has no cones: refused, nothing written.
   EXPECT_EQ(RunFailing({"convert", "--from", "roboND-sonar", z, p, "-o", "robond.log"}).status, 1);
+}
+
+TEST_F(SonarCli, SimulatesSonarRingsAndLogsWithTheirTruth) {
+  const auto ring = Run(
+      {"simulate", "--scene", "office", "--sensor", "pioneer16", "--seed", "3", "-o", "r.json"});
+  ASSERT_EQ(ring.status, 0) << ring.err;
+  const Result<Log> one = ReadJsonLog(Work("r.json"));
+  ASSERT_TRUE(one.ok()) << one.error();
+  ASSERT_EQ(one.value().scans.size(), 1u);
+  const Scan& scan = one.value().scans[0];
+  ASSERT_TRUE(scan.sonar.has_value());
+  EXPECT_EQ(scan.size(), 16u);
+  EXPECT_EQ(scan.sonar->true_echo.size(), 16u);
+  EXPECT_DOUBLE_EQ(scan.max_range, 5.0);
+
+  const std::vector<std::string> log = {"simulate", "--scene", "office", "--sensor", "pioneer8",
+                                        "--log",    "--rate",  "1",      "--seed",   "3"};
+  auto first = log, second = log;
+  first.insert(first.end(), {"-o", "a.json"});
+  second.insert(second.end(), {"-o", "b.json", "--max-range", "4"});
+  ASSERT_EQ(Run(first).status, 0);
+  ASSERT_EQ(Run(second).status, 0);
+  const Result<Log> a = ReadJsonLog(Work("a.json"));
+  const Result<Log> b = ReadJsonLog(Work("b.json"));
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_GT(a.value().scans.size(), 20u);
+  EXPECT_EQ(a.value().scans[0].size(), 8u);
+  EXPECT_DOUBLE_EQ(b.value().scans[0].max_range, 4.0);
+  // The same seed gives the same log.
+  auto again = log;
+  again.insert(again.end(), {"-o", "c.json"});
+  ASSERT_EQ(Run(again).status, 0);
+  EXPECT_EQ(testing::ReadAll(Work("a.json")), testing::ReadAll(Work("c.json")));
+
+  // Cones do not fit a CARMEN log, and laser options do not fit a ring: refused, nothing written.
+  EXPECT_THAT(RunFailing({"simulate", "--sensor", "pioneer8", "--log", "-o", "x.log"}).err,
+              HasSubstr("JSON logs only"));
+  EXPECT_THAT(RunFailing({"simulate", "--sensor", "pioneer8", "--beams", "9", "-o", "y.json"}).err,
+              HasSubstr("lasers only"));
+  EXPECT_FALSE(std::filesystem::exists(Work("x.log")));
+  EXPECT_FALSE(std::filesystem::exists(Work("y.json")));
 }
 
 TEST_F(SonarCli, ReportsMalformedRoboNdFilesAtFileLineAndColumn) {
