@@ -329,7 +329,8 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
 void RunMappingCommand(MappingCliOptions o) {
   const bool resuming = !o.resume.empty();
   if (resuming) o = RunFromJson(o.resume, o);
-  if (o.log.empty()) throw UserError("--log is required (or a subcommand: prior-stats, study)");
+  if (o.log.empty())
+    throw UserError("--log is required (or a subcommand: prior-stats, study, sonar-study)");
   if (o.out.empty()) throw UserError("-o/--out is required");
   const Log log = ValueOrThrow(ReadLog(o.log));
   std::tie(o.selection.first_scan, o.selection.end_scan) =
@@ -539,6 +540,7 @@ void AddPrfCommand(CLI::App& app) {
   AddMappingOptions(*cmd, o);
   AddPriorStats(*cmd);
   AddPrfStudyCommand(*cmd);
+  AddPrfSonarStudyCommand(*cmd);
   cmd->callback([o, cmd] {
     if (!cmd->get_subcommands().empty()) return;
     if (!o->resume.empty()) {

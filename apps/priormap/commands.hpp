@@ -14,6 +14,8 @@ void AddSlamCommand(CLI::App& app);
 void AddPrfCommand(CLI::App& app);
 /// `prf study`, registered on the prf command by AddPrfCommand.
 void AddPrfStudyCommand(CLI::App& prf_cmd);
+/// `prf sonar-study`, registered on the prf command by AddPrfCommand.
+void AddPrfSonarStudyCommand(CLI::App& prf_cmd);
 void AddGridCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);

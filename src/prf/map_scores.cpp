@@ -2,10 +2,10 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
-#include <unordered_map>
 
 #include <priormap/core/check.hpp>
 #include <priormap/prf/map_scores.hpp>
+#include <priormap/prf/point_buckets.hpp>
 
 namespace priormap::prf {
 namespace {
@@ -35,35 +35,6 @@ std::optional<Segment> ClipToBox(const Vec2& a, const Vec2& b, const Box2& box) 
 Box2 GridBox(const CellGrid& grid) {
   return {grid.origin, grid.origin + Vec2(grid.nx * grid.cell.x(), grid.ny * grid.cell.y())};
 }
-
-// Points hashed into square buckets of a given size, for "is any point within r <= size of p".
-class PointBuckets {
- public:
-  PointBuckets(std::span<const Vec2> points, double size) : size_(size) {
-    for (const Vec2& q : points) buckets_[Key(Bucket(q.x()), Bucket(q.y()))].push_back(q);
-  }
-  [[nodiscard]] bool AnyWithin(const Vec2& p, double r) const {
-    const std::int64_t bx = Bucket(p.x()), by = Bucket(p.y());
-    for (std::int64_t dx = -1; dx <= 1; ++dx)
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const auto it = buckets_.find(Key(bx + dx, by + dy));
-        if (it == buckets_.end()) continue;
-        for (const Vec2& q : it->second)
-          if ((q - p).squaredNorm() <= r * r) return true;
-      }
-    return false;
-  }
-
- private:
-  [[nodiscard]] std::int64_t Bucket(double v) const {
-    return static_cast<std::int64_t>(std::floor(v / size_));
-  }
-  static std::uint64_t Key(std::int64_t x, std::int64_t y) {
-    return (static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint32_t>(y);
-  }
-  double size_;
-  std::unordered_map<std::uint64_t, std::vector<Vec2>> buckets_;
-};
 
 void Count(Decision decision, bool truth_black, ClassificationScore* score) {
   ++score->points;

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <priormap/core/binary_io.hpp>
 #include <priormap/core/check.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/core/simulate.hpp>
@@ -19,16 +20,6 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
-}
-
-// FNV-1a: a case's seed comes from its name, so it is the same in any study that holds it.
-std::uint64_t NameHash(const std::string& name) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (const char c : name) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 1099511628211ull;
-  }
-  return h;
 }
 
 // The log-odds grid of exactly the PRF's beams, over its window at the evaluation resolution.
@@ -98,7 +89,8 @@ MapStudyCase RunMapStudyCase(const Scene& scene, const RangeSensor& sensor,
   MapStudyCase c;
   c.scene = scene.name;
   c.sensor = sensor.name;
-  c.seed = SplitMix64(options.seed ^ NameHash(c.Name()));
+  // From the case's name (FNV-1a), so that it is the same in any study that holds the case.
+  c.seed = SplitMix64(options.seed ^ Fnv1a64(c.Name()));
 
   // The localized log: true poses, the sensor's own noise.
   c.poses = StudyPoses(scene, options.poses);

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/prf/map_study_io.hpp>
+#include <priormap/prf/sonar_study.hpp>
 
 namespace priormap::prf {
 namespace {
@@ -21,13 +22,22 @@ nlohmann::json ScoreJson(const ClassificationScore& s) {
           {"decided_accuracy", Number(s.DecidedAccuracy())}};
 }
 
+nlohmann::json ClassificationJson(const MapClassification& c) {
+  return {{"observed", ScoreJson(c.observed)},
+          {"sparse", ScoreJson(c.sparse)},
+          {"covered", ScoreJson(c.covered)}};
+}
+
+std::string PercentText(double fraction) {
+  return std::isfinite(fraction) ? fmt::format("{:.1f}", 100.0 * fraction) : "–";
+}
+
 nlohmann::json MethodsJson(const std::vector<MethodScores>& methods) {
   nlohmann::json out = nlohmann::json::object();
-  for (const MethodScores& m : methods)
-    out[m.method] = {{"observed", ScoreJson(m.classification.observed)},
-                     {"sparse", ScoreJson(m.classification.sparse)},
-                     {"covered", ScoreJson(m.classification.covered)},
-                     {"seconds", m.seconds}};
+  for (const MethodScores& m : methods) {
+    out[m.method] = ClassificationJson(m.classification);
+    out[m.method]["seconds"] = m.seconds;
+  }
   return out;
 }
 
@@ -70,7 +80,7 @@ nlohmann::json CaseJson(const MapStudyCase& c) {
 }
 
 std::string Percent(double value) {
-  return std::isfinite(value) ? fmt::format("{:.1f}", 100.0 * value) : "–";
+  return PercentText(value);
 }
 
 std::string Centimetres(double value) {
@@ -161,6 +171,86 @@ std::string MapStudyMarkdownTable(const MapStudyResult& study) {
         Percent(c.walls.recovered_fraction));
   }
   if (study.cases.size() > 1) row("**all**", std::to_string(beams), study.overall, "– | –", "–");
+  return table;
+}
+
+}  // namespace priormap::prf
+
+namespace priormap::prf {
+namespace {
+
+nlohmann::json ContourJson(const ContourWallScore& w) {
+  return {{"contour_length_m", w.contour_length},
+          {"mean_distance_m", Number(w.mean_distance)},
+          {"p90_distance_m", Number(w.p90_distance)},
+          {"walls_seen", w.walls_seen},
+          {"walls_missed", w.walls_missed},
+          {"recovered_fraction", Number(w.recovered_fraction)}};
+}
+
+}  // namespace
+
+std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStudyOptions& options) {
+  const MappingOptions& m = options.mapping;
+  std::vector<std::string> scenes;
+  for (const Scene& scene : options.scenes) scenes.push_back(scene.name);
+  nlohmann::json j;
+  j["format"] = "priormap.prf_sonar_study";
+  j["version"] = 1;
+  j["options"] = {{"scenes", scenes},
+                  {"sensor", options.sensor.name},
+                  {"speed", options.speed},
+                  {"rate", options.rate},
+                  {"resolution", options.resolution},
+                  {"band", options.band},
+                  {"wall_tolerance", options.walls.tolerance},
+                  {"p", m.sampler.p},
+                  {"samples", m.samples},
+                  {"burn_in", m.burn_in},
+                  {"chains", m.chains},
+                  {"seed", options.seed}};
+  j["wall_time_s"] = study.wall_time_s;
+  j["cases"] = nlohmann::json::array();
+  for (const SonarStudyCase& c : study.cases) {
+    nlohmann::json methods = nlohmann::json::object();
+    for (const SonarStudyMethod& method : c.methods) {
+      methods[method.method] = ClassificationJson(method.classification);
+      methods[method.method]["walls"] = ContourJson(method.walls);
+      methods[method.method]["seconds"] = method.seconds;
+    }
+    j["cases"].push_back(
+        {{"scene", c.scene},
+         {"seed", c.seed},
+         {"readings", c.readings},
+         {"max_readings", c.max_readings},
+         {"rings", c.ring_poses.size()},
+         {"methods", methods},
+         {"proposals_per_second", c.prf.sampling_time_s > 0.0
+                                      ? static_cast<double>(c.prf.proposals) / c.prf.sampling_time_s
+                                      : 0.0},
+         {"rhat_log_posterior", Number(c.prf.rhat_log_posterior)},
+         {"rhat_point_colours", Number(c.prf.rhat_point_colours)},
+         {"wall_time_s", c.wall_time_s}});
+  }
+  return j.dump(2) + "\n";
+}
+
+std::string SonarStudyMarkdownTable(const SonarStudyResult& study) {
+  std::string table =
+      "| case | readings (max-range) | method | observed: accuracy (coverage) | sparse | "
+      "walls missed / seen | recovered % | 0.5 contour to walls: mean / p90 (cm) | s |\n"
+      "|---|---:|---|---:|---:|---:|---:|---:|---:|\n";
+  for (const SonarStudyCase& c : study.cases) {
+    for (const SonarStudyMethod& m : c.methods) {
+      const ClassificationScore& observed = m.classification.observed;
+      table += fmt::format(
+          "| {} | {} ({}) | {} | {} ({}) | {} | {} / {} | {} | {} / {} | {:.1f} |\n", c.scene,
+          c.readings, c.max_readings, m.method, PercentText(observed.Accuracy()),
+          PercentText(observed.Coverage()), PercentText(m.classification.sparse.Accuracy()),
+          m.walls.walls_missed, m.walls.walls_seen, PercentText(m.walls.recovered_fraction),
+          Centimetres(m.walls.mean_distance), Centimetres(m.walls.p90_distance), m.seconds);
+    }
+  }
   return table;
 }
 

@@ -187,9 +187,8 @@ TEST_F(MappingCli, ResumeRefusesWhatWouldMakeAnotherRun) {
   EXPECT_THAT(RunFailing({"prf", "--resume", Work("run").string()}).err,
               HasSubstr("checksum mismatch"));
   // A new run in the directory replaces the stopped one, whose checkpoints it must not meet.
-  ASSERT_EQ(Run({"prf", "--log", "room.log", "--beam-step", "8", "--p", "0.3", "--samples",
-                 "4000", "--burn-in", "4000", "--chains", "1", "--stop-after-steps", "3000", "-o",
-                 "run"})
+  ASSERT_EQ(Run({"prf", "--log", "room.log", "--beam-step", "8", "--p", "0.3", "--samples", "4000",
+                 "--burn-in", "4000", "--chains", "1", "--stop-after-steps", "3000", "-o", "run"})
                 .status,
             0);
   const auto r = Run({"prf", "--resume", Work("run").string()});

@@ -97,6 +97,28 @@ TEST_F(SonarCli, SimulatesSonarRingsAndLogsWithTheirTruth) {
   EXPECT_FALSE(std::filesystem::exists(Work("y.json")));
 }
 
+TEST_F(SonarCli, SonarStudyWritesItsSummaryTableAndFigures) {
+  const auto r = Run({"prf", "sonar-study", "--scenes", "office", "--samples", "2000", "--burn-in",
+                      "2000", "--chains", "1", "--seed", "2", "-o", "study"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json summary = Summary("study");
+  EXPECT_EQ(summary["format"], "priormap.prf_sonar_study");
+  ASSERT_EQ(summary["cases"].size(), 1u);
+  const json& c = summary["cases"][0];
+  EXPECT_EQ(c["scene"], "office");
+  EXPECT_GT(c["readings"].get<int>(), 1000);
+  for (const char* method : {"grid", "prf posterior"}) {
+    EXPECT_GT(c["methods"][method]["walls"]["walls_seen"].get<int>(), 30) << method;
+    EXPECT_GT(c["methods"][method]["observed"]["points"].get<int>(), 10000) << method;
+  }
+  EXPECT_THAT(testing::ReadAll(Work("study") / "table.md"), HasSubstr("| office |"));
+  for (const char* figure : {"truth.png", "grid.png", "posterior.png"})
+    EXPECT_TRUE(testing::IsPng(testing::ReadAll(Work("study") / "office-pioneer16" / figure)));
+
+  EXPECT_THAT(RunFailing({"prf", "sonar-study", "--sensor", "utm30", "-o", "bad"}).err,
+              HasSubstr("unknown sonar 'utm30'"));
+}
+
 TEST_F(SonarCli, ReportsMalformedRoboNdFilesAtFileLineAndColumn) {
   WriteText("m.txt", "1 2 3 4 5 6 7 8 9\n2 1 2 3 x 5 6 7 8\n");
   WriteText("p.txt", "1 0 0 0\n2 0 0 0\n");

@@ -1,0 +1,132 @@
+// priormap prf sonar-study: the PRF posterior against the sonar occupancy grid on simulated sonar
+// logs of scenes with rooms and doors (issue 7; docs/prf.md).
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include <priormap/core/file_io.hpp>
+#include <priormap/prf/sonar_study.hpp>
+#include <priormap/render/prf_figures.hpp>
+#include <priormap/render/prf_study_figures.hpp>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+
+namespace priormap::app {
+namespace {
+
+struct SonarStudyCliOptions {
+  std::vector<std::string> scenes{"office", "l-office"};
+  std::string sensor = "pioneer16";
+  std::optional<double> max_range;
+  std::string out;
+  bool figures = true;
+  prf::SonarStudyOptions study;
+};
+
+void SaveCaseFigures(const std::filesystem::path& dir, const prf::SonarStudyCase& c,
+                     const std::string& sensor) {
+  EnsureDirectory(dir.string());
+  std::vector<Se2> poses;
+  std::vector<Vec2> sensors;
+  // Every tenth ring's pose: enough to show the path without hiding the map.
+  for (std::size_t k = 0; k < c.ring_poses.size(); k += 10) {
+    poses.push_back(c.ring_poses[k]);
+    sensors.push_back(c.ring_poses[k].translation());
+  }
+  const std::string name = fmt::format("{}/{}", c.scene, sensor);
+  const std::string readings = fmt::format("{} readings", c.readings);
+  render::SaveTruthFigure(dir / "truth.png", c.evaluation, poses,
+                          fmt::format("{}: truth over what the cones could see", name));
+  render::SaveProbabilityFigure(dir / "grid.png", c.grid_map,
+                                fmt::format("{}: sonar occupancy grid, {}", name, readings),
+                                sensors);
+  const prf::CellGrid& raster = c.prf.raster;
+  render::SaveProbabilityFigure(
+      dir / "posterior.png",
+      {.probability = c.prf.black_fraction, .origin = raster.origin, .resolution = raster.cell.x()},
+      fmt::format("{}: PRF posterior P(black), {}", name, readings), sensors);
+}
+
+void RunSonarStudyCommand(SonarStudyCliOptions o) {
+  if (o.out.empty()) throw UserError("-o/--out is required");
+  for (const std::string& name : o.scenes) o.study.scenes.push_back(LoadScene(name));
+  const auto sensor = SonarSensor::Preset(o.sensor);
+  if (!sensor)
+    throw UserError(fmt::format("--sensor: unknown sonar '{}' (expected one of: {})", o.sensor,
+                                fmt::join(SonarSensor::PresetNames(), ", ")));
+  o.study.sensor = *sensor;
+  if (o.max_range) o.study.sensor.max_range = *o.max_range;
+  if (const std::string problem = o.study.Problem(); !problem.empty()) throw UserError(problem);
+  EnsureDirectory(o.out);
+
+  const prf::SonarStudyResult result = prf::RunSonarStudy(o.study);
+
+  const std::filesystem::path dir(o.out);
+  WriteTextFileAtomically(dir / "summary.json", prf::SonarStudySummaryJson(result, o.study));
+  const std::string table = prf::SonarStudyMarkdownTable(result);
+  WriteTextFileAtomically(dir / "table.md", table);
+  if (o.figures)
+    for (const prf::SonarStudyCase& c : result.cases)
+      SaveCaseFigures(dir / fmt::format("{}-{}", c.scene, o.study.sensor.name), c,
+                      o.study.sensor.name);
+  fmt::print("{}\nwrote {} (summary.json, table.md{}) in {:.0f} s\n", table, o.out,
+             o.figures ? ", <scene>-<sensor>/{truth,grid,posterior}.png" : "", result.wall_time_s);
+}
+
+}  // namespace
+
+void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
+  auto o = std::make_shared<SonarStudyCliOptions>();
+  prf::SonarStudyOptions& s = o->study;
+  prf::MappingOptions& m = s.mapping;
+  m.samples = 300000;
+  m.burn_in = 300000;
+  m.chains = 2;
+  CLI::App* cmd = prf_cmd.add_subcommand(
+      "sonar-study",
+      "PRF posterior vs the sonar occupancy grid on simulated sonar logs with ground truth: "
+      "classification over what the cones could see, walls missed, distance of the 0.5 contour "
+      "to the true walls");
+  cmd->add_option("--scenes", o->scenes, "Scenes with a waypoint path (built-in names or files)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--sensor", o->sensor, "Sonar ring preset")->capture_default_str();
+  cmd->add_option("--speed", s.speed, "Robot speed along the waypoints, m/s")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd->add_option("--rate", s.rate, "Rings per second")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd->add_option("--max-range", o->max_range, "R of the sonar, m (default: the preset's)")
+      ->check(PositiveValue());
+  cmd->add_option("--resolution", s.resolution,
+                  "Cell of the evaluation raster, the grid and the PRF raster, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd->add_option("--p", m.sampler.p, "Scale parameter p of the Arak prior (1/m)")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd->add_option("--samples", m.samples, "PRF steps recorded per chain after the burn-in")
+      ->capture_default_str();
+  cmd->add_option("--burn-in", m.burn_in, "PRF steps per chain before recording")
+      ->capture_default_str();
+  cmd->add_option("--chains", m.chains, "PRF chains per case")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  cmd->add_option("--wall-tolerance", s.walls.tolerance,
+                  "A seen true wall point is recovered with the 0.5 contour this close, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd->add_option("--seed", s.seed, "Random seed; the same seed gives the same result")
+      ->capture_default_str();
+  cmd->add_option("-o,--out", o->out, "Output directory")->required();
+  cmd->add_flag("!--no-figures", o->figures, "Skip the per-case PNG figures");
+  cmd->callback([o] { RunSonarStudyCommand(*o); });
+}
+
+}  // namespace priormap::app

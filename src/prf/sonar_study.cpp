@@ -1,0 +1,211 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <priormap/core/binary_io.hpp>
+#include <priormap/core/check.hpp>
+#include <priormap/core/rng.hpp>
+#include <priormap/core/scene_ray_caster.hpp>
+#include <priormap/core/simulate.hpp>
+#include <priormap/core/sonar_simulate.hpp>
+#include <priormap/prf/point_buckets.hpp>
+#include <priormap/prf/sonar_mapping.hpp>
+#include <priormap/prf/sonar_study.hpp>
+
+namespace priormap::prf {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+// What the cones could see, found with a fan of rays per cone: the evaluation raster's
+// observation and coverage, and the points of the true walls that the rays met.
+struct ConeFans {
+  std::map<int, std::vector<Vec2>> wall_hits;  // by the scene primitive's region
+};
+
+ConeFans MarkCones(const SonarData& data, const SceneRayCaster& caster,
+                   const SonarStudyOptions& options, EvaluationRaster* raster) {
+  ConeFans fans;
+  const CellGrid& grid = raster->grid;
+  const double step = 0.5 * options.resolution;
+  const Box2 box(grid.origin, grid.origin + Vec2(grid.nx * grid.cell.x(), grid.ny * grid.cell.y()));
+  const auto mark = [&](const Vec2& p, Observation what, bool covered) {
+    if (!box.contains(p)) return;
+    const auto i = static_cast<std::size_t>(grid.CellOf(p));
+    if (what == Observation::kVisible ||
+        (what == Observation::kBehindSurface && raster->observation[i] == Observation::kUnseen))
+      raster->observation[i] = what;
+    if (covered) raster->covered[i] = 1;
+  };
+  const int rays = options.rays_per_cone;
+  for (const SonarReading& r : data.readings) {
+    const double axis = std::atan2(r.cone.axis.y(), r.cone.axis.x());
+    const double reach = r.max_reading ? r.cone.max_range : r.range;
+    for (int k = 0; k < rays; ++k) {
+      const double angle =
+          axis + r.cone.half_spread * (rays > 1 ? 2.0 * k / (rays - 1) - 1.0 : 0.0);
+      const Vec2 u(std::cos(angle), std::sin(angle));
+      const auto hit = caster.Cast({.origin = r.cone.origin, .angle = angle}, r.cone.max_range);
+      const double seen = hit ? hit->range : r.cone.max_range;
+      for (double t = 0.0; t <= seen; t += step)
+        mark(r.cone.origin + t * u, Observation::kVisible, t <= reach);
+      if (!hit) continue;
+      for (double t = seen + step; t <= seen + options.band; t += step)
+        mark(r.cone.origin + t * u, Observation::kBehindSurface, false);
+      fans.wall_hits[hit->region].push_back(r.cone.origin + seen * u);
+    }
+  }
+  return fans;
+}
+
+// The seen part of each true wall (segment): its points with a ray's hit on it within `gap`.
+std::vector<SeenWall> SeenWalls(const Scene& scene, const ConeFans& fans, double spacing,
+                                double gap) {
+  std::vector<SeenWall> walls;
+  for (const ScenePrimitive& primitive : scene.Primitives()) {
+    const auto* segment = std::get_if<Segment>(&primitive.shape);
+    if (segment == nullptr) continue;
+    SeenWall wall;
+    wall.length = segment->Length();
+    const auto hits = fans.wall_hits.find(primitive.region);
+    if (hits != fans.wall_hits.end()) {
+      const PointBuckets near(hits->second, gap);
+      const int n = std::max(1, static_cast<int>(std::ceil(wall.length / spacing)));
+      for (int k = 0; k < n; ++k) {
+        const Vec2 p = segment->PointAt((k + 0.5) / n);
+        if (near.AnyWithin(p, gap)) wall.points.push_back(p);
+      }
+    }
+    walls.push_back(std::move(wall));
+  }
+  return walls;
+}
+
+}  // namespace
+
+std::string SonarStudyOptions::Problem() const {
+  if (scenes.empty()) return "at least one scene";
+  for (const Scene& scene : scenes) {
+    if (const auto problems = scene.Problems(); !problems.empty())
+      return fmt::format("scene '{}': {}", scene.name, problems.front());
+    if (scene.waypoints.size() < 2)
+      return fmt::format("scene '{}' has no waypoint path to drive the sonar along", scene.name);
+  }
+  if (std::string why; !sensor.IsValid(&why)) return "sonar: " + why;
+  if (!(speed > 0.0 && rate > 0.0)) return "the speed and the ring rate must be positive";
+  if (!(resolution > 0.0 && band >= 0.0 && truth_resolution > 0.0))
+    return "the resolutions must be positive and the band not negative";
+  if (rays_per_cone < 2) return "at least two rays per cone";
+  if (mapping.chains < 1) return "at least one chain";
+  if (const std::string problem = model.Problem(); !problem.empty())
+    return "sonar model: " + problem;
+  return {};
+}
+
+const SonarStudyMethod& SonarStudyCase::Method(const std::string& name) const {
+  for (const SonarStudyMethod& m : methods)
+    if (m.method == name) return m;
+  PRIORMAP_CHECK(false, "no method " + name + " in case " + scene);
+  return methods.front();  // not reached
+}
+
+SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& options) {
+  const auto start = Clock::now();
+  SonarStudyCase c;
+  c.scene = scene.name;
+  // From the case's name, so that a case gives the same numbers in any study.
+  c.seed = SplitMix64(options.seed ^ Fnv1a64(scene.name + "/" + options.sensor.name));
+
+  const Log log = SimulateSonarLog(
+      scene, options.sensor, TrajectoryFromWaypoints(scene.waypoints, options.speed, options.rate),
+      c.seed);
+  for (const Scan& ring : log.scans) c.ring_poses.push_back(ring.pose);
+  SonarSelection selection;
+  selection.max_range = options.sensor.max_range;
+  auto selected = SelectSonarReadings(log, selection);
+  PRIORMAP_CHECK(std::holds_alternative<SonarData>(selected),
+                 "the simulated rings of " + scene.name + " hold no usable reading");
+  auto data = std::make_shared<const SonarData>(std::get<SonarData>(std::move(selected)));
+  c.readings = data->readings.size();
+  c.max_readings =
+      static_cast<std::size_t>(std::count_if(data->readings.begin(), data->readings.end(),
+                                             [](const SonarReading& r) { return r.max_reading; }));
+
+  MappingOptions mapping = options.mapping;
+  mapping.seed = SplitMix64(c.seed + 1);
+  mapping.raster_resolution = options.resolution;
+  const MappingData mapping_data = SonarMappingData(data, options.model, mapping);
+  const Window& window = mapping_data.window;
+  const CellGrid evaluation_grid = CellGrid::Covering(window.min, window.max, options.resolution);
+
+  // The truth and what the cones could see.
+  std::vector<Vec2> seeds = scene.waypoints;
+  for (const Se2& pose : c.ring_poses) seeds.push_back(pose.translation());
+  const SceneTruth truth(scene, seeds,
+                         {.resolution = options.truth_resolution,
+                          .margin = std::max(0.1, 2.0 * options.truth_resolution)});
+  c.evaluation.grid = evaluation_grid;
+  const auto n = static_cast<std::size_t>(evaluation_grid.NumCells());
+  c.evaluation.truth_black.resize(n);
+  c.evaluation.observation.assign(n, Observation::kUnseen);
+  c.evaluation.covered.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    c.evaluation.truth_black[i] =
+        truth.Occupied(evaluation_grid.Centre(static_cast<int>(i))) ? 1 : 0;
+  const SceneRayCaster caster(scene);
+  const ConeFans fans = MarkCones(*data, caster, options, &c.evaluation);
+  // Neighbouring rays of a fan are at most this far apart on a wall within R.
+  const double gap = options.sensor.max_range * 2.0 * data->readings.front().cone.half_spread /
+                         (options.rays_per_cone - 1) +
+                     options.walls.spacing;
+  const std::vector<SeenWall> walls = SeenWalls(scene, fans, options.walls.spacing, gap);
+
+  // Both maps from the same readings.
+  const auto grid_start = Clock::now();
+  grid::SonarGridOptions grid_options = options.grid;
+  grid_options.resolution = options.resolution;
+  grid_options.max_range = data->max_range;
+  grid::SonarGrid sonar_grid(Box2(window.min, window.max), grid_options);
+  for (const Scan& ring : log.scans) sonar_grid.Insert(ring);
+  c.grid_map = sonar_grid.Raster();
+  const double grid_seconds = Seconds(grid_start);
+  c.prf = RunMapping(mapping_data, mapping, nullptr);
+  PRIORMAP_CHECK(c.prf.raster.nx == evaluation_grid.nx && c.prf.raster.ny == evaluation_grid.ny,
+                 "the PRF's raster is the evaluation raster");
+
+  const std::vector<double> grid_p = SampleAtCentres(c.grid_map, evaluation_grid);
+  const std::vector<double> prf_p = Flatten(c.prf.black_fraction, evaluation_grid);
+  for (const auto& [name, p, seconds] :
+       {std::tuple{"grid", &grid_p, grid_seconds},
+        std::tuple{"prf posterior", &prf_p, c.prf.sampling_time_s}}) {
+    const std::vector<Segment> contour = HalfContour(*p, evaluation_grid);
+    c.methods.push_back({.method = name,
+                         .classification = ScoreClassification(*p, c.evaluation),
+                         .walls = ScoreContour(contour, walls, c.evaluation, truth, options.walls),
+                         .seconds = seconds});
+  }
+  c.wall_time_s = Seconds(start);
+  return c;
+}
+
+SonarStudyResult RunSonarStudy(const SonarStudyOptions& options) {
+  PRIORMAP_CHECK(options.Problem().empty(), options.Problem());
+  const auto start = Clock::now();
+  SonarStudyResult result;
+  result.cases.resize(options.scenes.size());
+  tbb::parallel_for(std::size_t{0}, options.scenes.size(), [&](std::size_t k) {
+    result.cases[k] = RunSonarStudyCase(options.scenes[k], options);
+  });
+  result.wall_time_s = Seconds(start);
+  return result;
+}
+
+}  // namespace priormap::prf
