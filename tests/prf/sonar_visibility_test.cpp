@@ -294,6 +294,50 @@ TEST(ConeSweep, MatchesBruteForceRaysOnArakSamplesInRandomCones) {
   EXPECT_GT(corners_seen, 60);
 }
 
+TEST(ConeSweep, SegmentsBeyondTheExtentDoNotChangeTheView) {
+  // What lies wholly beyond the farthest point seen is hidden: leaving it out of the sweep
+  // must give the same view, bit for bit (the likelihood's incremental updates rely on views
+  // depending only on what they could see).
+  const Window window{Vec2::Zero(), Vec2(6, 6)};
+  SamplerOptions options;
+  options.p = 3.0;
+  PrfSampler sampler(Coloring(window, 0.5), options, 12);
+  sampler.Run(60000);
+  const Coloring& coloring = sampler.coloring();
+  std::vector<Segment> segments;
+  for (EdgeId e : coloring.edge_ids()) segments.push_back(coloring.EdgeSegment(e));
+  std::mt19937_64 random(6);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  ConeSweep sweep;
+  SonarView all, near;
+  int trimmed = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const SonarCone cone =
+        Cone(Vec2(0.5 + 5.0 * unit(random), 0.5 + 5.0 * unit(random)), 2.0 * kPi * unit(random),
+             0.03 + 0.5 * unit(random), 0.5 + 3.0 * unit(random));
+    sweep.Compute(cone, Tagged(segments), window, &all);
+    if (all.extent >= cone.max_range) continue;
+    std::vector<TaggedSegment> kept;
+    for (std::size_t i = 0; i < segments.size(); ++i)
+      if (SegmentMeetsCone(segments[i], cone, all.extent))
+        kept.push_back({segments[i], static_cast<std::int32_t>(i)});
+    trimmed += static_cast<int>(segments.size() - kept.size());
+    sweep.Compute(cone, kept, window, &near);
+    SCOPED_TRACE(::testing::Message() << "trial " << trial);
+    EXPECT_EQ(near.extent, all.extent);
+    EXPECT_EQ(near.contact_tags, all.contact_tags);
+    ASSERT_EQ(near.features.size(), all.features.size());
+    for (std::size_t f = 0; f < all.features.size(); ++f) {
+      EXPECT_EQ(near.features[f].kind, all.features[f].kind);
+      EXPECT_EQ(near.features[f].distance, all.features[f].distance);
+      EXPECT_EQ(near.features[f].projection, all.features[f].projection);
+      EXPECT_EQ(near.features[f].subtended, all.features[f].subtended);
+    }
+    if (HasFailure()) return;
+  }
+  EXPECT_GT(trimmed, 0);
+}
+
 TEST(SegmentMeetsCone, IsTrueForWhatTheSweepCanSeeAndFalseFarAway) {
   const SonarCone cone = Cone(Vec2::Zero(), 0.0, 0.2, 5.0);
   EXPECT_TRUE(SegmentMeetsCone({Vec2(2, -1), Vec2(2, 1)}, cone, 3.0));
