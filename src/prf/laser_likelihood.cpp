@@ -67,6 +67,7 @@ std::optional<std::string> LaserLikelihood::Reset(const Coloring& coloring) {
   }
   const std::size_t n = data_->beams.size();
   state_.assign(n, {});
+  index_.Reset(grid_.NumCells(), n);
   beam_marks_ = VisitMarks();
   beam_marks_.resize(n);
   total_ = 0;
@@ -86,26 +87,22 @@ std::optional<std::string> LaserLikelihood::Reset(const Coloring& coloring) {
   return std::nullopt;
 }
 
-void LaserLikelihood::ListBeam(std::size_t beam) {
-  BeamState& state = state_[beam];
+// The cells of the beam's extent, from its origin to its first edge (or its reach).
+template <typename Add>
+void LaserLikelihood::ForEachExtentCell(std::size_t beam, Add&& add) const {
+  const BeamState& state = state_[beam];
   const LaserBeam& b = data_->beams[beam];
   const double extent = std::min(state.distance, state.reach);
-  std::uint32_t listed = 0;
   WalkCells(grid_, b.origin, b.origin + extent * b.direction, [&](int cell, double, double) {
-    cells_[static_cast<std::size_t>(cell)].push_back(
-        {static_cast<std::int32_t>(beam), state.version});
-    ++listed;
+    add(cell);
     return true;
   });
-  state.listed_cells = listed;
-  live_entries_ += listed;
 }
 
 void LaserLikelihood::RebuildIndex() {
-  cells_.assign(static_cast<std::size_t>(grid_.NumCells()), {});
-  live_entries_ = 0;
-  stale_entries_ = 0;
-  for (std::size_t i = 0; i < state_.size(); ++i) ListBeam(i);
+  index_.Clear();
+  for (std::size_t i = 0; i < state_.size(); ++i)
+    index_.List(i, [&](const auto& add) { ForEachExtentCell(i, add); });
 }
 
 bool LaserLikelihood::SensorFlips(const Edit& edit) const {
@@ -120,19 +117,9 @@ bool LaserLikelihood::SensorFlips(const Edit& edit) const {
 
 void LaserLikelihood::CollectBeams(const Vec2& a, const Vec2& b) {
   WalkCells(grid_, a, b, [&](int cell, double, double) {
-    auto& entries = cells_[static_cast<std::size_t>(cell)];
-    for (std::size_t i = 0; i < entries.size();) {
-      const Entry entry = entries[i];
-      const auto beam = static_cast<std::size_t>(entry.beam);
-      if (entry.version != state_[beam].version) {  // re-listed since: drop
-        entries[i] = entries.back();
-        entries.pop_back();
-        --stale_entries_;
-        continue;
-      }
-      if (beam_marks_.Mark(beam)) candidates_.push_back(entry.beam);
-      ++i;
-    }
+    index_.VisitCell(cell, [&](std::int32_t beam) {
+      if (beam_marks_.Mark(static_cast<std::size_t>(beam))) candidates_.push_back(beam);
+    });
     return true;
   });
 }
@@ -192,15 +179,12 @@ void LaserLikelihood::Commit(std::span<const EdgeId> added_edges) {
         change.added >= 0 ? added_edges[static_cast<std::size_t>(change.added)] : change.hit;
     state.log_lik = change.log_lik;
     if (!moved) continue;  // another edge at the same distance: same cells
-    ++state.version;
-    live_entries_ -= state.listed_cells;
-    stale_entries_ += state.listed_cells;
-    ListBeam(i);
+    index_.Relist(i, [&](const auto& add) { ForEachExtentCell(i, add); });
   }
   total_ += pending_delta_;
   pending_.clear();
   pending_delta_ = 0;
-  if (stale_entries_ > live_entries_ + 1024) RebuildIndex();
+  if (index_.NeedsRebuild()) RebuildIndex();
 }
 
 FixedLogLik LaserLikelihood::RecomputeLogLikelihood(const Coloring& coloring) const {
@@ -215,9 +199,7 @@ std::optional<std::string> LaserLikelihood::FindInconsistency(const Coloring& co
     if (coloring.ColourAt(data_->sensors[s]) == Colour::kBlack)
       return fmt::format("sensor {} is in black", s);
   FixedLogLik total = 0;
-  std::size_t live = 0;
   for (std::size_t i = 0; i < data_->beams.size(); ++i) {
-    const LaserBeam& beam = data_->beams[i];
     const BeamState& state = state_[i];
     const double distance = WalkBeam(coloring, i, state.reach, nullptr).distance;
     if (distance != state.distance)
@@ -229,34 +211,19 @@ std::optional<std::string> LaserLikelihood::FindInconsistency(const Coloring& co
     // recomputations).
     bool listed = true;
     std::uint32_t extent_cells = 0;
-    const double extent = std::min(state.distance, state.reach);
-    WalkCells(
-        grid_, beam.origin, beam.origin + extent * beam.direction, [&](int cell, double, double) {
-          const auto& entries = cells_[static_cast<std::size_t>(cell)];
-          listed =
-              listed && std::any_of(entries.begin(), entries.end(), [&](const Entry& entry) {
-                return entry.beam == static_cast<std::int32_t>(i) && entry.version == state.version;
-              });
-          ++extent_cells;
-          return listed;
-        });
+    ForEachExtentCell(i, [&](int cell) {
+      listed = listed && index_.IsListed(cell, i);
+      ++extent_cells;
+    });
     if (!listed) return fmt::format("beam {} is missing from a cell of its extent", i);
-    if (extent_cells != state.listed_cells)
-      return fmt::format("beam {} is listed in {} cells, its extent has {}", i, state.listed_cells,
-                         extent_cells);
-    live += state.listed_cells;
+    if (extent_cells != index_.listed_cells(i))
+      return fmt::format("beam {} is listed in {} cells, its extent has {}", i,
+                         index_.listed_cells(i), extent_cells);
   }
   if (total != total_)
     return fmt::format("total log-likelihood kept {} differs from the sum {}", FromFixed(total_),
                        FromFixed(total));
-  std::size_t current = 0;
-  for (const auto& entries : cells_)
-    for (const Entry& entry : entries)
-      current += entry.version == state_[static_cast<std::size_t>(entry.beam)].version ? 1 : 0;
-  if (live != live_entries_ || current != live_entries_)
-    return fmt::format("{} live index entries counted, {} listed, {} in the cells", live_entries_,
-                       live, current);
-  return std::nullopt;
+  return index_.CountProblem();
 }
 
 }  // namespace priormap::prf

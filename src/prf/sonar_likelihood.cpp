@@ -139,6 +139,7 @@ std::optional<std::string> SonarLikelihood::Reset(const Coloring& coloring) {
   }
   const std::size_t n = data_->readings.size();
   state_.assign(n, {});
+  index_.Reset(grid.NumCells(), n);
   reading_marks_ = VisitMarks();
   reading_marks_.resize(n);
   total_ = 0;
@@ -164,21 +165,22 @@ std::uint32_t SonarLikelihood::ListedCellCount(std::size_t i, double extent) con
   return static_cast<std::uint32_t>(std::upper_bound(begin, end, Inflated(extent)) - begin);
 }
 
-void SonarLikelihood::ListReading(std::size_t i) {
-  ReadingState& state = state_[i];
+// Lists (or re-lists) reading i on its cone's cells up to its extent: a prefix of its cells.
+void SonarLikelihood::ListReading(std::size_t i, bool relist) {
   const ConeCells& cc = *cone_cells_;
-  state.listed_cells = ListedCellCount(i, state.extent);
-  for (std::uint32_t k = 0; k < state.listed_cells; ++k)
-    cells_[static_cast<std::size_t>(cc.cells[cc.offsets[i] + k])].push_back(
-        {static_cast<std::int32_t>(i), state.version});
-  live_entries_ += state.listed_cells;
+  const std::uint32_t count = ListedCellCount(i, state_[i].extent);
+  const auto cells = [&](const auto& add) {
+    for (std::uint32_t k = 0; k < count; ++k) add(cc.cells[cc.offsets[i] + k]);
+  };
+  if (relist)
+    index_.Relist(i, cells);
+  else
+    index_.List(i, cells);
 }
 
 void SonarLikelihood::RebuildIndex() {
-  cells_.assign(static_cast<std::size_t>(cone_cells_->grid.NumCells()), {});
-  live_entries_ = 0;
-  stale_entries_ = 0;
-  for (std::size_t i = 0; i < state_.size(); ++i) ListReading(i);
+  index_.Clear();
+  for (std::size_t i = 0; i < state_.size(); ++i) ListReading(i, false);
 }
 
 bool SonarLikelihood::SensorFlips(const Edit& edit) const {
@@ -193,19 +195,9 @@ bool SonarLikelihood::SensorFlips(const Edit& edit) const {
 
 void SonarLikelihood::CollectReadings(const Vec2& a, const Vec2& b) {
   WalkCells(cone_cells_->grid, a, b, [&](int cell, double, double) {
-    auto& entries = cells_[static_cast<std::size_t>(cell)];
-    for (std::size_t k = 0; k < entries.size();) {
-      const Entry entry = entries[k];
-      const auto i = static_cast<std::size_t>(entry.reading);
-      if (entry.version != state_[i].version) {  // re-listed since: drop
-        entries[k] = entries.back();
-        entries.pop_back();
-        --stale_entries_;
-        continue;
-      }
-      if (reading_marks_.Mark(i)) candidates_.push_back(entry.reading);
-      ++k;
-    }
+    index_.VisitCell(cell, [&](std::int32_t reading) {
+      if (reading_marks_.Mark(static_cast<std::size_t>(reading))) candidates_.push_back(reading);
+    });
     return true;
   });
 }
@@ -268,17 +260,14 @@ void SonarLikelihood::Commit(std::span<const EdgeId> added_edges) {
     std::sort(state.contacts.begin(), state.contacts.end());
     if (change.extent == state.extent) continue;  // the same cells
     state.extent = change.extent;
-    if (ListedCellCount(i, state.extent) == state.listed_cells) continue;
-    ++state.version;
-    live_entries_ -= state.listed_cells;
-    stale_entries_ += state.listed_cells;
-    ListReading(i);
+    if (ListedCellCount(i, state.extent) == index_.listed_cells(i)) continue;
+    ListReading(i, true);
   }
   total_ += pending_delta_;
   pending_.clear();
   pending_contacts_.clear();
   pending_delta_ = 0;
-  if (stale_entries_ > live_entries_ + 1024) RebuildIndex();
+  if (index_.NeedsRebuild()) RebuildIndex();
 }
 
 FixedLogLik SonarLikelihood::RecomputeLogLikelihood(const Coloring& coloring) const {
@@ -293,7 +282,6 @@ std::optional<std::string> SonarLikelihood::FindInconsistency(const Coloring& co
     if (coloring.ColourAt(data_->sensors[s]) == Colour::kBlack)
       return fmt::format("sensor {} is in black", s);
   FixedLogLik total = 0;
-  std::size_t live = 0;
   const ConeCells& cc = *cone_cells_;
   for (std::size_t i = 0; i < data_->readings.size(); ++i) {
     const ReadingState& state = state_[i];
@@ -309,29 +297,17 @@ std::optional<std::string> SonarLikelihood::FindInconsistency(const Coloring& co
       return fmt::format("reading {}: the edges it sees differ from the recomputed ones", i);
     total += state.log_lik;
     // Listed exactly on the cells of its cone up to its extent.
-    if (state.listed_cells != ListedCellCount(i, state.extent))
+    if (index_.listed_cells(i) != ListedCellCount(i, state.extent))
       return fmt::format("reading {} is listed in {} cells, its extent has {}", i,
-                         state.listed_cells, ListedCellCount(i, state.extent));
-    for (std::uint32_t k = 0; k < state.listed_cells; ++k) {
-      const auto& entries = cells_[static_cast<std::size_t>(cc.cells[cc.offsets[i] + k])];
-      if (std::none_of(entries.begin(), entries.end(), [&](const Entry& entry) {
-            return entry.reading == static_cast<std::int32_t>(i) && entry.version == state.version;
-          }))
+                         index_.listed_cells(i), ListedCellCount(i, state.extent));
+    for (std::uint32_t k = 0; k < index_.listed_cells(i); ++k)
+      if (!index_.IsListed(cc.cells[cc.offsets[i] + k], i))
         return fmt::format("reading {} is missing from a cell of its cone", i);
-    }
-    live += state.listed_cells;
   }
   if (total != total_)
     return fmt::format("total log-likelihood kept {} differs from the sum {}", FromFixed(total_),
                        FromFixed(total));
-  std::size_t current = 0;
-  for (const auto& entries : cells_)
-    for (const Entry& entry : entries)
-      current += entry.version == state_[static_cast<std::size_t>(entry.reading)].version ? 1 : 0;
-  if (live != live_entries_ || current != live_entries_)
-    return fmt::format("{} live index entries counted, {} listed, {} in the cells", live_entries_,
-                       live, current);
-  return std::nullopt;
+  return index_.CountProblem();
 }
 
 }  // namespace priormap::prf

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <priormap/prf/data_term.hpp>
+#include <priormap/prf/dynamic_cell_index.hpp>
 #include <priormap/prf/laser_data.hpp>
 #include <priormap/prf/laser_model.hpp>
 
@@ -47,12 +48,6 @@ class LaserLikelihood final : public DataTerm {
     double distance = 0.0;  // to the first edge; +inf when none within reach
     EdgeId hit = kNoEdge;
     FixedLogLik log_lik = 0;
-    std::uint32_t version = 0;
-    std::uint32_t listed_cells = 0;
-  };
-  struct Entry {
-    std::int32_t beam;
-    std::uint32_t version;
   };
   struct Change {
     std::int32_t beam;
@@ -72,7 +67,9 @@ class LaserLikelihood final : public DataTerm {
   [[nodiscard]] FixedLogLik BeamLogLik(std::size_t beam, double distance) const;
   [[nodiscard]] bool SensorFlips(const Edit& edit) const;
   void CollectBeams(const Vec2& a, const Vec2& b);
-  void ListBeam(std::size_t beam);
+  /// Calls add(cell) for the cells of the beam's extent (defined and used in the .cpp only).
+  template <typename Add>
+  void ForEachExtentCell(std::size_t beam, Add&& add) const;
   void RebuildIndex();
 
   std::shared_ptr<const LaserData> data_;
@@ -80,11 +77,9 @@ class LaserLikelihood final : public DataTerm {
   double cell_size_;
   CellGrid grid_;
   std::vector<BeamState> state_;
-  std::vector<std::vector<Entry>> cells_;
+  DynamicCellIndex index_;  // the beams, each on the cells up to its first edge
   std::vector<std::vector<std::int32_t>> sensor_cells_;
   FixedLogLik total_ = 0;
-  std::size_t live_entries_ = 0;
-  std::size_t stale_entries_ = 0;
   // Scratch of Evaluate, read by Commit.
   std::vector<std::int32_t> candidates_;
   VisitMarks beam_marks_;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include <priormap/prf/data_term.hpp>
+#include <priormap/prf/dynamic_cell_index.hpp>
 #include <priormap/prf/sonar_data.hpp>
 #include <priormap/prf/sonar_model.hpp>
 #include <priormap/prf/sonar_visibility.hpp>
@@ -56,13 +57,7 @@ class SonarLikelihood final : public DataTerm {
   struct ReadingState {
     double extent = 0.0;
     FixedLogLik log_lik = 0;
-    std::uint32_t version = 0;
-    std::uint32_t listed_cells = 0;
     std::vector<EdgeId> contacts;  // the edges it sees, sorted
-  };
-  struct Entry {
-    std::int32_t reading;
-    std::uint32_t version;
   };
   struct Change {
     std::int32_t reading;
@@ -83,7 +78,7 @@ class SonarLikelihood final : public DataTerm {
   [[nodiscard]] bool SensorFlips(const Edit& edit) const;
   void CollectReadings(const Vec2& a, const Vec2& b);
   [[nodiscard]] std::uint32_t ListedCellCount(std::size_t i, double extent) const;
-  void ListReading(std::size_t i);
+  void ListReading(std::size_t i, bool relist);
   void RebuildIndex();
 
   std::shared_ptr<const SonarData> data_;
@@ -91,11 +86,9 @@ class SonarLikelihood final : public DataTerm {
   std::shared_ptr<const ConeCells> cone_cells_;
   Window window_;
   std::vector<ReadingState> state_;
-  std::vector<std::vector<Entry>> cells_;
+  DynamicCellIndex index_;  // the readings, each on its cone's cells up to its extent
   std::vector<std::vector<std::int32_t>> sensor_cells_;
   FixedLogLik total_ = 0;
-  std::size_t live_entries_ = 0;
-  std::size_t stale_entries_ = 0;
   // Scratch of Evaluate, read by Commit.
   std::vector<std::int32_t> candidates_;
   VisitMarks reading_marks_;
