@@ -73,12 +73,34 @@ std::unique_ptr<DataTerm> SonarLikelihood::Clone() const {
 
 SonarLikelihood::ReadingResult SonarLikelihood::Compute(const Coloring& coloring, std::size_t i,
                                                         const Edit* ignoring,
-                                                        std::span<const Segment> added) const {
+                                                        std::span<const Segment> added,
+                                                        double reach) const {
+  const double max_range = data_->readings[i].cone.max_range;
+  if (reach < max_range) {
+    // Most recomputations only bring edges nearer, so the old extent bounds the new one: the
+    // sweep over the cells within it gives the whole view unless some direction sees nothing
+    // there (then the view may reach farther, and the sweep is redone to R).
+    const ReadingResult near = ComputeWithin(coloring, i, ignoring, added, reach);
+    if (near.extent < reach) return near;
+  }
+  return ComputeWithin(coloring, i, ignoring, added, kFullReach);
+}
+
+SonarLikelihood::ReadingResult SonarLikelihood::ComputeWithin(const Coloring& coloring,
+                                                              std::size_t i, const Edit* ignoring,
+                                                              std::span<const Segment> added,
+                                                              double reach) const {
   const SonarReading& reading = data_->readings[i];
   const ConeCells& cc = *cone_cells_;
   segments_.clear();
   edge_marks_.NextRound();
-  for (std::uint32_t k = cc.offsets[i]; k < cc.offsets[i + 1]; ++k) {
+  // Within the extent: the cells the reading is listed in, no search needed.
+  const std::uint32_t end =
+      reach == kFullReach
+          ? cc.offsets[i + 1]
+          : cc.offsets[i] + (reach == Inflated(state_[i].extent) ? index_.listed_cells(i)
+                                                                 : ListedCellCount(i, reach));
+  for (std::uint32_t k = cc.offsets[i]; k < end; ++k) {
     for (const EdgeId e : coloring.cell_edges(cc.cells[k])) {
       const auto id = static_cast<std::size_t>(e);
       if (id >= edge_marks_size_) {
@@ -92,14 +114,16 @@ SonarLikelihood::ReadingResult SonarLikelihood::Compute(const Coloring& coloring
   }
   for (std::size_t k = 0; k < added.size(); ++k)
     segments_.push_back({added[k], -1 - static_cast<std::int32_t>(k)});
-  sweep_.Compute(reading.cone, segments_, window_, &view_);
+  SonarCone cone = reading.cone;
+  cone.max_range = std::min(cone.max_range, reach);
+  sweep_.Compute(cone, segments_, window_, &view_);
   return {ToFixed(model_.LogLikelihood(reading.range, reading.max_reading, view_.features,
                                        data_->max_range)),
           view_.extent};
 }
 
 SonarView SonarLikelihood::View(const Coloring& coloring, std::size_t i) const {
-  Compute(coloring, i, nullptr, {});
+  Compute(coloring, i, nullptr, {}, kFullReach);
   SonarView view = view_;
   for (VisiblePiece& piece : view.pieces)
     if (piece.segment >= 0) piece.segment = segments_[static_cast<std::size_t>(piece.segment)].tag;
@@ -144,7 +168,7 @@ std::optional<std::string> SonarLikelihood::Reset(const Coloring& coloring) {
   reading_marks_.resize(n);
   total_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const ReadingResult result = Compute(coloring, i, nullptr, {});
+    const ReadingResult result = Compute(coloring, i, nullptr, {}, kFullReach);
     ReadingState& state = state_[i];
     state.log_lik = result.log_lik;
     state.extent = result.extent;
@@ -230,7 +254,8 @@ std::optional<FixedLogLik> SonarLikelihood::Evaluate(const Coloring& coloring, c
     for (std::size_t k = 0; !affected && k < added.size(); ++k)
       affected = SegmentMeetsCone(added[k], data_->readings[i].cone, state.extent);
     if (!affected) continue;
-    const ReadingResult result = Compute(coloring, i, &edit, {added.begin(), added.size()});
+    const ReadingResult result =
+        Compute(coloring, i, &edit, {added.begin(), added.size()}, Inflated(state.extent));
     const std::vector<std::int32_t>& tags = view_.contact_tags;
     if (result.log_lik == state.log_lik && result.extent == state.extent &&
         std::equal(tags.begin(), tags.end(), state.contacts.begin(), state.contacts.end()))
@@ -273,7 +298,7 @@ void SonarLikelihood::Commit(std::span<const EdgeId> added_edges) {
 FixedLogLik SonarLikelihood::RecomputeLogLikelihood(const Coloring& coloring) const {
   FixedLogLik total = 0;
   for (std::size_t i = 0; i < data_->readings.size(); ++i)
-    total += Compute(coloring, i, nullptr, {}).log_lik;
+    total += Compute(coloring, i, nullptr, {}, kFullReach).log_lik;
   return total;
 }
 
@@ -285,7 +310,7 @@ std::optional<std::string> SonarLikelihood::FindInconsistency(const Coloring& co
   const ConeCells& cc = *cone_cells_;
   for (std::size_t i = 0; i < data_->readings.size(); ++i) {
     const ReadingState& state = state_[i];
-    const ReadingResult result = Compute(coloring, i, nullptr, {});
+    const ReadingResult result = Compute(coloring, i, nullptr, {}, kFullReach);
     if (result.extent != state.extent)
       return fmt::format("reading {}: extent {} kept, {} recomputed", i, state.extent,
                          result.extent);

@@ -95,8 +95,7 @@ bool ConeSweep::Nearer::operator()(std::uint32_t i, std::uint32_t j) const {
 
 void ConeSweep::Clip(const SonarCone& cone, std::span<const TaggedSegment> segments,
                      const Window& window) {
-  const double h = cone.half_spread;
-  const double cos_h = std::cos(h), sin_h = std::sin(h), tan_h = std::tan(h);
+  const double cos_h = trig_.cos_h, sin_h = trig_.sin_h, tan_h = trig_.tan_h;
   clipped_.clear();
   for (std::size_t index = 0; index < segments.size(); ++index) {
     const auto [p, q] = Canonical(segments[index].segment);
@@ -172,23 +171,22 @@ void ConeSweep::Sweep(double tan_half, SonarView* view) {
     return clipped_[i].tau_hi < clipped_[j].tau_hi;
   });
 
-  ActiveSet active(Nearer{this}, &pool_);
-  handles_.assign(k, active.end());
+  active_.clear();
   std::size_t next_start = 0, next_end = 0;
   view->pieces.clear();
   for (std::size_t e = 0; e + 1 < taus_.size(); ++e) {
     const double tau = taus_[e];
-    // Segments ending here leave first (by their handle: no comparison at a stale slope),
+    // Segments ending here leave first (found by identity: no comparison at a stale slope),
     // then the order is taken in the middle of the next interval, where every active
     // segment spans it.
     while (next_end < k && clipped_[end_order_[next_end]].tau_hi == tau)
-      active.erase(handles_[end_order_[next_end++]]);
+      active_.erase(std::find(active_.begin(), active_.end(), end_order_[next_end++]));
     ray_tau_ = 0.5 * (tau + taus_[e + 1]);
     while (next_start < k && clipped_[start_order_[next_start]].tau_lo == tau) {
       const std::uint32_t i = start_order_[next_start++];
-      handles_[i] = active.insert(i).first;
+      active_.insert(std::lower_bound(active_.begin(), active_.end(), i, Nearer{this}), i);
     }
-    const int seen = active.empty() ? -1 : static_cast<int>(*active.begin());
+    const int seen = active_.empty() ? -1 : static_cast<int>(active_.front());
     // In slopes for now; Features turns them into angles.
     if (!view->pieces.empty() && view->pieces.back().segment == seen)
       view->pieces.back().to = taus_[e + 1];
@@ -204,7 +202,7 @@ void ConeSweep::Features(const SonarCone& cone, std::span<const TaggedSegment> s
   view->contact_tags.clear();
   view->extent = 0.0;
   const double h = cone.half_spread;
-  const double tan_h = std::tan(h);
+  const double tan_h = trig_.tan_h;
   // Exactly ±h at the cone's sides.
   const auto angle = [&](double tau) {
     return tau == -tan_h ? -h : (tau == tan_h ? h : std::atan(tau));
@@ -269,16 +267,20 @@ void ConeSweep::Features(const SonarCone& cone, std::span<const TaggedSegment> s
 
 void ConeSweep::Compute(const SonarCone& cone, std::span<const TaggedSegment> segments,
                         const Window& window, SonarView* view) {
+  if (trig_.h != cone.half_spread) trig_ = SectorTrig::Of(cone.half_spread);
   Clip(cone, segments, window);
-  Sweep(std::tan(cone.half_spread), view);
+  Sweep(trig_.tan_h, view);
   Features(cone, segments, view);
 }
 
 bool SegmentMeetsCone(const Segment& segment, const SonarCone& cone, double radius) {
   // A hair wider than the cone, so that what the sweep might see is never ruled out.
   const double h = std::min(cone.half_spread + 1e-9, std::numbers::pi / 2.0 - 1e-9);
+  // Cones mostly share their spread: their trigonometry is computed once per thread.
+  thread_local SectorTrig trig;
+  if (trig.h != h) trig = SectorTrig::Of(h);
   ClipRange clip;
-  return ClipToSector(ToCone(cone, segment.a), ToCone(cone, segment.b), std::cos(h), std::sin(h),
+  return ClipToSector(ToCone(cone, segment.a), ToCone(cone, segment.b), trig.cos_h, trig.sin_h,
                       radius * (1.0 + 1e-9) + 1e-9, &clip);
 }
 

@@ -14,6 +14,7 @@
 /// shared by the copies of the term) serves both the gathering of edges and the listing.
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -72,9 +73,14 @@ class SonarLikelihood final : public DataTerm {
   };
 
   /// Sweeps reading i's cone over the coloring's edges in its cells, less those `ignoring`
-  /// removes, plus `added` (tagged -1 - k); the view is left in view_.
+  /// removes, plus `added` (tagged -1 - k); the view is left in view_. `reach` is a guess of
+  /// the extent: the cells beyond it are swept only when the view reaches it.
   ReadingResult Compute(const Coloring& coloring, std::size_t i, const Edit* ignoring,
-                        std::span<const Segment> added) const;
+                        std::span<const Segment> added, double reach) const;
+  /// The sweep of the cone cut at `reach`, over the edges of the cells within it.
+  ReadingResult ComputeWithin(const Coloring& coloring, std::size_t i, const Edit* ignoring,
+                              std::span<const Segment> added, double reach) const;
+  static constexpr double kFullReach = std::numeric_limits<double>::infinity();
   [[nodiscard]] bool SensorFlips(const Edit& edit) const;
   void CollectReadings(const Vec2& a, const Vec2& b);
   [[nodiscard]] std::uint32_t ListedCellCount(std::size_t i, double extent) const;

@@ -2,7 +2,7 @@
 /// What a sonar cone sees of a coloring (Paskin & Thrun, Sec. 2.3, Fig. 3): the faces (parts of
 /// edges, possibly partly hidden) and the corners (vertices) visible from the apex within the
 /// cone and within R, found by a radial sweep over the edges that overlap the cone (Lee's radial
-/// scan line) in O(k log k) for k edges.
+/// scan line) with O(k log k) comparisons for k edges.
 ///
 /// The result depends only on the set of segments, not on their order or on the order of their
 /// ends (each segment is taken with its ends in a canonical order, and ties between segments are
@@ -10,9 +10,8 @@
 /// minus the removed ones, plus the added segments) equals, bit for bit, the one computed on the
 /// coloring once the edit is applied.
 
+#include <cmath>
 #include <cstdint>
-#include <memory_resource>
-#include <set>
 #include <span>
 #include <vector>
 
@@ -62,6 +61,12 @@ struct SonarView {
   double extent = 0.0;
 };
 
+/// A cone's half-angle with its trigonometry, kept while consecutive cones share it.
+struct SectorTrig {
+  double h = -1.0, cos_h = 0.0, sin_h = 0.0, tan_h = 0.0;
+  static SectorTrig Of(double h) { return {h, std::cos(h), std::sin(h), std::tan(h)}; }
+};
+
 /// The radial sweep, with scratch space reused from call to call (copies start empty).
 class ConeSweep {
  public:
@@ -96,7 +101,6 @@ class ConeSweep {
     const ConeSweep* sweep;
     bool operator()(std::uint32_t i, std::uint32_t j) const;
   };
-  using ActiveSet = std::pmr::set<std::uint32_t, Nearer>;
 
   // Along the ray (1, tau): the segment's line meets it at DistanceAt(c, tau) * (1, tau).
   [[nodiscard]] static double DistanceAt(const Clipped& c, double tau) {
@@ -110,9 +114,11 @@ class ConeSweep {
   std::vector<double> taus_;
   std::vector<std::uint32_t> start_order_;
   std::vector<std::uint32_t> end_order_;
-  std::vector<ActiveSet::iterator> handles_;
+  // The segments spanning the current interval, nearest first: a sorted vector, cheaper than
+  // a tree for the handful of edges a cone holds.
+  std::vector<std::uint32_t> active_;
   double ray_tau_ = 0.0;  // slope of the current comparison
-  std::pmr::unsynchronized_pool_resource pool_;
+  SectorTrig trig_;
 };
 
 /// True when the segment may meet the cone within `radius` (conservative: a hair wider).
