@@ -1,5 +1,5 @@
-// priormap convert: between CARMEN logs (plain or .gz) and priormap JSON; from the RoboND sonar
-// files (a measurement file and a pose file) to either.
+// priormap convert: between CARMEN logs (plain or .gz) and priormap JSON; from CSM's laser_data
+// JSON and from the RoboND sonar files (a measurement file and a pose file) to either.
 #include <algorithm>
 #include <optional>
 #include <string>
@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include <priormap/core/angles.hpp>
+#include <priormap/core/csm_io.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/core/robond_sonar_io.hpp>
@@ -63,9 +64,23 @@ void Run(const ConvertOptions& o) {
   } else {
     const std::string text = ValueOrThrow(ReadFileText(input));
     from = o.from ? *LogFormatFromString(*o.from) : SniffLogFormat(text);
-    log = ValueOrThrow(from == LogFormat::kJson ? ParseJsonLog(text, input)
-                                                : ParseCarmenLog(text, input, carmen, &stats));
-    if (from == LogFormat::kJson && o.poses) log.pose_source = carmen.pose_source;
+    switch (*from) {
+      case LogFormat::kJson:
+        log = ValueOrThrow(ParseJsonLog(text, input));
+        break;
+      case LogFormat::kCsm: {
+        CsmReadOptions csm;
+        if (o.min_range) csm.min_range = *o.min_range;
+        csm.max_range = o.max_range;
+        if (o.sigma) csm.sigma = *o.sigma;
+        log = ValueOrThrow(ParseCsmLog(text, input, csm));
+        break;
+      }
+      case LogFormat::kCarmen:
+        log = ValueOrThrow(ParseCarmenLog(text, input, carmen, &stats));
+        break;
+    }
+    if (from != LogFormat::kCarmen && o.poses) log.pose_source = carmen.pose_source;
   }
 
   const LogFormat to = o.to ? *LogFormatFromString(*o.to) : LogFormatFromPath(o.out);
@@ -121,8 +136,9 @@ void AddConvertCommand(CLI::App& app) {
   auto o = std::make_shared<ConvertOptions>();
   CLI::App* cmd = app.add_subcommand(
       "convert",
-      "Convert a log between CARMEN (plain or .gz) and priormap JSON, or the RoboND sonar files "
-      "(--from roboND-sonar measurement.txt poses.txt) to priormap JSON");
+      "Convert a log between CARMEN (plain or .gz) and priormap JSON, or CSM laser_data JSON "
+      "(--from csm) or the RoboND sonar files (--from roboND-sonar measurement.txt poses.txt) to "
+      "priormap JSON");
   cmd->add_option("input", o->inputs,
                   "Input log (with --from roboND-sonar: measurement.txt poses.txt)")
       ->required()
@@ -131,22 +147,24 @@ void AddConvertCommand(CLI::App& app) {
                   "Output file: .json / .json.gz (JSON) or anything else (CARMEN); .gz compresses")
       ->required();
   cmd->add_option("--from", o->from, "Input format (default: from the content)")
-      ->check(CLI::IsMember({"carmen", "json", kRoboNdSonar}));
+      ->check(CLI::IsMember({"carmen", "json", "csm", kRoboNdSonar}));
   cmd->add_option("--to", o->to, "Output format (default: from the extension)")
       ->check(CLI::IsMember({"carmen", "json"}));
   cmd->add_option("--max-range", o->max_range,
                   "CARMEN: readings at or above this are max-range (default: detected); "
-                  "roboND-sonar: the no-echo range (default 5.11 m)")
+                  "csm: the same (default: none); roboND-sonar: the no-echo range (default "
+                  "5.11 m)")
       ->check(PositiveValue());
   cmd->add_option("--min-range", o->min_range,
-                  "CARMEN and roboND-sonar: readings below this are invalid (roboND default: "
-                  "0.17 m)")
+                  "CARMEN, csm and roboND-sonar: readings below this are invalid (roboND "
+                  "default: 0.17 m)")
       ->check(NonNegativeValue());
   cmd->add_option("--fov", o->fov_deg,
                   "CARMEN: field of view of FLASER/RLASER lines, degrees (default 180)")
       ->check(CLI::Range(0.0, 360.0));
   cmd->add_option("--sigma", o->sigma,
-                  "CARMEN: range noise standard deviation given to every reading, m")
+                  "CARMEN: range noise standard deviation given to every reading, m; csm: to "
+                  "readings without their own readings_sigma")
       ->check(PositiveValue());
   cmd->add_option("--poses", o->poses,
                   "What the scan poses are: unknown, odometry, corrected, ground_truth")

@@ -1,5 +1,8 @@
 #include <algorithm>
 
+#include <fmt/format.h>
+
+#include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
 
 #include "gunzip.hpp"
@@ -12,6 +15,8 @@ const char* ToString(LogFormat format) {
       return "carmen";
     case LogFormat::kJson:
       return "json";
+    case LogFormat::kCsm:
+      return "csm";
   }
   return "?";
 }
@@ -19,6 +24,7 @@ const char* ToString(LogFormat format) {
 std::optional<LogFormat> LogFormatFromString(std::string_view name) {
   if (name == "carmen") return LogFormat::kCarmen;
   if (name == "json") return LogFormat::kJson;
+  if (name == "csm") return LogFormat::kCsm;
   return std::nullopt;
 }
 
@@ -26,7 +32,8 @@ LogFormat SniffLogFormat(std::string_view text) {
   const auto first = std::find_if(text.begin(), text.end(), [](char c) {
     return c != ' ' && c != '\n' && c != '\r' && c != '\t';
   });
-  return first != text.end() && *first == '{' ? LogFormat::kJson : LogFormat::kCarmen;
+  if (first == text.end() || *first != '{') return LogFormat::kCarmen;
+  return LooksLikeCsmLog(text) ? LogFormat::kCsm : LogFormat::kJson;
 }
 
 LogFormat LogFormatFromPath(const std::filesystem::path& path) {
@@ -45,6 +52,8 @@ Result<Log> ReadLog(const std::filesystem::path& path, std::optional<LogFormat> 
       return ParseJsonLog(text, path.string());
     case LogFormat::kCarmen:
       return ParseCarmenLog(text, path.string(), carmen_options);
+    case LogFormat::kCsm:
+      return ParseCsmLog(text, path.string());
   }
   return Diagnostic{path.string(), 0, 0, "unknown log format"};
 }
@@ -55,6 +64,11 @@ void WriteLog(const Log& log, const std::filesystem::path& path, LogFormat forma
       return WriteJsonLog(log, path);
     case LogFormat::kCarmen:
       return WriteCarmenLog(log, path);
+    case LogFormat::kCsm:
+      throw IoError(
+          fmt::format("{}: cannot write CSM laser_data (priormap reads it only); write "
+                      "priormap JSON or CARMEN",
+                      path.string()));
   }
 }
 

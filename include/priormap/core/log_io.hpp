@@ -6,26 +6,30 @@
 #include <string_view>
 
 #include <priormap/core/carmen_io.hpp>
+#include <priormap/core/csm_io.hpp>
 #include <priormap/core/json_io.hpp>
 
 namespace priormap {
 
-enum class LogFormat : std::uint8_t { kCarmen, kJson };
+/// kCsm (CSM's laser_data JSON) is read only.
+enum class LogFormat : std::uint8_t { kCarmen, kJson, kCsm };
 
 [[nodiscard]] const char* ToString(LogFormat format);
 [[nodiscard]] std::optional<LogFormat> LogFormatFromString(std::string_view name);
 
-/// The format of a file's content: JSON when its first non-blank byte is '{', else CARMEN.
+/// The format of a file's content: when its first non-blank byte is '{', CSM laser_data if that
+/// object has "nrays" and "readings" members (LooksLikeCsmLog), else priormap JSON; else CARMEN.
 [[nodiscard]] LogFormat SniffLogFormat(std::string_view text);
 /// The format implied by a file name: .json / .json.gz are JSON, everything else CARMEN.
 [[nodiscard]] LogFormat LogFormatFromPath(const std::filesystem::path& path);
 
-/// Reads a log in any supported format (`format` forces one). CARMEN options apply to CARMEN only.
+/// Reads a log in any supported format (`format` forces one, else SniffLogFormat). CARMEN options
+/// apply to CARMEN only; CSM laser_data is read with the default CsmReadOptions.
 [[nodiscard]] Result<Log> ReadLog(const std::filesystem::path& path,
                                   std::optional<LogFormat> format = std::nullopt,
                                   const CarmenReadOptions& carmen_options = {});
 
-/// Writes `log` in `format`, atomically.
+/// Writes `log` in `format`, atomically. There is no CSM writer: kCsm throws IoError.
 void WriteLog(const Log& log, const std::filesystem::path& path, LogFormat format);
 
 }  // namespace priormap
