@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages priormap needs to build, test and benchmark.
 # Idempotent: prints nothing and touches nothing when every package is present.
+#   --tests      also what only the test suite needs (Chromium, for the demo gallery's browser
+#                test)
 #   --baselines  also the libraries of the side-by-side baselines in bench/ (MRPT's occupancy
 #                grid; about 110 packages, so not part of the quick start)
 set -euo pipefail
@@ -18,12 +20,16 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev librapidcheck-dev clang libclang-rt-14-dev
 )
 
-if [[ "${1:-}" == "--baselines" ]]; then
-  packages+=(libmrpt-maps-dev)
-elif [[ $# -gt 0 ]]; then
-  echo "install-deps: unknown option '$1' (expected: --baselines or nothing)" >&2
-  exit 2
-fi
+for option in "$@"; do
+  case "$option" in
+    --tests) packages+=(chromium) ;;
+    --baselines) packages+=(libmrpt-maps-dev) ;;
+    *)
+      echo "install-deps: unknown option '$option' (expected: --tests, --baselines or nothing)" >&2
+      exit 2
+      ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

@@ -3,7 +3,7 @@
 # the parsers' fuzz harnesses for a bounded time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
+scripts/install-deps.sh --tests
 cmake --preset release >/dev/null
 cmake --build --preset release
 ctest --preset release "$@"

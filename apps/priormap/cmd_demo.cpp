@@ -1,178 +1,265 @@
-// priormap demo: runs the toolkit on embedded simulated data and writes a small gallery.
+// priormap demo: every engine on embedded simulated data (and on real logs when they are at hand),
+// run as the very `priormap` commands a user would type, into a gallery page with their figures,
+// key numbers and command lines.
 #include <chrono>
-#include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <priormap/core/file_io.hpp>
-#include <priormap/core/json_io.hpp>
-#include <priormap/core/simulate.hpp>
-#include <priormap/render/line_plot.hpp>
-#include <priormap/render/scene_drawing.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "demo_gallery.hpp"
+#include "in_process.hpp"
 
 namespace priormap::app {
 namespace {
 
+namespace fs = std::filesystem;
+using Args = std::vector<std::string>;
+
 struct DemoOptions {
   std::string out = "demo";
   std::uint64_t seed = 1;
+  std::optional<std::string> data;  // ../shared/data when present
+  bool no_real = false;
+  bool quick = false;  // shorter chains, for tests
 };
 
-struct GalleryItem {
-  std::string file;
-  std::string caption;
-  std::string command;
+GalleryEntry Titled(std::string title) {
+  GalleryEntry entry;
+  entry.title = std::move(title);
+  return entry;
+}
+
+nlohmann::json ReadJson(const fs::path& path) {
+  const std::string text = ValueOrThrow(ReadFileText(path));
+  return nlohmann::json::parse(text);
+}
+
+// Runs the commands of one gallery entry, showing progress on the terminal.
+class Steps {
+ public:
+  Steps(const fs::path& dir, const DemoOptions& o)
+      : dir_(dir), runner_(dir / "demo.log"), seed_(fmt::format("{}", o.seed)) {}
+
+  /// `dir`/relative, as it appears in the commands.
+  [[nodiscard]] std::string Path(const std::string& relative) const {
+    return (dir_ / relative).string();
+  }
+  [[nodiscard]] const std::string& seed() const { return seed_; }
+
+  void Run(GalleryEntry* entry, const Args& args) {
+    fmt::print("  {}\n", InProcessRunner::CommandLine(args));
+    std::fflush(stdout);
+    entry->seconds += runner_.Run(args);
+    entry->commands.push_back(InProcessRunner::CommandLine(args));
+  }
+
+ private:
+  fs::path dir_;
+  InProcessRunner runner_;
+  std::string seed_;
 };
 
-// Root-mean-square of measured minus true range over valid, non-outlier readings.
-double RangeRmse(const Scan& scan) {
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan.IsValid(i) || scan.truth->outlier[i]) continue;
-    const double e = scan.ranges[i] - scan.truth->range[i];
-    sum += e * e;
-    ++n;
-  }
-  return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+GalleryEntry PriorletScan(Steps& s, const std::string& scene, const std::string& prior,
+                          const std::string& outliers) {
+  GalleryEntry e = Titled(fmt::format("{} scene, {} prior", scene, prior));
+  const std::string scan = s.Path(fmt::format("data/{}-utm30.json", scene));
+  const std::string stem = fmt::format("priorlets/{}-{}", scene, prior);
+  s.Run(&e, {"simulate", "--scene", scene, "--sensor", "utm30", "--outliers", outliers, "--seed",
+             s.seed(), "-o", scan});
+  s.Run(&e, {"scan", "--prior", prior, "-i", scan, "-o", s.Path(stem + ".json"), "--png",
+             s.Path(stem + ".png")});
+  const nlohmann::json map = ReadJson(s.Path(stem + ".json"));
+  std::size_t outlier_count = 0;
+  for (const auto& in : map.at("inmodel")) outlier_count += in.get<bool>() ? 0 : 1;
+  const auto& dof = map.at("dof");
+  e.numbers = {
+      fmt::format("{} readings: {} regions, {} surfaces, {} outliers", map.at("inmodel").size(),
+                  map.at("regions").size(), map.at("surfaces").size(), outlier_count),
+      fmt::format("degrees of freedom: {} free = {} extrinsic + {} intrinsic",
+                  dof.at("free").get<int>(), dof.at("extrinsic").get<int>(),
+                  dof.at("intrinsic").get<int>()),
+      fmt::format("MAP solve {:.2f} s", map.at("stats").at("seconds").get<double>())};
+  e.figures = {{stem + ".png",
+                "(a) measured and corrected scan with regions, surface borders and outliers; "
+                "(b) normals; (c) intrinsic eigenvariations; (d) prior vs posterior range "
+                "deviation; (e) posterior covariance"}};
+  return e;
 }
 
-GalleryItem SceneScan(const std::filesystem::path& dir, const std::string& name,
-                      std::uint64_t seed) {
-  const Scene scene = *BuiltinScene(name);
-  const RangeSensor sensor = *RangeSensor::Preset("utm30");
-  Rng rng(seed);
-  const Scan scan = SimulateScan(SceneRayCaster(scene), sensor, *scene.default_pose, rng);
-  const std::string file = fmt::format("scan-{}.png", name);
-  Box2 bounds = scene.Bounds();
-  bounds.extend(render::ScanBounds(scan));
-  render::Figure figure(
-      bounds, {.width_px = 640, .max_height_px = 640, .title = fmt::format("{} (utm30)", name)});
-  render::DrawScene(figure, scene);
-  render::DrawScan(figure, scan);
-  figure.AddLegend("readings", render::palette::kBlue);
-  figure.AddLegend("true normals", render::palette::kGreen);
-  figure.Save(dir / file);
-  return {file,
-          fmt::format("{}: {} beams, {} valid, range RMSE {:.2f} cm (sigma 1 cm)", name,
-                      scan.size(), scan.NumValid(), 100 * RangeRmse(scan)),
-          fmt::format("priormap simulate --scene {} --sensor utm30 --seed {} -o {}.json --png {}",
-                      name, seed, name, file)};
-}
-
-GalleryItem Residuals(const std::filesystem::path& dir, std::uint64_t seed) {
-  const Scene scene = *BuiltinScene("l-room");
-  RangeSensor sensor = *RangeSensor::Preset("utm30");
-  sensor.outlier_probability = 0.02;
-  Rng rng(seed);
-  const Scan scan = SimulateScan(SceneRayCaster(scene), sensor, *scene.default_pose, rng);
-  render::Series errors{.label = "measured - true", .markers = true};
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan.IsValid(i)) continue;
-    errors.x.push_back(scan.angles[i] * 180.0 / M_PI);
-    errors.y.push_back(scan.ranges[i] - scan.truth->range[i]);
-  }
-  render::LinePlot plot({.title = "l-room, utm30 with 2% outliers: range error per beam",
-                         .x_label = "beam angle (deg)",
-                         .y_label = "range error (m)",
-                         .y_range = std::pair{-0.1, 0.05}});
-  plot.Add(std::move(errors));
-  plot.AddHorizontalLine(3 * sensor.sigma, render::palette::kGray, "±3σ");
-  plot.AddHorizontalLine(-3 * sensor.sigma, render::palette::kGray);
-  const std::string file = "residuals-l-room.png";
-  plot.Save(dir / file);
-  return {file, "Per-beam range error: Gaussian noise inside ±3σ, outliers below (short readings)",
-          fmt::format("priormap simulate --scene l-room --outliers 0.02 --seed {} -o s.json && "
-                      "priormap plot s.json --kind residuals -o {}",
-                      seed, file)};
-}
-
-GalleryItem LogMap(const std::filesystem::path& dir, std::uint64_t seed) {
-  const Scene scene = *BuiltinScene("l-room");
-  const RangeSensor sensor = *RangeSensor::Preset("lms200");
-  const Log log =
-      SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, 0.5, 5.0), seed);
-  WriteJsonLog(log, dir / "l-room.log.json");
-  render::Figure figure(
-      scene.Bounds(),
-      {.width_px = 640,
-       .max_height_px = 640,
-       .title = fmt::format("l-room: localized log, {} scans (lms200)", log.scans.size())});
-  render::DrawScene(figure, scene);
-  render::DrawLog(figure, log);
-  const std::string file = "log-l-room.png";
-  figure.Save(dir / file);
-  return {
-      file,
+GalleryEntry SlamStudy(Steps& s, const DemoOptions& o) {
+  GalleryEntry e = Titled("Monte Carlo study on the simulated city");
+  s.Run(&e, {"slam", "simulate", "--runs", o.quick ? "5" : "30", "--seed", s.seed(), "-o",
+             s.Path("slam")});
+  const nlohmann::json j = ReadJson(s.Path("slam/summary.json"));
+  const auto& with = j.at("with_prior");
+  const auto& without = j.at("without_prior");
+  e.numbers = {
       fmt::format(
-          "A localized log of {} scans along the scene's waypoints (also saved as l-room.log.json)",
-          log.scans.size()),
-      fmt::format("priormap simulate --scene l-room --sensor lms200 --log --seed {} -o "
-                  "l-room.log.json --png {}",
-                  seed, file)};
+          "RMS position error: {:.2f} m with the prior map, {:.2f} m without (ratio {:.2f})",
+          with.at("rms_position_m").get<double>(), without.at("rms_position_m").get<double>(),
+          j.at("rms_position_ratio").get<double>()),
+      fmt::format("mean NEES {:.2f} with, {:.2f} without (3 degrees of freedom)",
+                  with.at("mean_nees").get<double>(), without.at("mean_nees").get<double>()),
+      fmt::format("relations: {} correct, {} incorrect",
+                  j.at("constraints").at("correct").get<int>(),
+                  j.at("constraints").at("incorrect").get<int>())};
+  e.figures = {
+      {"slam/figures/pose_error.png", "Position error over time, with and without the prior map"},
+      {"slam/figures/nees.png", "NEES over time against its 95 % band"},
+      {"slam/figures/map.png", "The prior map, the true and estimated landmarks"},
+      {"slam/figures/relations.png", "Landmark-to-wall relations found"}};
+  return e;
 }
 
-std::string HtmlEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
+// R-hat is null in a summary when the chains were too short to split.
+std::string Rhat(const nlohmann::json& value) {
+  return value.is_number() ? fmt::format("{:.3f}", value.get<double>()) : "n/a (chains too short)";
 }
 
-void WriteIndex(const std::filesystem::path& dir, const std::vector<GalleryItem>& items) {
-  std::string html =
-      "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>priormap "
-      "demo</title>\n"
-      "<style>body{font-family:sans-serif;max-width:1400px;margin:2em auto;padding:0 1em}"
-      "figure{display:inline-block;vertical-align:top;width:640px;margin:0 1em 2em 0}"
-      "img{max-width:100%;border:1px solid #ccc}code{font-size:85%;background:#f4f4f4;"
-      "padding:2px 4px;display:block;white-space:pre-wrap}</style></head><body>\n"
-      "<h1>priormap demo</h1>\n<p>Simulated scenes with per-beam ground truth, drawn by "
-      "priormap.</p>\n";
-  for (const GalleryItem& item : items) {
-    html += fmt::format(
-        "<figure><img src=\"{}\" alt=\"{}\"><figcaption>{}<code>{}</code></figcaption></figure>\n",
-        item.file, HtmlEscape(item.caption), HtmlEscape(item.caption), HtmlEscape(item.command));
+std::vector<std::string> PrfNumbers(const fs::path& prf_dir, const fs::path& grid_dir) {
+  const nlohmann::json p = ReadJson(prf_dir / "summary.json");
+  const nlohmann::json g = ReadJson(grid_dir / "summary.json");
+  std::vector<std::string> numbers = {
+      fmt::format("{} {} readings; {} chains, {:.0f} k proposals/s in all",
+                  p.at("beams").get<std::size_t>(), p.at("sensor").get<std::string>(),
+                  p.at("chains").get<int>(), p.at("proposals_per_second").get<double>() / 1e3),
+      fmt::format("split-R̂: {} on the log-posterior, {} on point colours",
+                  Rhat(p.at("rhat").at("log_posterior")), Rhat(p.at("rhat").at("point_colours")))};
+  if (p.contains("map"))
+    numbers.push_back(fmt::format(
+        "MAP polygon map: {} edges, {} bytes compact ({} B GeoJSON) vs the grid's {} B",
+        p.at("map").at("edges").get<int>(), p.at("map").at("compact_bytes").get<std::size_t>(),
+        p.at("map").at("geojson_bytes").get<std::size_t>(), g.at("grid_bytes").get<std::size_t>()));
+  return numbers;
+}
+
+GalleryEntry PrfOnLog(Steps& s, const std::string& title, const std::string& log,
+                      const std::string& dir, const Args& log_options, const std::string& steps,
+                      bool anneal) {
+  GalleryEntry e = Titled(title);
+  Args grid = {"grid", "--log", log};
+  grid.insert(grid.end(), log_options.begin(), log_options.end());
+  grid.insert(grid.end(), {"-o", s.Path(dir + "/grid")});
+  s.Run(&e, grid);
+  Args prf = {"prf", "--log", log};
+  prf.insert(prf.end(), log_options.begin(), log_options.end());
+  prf.insert(prf.end(), {"--p", "0.1", "--samples", steps, "--burn-in", steps, "--chains", "2",
+                         "--seed", s.seed()});
+  if (anneal) prf.insert(prf.end(), {"--anneal"});
+  prf.insert(prf.end(), {"-o", s.Path(dir + "/prf")});
+  s.Run(&e, prf);
+  e.numbers = PrfNumbers(s.Path(dir + "/prf"), s.Path(dir + "/grid"));
+  e.figures = {{dir + "/grid/grid.png", "Occupancy grid (log-odds, inverse sensor model)"},
+               {dir + "/prf/posterior.png", "PRF posterior P(black)"}};
+  if (anneal) e.figures.push_back({dir + "/prf/map.png", "PRF MAP polygon map (annealed)"});
+  return e;
+}
+
+std::optional<fs::path> RealDataDir(const DemoOptions& o) {
+  if (o.no_real) return std::nullopt;
+  if (o.data) {
+    if (!fs::is_directory(*o.data))
+      throw UserError(fmt::format("--data {}: no such directory", *o.data));
+    return fs::path(*o.data);
   }
-  html += "</body></html>\n";
-  WriteTextFileAtomically(dir / "index.html", html);
+  const fs::path shared = "../shared/data";
+  if (fs::is_directory(shared)) return shared;
+  return std::nullopt;
 }
 
 void Run(const DemoOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  const std::filesystem::path dir = o.out;
-  EnsureDirectory(dir);
-  std::vector<GalleryItem> items;
-  std::uint64_t seed = o.seed;
-  for (const std::string& name : BuiltinSceneNames()) items.push_back(SceneScan(dir, name, seed++));
-  items.push_back(Residuals(dir, o.seed));
-  items.push_back(LogMap(dir, o.seed));
-  WriteIndex(dir, items);
-  for (const GalleryItem& item : items)
-    fmt::print("  {}  {}\n", (dir / item.file).string(), item.caption);
+  const fs::path dir = o.out;
+  const std::optional<fs::path> data = RealDataDir(o);  // before any work: a typo fails at once
+  for (const char* sub : {"data", "priorlets", "real"}) EnsureDirectory(dir / sub);
+  fs::remove(dir / "demo.log");
+  Steps s(dir, o);
+  // Chain lengths that keep the whole demo near a minute on two cores.
+  const std::string laser_steps = o.quick ? "20000" : "300000";
+  const std::string sonar_steps = o.quick ? "10000" : "150000";
+  const std::string real_steps = o.quick ? "20000" : "1000000";
+  std::vector<GallerySection> sections;
+
+  fmt::print("priormap demo: priorlets\n");
+  sections.push_back(
+      {.heading = "Priorlets: one scan + an environment prior",
+       .intro = "A noisy simulated laser scan and a prior written in the prior language give the "
+                "MAP ranges and normals, the segmentation into regions and surfaces, the outliers, "
+                "the scan's degrees of freedom and the shrunk posterior covariance.",
+       .entries = {PriorletScan(s, "l-room", "rectangular", "0.02"),
+                   PriorletScan(s, "two-circles", "circular", "0.02")}});
+
+  fmt::print("priormap demo: SLAM with a prior map\n");
+  sections.push_back(
+      {.heading = "SLAM with a heterogeneous prior map",
+       .intro = "EKF-SLAM of point landmarks that decides which landmarks lie on which walls of a "
+                "noisy, partly wrong building map and applies those relations as "
+                "pseudo-observations; runs with and without the map.",
+       .entries = {SlamStudy(s, o)}});
+
+  fmt::print("priormap demo: polygonal random fields\n");
+  GalleryEntry laser_sim = Titled("Laser: a localized lms200 log in the l-room scene");
+  const std::string laser_log = s.Path("data/l-room-lms200.json");
+  s.Run(&laser_sim, {"simulate", "--scene", "l-room", "--sensor", "lms200", "--log", "--seed",
+                     s.seed(), "-o", laser_log});
+  // Every 8th beam: the PRF extrapolates walls between beams, and mixes faster on fewer.
+  GalleryEntry laser =
+      PrfOnLog(s, laser_sim.title, laser_log, "prf-laser", {"--beam-step", "8"}, laser_steps, true);
+  laser.commands.insert(laser.commands.begin(), laser_sim.commands.begin(),
+                        laser_sim.commands.end());
+  laser.seconds += laser_sim.seconds;
+  GalleryEntry sonar_sim = Titled("Sonar: a pioneer16 ring along the office corridor");
+  const std::string sonar_log = s.Path("data/office-pioneer16.json");
+  s.Run(&sonar_sim, {"simulate", "--scene", "office", "--sensor", "pioneer16", "--log", "--seed",
+                     s.seed(), "-o", sonar_log});
+  GalleryEntry sonar = PrfOnLog(s, sonar_sim.title, sonar_log, "prf-sonar", {}, sonar_steps, false);
+  sonar.commands.insert(sonar.commands.begin(), sonar_sim.commands.begin(),
+                        sonar_sim.commands.end());
+  sonar.seconds += sonar_sim.seconds;
+  sections.push_back(
+      {.heading = "Polygonal random fields vs the occupancy grid",
+       .intro = "MCMC over polygonal maps (Arak prior, Clifford-Nicholls moves) from localized "
+                "range data, next to the log-odds occupancy grid built from the same readings.",
+       .entries = {std::move(laser), std::move(sonar)}});
+
+  std::string data_note = "no real logs (none given with --data, ../shared/data absent)";
+  if (data) {
+    const fs::path intel = *data / "laser-corrected/intel-corrected.log.gz";
+    if (fs::exists(intel)) {
+      fmt::print("priormap demo: a real log ({})\n", intel.string());
+      GalleryEntry scan = Titled("Intel lab, scan 100, polygonal prior");
+      s.Run(&scan,
+            {"scan", "--prior", "polygonal", "--log", intel.string(), "--index", "100", "-o",
+             s.Path("real/intel-scan-100.json"), "--png", s.Path("real/intel-scan-100.png")});
+      scan.figures = {
+          {"real/intel-scan-100.png", "A real scan of the Intel lab under the polygonal prior"}};
+      GalleryEntry prf = PrfOnLog(s, "Intel lab, the first 185 scans, every 6th beam (5,550 beams)",
+                                  intel.string(), "real/intel",
+                                  {"--range", "0:185", "--beam-step", "6", "--resolution", "0.1"},
+                                  real_steps, true);
+      sections.push_back({.heading = "A real log",
+                          .intro = "The Intel Research Lab log (SLAM-corrected poses) from " +
+                                   data->string() + ".",
+                          .entries = {std::move(scan), std::move(prf)}});
+      data_note = "real logs from " + data->string();
+    } else {
+      data_note = fmt::format("{} has no laser-corrected/intel-corrected.log.gz", data->string());
+    }
+  }
+
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fmt::print("priormap demo: wrote {} figures to {}/ in {:.1f} s; open {}\n", items.size(),
-             dir.string(), seconds, (dir / "index.html").string());
+  WriteGallery(dir / "index.html", sections,
+               fmt::format("Made by priormap demo --seed {} in {:.0f} s; {}. The output of every "
+                           "command is in demo.log.",
+                           o.seed, seconds, data_note));
+  fmt::print("priormap demo: wrote {} in {:.1f} s ({}); every command's output is in {}\n",
+             (dir / "index.html").string(), seconds, data_note, (dir / "demo.log").string());
 }
 
 }  // namespace
@@ -180,9 +267,16 @@ void Run(const DemoOptions& o) {
 void AddDemoCommand(CLI::App& app) {
   auto o = std::make_shared<DemoOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "demo", "Run priormap on embedded simulated data and write a figure gallery");
+      "demo",
+      "Run every engine on embedded simulated data (and a real log when at hand) and write a "
+      "gallery, OUT/index.html");
   cmd->add_option("-o,--out", o->out, "Output directory")->capture_default_str();
-  cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same gallery")
+      ->capture_default_str();
+  cmd->add_option("--data", o->data,
+                  "Directory of real logs (like ../shared/data, which is used when present)");
+  cmd->add_flag("--no-real", o->no_real, "Only the simulated data");
+  cmd->add_flag("--quick", o->quick, "Short chains and few runs (a smoke test, seconds)");
   cmd->callback([o] { Run(*o); });
 }
 

@@ -20,4 +20,7 @@ void AddGridCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);
 
+/// Every subcommand above, as `priormap` has them (main.cpp, and the demo's in-process runs).
+void AddAllCommands(CLI::App& app);
+
 }  // namespace priormap::app

@@ -34,16 +34,7 @@ int main(int argc, char** argv) {
   CLI::App app{"priormap: 2D robotic mapping with structural prior knowledge", "priormap"};
   app.require_subcommand(1);
   app.fallthrough(false);
-  priormap::app::AddSimulateCommand(app);
-  priormap::app::AddConvertCommand(app);
-  priormap::app::AddPlotCommand(app);
-  priormap::app::AddPriorCommand(app);
-  priormap::app::AddScanCommand(app);
-  priormap::app::AddSlamCommand(app);
-  priormap::app::AddPrfCommand(app);
-  priormap::app::AddGridCommand(app);
-  priormap::app::AddDemoCommand(app);
-  priormap::app::AddVersionCommand(app);
+  priormap::app::AddAllCommands(app);
   // CLI11 would only say "a subcommand is required"; name the word it did not know.
   if (argc > 1 && argv[1][0] != '-') {
     std::vector<std::string> names;

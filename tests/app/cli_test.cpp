@@ -370,20 +370,26 @@ TEST_F(Cli, PlotsACarmenLog) {
 
 // --- demo, version, help -----------------------------------------------------------------------
 
-TEST_F(Cli, DemoWritesAGalleryAndSaysWhereItIs) {
-  const RunResult r = Ok({"demo", "--out", "gallery"});
+TEST_F(Cli, DemoRunsEveryEngineIntoAGalleryAndSaysWhereItIs) {
+  const RunResult r = Ok({"demo", "--quick", "--no-real", "--out", "gallery"});
   EXPECT_THAT(r.out, HasSubstr("gallery/index.html"));
   const std::string index = ReadAll(Work("gallery/index.html"));
   EXPECT_THAT(index, StartsWith("<!doctype html>"));
-  std::vector<std::string> expected;
-  for (const std::string& name : BuiltinSceneNames()) expected.push_back("scan-" + name + ".png");
-  expected.push_back("residuals-l-room.png");
-  expected.push_back("log-l-room.png");
-  for (const std::string& file : expected) {
+  // One figure per engine at least, each made by the command shown beside it.
+  for (const std::string file :
+       {"priorlets/l-room-rectangular.png", "priorlets/two-circles-circular.png",
+        "slam/figures/pose_error.png", "prf-laser/grid/grid.png", "prf-laser/prf/posterior.png",
+        "prf-laser/prf/map.png", "prf-sonar/grid/grid.png", "prf-sonar/prf/posterior.png"}) {
     EXPECT_THAT(index, HasSubstr("src=\"" + file + "\"")) << file;
     EXPECT_TRUE(IsPng(ReadAll(Work("gallery/" + file)))) << file;
-    EXPECT_THAT(r.out, HasSubstr(file));
   }
+  for (const std::string command :
+       {"priormap scan --prior rectangular", "priormap slam simulate --runs 5 --seed 1",
+        "priormap prf --log gallery/data/l-room-lms200.json --beam-step 8",
+        "priormap grid --log gallery/data/office-pioneer16.json"})
+    EXPECT_THAT(index, HasSubstr(command)) << command;
+  EXPECT_THAT(index, HasSubstr("RMS position error"));
+  EXPECT_THAT(index, HasSubstr("proposals/s"));
   // Every image the page shows exists.
   int images = 0;
   for (std::size_t at = index.find("src=\""); at != std::string::npos;
@@ -393,9 +399,16 @@ TEST_F(Cli, DemoWritesAGalleryAndSaysWhereItIs) {
     EXPECT_TRUE(fs::exists(Work("gallery/" + file))) << file;
     ++images;
   }
-  EXPECT_EQ(images, static_cast<int>(expected.size()));
-  EXPECT_TRUE(ReadLogFile("gallery/l-room.log.json").scans.size() > 10);
+  EXPECT_EQ(images, 11);  // 2 priorlet scans, 4 SLAM plots, 3 laser and 2 sonar maps
+  // The commands' own output went to the log, not to the terminal.
+  EXPECT_THAT(ReadAll(Work("gallery/demo.log")), HasSubstr("$ priormap prf --log"));
+  EXPECT_THAT(r.out, Not(HasSubstr("R-hat")));
   for (const std::string& file : WorkFiles()) EXPECT_THAT(file, Not(HasSubstr(".tmp-")));
+}
+
+TEST_F(Cli, DemoRefusesAMissingDataDirectory) {
+  const RunResult r = Fails({"demo", "--quick", "--data", "no-such-dir", "--out", "gallery"});
+  EXPECT_THAT(r.err, HasSubstr("--data no-such-dir: no such directory"));
 }
 
 TEST_F(Cli, VersionPrintsTheVersionAndLibraries) {

@@ -1,0 +1,18 @@
+#include "commands.hpp"
+
+namespace priormap::app {
+
+void AddAllCommands(CLI::App& app) {
+  AddSimulateCommand(app);
+  AddConvertCommand(app);
+  AddPlotCommand(app);
+  AddPriorCommand(app);
+  AddScanCommand(app);
+  AddSlamCommand(app);
+  AddPrfCommand(app);
+  AddGridCommand(app);
+  AddDemoCommand(app);
+  AddVersionCommand(app);
+}
+
+}  // namespace priormap::app
