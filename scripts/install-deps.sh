@@ -14,6 +14,8 @@ packages=(
   libeigen3-dev libcli11-dev nlohmann-json3-dev libfmt-dev libcairo2-dev libtbb-dev zlib1g-dev
   # whole-buffer gunzip for the log readers (zlib reads them when it is absent)
   libdeflate-dev
+  # the Python module (pybind11, NumPy) and its tests (pytest), for the system python3
+  pybind11-dev python3-dev python3-numpy python3-pytest
   # a font for figure labels (Cairo's toy text API goes through fontconfig)
   fonts-dejavu-core
   # tests and benchmarks; clang and its runtime for the libFuzzer harnesses

@@ -1,0 +1,190 @@
+// priormap.infer_scan, priormap.list_priors, priormap.load_prior / compile_prior and the Prior
+// class: the priorlet engine and the prior language from Python.
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <pybind11/stl.h>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include <priormap/dsl/prior_library.hpp>
+#include <priormap/priorlets/engine.hpp>
+#include <priormap/priorlets/map_scan_json.hpp>
+#include <priormap/priorlets/posterior.hpp>
+
+#include "bindings.hpp"
+#include "convert.hpp"
+
+namespace priormap::python {
+namespace {
+
+std::string DescribeAll(const std::vector<Diagnostic>& diagnostics) {
+  std::string text;
+  for (const Diagnostic& d : diagnostics) text += (text.empty() ? "" : "\n") + d.ToString();
+  return text;
+}
+
+template <typename T>
+T ValueOrRaise(Result<T> result) {
+  if (!result) throw std::invalid_argument(DescribeAll(result.diagnostics()));
+  return std::move(result).value();
+}
+
+dsl::PriorLibrary Library(const std::vector<std::string>& prior_path) {
+  std::vector<std::filesystem::path> directories(prior_path.begin(), prior_path.end());
+  for (const auto& d : dsl::PriorLibrary::EnvironmentPriorPath()) directories.push_back(d);
+  return dsl::PriorLibrary(std::move(directories));
+}
+
+dsl::BlockKind BlockKindOf(const std::string& name) {
+  for (int k = 0; k < dsl::kNumBlockKinds; ++k)
+    if (name == dsl::ToString(static_cast<dsl::BlockKind>(k)))
+      return static_cast<dsl::BlockKind>(k);
+  throw std::invalid_argument(fmt::format(
+      "unknown block '{}' (expected same_region, different_region or different_surface)", name));
+}
+
+// A compiled prior, shared so that Python copies are cheap.
+struct Prior {
+  std::shared_ptr<const dsl::CompiledPrior> compiled;
+
+  [[nodiscard]] const dsl::CompiledBlock& Block(const std::string& name) const {
+    const dsl::CompiledBlock* block = compiled->block(BlockKindOf(name));
+    if (block == nullptr)
+      throw std::invalid_argument(
+          fmt::format("the prior '{}' has no {} block", compiled->name(), name));
+    return *block;
+  }
+
+  [[nodiscard]] std::vector<std::string> Blocks() const {
+    std::vector<std::string> names;
+    for (int k = 0; k < dsl::kNumBlockKinds; ++k)
+      if (compiled->block(static_cast<dsl::BlockKind>(k)) != nullptr)
+        names.emplace_back(dsl::ToString(static_cast<dsl::BlockKind>(k)));
+    return names;
+  }
+
+  [[nodiscard]] std::vector<std::string> Terms(const std::string& block_name) const {
+    const dsl::CompiledBlock& block = Block(block_name);
+    std::vector<std::string> terms;
+    for (int t = 0; t < block.num_terms(); ++t) terms.push_back(block.TermExpression(t));
+    return terms;
+  }
+
+  // Values (terms,) and gradients (terms, 2k) at x = (rho_1..rho_k, alpha_1..alpha_k), phi (k,).
+  [[nodiscard]] py::dict Evaluate(const std::string& block_name, const std::vector<double>& x,
+                                  const std::vector<double>& phi) const {
+    const dsl::CompiledBlock& block = Block(block_name);
+    if (static_cast<int>(x.size()) != block.num_variables() ||
+        static_cast<int>(phi.size()) != block.order())
+      throw std::invalid_argument(fmt::format(
+          "{} block of order {}: x needs {} values (rho_1..rho_k, alpha_1..alpha_k), phi {}",
+          block_name, block.order(), block.num_variables(), block.order()));
+    const auto terms = static_cast<py::ssize_t>(block.num_terms());
+    const auto variables = static_cast<py::ssize_t>(block.num_variables());
+    py::array_t<double> values(terms);
+    py::array_t<double> gradients({terms, variables});
+    dsl::BlockEvaluator evaluator(block);
+    evaluator.Evaluate(x, phi, values.mutable_data(), gradients.mutable_data());
+    py::dict out;
+    out["values"] = values;
+    out["gradients"] = gradients;
+    std::vector<std::string> names;
+    for (int v = 0; v < block.num_variables(); ++v) names.push_back(block.VariableName(v));
+    out["variables"] = names;
+    return out;
+  }
+};
+
+py::dict InferScan(const Doubles& ranges, const Doubles& angles, const std::string& prior_name,
+                   double sigma, double max_range, double min_range, double beta,
+                   int eigenvariations, const std::vector<std::string>& prior_path) {
+  if (ranges.ndim() != 1) throw std::invalid_argument("ranges must be one scan: shape (m,)");
+  py::array_t<double> poses({py::ssize_t{1}, py::ssize_t{3}});
+  std::fill(poses.mutable_data(), poses.mutable_data() + 3, 0.0);
+  py::array_t<double> ranges_2d({py::ssize_t{1}, ranges.shape(0)});
+  std::copy(ranges.data(), ranges.data() + ranges.shape(0), ranges_2d.mutable_data());
+  const Log log = LogFromArrays(poses, ranges_2d, angles, max_range, min_range, sigma);
+  const dsl::CompiledPrior prior = ValueOrRaise(Library(prior_path).Load(prior_name));
+  priorlets::EngineOptions engine;
+  engine.beta = beta;
+  priorlets::PosteriorOptions posterior_options;
+  posterior_options.eigenvariations = eigenvariations;
+  std::string json;
+  {
+    const py::gil_scoped_release release;  // the solve is long and touches no Python object
+    const Scan& scan = log.scans.front();
+    const priorlets::MapScan map = priorlets::EstimateMapScan(scan, prior, engine);
+    const priorlets::Posterior posterior =
+        priorlets::AnalysePosterior(scan, prior, map, posterior_options);
+    json = priorlets::MapScanToJson(map, {0, prior.name(), "python"}, &posterior);
+  }
+  return JsonToPython(nlohmann::json::parse(json)).cast<py::dict>();
+}
+
+}  // namespace
+
+void BindPriorlets(py::module_& m) {
+  py::class_<Prior>(m, "Prior",
+                    "A compiled environment prior (the prior language, docs/priorlet-language.md)")
+      .def_property_readonly("name", [](const Prior& p) { return p.compiled->name(); })
+      .def_property_readonly(
+          "order", [](const Prior& p) { return p.compiled->order(); },
+          "k: how many consecutive readings a priorlet relates")
+      .def_property_readonly("max_curvature",
+                             [](const Prior& p) { return p.compiled->max_curvature(); })
+      .def_property_readonly("blocks", &Prior::Blocks, "The topology cases the prior constrains")
+      .def("terms", &Prior::Terms, py::arg("block"),
+           "The compiled terms of a block, as simplified expressions")
+      .def("evaluate", &Prior::Evaluate, py::arg("block"), py::arg("x"), py::arg("phi"),
+           "The block's term values and gradients at x = (rho_1..rho_k, alpha_1..alpha_k) and "
+           "beam angles phi (k): dict of 'values', 'gradients' (terms x 2k), 'variables'")
+      .def("__repr__", [](const Prior& p) {
+        return fmt::format("<priormap.Prior '{}' of order {}>", p.compiled->name(),
+                           p.compiled->order());
+      });
+
+  m.def(
+      "load_prior",
+      [](const std::string& name_or_file, const std::vector<std::string>& prior_path) {
+        return Prior{std::make_shared<const dsl::CompiledPrior>(
+            ValueOrRaise(Library(prior_path).Load(name_or_file)))};
+      },
+      py::arg("name_or_file"), py::arg("prior_path") = std::vector<std::string>{},
+      "A prior of the library by name ('rectangular', 'Circular prior', ...) or a .prior file");
+  m.def(
+      "compile_prior",
+      [](const std::string& text, const std::vector<std::string>& prior_path) {
+        return Prior{std::make_shared<const dsl::CompiledPrior>(
+            ValueOrRaise(Library(prior_path).CompileText(text, "<python>")))};
+      },
+      py::arg("text"), py::arg("prior_path") = std::vector<std::string>{},
+      "Compiles prior-language source text; errors raise ValueError with line:col");
+  m.def(
+      "list_priors",
+      [](const std::vector<std::string>& prior_path) {
+        py::list out;
+        for (const dsl::PriorListing& p : Library(prior_path).List()) {
+          py::dict d;
+          d["name"] = p.name;
+          d["path"] = p.path;
+          d["description"] = p.description;
+          d["builtin"] = p.builtin;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("prior_path") = std::vector<std::string>{}, "The priors of the library");
+  m.def("infer_scan", &InferScan, py::arg("ranges"), py::arg("angles"),
+        py::arg("prior") = "polygonal", py::arg("sigma") = 0.01,
+        py::arg("max_range") = std::numeric_limits<double>::infinity(), py::arg("min_range") = 0.0,
+        py::arg("beta") = 0.95, py::arg("eigenvariations") = 3,
+        py::arg("prior_path") = std::vector<std::string>{},
+        "MAP scan under a prior (priorlets): one scan's ranges and angles (numpy, radians) in; "
+        "a dict out with numpy arrays 'rho' (corrected ranges), 'alpha' (normal angles), "
+        "'inmodel' (False: outlier), 'posterior_std', the 'regions', 'surfaces', 'dof' and "
+        "eigenvariations (the fields of `priormap scan`'s JSON)");
+}
+
+}  // namespace priormap::python

@@ -1,0 +1,50 @@
+"""Occupancy grid and PRF mapping on numpy scans of a known rectangular room."""
+
+import json
+
+import numpy as np
+import pytest
+
+import priormap
+from conftest import ROOM
+
+
+def cell_of(raster, x, y):
+    ox, oy = raster["origin"]
+    r = raster["resolution"]
+    return int((y - oy) // r), int((x - ox) // r)  # row (from the bottom), column
+
+
+def test_grid_sees_the_walls_and_the_free_room(room_scans):
+    poses, ranges, angles, _ = room_scans
+    grid = priormap.occupancy_grid(poses, ranges, angles, max_range=8.0, resolution=0.05)
+    p = grid["probability"]
+    assert p.ndim == 2
+    xmin, ymin, xmax, ymax = ROOM
+    assert p[cell_of(grid, 0.5, 0.5)] < 0.2       # inside: free
+    assert p[cell_of(grid, xmax + 0.01, 0.5)] > 0.8  # on the east wall: occupied
+    assert np.isnan(p[cell_of(grid, xmax + 0.8, 0.5)])  # behind it: unknown
+
+
+def test_prf_posterior_is_white_inside_black_outside_and_reproducible(room_scans):
+    poses, ranges, angles, _ = room_scans
+    args = dict(max_range=8.0, samples=100000, burn_in=100000, chains=2, seed=5, beam_step=4)
+    a = priormap.prf_map(poses, ranges, angles, anneal=True, **args)
+    black = a["black_fraction"]
+    xmin, ymin, xmax, ymax = ROOM
+    assert black[cell_of(a, 0.5, 0.5)] < 0.1
+    assert black[cell_of(a, xmax + 0.1, 0.5)] > 0.8  # just behind the wall: occupied
+    assert a["beams"] == 8 * 46
+    assert len(a["log_posterior"]) == 2
+    geojson = json.loads(a["map_geojson"])
+    assert geojson["type"] == "FeatureCollection"
+    b = priormap.prf_map(poses, ranges, angles, anneal=True, **args)
+    np.testing.assert_array_equal(a["black_fraction"], b["black_fraction"])
+
+
+def test_bad_shapes_raise_value_errors(room_scans):
+    poses, ranges, angles, _ = room_scans
+    with pytest.raises(ValueError, match="poses"):
+        priormap.occupancy_grid(poses[:, :2], ranges, angles, max_range=8.0)
+    with pytest.raises(ValueError, match="ranges"):
+        priormap.prf_map(poses, ranges[:3], angles, max_range=8.0)
