@@ -138,10 +138,8 @@ std::vector<std::string> PrfNumbers(const fs::path& prf_dir, const fs::path& gri
   return numbers;
 }
 
-GalleryEntry PrfOnLog(Steps& s, const std::string& title, const std::string& log,
-                      const std::string& dir, const Args& log_options, const std::string& steps,
-                      bool anneal) {
-  GalleryEntry e = Titled(title);
+GalleryEntry PrfOnLog(Steps& s, GalleryEntry e, const std::string& log, const std::string& dir,
+                      const Args& log_options, const std::string& steps, bool anneal) {
   Args grid = {"grid", "--log", log};
   grid.insert(grid.end(), log_options.begin(), log_options.end());
   grid.insert(grid.end(), {"-o", s.Path(dir + "/grid")});
@@ -158,6 +156,17 @@ GalleryEntry PrfOnLog(Steps& s, const std::string& title, const std::string& log
                {dir + "/prf/posterior.png", "PRF posterior P(black)"}};
   if (anneal) e.figures.push_back({dir + "/prf/map.png", "PRF MAP polygon map (annealed)"});
   return e;
+}
+
+// A log simulated along a scene's waypoints, then the grid and the PRF on it.
+GalleryEntry SimulatedPrf(Steps& s, const std::string& title, const std::string& scene,
+                          const std::string& sensor, const std::string& dir,
+                          const Args& log_options, const std::string& steps, bool anneal) {
+  GalleryEntry e = Titled(title);
+  const std::string log = s.Path(fmt::format("data/{}-{}.json", scene, sensor));
+  s.Run(&e,
+        {"simulate", "--scene", scene, "--sensor", sensor, "--log", "--seed", s.seed(), "-o", log});
+  return PrfOnLog(s, std::move(e), log, dir, log_options, steps, anneal);
 }
 
 std::optional<fs::path> RealDataDir(const DemoOptions& o) {
@@ -203,24 +212,12 @@ void Run(const DemoOptions& o) {
        .entries = {SlamStudy(s, o)}});
 
   fmt::print("priormap demo: polygonal random fields\n");
-  GalleryEntry laser_sim = Titled("Laser: a localized lms200 log in the l-room scene");
-  const std::string laser_log = s.Path("data/l-room-lms200.json");
-  s.Run(&laser_sim, {"simulate", "--scene", "l-room", "--sensor", "lms200", "--log", "--seed",
-                     s.seed(), "-o", laser_log});
   // Every 8th beam: the PRF extrapolates walls between beams, and mixes faster on fewer.
   GalleryEntry laser =
-      PrfOnLog(s, laser_sim.title, laser_log, "prf-laser", {"--beam-step", "8"}, laser_steps, true);
-  laser.commands.insert(laser.commands.begin(), laser_sim.commands.begin(),
-                        laser_sim.commands.end());
-  laser.seconds += laser_sim.seconds;
-  GalleryEntry sonar_sim = Titled("Sonar: a pioneer16 ring along the office corridor");
-  const std::string sonar_log = s.Path("data/office-pioneer16.json");
-  s.Run(&sonar_sim, {"simulate", "--scene", "office", "--sensor", "pioneer16", "--log", "--seed",
-                     s.seed(), "-o", sonar_log});
-  GalleryEntry sonar = PrfOnLog(s, sonar_sim.title, sonar_log, "prf-sonar", {}, sonar_steps, false);
-  sonar.commands.insert(sonar.commands.begin(), sonar_sim.commands.begin(),
-                        sonar_sim.commands.end());
-  sonar.seconds += sonar_sim.seconds;
+      SimulatedPrf(s, "Laser: a localized lms200 log in the l-room scene", "l-room", "lms200",
+                   "prf-laser", {"--beam-step", "8"}, laser_steps, true);
+  GalleryEntry sonar = SimulatedPrf(s, "Sonar: a pioneer16 ring along the office corridor",
+                                    "office", "pioneer16", "prf-sonar", {}, sonar_steps, false);
   sections.push_back(
       {.heading = "Polygonal random fields vs the occupancy grid",
        .intro = "MCMC over polygonal maps (Arak prior, Clifford-Nicholls moves) from localized "
@@ -238,10 +235,10 @@ void Run(const DemoOptions& o) {
              s.Path("real/intel-scan-100.json"), "--png", s.Path("real/intel-scan-100.png")});
       scan.figures = {
           {"real/intel-scan-100.png", "A real scan of the Intel lab under the polygonal prior"}};
-      GalleryEntry prf = PrfOnLog(s, "Intel lab, the first 185 scans, every 6th beam (5,550 beams)",
-                                  intel.string(), "real/intel",
-                                  {"--range", "0:185", "--beam-step", "6", "--resolution", "0.1"},
-                                  real_steps, true);
+      GalleryEntry prf = PrfOnLog(
+          s, Titled("Intel lab, the first 185 scans, every 6th beam (5,550 beams)"), intel.string(),
+          "real/intel", {"--range", "0:185", "--beam-step", "6", "--resolution", "0.1"}, real_steps,
+          true);
       sections.push_back({.heading = "A real log",
                           .intro = "The Intel Research Lab log (SLAM-corrected poses) from " +
                                    data->string() + ".",

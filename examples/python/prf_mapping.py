@@ -8,18 +8,7 @@ import json
 import numpy as np
 
 import priormap
-
-ROOM = (-2.0, -1.5, 3.0, 2.5)
-
-
-def room_ranges(pose, angles):
-    x, y, theta = pose
-    xmin, ymin, xmax, ymax = ROOM
-    dx, dy = np.cos(theta + angles), np.sin(theta + angles)
-    with np.errstate(divide="ignore"):
-        tx = np.where(dx > 0, (xmax - x) / dx, (xmin - x) / dx)
-        ty = np.where(dy > 0, (ymax - y) / dy, (ymin - y) / dy)
-    return np.minimum(tx, ty)
+from room import room_ranges
 
 
 rng = np.random.default_rng(1)

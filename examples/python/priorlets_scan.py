@@ -6,17 +6,7 @@ Run: PYTHONPATH=build/release/python python3 examples/python/priorlets_scan.py
 import numpy as np
 
 import priormap
-
-
-def room_ranges(pose, angles, room=(-2.0, -1.5, 3.0, 2.5)):
-    """Exact distances from pose (x, y, theta) to the walls of an axis-aligned room."""
-    x, y, theta = pose
-    xmin, ymin, xmax, ymax = room
-    dx, dy = np.cos(theta + angles), np.sin(theta + angles)
-    with np.errstate(divide="ignore"):
-        tx = np.where(dx > 0, (xmax - x) / dx, (xmin - x) / dx)
-        ty = np.where(dy > 0, (ymax - y) / dy, (ymin - y) / dy)
-    return np.minimum(tx, ty)
+from room import room_ranges
 
 
 rng = np.random.default_rng(1)
