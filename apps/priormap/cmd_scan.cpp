@@ -13,6 +13,7 @@
 #include <priormap/core/log_io.hpp>
 #include <priormap/dsl/prior_library.hpp>
 #include <priormap/priorlets/engine.hpp>
+#include <priormap/priorlets/line_segments.hpp>
 #include <priormap/priorlets/map_scan_json.hpp>
 #include <priormap/priorlets/posterior.hpp>
 #include <priormap/render/map_scan_figure.hpp>
@@ -38,6 +39,7 @@ struct ScanOptions {
   std::size_t max_free_dimension = priorlets::PosteriorOptions{}.max_free_dimension;
   std::optional<std::string> png;
   std::optional<std::string> svg;
+  std::optional<std::string> lines;
 };
 
 // --png / --svg: each names a file of its own format, written only for one scan.
@@ -69,6 +71,10 @@ void WriteFigures(const ScanOptions& o, const Scan& scan, const priorlets::MapSc
 
 void Run(const ScanOptions& o) {
   CheckFigureOptions(o);
+  if (o.lines) {
+    if (o.all) throw UserError("--lines writes one scan's segments, not --all (use --index)");
+    RequireOutputDirectory(*o.lines, "--lines");
+  }
   const dsl::CompiledPrior prior = ValueOrThrow(MakePriorLibrary(o.prior_path).Load(o.prior));
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
@@ -89,7 +95,8 @@ void Run(const ScanOptions& o) {
                                                        : priorlets::CovarianceForm::kConditional;
   posterior_options.eigenvariations = o.eigenvariations;
   posterior_options.max_free_dimension = o.max_free_dimension;
-  posterior_options.keep_range_covariance = o.png || o.svg;
+  // The range covariance for the figure and for the segments' covariances.
+  posterior_options.keep_range_covariance = o.png || o.svg || o.lines;
   struct Estimate {
     priorlets::MapScan map;
     priorlets::Posterior posterior;
@@ -110,6 +117,14 @@ void Run(const ScanOptions& o) {
     const Estimate e = estimate(index);
     WriteTextFileAtomically(o.out, e.json + "\n");
     fmt::print("wrote {}\n", o.out);
+    if (o.lines) {
+      const priorlets::LineSegments lines =
+          priorlets::ExtractLineSegments(log.scans[index], e.map, &e.posterior);
+      WriteTextFileAtomically(
+          *o.lines,
+          priorlets::LineSegmentsToJson(lines, "laser", log.scans[index].timestamp) + "\n");
+      fmt::print("wrote {} ({} line segments)\n", *o.lines, lines.segments.size());
+    }
     WriteFigures(o, log.scans[index], e.map, e.posterior,
                  fmt::format("{}: scan {}, {}", o.input, index, prior.name()));
     return;
@@ -180,6 +195,9 @@ void AddScanCommand(CLI::App& app) {
                   "One scan: a figure of the MAP scan, its normals, eigenvariations and "
                   "posterior covariance (PNG)");
   cmd->add_option("--svg", o->svg, "The same figure as SVG");
+  cmd->add_option("--lines", o->lines,
+                  "One scan: the straight regions as line segments, JSON in the convention of ROS "
+                  "laser_line_extraction (polar line, covariance, endpoints; docs/formats.md)");
   cmd->callback([o] { Run(*o); });
 }
 

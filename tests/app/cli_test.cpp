@@ -790,6 +790,36 @@ TEST_F(Cli, ScanWritesTheMapScanOfOneScan) {
   EXPECT_EQ(projected["eigenvariations"].size(), 2u);
 }
 
+TEST_F(Cli, ScanWritesTheWallsAsLineSegmentsOfOneScan) {
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "--seed", "2", "--pose",
+      "0.3,-0.2,0.4", "-o", "s.json"});
+  const RunResult r = Ok({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "map.json",
+                          "--lines", "lines.json"});
+  EXPECT_THAT(r.out, HasSubstr("wrote lines.json (3 line segments)"));
+  const nlohmann::json lines = nlohmann::json::parse(ReadAll(Work("lines.json")));
+  EXPECT_EQ(lines["format"], "priormap.line_segments");
+  EXPECT_EQ(lines["covariance_source"], "posterior");
+  // The square's walls are 2 m from its centre: from (0.3, -0.2) they lie 1.7, 2.2, 2.3 or 1.8 m
+  // away; seen in the sensor frame their normals are 90 degrees apart.
+  ASSERT_EQ(lines["line_segments"].size(), 3u);
+  std::vector<double> radii;
+  for (const auto& segment : lines["line_segments"]) {
+    radii.push_back(segment["radius"].get<double>());
+    EXPECT_EQ(segment["covariance"].size(), 4u);
+    EXPECT_GT(segment["covariance"][0].get<double>(), 0.0);
+    EXPECT_LT(segment["covariance"][0].get<double>(), 1e-4);  // sigma_r < 1 cm
+  }
+  std::sort(radii.begin(), radii.end());
+  for (const double radius : radii) {
+    const bool near_a_wall = std::abs(radius - 1.7) < 0.02 || std::abs(radius - 2.2) < 0.02 ||
+                             std::abs(radius - 2.3) < 0.02 || std::abs(radius - 1.8) < 0.02;
+    EXPECT_TRUE(near_a_wall) << radius;
+  }
+  const RunResult all = Fails({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "m.jsonl",
+                               "--all", "--lines", "l.json"});
+  EXPECT_THAT(all.err, HasSubstr("--lines writes one scan's segments"));
+}
+
 TEST_F(Cli, ScanAllWritesJsonLinesForEveryScanOfALog) {
   Ok({"simulate", "--scene", "square", "--sensor", "lms200", "--log", "--seed", "3", "-o",
       "run.json"});
