@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/log_io.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -74,16 +75,18 @@ GalleryEntry PriorletScan(Steps& s, const std::string& scene, const std::string&
   s.Run(&e, {"scan", "--prior", prior, "-i", scan, "-o", s.Path(stem + ".json"), "--png",
              s.Path(stem + ".png")});
   const nlohmann::json map = ReadJson(s.Path(stem + ".json"));
-  std::size_t outlier_count = 0;
-  for (const auto& in : map.at("inmodel")) outlier_count += in.get<bool>() ? 0 : 1;
+  // Outliers among the valid readings (beams with no return are not in the model either).
+  const std::size_t valid = ValueOrThrow(ReadLog(scan)).scans.front().NumValid();
+  const std::size_t in_model = map.at("inmodel_beams").size();
   const auto& dof = map.at("dof");
-  e.numbers = {
-      fmt::format("{} readings: {} regions, {} surfaces, {} outliers", map.at("inmodel").size(),
-                  map.at("regions").size(), map.at("surfaces").size(), outlier_count),
-      fmt::format("degrees of freedom: {} free = {} extrinsic + {} intrinsic",
-                  dof.at("free").get<int>(), dof.at("extrinsic").get<int>(),
-                  dof.at("intrinsic").get<int>()),
-      fmt::format("MAP solve {:.2f} s", map.at("stats").at("seconds").get<double>())};
+  e.numbers = {fmt::format("{} readings, {} valid: {}, {}, {}", map.at("inmodel").size(), valid,
+                           Plural(map.at("regions").size(), "region"),
+                           Plural(map.at("surfaces").size(), "surface"),
+                           Plural(valid - in_model, "outlier")),
+               fmt::format("degrees of freedom: {} free = {} extrinsic + {} intrinsic",
+                           dof.at("free").get<int>(), dof.at("extrinsic").get<int>(),
+                           dof.at("intrinsic").get<int>()),
+               fmt::format("MAP solve {:.2f} s", map.at("stats").at("seconds").get<double>())};
   e.figures = {{stem + ".png",
                 "(a) measured and corrected scan with regions, surface borders and outliers; "
                 "(b) normals; (c) intrinsic eigenvariations; (d) prior vs posterior range "
