@@ -13,8 +13,9 @@ fi
 rm -rf "$work" && mkdir -p "$work"
 "$priormap" demo --quick --no-real --out "$work/demo" >"$work/demo.out"
 cp "$check_page" "$work/demo/gallery_check.html"
-# --no-sandbox: CI runs as root; file access between file:// pages lets the check read the frame.
-"$browser" --headless --no-sandbox --disable-gpu --allow-file-access-from-files \
+# --no-sandbox: CI runs as root; --disable-dev-shm-usage: containers with a small /dev/shm; file
+# access between file:// pages lets the check read the frame.
+"$browser" --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --allow-file-access-from-files \
   --enable-logging=stderr --v=0 --virtual-time-budget=20000 \
   --dump-dom "file://$(realpath "$work/demo/gallery_check.html")" \
   >"$work/dom.html" 2>"$work/browser.log" || { cat "$work/browser.log"; exit 1; }
