@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Quick start 2/2: install dependencies, build everything, run the whole test suite (ctest), then
-# the parsers' fuzz harnesses for a bounded time.
+# the parsers' fuzz harnesses for a bounded time, then a subset of the suite under ASan + UBSan.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh --tests
@@ -11,3 +11,5 @@ ctest --preset release "$@"
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz
 ctest --preset fuzz
+# The readers, geometry, language, grids, PRF and SLAM files under AddressSanitizer + UBSan.
+scripts/asan-tests.sh
