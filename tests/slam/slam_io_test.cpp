@@ -601,5 +601,15 @@ RC_GTEST_PROP(PriorMapGeoJson, WriteThenReadIsTheIdentity, ()) {
   RC_ASSERT(FormatPriorMapGeoJson(read.value()) == text);
 }
 
+// docs/formats.md's prior map, as examples/formats/prior-map.geojson: a building of 4 + 3 walls
+// (outline and courtyard) and a fence.
+TEST(SlamIo, ReadsThePriorMapExample) {
+  const Result<PriorMap> map =
+      ReadPriorMapGeoJson(PRIORMAP_EXAMPLES_DIR "/formats/prior-map.geojson", 1.0);
+  ASSERT_TRUE(map.ok()) << map.error();
+  EXPECT_EQ(map.value().segments.size(), 8u);
+  EXPECT_EQ(map.value().buildings.size(), 2u);
+}
+
 }  // namespace
 }  // namespace priormap::slam
