@@ -67,9 +67,7 @@ Se2 ParsePose(const std::string& text) {
 }
 
 dsl::PriorLibrary MakePriorLibrary(const std::vector<std::string>& prior_path) {
-  std::vector<std::filesystem::path> directories(prior_path.begin(), prior_path.end());
-  for (const auto& d : dsl::PriorLibrary::EnvironmentPriorPath()) directories.push_back(d);
-  return dsl::PriorLibrary(std::move(directories));
+  return dsl::PriorLibrary::WithEnvironment({prior_path.begin(), prior_path.end()});
 }
 
 Scene LoadScene(const std::string& name_or_path) {

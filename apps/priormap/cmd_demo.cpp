@@ -53,10 +53,11 @@ class Steps {
   [[nodiscard]] const std::string& seed() const { return seed_; }
 
   void Run(GalleryEntry* entry, const Args& args) {
-    fmt::print("  {}\n", InProcessRunner::CommandLine(args));
+    const std::string line = InProcessRunner::CommandLine(args);
+    fmt::print("  {}\n", line);
     std::fflush(stdout);
     entry->seconds += runner_.Run(args);
-    entry->commands.push_back(InProcessRunner::CommandLine(args));
+    entry->commands.push_back(line);
   }
 
  private:

@@ -19,22 +19,14 @@
 namespace priormap::python {
 namespace {
 
-std::string DescribeAll(const std::vector<Diagnostic>& diagnostics) {
-  std::string text;
-  for (const Diagnostic& d : diagnostics) text += (text.empty() ? "" : "\n") + d.ToString();
-  return text;
-}
-
 template <typename T>
 T ValueOrRaise(Result<T> result) {
-  if (!result) throw std::invalid_argument(DescribeAll(result.diagnostics()));
+  if (!result) throw std::invalid_argument(result.error());
   return std::move(result).value();
 }
 
 dsl::PriorLibrary Library(const std::vector<std::string>& prior_path) {
-  std::vector<std::filesystem::path> directories(prior_path.begin(), prior_path.end());
-  for (const auto& d : dsl::PriorLibrary::EnvironmentPriorPath()) directories.push_back(d);
-  return dsl::PriorLibrary(std::move(directories));
+  return dsl::PriorLibrary::WithEnvironment({prior_path.begin(), prior_path.end()});
 }
 
 dsl::BlockKind BlockKindOf(const std::string& name) {

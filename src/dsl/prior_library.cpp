@@ -95,6 +95,11 @@ std::vector<fs::path> PriorLibrary::EnvironmentPriorPath() {
   return directories;
 }
 
+PriorLibrary PriorLibrary::WithEnvironment(std::vector<fs::path> first) {
+  for (fs::path& d : EnvironmentPriorPath()) first.push_back(std::move(d));
+  return PriorLibrary(std::move(first));
+}
+
 std::vector<PriorListing> PriorLibrary::List() const {
   std::vector<PriorListing> listing;
   std::set<std::string> seen;

@@ -73,33 +73,38 @@ std::unique_ptr<DataTerm> SonarLikelihood::Clone() const {
 
 SonarLikelihood::ReadingResult SonarLikelihood::Compute(const Coloring& coloring, std::size_t i,
                                                         const Edit* ignoring,
-                                                        std::span<const Segment> added,
-                                                        double reach) const {
-  const double max_range = data_->readings[i].cone.max_range;
-  if (reach < max_range) {
-    // Most recomputations only bring edges nearer, so the old extent bounds the new one: the
-    // sweep over the cells within it gives the whole view unless some direction sees nothing
-    // there (then the view may reach farther, and the sweep is redone to R).
-    const ReadingResult near = ComputeWithin(coloring, i, ignoring, added, reach);
+                                                        std::span<const Segment> added) const {
+  const ConeCells& cc = *cone_cells_;
+  return ComputeWithin(coloring, i, ignoring, added, data_->readings[i].cone.max_range,
+                       cc.offsets[i + 1] - cc.offsets[i]);
+}
+
+SonarLikelihood::ReadingResult SonarLikelihood::ComputeFromExtent(
+    const Coloring& coloring, std::size_t i, const Edit* ignoring,
+    std::span<const Segment> added) const {
+  // Most recomputations only bring edges nearer, so the old extent bounds the new one: the sweep
+  // over the cells the reading is listed in (those within its extent) gives the whole view unless
+  // some direction sees nothing there (then the view may reach farther, and the sweep is redone
+  // to R).
+  const double reach = Inflated(state_[i].extent);
+  if (reach < data_->readings[i].cone.max_range) {
+    const ReadingResult near =
+        ComputeWithin(coloring, i, ignoring, added, reach, index_.listed_cells(i));
     if (near.extent < reach) return near;
   }
-  return ComputeWithin(coloring, i, ignoring, added, kFullReach);
+  return Compute(coloring, i, ignoring, added);
 }
 
 SonarLikelihood::ReadingResult SonarLikelihood::ComputeWithin(const Coloring& coloring,
                                                               std::size_t i, const Edit* ignoring,
                                                               std::span<const Segment> added,
-                                                              double reach) const {
+                                                              double reach,
+                                                              std::uint32_t cells) const {
   const SonarReading& reading = data_->readings[i];
   const ConeCells& cc = *cone_cells_;
   segments_.clear();
   edge_marks_.NextRound();
-  // Within the extent: the cells the reading is listed in, no search needed.
-  const std::uint32_t end =
-      reach == kFullReach
-          ? cc.offsets[i + 1]
-          : cc.offsets[i] + (reach == Inflated(state_[i].extent) ? index_.listed_cells(i)
-                                                                 : ListedCellCount(i, reach));
+  const std::uint32_t end = cc.offsets[i] + cells;
   for (std::uint32_t k = cc.offsets[i]; k < end; ++k) {
     for (const EdgeId e : coloring.cell_edges(cc.cells[k])) {
       const auto id = static_cast<std::size_t>(e);
@@ -115,7 +120,7 @@ SonarLikelihood::ReadingResult SonarLikelihood::ComputeWithin(const Coloring& co
   for (std::size_t k = 0; k < added.size(); ++k)
     segments_.push_back({added[k], -1 - static_cast<std::int32_t>(k)});
   SonarCone cone = reading.cone;
-  cone.max_range = std::min(cone.max_range, reach);
+  cone.max_range = reach;
   sweep_.Compute(cone, segments_, window_, &view_);
   return {ToFixed(model_.LogLikelihood(reading.range, reading.max_reading, view_.features,
                                        data_->max_range)),
@@ -123,7 +128,7 @@ SonarLikelihood::ReadingResult SonarLikelihood::ComputeWithin(const Coloring& co
 }
 
 SonarView SonarLikelihood::View(const Coloring& coloring, std::size_t i) const {
-  Compute(coloring, i, nullptr, {}, kFullReach);
+  Compute(coloring, i, nullptr, {});
   SonarView view = view_;
   for (VisiblePiece& piece : view.pieces)
     if (piece.segment >= 0) piece.segment = segments_[static_cast<std::size_t>(piece.segment)].tag;
@@ -168,7 +173,7 @@ std::optional<std::string> SonarLikelihood::Reset(const Coloring& coloring) {
   reading_marks_.resize(n);
   total_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const ReadingResult result = Compute(coloring, i, nullptr, {}, kFullReach);
+    const ReadingResult result = Compute(coloring, i, nullptr, {});
     ReadingState& state = state_[i];
     state.log_lik = result.log_lik;
     state.extent = result.extent;
@@ -255,7 +260,7 @@ std::optional<FixedLogLik> SonarLikelihood::Evaluate(const Coloring& coloring, c
       affected = SegmentMeetsCone(added[k], data_->readings[i].cone, state.extent);
     if (!affected) continue;
     const ReadingResult result =
-        Compute(coloring, i, &edit, {added.begin(), added.size()}, Inflated(state.extent));
+        ComputeFromExtent(coloring, i, &edit, {added.begin(), added.size()});
     const std::vector<std::int32_t>& tags = view_.contact_tags;
     if (result.log_lik == state.log_lik && result.extent == state.extent &&
         std::equal(tags.begin(), tags.end(), state.contacts.begin(), state.contacts.end()))
@@ -298,7 +303,7 @@ void SonarLikelihood::Commit(std::span<const EdgeId> added_edges) {
 FixedLogLik SonarLikelihood::RecomputeLogLikelihood(const Coloring& coloring) const {
   FixedLogLik total = 0;
   for (std::size_t i = 0; i < data_->readings.size(); ++i)
-    total += Compute(coloring, i, nullptr, {}, kFullReach).log_lik;
+    total += Compute(coloring, i, nullptr, {}).log_lik;
   return total;
 }
 
@@ -310,7 +315,7 @@ std::optional<std::string> SonarLikelihood::FindInconsistency(const Coloring& co
   const ConeCells& cc = *cone_cells_;
   for (std::size_t i = 0; i < data_->readings.size(); ++i) {
     const ReadingState& state = state_[i];
-    const ReadingResult result = Compute(coloring, i, nullptr, {}, kFullReach);
+    const ReadingResult result = Compute(coloring, i, nullptr, {});
     if (result.extent != state.extent)
       return fmt::format("reading {}: extent {} kept, {} recomputed", i, state.extent,
                          result.extent);

@@ -32,6 +32,9 @@ class PriorLibrary {
 
   /// The directories in PRIORMAP_PRIOR_PATH (':'-separated; empty entries ignored).
   [[nodiscard]] static std::vector<std::filesystem::path> EnvironmentPriorPath();
+  /// The library searching `first` (a user's --prior-path), then PRIORMAP_PRIOR_PATH, then the
+  /// built-ins: what the priormap app and the Python module use.
+  [[nodiscard]] static PriorLibrary WithEnvironment(std::vector<std::filesystem::path> first);
 
   /// Every prior resolvable by name, directories first; a name shadowed by an earlier one is
   /// listed once.

@@ -14,7 +14,6 @@
 /// shared by the copies of the term) serves both the gathering of edges and the listing.
 
 #include <cstdint>
-#include <limits>
 #include <memory>
 #include <vector>
 
@@ -72,15 +71,17 @@ class SonarLikelihood final : public DataTerm {
     double extent;
   };
 
-  /// Sweeps reading i's cone over the coloring's edges in its cells, less those `ignoring`
-  /// removes, plus `added` (tagged -1 - k); the view is left in view_. `reach` is a guess of
-  /// the extent: the cells beyond it are swept only when the view reaches it.
+  /// Sweeps reading i's cone to R over the coloring's edges in its cells, less those `ignoring`
+  /// removes, plus `added` (tagged -1 - k); the view is left in view_.
   ReadingResult Compute(const Coloring& coloring, std::size_t i, const Edit* ignoring,
-                        std::span<const Segment> added, double reach) const;
-  /// The sweep of the cone cut at `reach`, over the edges of the cells within it.
+                        std::span<const Segment> added) const;
+  /// Compute, first tried over the cells within the reading's current extent only.
+  ReadingResult ComputeFromExtent(const Coloring& coloring, std::size_t i, const Edit* ignoring,
+                                  std::span<const Segment> added) const;
+  /// The sweep of the cone cut at `reach`, over the edges of the first `cells` of its cells.
   ReadingResult ComputeWithin(const Coloring& coloring, std::size_t i, const Edit* ignoring,
-                              std::span<const Segment> added, double reach) const;
-  static constexpr double kFullReach = std::numeric_limits<double>::infinity();
+                              std::span<const Segment> added, double reach,
+                              std::uint32_t cells) const;
   [[nodiscard]] bool SensorFlips(const Edit& edit) const;
   void CollectReadings(const Vec2& a, const Vec2& b);
   [[nodiscard]] std::uint32_t ListedCellCount(std::size_t i, double extent) const;
