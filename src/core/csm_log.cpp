@@ -234,8 +234,7 @@ CsmScan ReadScan(const JsonNode& root, const CsmReadOptions& options) {
 
 // Diagnostics of the object that starts at byte `start` of `text`, which count lines and columns
 // from that object, moved to count from the start of `text`. A diagnostic without a position
-// (a value the locator could not find, e.g. under a key written with escapes) is placed at the
-// object.
+// (a value the locator could not find) is placed at the object.
 std::vector<Diagnostic> InText(std::vector<Diagnostic> diagnostics, std::string_view text,
                                std::size_t start) {
   const TextPosition base = PositionOfOffset(text, start);

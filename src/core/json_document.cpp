@@ -1,6 +1,7 @@
 #include "json_document.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include <fmt/format.h>
@@ -85,23 +86,86 @@ class JsonScanner {
 
   // Reads a string starting at '"'; escapes other than \" and \\ are kept verbatim, which is
   // enough to match the plain keys of priormap documents.
+  // A string as the JSON parser decodes it (escapes, \uXXXX and surrogate pairs as UTF-8), so
+  // that keys written with escapes are found under their decoded names.
   std::string ReadString() {
     std::string out;
     ++pos_;
     while (pos_ < text_.size() && text_[pos_] != '"') {
-      if (text_[pos_] == '\\' && pos_ + 1 < text_.size()) {
-        const char next = text_[pos_ + 1];
-        if (next == '"' || next == '\\' || next == '/') {
-          out += next;
-          pos_ += 2;
-          continue;
-        }
+      if (text_[pos_] != '\\' || pos_ + 1 >= text_.size()) {
         out += text_[pos_++];
+        continue;
       }
-      out += text_[pos_++];
+      const char next = text_[pos_ + 1];
+      pos_ += 2;
+      switch (next) {
+        case 'b':
+          out += '\b';
+          break;
+        case 'f':
+          out += '\f';
+          break;
+        case 'n':
+          out += '\n';
+          break;
+        case 'r':
+          out += '\r';
+          break;
+        case 't':
+          out += '\t';
+          break;
+        case 'u':
+          AppendUtf8(ReadCodePoint(), &out);
+          break;
+        default:
+          out += next;  // ", \ and /
+      }
     }
     ++pos_;
     return out;
+  }
+
+  // After "\u": four hex digits, and a low surrogate's when they are a high one.
+  std::uint32_t ReadCodePoint() {
+    const std::uint32_t unit = ReadHex4();
+    if (unit >= 0xD800 && unit <= 0xDBFF && pos_ + 1 < text_.size() && text_[pos_] == '\\' &&
+        text_[pos_ + 1] == 'u') {
+      pos_ += 2;
+      const std::uint32_t low = ReadHex4();
+      if (low >= 0xDC00 && low <= 0xDFFF) return 0x10000 + ((unit - 0xD800) << 10) + (low - 0xDC00);
+    }
+    return unit;
+  }
+
+  std::uint32_t ReadHex4() {
+    std::uint32_t value = 0;
+    for (int k = 0; k < 4 && pos_ < text_.size(); ++k, ++pos_) {
+      const char c = text_[pos_];
+      const int digit = c >= '0' && c <= '9'   ? c - '0'
+                        : c >= 'a' && c <= 'f' ? c - 'a' + 10
+                        : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                               : 0;
+      value = value * 16 + static_cast<std::uint32_t>(digit);
+    }
+    return value;
+  }
+
+  static void AppendUtf8(std::uint32_t code, std::string* out) {
+    if (code < 0x80) {
+      *out += static_cast<char>(code);
+    } else if (code < 0x800) {
+      *out += static_cast<char>(0xC0 | (code >> 6));
+      *out += static_cast<char>(0x80 | (code & 0x3F));
+    } else if (code < 0x10000) {
+      *out += static_cast<char>(0xE0 | (code >> 12));
+      *out += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
+      *out += static_cast<char>(0x80 | (code & 0x3F));
+    } else {
+      *out += static_cast<char>(0xF0 | (code >> 18));
+      *out += static_cast<char>(0x80 | ((code >> 12) & 0x3F));
+      *out += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
+      *out += static_cast<char>(0x80 | (code & 0x3F));
+    }
   }
 
   void SkipValue() {

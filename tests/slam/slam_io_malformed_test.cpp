@@ -469,11 +469,11 @@ TEST(GeoJsonMalformed, AMapWithoutSegments) {
               ElementsAre(At("map.geojson", 1, 43, "prior map has no segments")));
 }
 
-TEST(GeoJsonMalformed, KeysWithEscapesAreLocatedAtTheEnclosingValue) {
-  // The position of a member whose key is written with escapes is not searched for: the
-  // diagnostic points at the object holding it.
+TEST(GeoJsonMalformed, KeysWithEscapesAreLocatedAtTheirValue) {
+  // A member whose key is written with escapes ("t\u0079pe" is "type") is found all the same:
+  // the diagnostic points at its value.
   EXPECT_THAT(MapErrors(Map(R"({"t\u0079pe": "Point", "coordinates": [1, 2]})")),
-              ElementsAre(At("map.geojson", 3, 13, "unsupported geometry type \"Point\"")));
+              ElementsAre(At("map.geojson", 3, 27, "unsupported geometry type \"Point\"")));
 }
 
 TEST(GeoJsonMalformed, MissingFileIsADiagnostic) {
