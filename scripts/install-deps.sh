@@ -12,6 +12,8 @@ packages=(
   g++ make cmake ninja-build pkg-config
   # libraries (all from Debian, see README "Dependencies")
   libeigen3-dev libcli11-dev nlohmann-json3-dev libfmt-dev libcairo2-dev libtbb-dev zlib1g-dev
+  # derivative-free maximum likelihood of the sonar model (prf fit-sonar)
+  libnlopt-dev
   # whole-buffer gunzip for the log readers (zlib reads them when it is absent)
   libdeflate-dev
   # the Python module (pybind11, NumPy) and its tests (pytest), for the system python3

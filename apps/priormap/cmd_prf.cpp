@@ -25,11 +25,13 @@
 #include <priormap/prf/polygon_map.hpp>
 #include <priormap/prf/prior_stats.hpp>
 #include <priormap/prf/sonar_mapping.hpp>
+#include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/render/prf_figures.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "log_selection.hpp"
+#include "prf_posterior_options.hpp"
 #include "sensor_choice.hpp"
 
 namespace priormap::app {
@@ -161,6 +163,8 @@ struct MappingCliOptions {
   prf::MappingOptions mapping;
   bool anneal = false;
   std::string sensor = "auto";  // --sensor: auto, laser or sonar
+  std::string sonar_model;      // --sonar-model FILE; empty: the defaults
+  PosteriorCliOptions posterior;
   // How this session runs (not part of the run: not saved in run.json).
   std::string resume;
   double checkpoint_every_s = 5.0;
@@ -174,6 +178,8 @@ nlohmann::json RunJson(const MappingCliOptions& o) {
           {"version", 2},
           {"log", std::filesystem::absolute(o.log).string()},
           {"sensor", o.sensor},
+          {"sonar_model",
+           o.sonar_model.empty() ? "" : std::filesystem::absolute(o.sonar_model).string()},
           {"range", o.range},
           {"beam_step", o.selection.beam_step},
           {"max_range", o.selection.max_range},
@@ -190,7 +196,8 @@ nlohmann::json RunJson(const MappingCliOptions& o) {
           {"guide_jitter", m.guide_jitter},
           {"resolution", m.raster_resolution},
           {"trace_every", m.trace_every},
-          {"check", m.sampler.check_invariants}};
+          {"check", m.sampler.check_invariants},
+          {"posterior", PosteriorOptionsJson(m)}};
 }
 
 // The run saved in DIR/run.json, with this session's settings from `session`.
@@ -210,6 +217,7 @@ MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCli
     o.log = j.at("log").get<std::string>();
     // Runs written before --sensor existed are laser runs.
     o.sensor = j.contains("sensor") ? j.at("sensor").get<std::string>() : "laser";
+    o.sonar_model = j.contains("sonar_model") ? j.at("sonar_model").get<std::string>() : "";
     o.range = j.at("range").get<std::string>();
     o.selection.beam_step = j.at("beam_step").get<std::size_t>();
     o.selection.max_range = j.at("max_range").get<double>();
@@ -228,6 +236,8 @@ MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCli
     m.raster_resolution = j.at("resolution").get<double>();
     m.trace_every = j.at("trace_every").get<std::uint64_t>();
     m.sampler.check_invariants = j.at("check").get<bool>();
+    // Runs written before these options existed ran the Arak process with a plain burn-in.
+    PosteriorOptionsFromJson(j.value("posterior", nlohmann::json::object()), &m);
   } catch (const nlohmann::json::exception& e) {
     throw UserError(fmt::format("{}: not a valid run file ({})", path.string(), e.what()));
   }
@@ -243,7 +253,13 @@ MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCli
 
 // Ctrl-C and SIGTERM stop the chains at their next chunk, checkpointed.
 std::atomic<bool> g_stop_requested{false};
-extern "C" void RequestStop(int) {
+extern "C" void RequestStop(int signal) {
+  // A second signal does not wait for the chains' next chunk: it ends the process at once.
+  if (g_stop_requested) {
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+    return;
+  }
   g_stop_requested = true;
 }
 
@@ -307,12 +323,18 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
     if (auto* problem = std::get_if<std::string>(&selected)) throw UserError(*problem);
     const auto sonar =
         std::make_shared<const prf::SonarData>(std::get<prf::SonarData>(std::move(selected)));
-    d.mapping = prf::SonarMappingData(sonar, prf::SonarModel{}, o.mapping);
+    const prf::SonarModel model = o.sonar_model.empty()
+                                      ? prf::SonarModel{}
+                                      : ValueOrThrow(prf::ReadSonarModel(o.sonar_model));
+    d.mapping = prf::SonarMappingData(sonar, model, o.mapping);
     d.readings = sonar->readings.size();
     d.sensors = sonar->sensors;
     d.max_range = sonar->max_range;
     return d;
   }
+  if (!o.sonar_model.empty())
+    throw UserError("--sonar-model " + o.sonar_model +
+                    " is for sonar rings; this run maps laser beams");
   auto selected = prf::SelectBeams(log, o.selection);
   if (auto* problem = std::get_if<std::string>(&selected)) throw UserError(*problem);
   const auto laser =
@@ -328,7 +350,10 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
 
 void RunMappingCommand(MappingCliOptions o) {
   const bool resuming = !o.resume.empty();
-  if (resuming) o = RunFromJson(o.resume, o);
+  if (resuming)
+    o = RunFromJson(o.resume, o);
+  else
+    ApplyPosteriorOptions(o.posterior, &o.mapping);
   if (o.log.empty())
     throw UserError("--log is required (or a subcommand: prior-stats, study, sonar-study)");
   if (o.out.empty()) throw UserError("-o/--out is required");
@@ -409,6 +434,7 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["beams"] = data.readings;  // sonar: readings (cones)
   summary["sensor_positions"] = data.sensors.size();
   summary["p"] = o.mapping.sampler.p;
+  summary["posterior"] = PosteriorOptionsJson(o.mapping);
   summary["seed"] = o.mapping.seed;
   summary["chains"] = o.mapping.chains;
   summary["samples"] = o.mapping.samples;
@@ -466,6 +492,9 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
                  "Map from laser beams or sonar cones; auto: sonar when the scans are sonar rings")
       ->check(CLI::IsMember({"auto", "laser", "sonar"}))
       ->capture_default_str();
+  cmd.add_option("--sonar-model", o->sonar_model,
+                 "Sonar model file (priormap.sonar_model JSON, e.g. from prf fit-sonar); "
+                 "default: the built-in parameters (docs/sonar.md)");
   cmd.add_option("--beam-step", o->selection.beam_step, "Use every k-th beam of each scan")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
       ->capture_default_str();
@@ -510,6 +539,7 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
   cmd.add_option("--trace-every", m.trace_every, "Steps between trace records (R-hat)")
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40))
       ->capture_default_str();
+  AddPosteriorOptions(cmd, m, o->posterior);
   cmd.add_flag("--check", m.sampler.check_invariants,
                "Debug: after every accepted move, check the coloring and the incremental "
                "likelihood against recomputation (slow)");
@@ -541,6 +571,7 @@ void AddPrfCommand(CLI::App& app) {
   AddPriorStats(*cmd);
   AddPrfStudyCommand(*cmd);
   AddPrfSonarStudyCommand(*cmd);
+  AddPrfFitSonarCommand(*cmd);
   cmd->callback([o, cmd] {
     if (!cmd->get_subcommands().empty()) return;
     if (!o->resume.empty()) {

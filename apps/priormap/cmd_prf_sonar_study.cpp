@@ -2,6 +2,7 @@
 // logs of scenes with rooms and doors (issue 7; docs/prf.md).
 #include <filesystem>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -9,12 +10,14 @@
 #include <fmt/format.h>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/prf/sonar_study.hpp>
 #include <priormap/render/prf_figures.hpp>
 #include <priormap/render/prf_study_figures.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "prf_posterior_options.hpp"
 
 namespace priormap::app {
 namespace {
@@ -23,6 +26,8 @@ struct SonarStudyCliOptions {
   std::vector<std::string> scenes{"office", "l-office"};
   std::string sensor = "pioneer16";
   std::optional<double> max_range;
+  std::string sonar_model;
+  PosteriorCliOptions posterior;
   std::string out;
   bool figures = true;
   prf::SonarStudyOptions study;
@@ -50,6 +55,12 @@ void SaveCaseFigures(const std::filesystem::path& dir, const prf::SonarStudyCase
       dir / "posterior.png",
       {.probability = c.prf.black_fraction, .origin = raster.origin, .resolution = raster.cell.x()},
       fmt::format("{}: PRF posterior P(black), {}", name, readings), sensors);
+  const std::vector<double> grid_p = prf::SampleAtCentres(c.grid_map, c.evaluation.grid);
+  const std::vector<double> prf_p = prf::Flatten(c.prf.black_fraction, c.evaluation.grid);
+  render::SaveErrorFigure(dir / "grid-errors.png", c.evaluation, grid_p,
+                          fmt::format("{}: where the sonar grid is wrong", name));
+  render::SaveErrorFigure(dir / "posterior-errors.png", c.evaluation, prf_p,
+                          fmt::format("{}: where the PRF posterior is wrong", name));
 }
 
 void RunSonarStudyCommand(SonarStudyCliOptions o) {
@@ -61,6 +72,8 @@ void RunSonarStudyCommand(SonarStudyCliOptions o) {
                                 fmt::join(SonarSensor::PresetNames(), ", ")));
   o.study.sensor = *sensor;
   if (o.max_range) o.study.sensor.max_range = *o.max_range;
+  ApplyPosteriorOptions(o.posterior, &o.study.mapping);
+  if (!o.sonar_model.empty()) o.study.model = ValueOrThrow(prf::ReadSonarModel(o.sonar_model));
   if (const std::string problem = o.study.Problem(); !problem.empty()) throw UserError(problem);
   EnsureDirectory(o.out);
 
@@ -111,6 +124,7 @@ void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
   cmd->add_option("--p", m.sampler.p, "Scale parameter p of the Arak prior (1/m)")
       ->check(PositiveValue())
       ->capture_default_str();
+  AddPosteriorOptions(*cmd, m, o->posterior);
   cmd->add_option("--samples", m.samples, "PRF steps recorded per chain after the burn-in")
       ->capture_default_str();
   cmd->add_option("--burn-in", m.burn_in, "PRF steps per chain before recording")
@@ -124,6 +138,11 @@ void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
       ->capture_default_str();
   cmd->add_option("--seed", s.seed, "Random seed; the same seed gives the same result")
       ->capture_default_str();
+  cmd->add_option("--sonar-model", o->sonar_model,
+                  "Sonar model file (priormap.sonar_model JSON); default: the built-in parameters");
+  cmd->add_flag("--start-at-truth", s.start_at_truth,
+                "Diagnostic: start the chains at the true map, to see what the posterior gives "
+                "apart from how fast the chains find it");
   cmd->add_option("-o,--out", o->out, "Output directory")->required();
   cmd->add_flag("!--no-figures", o->figures, "Skip the per-case PNG figures");
   cmd->callback([o] { RunSonarStudyCommand(*o); });

@@ -16,6 +16,8 @@ void AddPrfCommand(CLI::App& app);
 void AddPrfStudyCommand(CLI::App& prf_cmd);
 /// `prf sonar-study`, registered on the prf command by AddPrfCommand.
 void AddPrfSonarStudyCommand(CLI::App& prf_cmd);
+/// `prf fit-sonar`, registered on the prf command by AddPrfCommand.
+void AddPrfFitSonarCommand(CLI::App& prf_cmd);
 void AddGridCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);

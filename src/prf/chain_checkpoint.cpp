@@ -8,7 +8,8 @@
 namespace priormap::prf {
 namespace {
 
-constexpr std::uint32_t kFormatVersion = 1;
+// 2: the coloring statistics of the orientation prior, the black area of the free-space one.
+constexpr std::uint32_t kFormatVersion = 2;
 constexpr std::string_view kChainKind = "PRFCHAIN";
 constexpr std::string_view kAnnealKind = "PRFANNEA";
 
@@ -57,6 +58,26 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
   }
   const SamplerOptions& s = options.sampler;
   out.Put(s.p);
+  // The Arak process (no orientation prior) hashes as before this option existed.
+  if (s.orientation.weight != 0.0) {
+    out.Put(s.orientation.weight);
+    out.Put(s.orientation.angle);
+  }
+  if (!options.thinned_burn_in.empty()) {
+    out.PutString("thinned burn-in");
+    for (const ThinnedBurnIn& stage : options.thinned_burn_in) {
+      out.Put<std::int32_t>(stage.stride);
+      out.Put(stage.steps);
+    }
+  }
+  if (options.burn_in_temperature != 1.0) {
+    out.PutString("burn-in temperature");
+    out.Put(options.burn_in_temperature);
+  }
+  if (s.free_space != 0.0) {
+    out.PutString("free space");
+    out.Put(s.free_space);
+  }
   for (double w : s.weights.weight) out.Put(w);
   out.Put(s.birth_scale);
   out.Put(s.vertex_birth_width);

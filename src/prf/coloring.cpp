@@ -276,17 +276,11 @@ bool Coloring::Evaluate(const Edit& edit, EditEffect* effect) const {
 
   // Statistics of the edges.
   for (EdgeId e : edit.removed_edges) {
-    const double length = edges_[e].length;
-    effect->delta.edges -= 1;
-    effect->delta.total_length -= length;
-    effect->delta.sum_log_length -= std::log(length);
+    const Segment s = EdgeSegment(e);
+    effect->delta.AddEdge(s.b - s.a, -1.0);
   }
-  for (const auto& [ra, rb] : edit.added_edges) {
-    const double length = (position(ra) - position(rb)).norm();
-    effect->delta.edges += 1;
-    effect->delta.total_length += length;
-    effect->delta.sum_log_length += std::log(length);
-  }
+  for (const auto& [ra, rb] : edit.added_edges)
+    effect->delta.AddEdge(position(rb) - position(ra), 1.0);
 
   // Angles: every vertex that loses or gains an edge, and the new ones.
   for (VertexId v : edit.removed_vertices) effect->delta.sum_log_sin -= vertices_[v].log_sin;
@@ -393,9 +387,7 @@ std::optional<std::string> Coloring::FindInvariantViolation(double tolerance) co
         return fmt::format("edge {} is not listed by its vertex {}", e, v);
     if (vertices_[v0].side != kInterior && vertices_[v0].side == vertices_[v1].side)
       return fmt::format("edge {} runs along side {}", e, vertices_[v0].side);
-    recomputed.edges += 1;
-    recomputed.total_length += s.Length();
-    recomputed.sum_log_length += std::log(s.Length());
+    recomputed.AddEdge(s.b - s.a, 1.0);
     bool indexed = true;
     WalkCells(grid_, s.a, s.b, [&](int cell, double, double) {
       indexed =
@@ -464,7 +456,9 @@ std::optional<std::string> Coloring::FindInvariantViolation(double tolerance) co
   if (recomputed.edges != stats_.edges ||
       std::abs(recomputed.total_length - stats_.total_length) > tolerance ||
       std::abs(recomputed.sum_log_length - stats_.sum_log_length) > tolerance ||
-      std::abs(recomputed.sum_log_sin - stats_.sum_log_sin) > tolerance)
+      std::abs(recomputed.sum_log_sin - stats_.sum_log_sin) > tolerance ||
+      std::abs(recomputed.sum_cos4 - stats_.sum_cos4) > tolerance ||
+      std::abs(recomputed.sum_sin4 - stats_.sum_sin4) > tolerance)
     return "cached statistics differ from recomputation";
   return std::nullopt;
 }
@@ -504,6 +498,8 @@ void Coloring::Save(BinaryWriter& out) const {
   out.Put(stats_.total_length);
   out.Put(stats_.sum_log_length);
   out.Put(stats_.sum_log_sin);
+  out.Put(stats_.sum_cos4);
+  out.Put(stats_.sum_sin4);
 }
 
 Coloring Coloring::Load(BinaryReader& in, const Window& window, double cell_size) {
@@ -550,9 +546,12 @@ Coloring Coloring::Load(BinaryReader& in, const Window& window, double cell_size
   c.stats_.total_length = in.Get<double>();
   c.stats_.sum_log_length = in.Get<double>();
   c.stats_.sum_log_sin = in.Get<double>();
+  c.stats_.sum_cos4 = in.Get<double>();
+  c.stats_.sum_sin4 = in.Get<double>();
   c.edge_marks_.resize(c.edges_.size());
   bool finite = std::isfinite(c.stats_.total_length) && std::isfinite(c.stats_.sum_log_length) &&
-                std::isfinite(c.stats_.sum_log_sin);
+                std::isfinite(c.stats_.sum_log_sin) && std::isfinite(c.stats_.sum_cos4) &&
+                std::isfinite(c.stats_.sum_sin4);
   for (const ColoringVertex& v : c.vertices_)
     finite = finite && v.position.allFinite() && std::isfinite(v.log_sin);
   for (const ColoringEdge& e : c.edges_) finite = finite && std::isfinite(e.length);
@@ -602,6 +601,83 @@ Coloring Coloring::Load(BinaryReader& in, const Window& window, double cell_size
       if (!valid_edge(e)) in.Fail("a grid cell with an unknown edge");
   if (const auto violation = c.FindInvariantViolation(1e-6))
     in.Fail("an invalid coloring (" + *violation + ")");
+  return c;
+}
+
+std::variant<Coloring, std::string> Coloring::FromGraph(const Window& window, double cell_size,
+                                                        std::span<const NewVertex> vertices,
+                                                        std::span<const std::array<int, 2>> edges,
+                                                        Colour anchor) {
+  Coloring c(window, cell_size, anchor);
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const NewVertex& nv = vertices[i];
+    const bool on_side = nv.side >= 0 && nv.side < kNumSides;
+    if (nv.side != kInterior && !on_side)
+      return fmt::format("vertex {} has side {}, not -1 (interior) or 0..3", i, nv.side);
+    if (!nv.position.allFinite() || (nv.side == kInterior && !window.ContainsInterior(nv.position)))
+      return fmt::format("interior vertex {} at ({}, {}) is not inside the window", i,
+                         nv.position.x(), nv.position.y());
+    const VertexId v = c.AllocateVertex();
+    ColoringVertex& vertex = c.vertices_[v];
+    vertex.position = nv.position;
+    vertex.side = nv.side;
+    auto& list = nv.side == kInterior ? c.interior_ : c.boundary_;
+    vertex.slot = static_cast<std::int32_t>(list.size());
+    list.push_back(v);
+  }
+  const auto n = static_cast<int>(vertices.size());
+  for (const auto& [a, b] : edges) {
+    if (a < 0 || b < 0 || a >= n || b >= n || a == b)
+      return fmt::format("edge ({}, {}) does not join two of the {} vertices", a, b, n);
+    const EdgeId e = c.AllocateEdge();
+    ColoringEdge& edge = c.edges_[e];
+    edge.vertices = {a, b};
+    edge.length = (vertices[static_cast<std::size_t>(a)].position -
+                   vertices[static_cast<std::size_t>(b)].position)
+                      .norm();
+    edge.slot = static_cast<std::int32_t>(c.edge_list_.size());
+    c.edge_list_.push_back(e);
+    for (const VertexId v : edge.vertices) {
+      auto& slots = c.vertices_[v].edges;
+      const std::size_t degree = c.vertices_[v].side == kInterior ? 2 : 1;
+      std::size_t k = 0;
+      while (k < degree && slots[k] != kNoEdge) ++k;
+      if (k == degree)
+        return fmt::format("vertex {} has more than {} edge{}", v, degree, degree > 1 ? "s" : "");
+      slots[k] = e;
+    }
+    c.IndexEdge(e);
+    const Segment segment = c.EdgeSegment(e);
+    c.stats_.AddEdge(segment.b - segment.a, 1.0);
+    // The anchor's colour says which side of the edges through it is which: on an edge it would
+    // say nothing.
+    if (PointSegmentDistance(c.anchor_, segment) <= 1e-9)
+      return fmt::format(
+          "edge ({}, {}) passes through the anchor at ({}, {}), whose colour would "
+          "then be undefined",
+          a, b, c.anchor_.x(), c.anchor_.y());
+  }
+  for (const VertexId v : c.interior_) {
+    ColoringVertex& vertex = c.vertices_[v];
+    if (vertex.edges[1] == kNoEdge)
+      return fmt::format("interior vertex {} has fewer than two edges", v);
+    const Vec2 first = c.vertices_[c.Other(vertex.edges[0], v)].position;
+    const Vec2 second = c.vertices_[c.Other(vertex.edges[1], v)].position;
+    vertex.log_sin = c.VertexLogSin(vertex.position, kInterior, first, &second);
+  }
+  for (const VertexId v : c.boundary_) {
+    ColoringVertex& vertex = c.vertices_[v];
+    if (vertex.edges[0] == kNoEdge) return fmt::format("boundary vertex {} has no edge", v);
+    const Vec2 first = c.vertices_[c.Other(vertex.edges[0], v)].position;
+    vertex.log_sin = c.VertexLogSin(vertex.position, vertex.side, first, nullptr);
+  }
+  for (const std::span<const VertexId> list : {c.interior_, c.boundary_})
+    for (const VertexId v : list) {
+      if (!std::isfinite(c.vertices_[v].log_sin))
+        return fmt::format("vertex {} has a zero angle", v);
+      c.stats_.sum_log_sin += c.vertices_[v].log_sin;
+    }
+  if (const auto violation = c.FindInvariantViolation(1e-6)) return *violation;
   return c;
 }
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/prf/map_study_io.hpp>
+#include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/prf/sonar_study.hpp>
 
 namespace priormap::prf {
@@ -197,6 +198,9 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
   nlohmann::json j;
   j["format"] = "priormap.prf_sonar_study";
   j["version"] = 1;
+  nlohmann::json thinned = nlohmann::json::array();
+  for (const ThinnedBurnIn& stage : m.thinned_burn_in)
+    thinned.push_back({{"stride", stage.stride}, {"steps", stage.steps}});
   j["options"] = {{"scenes", scenes},
                   {"sensor", options.sensor.name},
                   {"speed", options.speed},
@@ -208,10 +212,20 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
                   {"samples", m.samples},
                   {"burn_in", m.burn_in},
                   {"chains", m.chains},
-                  {"seed", options.seed}};
+                  {"seed", options.seed},
+                  {"start_at_truth", options.start_at_truth},
+                  {"free_space", m.sampler.free_space},
+                  {"orientation_weight", m.sampler.orientation.weight},
+                  {"orientation_rad", m.sampler.orientation.angle},
+                  {"burn_in_temperature", m.burn_in_temperature},
+                  {"thinned_burn_in", thinned},
+                  {"sonar_model", nlohmann::json::parse(FormatSonarModel(options.model))}};
   j["wall_time_s"] = study.wall_time_s;
   j["cases"] = nlohmann::json::array();
   for (const SonarStudyCase& c : study.cases) {
+    nlohmann::json chains = nlohmann::json::array();
+    for (const ChainSummary& chain : c.prf.chains)
+      chains.push_back({{"log_posterior", chain.log_posterior}, {"edges", chain.edges}});
     nlohmann::json methods = nlohmann::json::object();
     for (const SonarStudyMethod& method : c.methods) {
       methods[method.method] = ClassificationJson(method.classification);
@@ -230,6 +244,8 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
                                       : 0.0},
          {"rhat_log_posterior", Number(c.prf.rhat_log_posterior)},
          {"rhat_point_colours", Number(c.prf.rhat_point_colours)},
+         {"truth_log_posterior", Number(c.truth_log_posterior)},
+         {"chains", chains},
          {"wall_time_s", c.wall_time_s}});
   }
   return j.dump(2) + "\n";

@@ -7,6 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <priormap/core/binary_io.hpp>
 #include <priormap/core/check.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/prf/chain_checkpoint.hpp>
@@ -58,6 +59,35 @@ std::vector<Vec2> HitPoints(const LaserData& data, const Window& window) {
 
 }  // namespace
 
+double BurnInTemperature(const MappingOptions& options, std::uint64_t step) {
+  const std::uint64_t cooling = options.burn_in / 2;
+  if (options.burn_in_temperature == 1.0 || step >= cooling) return 1.0;
+  const std::uint64_t block = step / kTemperatureBlock * kTemperatureBlock;
+  return std::pow(options.burn_in_temperature,
+                  1.0 - static_cast<double>(block) / static_cast<double>(cooling));
+}
+
+std::uint64_t BurnInTemperatureEnd(const MappingOptions& options, std::uint64_t step) {
+  const std::uint64_t cooling = options.burn_in / 2;
+  if (options.burn_in_temperature == 1.0 || step >= cooling)
+    return std::numeric_limits<std::uint64_t>::max();
+  return std::min(cooling, (step / kTemperatureBlock + 1) * kTemperatureBlock);
+}
+
+bool KeptByThinning(std::size_t i, int stride) {
+  return stride <= 1 || SplitMix64(i) % static_cast<std::uint64_t>(stride) == 0;
+}
+
+BurnInStage BurnInStageAt(const MappingOptions& options, std::uint64_t step) {
+  std::uint64_t end = 0;
+  if (step < options.burn_in)
+    for (const ThinnedBurnIn& stage : options.thinned_burn_in) {
+      end += stage.steps;
+      if (step < end && end <= options.burn_in) return {stage.stride, end};
+    }
+  return {1, std::numeric_limits<std::uint64_t>::max()};
+}
+
 MappingData LaserMappingData(std::shared_ptr<const LaserData> data, const MappingOptions& options) {
   MappingData d;
   d.window = WindowAround(*data, options.margin);
@@ -66,6 +96,15 @@ MappingData LaserMappingData(std::shared_ptr<const LaserData> data, const Mappin
   d.fingerprint = RunFingerprint(*data, options);
   d.make_data_term = [data, model = options.model, cell_size = options.cell_size] {
     return std::make_unique<LaserLikelihood>(data, model, cell_size);
+  };
+  d.make_thinned_data_term = [data, model = options.model,
+                              cell_size = options.cell_size](int stride) {
+    auto thinned = std::make_shared<LaserData>();
+    thinned->sensors = data->sensors;  // every sensor stays in white
+    thinned->max_range = data->max_range;
+    for (std::size_t i = 0; i < data->beams.size(); ++i)
+      if (KeptByThinning(i, stride)) thinned->beams.push_back(data->beams[i]);
+    return std::make_unique<LaserLikelihood>(std::move(thinned), model, cell_size);
   };
   return d;
 }
@@ -80,6 +119,18 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                          const std::function<void(const MappingProgress&)>& progress,
                          const MappingSession& session) {
   PRIORMAP_CHECK(run_options.chains >= 1, "at least one chain");
+  PRIORMAP_CHECK(
+      run_options.burn_in_temperature >= 1.0 && std::isfinite(run_options.burn_in_temperature),
+      "the burn-in temperature must be finite and at least 1");
+  std::uint64_t thinned_steps = 0;
+  for (const ThinnedBurnIn& stage : run_options.thinned_burn_in) {
+    PRIORMAP_CHECK(stage.stride >= 1, "a thinned burn-in stride must be at least 1");
+    thinned_steps += stage.steps;
+  }
+  PRIORMAP_CHECK(thinned_steps <= run_options.burn_in,
+                 "the thinned burn-in stages must fit in the burn-in");
+  PRIORMAP_CHECK(thinned_steps == 0 || data.make_thinned_data_term,
+                 "these data offer no thinned data term for the thinned burn-in");
   PRIORMAP_CHECK(run_options.trace_every >= 1 && run_options.chunk >= 1,
                  "positive trace and chunk");
   const auto start = Clock::now();
@@ -96,7 +147,14 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   const auto chains = static_cast<std::size_t>(options.chains);
   const std::filesystem::path& checkpoints = session.checkpoint_directory;
   PRIORMAP_CHECK(!session.resume || !checkpoints.empty(), "resuming needs a checkpoint directory");
-  const std::uint64_t fingerprint = data.fingerprint;
+  // A run from another start is another run: its checkpoints are not this one's.
+  const std::uint64_t fingerprint = [&] {
+    if (!data.start) return data.fingerprint;
+    BinaryWriter out;
+    out.Put(data.fingerprint);
+    data.start->Save(out);
+    return Fnv1a64(out.bytes());
+  }();
   if (!checkpoints.empty()) std::filesystem::create_directories(checkpoints);
   const auto make_likelihood = [&] { return data.make_data_term(); };
   SamplerOptions sampler_options = options.sampler;
@@ -123,9 +181,9 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
       recording[c] = loaded.recording ? 1 : 0;
       if (recording[c]) samplers[c]->ContinueRecordingInto(estimates[c].get());
     } else {
-      samplers[c] =
-          std::make_unique<PrfSampler>(Coloring(result.window, options.cell_size), sampler_options,
-                                       SplitMix64(options.seed + c), make_likelihood());
+      samplers[c] = std::make_unique<PrfSampler>(
+          data.start ? *data.start : Coloring(result.window, options.cell_size), sampler_options,
+          SplitMix64(options.seed + c), make_likelihood());
     }
     session_start[c] = samplers[c]->steps();
   });
@@ -144,6 +202,8 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                                          : first + session.stop_after_steps - now;
   };
 
+  // The stride of each chain's data term: samplers are made or restored with every reading.
+  std::vector<int> strides(chains, 1);
   tbb::parallel_for(std::size_t{0}, chains, [&](std::size_t c) {
     PrfSampler& sampler = *samplers[c];
     ChainSummary& summary = result.chains[c];
@@ -167,10 +227,20 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
         sampler.RecordInto(estimates[c].get());
         recording[c] = 1;
       }
-      std::uint64_t target = std::min(end, s + options.chunk);
+      // The data of this step's stage (thinned in the first stages of the burn-in).
+      const BurnInStage stage = BurnInStageAt(options, s);
+      if (stage.stride != strides[c]) {
+        sampler.ReplaceDataTerm(stage.stride == 1 ? make_likelihood()
+                                                  : data.make_thinned_data_term(stage.stride));
+        strides[c] = stage.stride;
+      }
+      std::uint64_t target = std::min({end, s + options.chunk, stage.end});
       if (s < options.burn_in) {
         target = std::min(target, options.burn_in);
+        sampler.set_temperature(BurnInTemperature(options, s));
+        target = std::min(target, BurnInTemperatureEnd(options, s));
       } else {
+        sampler.set_temperature(1.0);
         const std::uint64_t into = s - options.burn_in;
         target = std::min(target,
                           options.burn_in + (into / options.trace_every + 1) * options.trace_every);
@@ -194,6 +264,11 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                   .counters = sampler.counters()});
       }
       checkpoint(false);
+    }
+    // A burn-in thinned to its end, with no samples after it: back to every reading.
+    if (strides[c] != 1 && sampler.steps() >= options.burn_in) {
+      sampler.ReplaceDataTerm(make_likelihood());
+      strides[c] = 1;
     }
     if (sampler.steps() >= end && !recording[c]) {  // no samples: recording never began
       sampler.RecordInto(estimates[c].get());

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <priormap/core/check.hpp>
+#include <priormap/prf/black_area.hpp>
 #include <priormap/prf/sampler.hpp>
 
 namespace priormap::prf {
@@ -54,10 +55,22 @@ PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t 
   }
   PRIORMAP_CHECK(total > 0.0, "at least one move kind needs a positive weight");
   cell_marks_.resize(static_cast<std::size_t>(coloring_.grid().NumCells()));
+  PRIORMAP_CHECK(options_.free_space >= 0.0 && std::isfinite(options_.free_space),
+                 "the free-space weight must be finite and not negative");
+  if (options_.free_space > 0.0) black_area_ = BlackArea(coloring_);
   if (data_) {
     const auto problem = data_->Reset(coloring_);
     PRIORMAP_CHECK(!problem, "the initial coloring has likelihood zero: " + problem.value_or(""));
   }
+}
+
+void PrfSampler::ReplaceDataTerm(std::unique_ptr<DataTerm> data) {
+  if (data) {
+    const auto problem = data->Reset(coloring_);
+    PRIORMAP_CHECK(!problem, "the coloring has likelihood zero under the new data term: " +
+                                 problem.value_or(""));
+  }
+  data_ = std::move(data);
 }
 
 MoveType PrfSampler::ChooseType() {
@@ -109,7 +122,18 @@ void PrfSampler::Step() {
   // Only the energy (potential and data) is tempered, not the reference measure λ: the
   // density against ν grows without bound as edges shrink, so tempering all of it would anneal
   // towards swarms of tiny polygons instead of the minimum-energy map.
-  double log_energy_change = -ArakPotential(effect_.delta, options_.p);
+  double log_energy_change = -ArakPotential(effect_.delta, options_.p) -
+                             OrientationPotential(effect_.delta, options_.orientation);
+  double black_area_change = 0.0;
+  if (options_.free_space > 0.0) {
+    const std::optional<double> change = BlackAreaChange(coloring_, edit_);
+    if (!change) {
+      ++counter.invalid;
+      return;
+    }
+    black_area_change = *change;
+    log_energy_change -= options_.free_space * black_area_change;
+  }
   if (data_) {
     const auto delta = data_->Evaluate(coloring_, edit_);
     if (!delta) return;  // likelihood zero: rejected
@@ -120,6 +144,7 @@ void PrfSampler::Step() {
   if (log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha)) {
     if (estimates_) estimates_->Record(coloring_, edit_, steps_);
     const auto added = coloring_.Apply(edit_, effect_);
+    black_area_ += black_area_change;
     if (data_) data_->Commit({added.begin(), added.size()});
     ++counter.accepted;
     if (options_.check_invariants) {
@@ -606,6 +631,7 @@ void PrfSampler::Save(BinaryWriter& out) const {
     out.Put(c.accepted);
   }
   out.Put(options_.temperature);
+  out.Put(black_area_);
 }
 
 std::unique_ptr<PrfSampler> PrfSampler::Load(BinaryReader& in, const Window& window,
@@ -623,12 +649,16 @@ std::unique_ptr<PrfSampler> PrfSampler::Load(BinaryReader& in, const Window& win
   }
   options.temperature = in.Get<double>();
   if (!(options.temperature > 0.0)) in.Fail("a chain with a temperature that is not positive");
+  // As kept, not recomputed from the faces: a resumed chain continues bit for bit.
+  const double black_area = in.Get<double>();
+  if (!std::isfinite(black_area)) in.Fail("a black area that is not finite");
   if (data && data->Reset(coloring)) in.Fail("a chain whose coloring has likelihood zero");
   auto sampler =
       std::make_unique<PrfSampler>(std::move(coloring), std::move(options), 0, std::move(data));
   sampler->steps_ = steps;
   sampler->rng_ = rng;
   sampler->counters_ = counters;
+  sampler->black_area_ = black_area;
   return sampler;
 }
 

@@ -123,7 +123,7 @@ SonarLikelihood::ReadingResult SonarLikelihood::ComputeWithin(const Coloring& co
   cone.max_range = reach;
   sweep_.Compute(cone, segments_, window_, &view_);
   return {ToFixed(model_.LogLikelihood(reading.range, reading.max_reading, view_.features,
-                                       data_->max_range)),
+                                       data_->max_range, view_.seen_fraction)),
           view_.extent};
 }
 

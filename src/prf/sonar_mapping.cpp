@@ -31,10 +31,12 @@ std::uint64_t SonarDataFingerprint(const SonarData& data, const SonarModel& mode
     out.Put<std::uint8_t>(r.max_reading ? 1 : 0);
     out.Put<std::int32_t>(r.sensor);
   }
-  for (double v : {model.corner_bias, model.corner_per_m, model.face_bias, model.face_per_m,
-                   model.face_per_rad_projection, model.face_per_rad_subtended, model.max_return,
-                   model.sigma_relative, model.sigma_min, model.uniform_weight,
-                   model.exponential_weight, model.max_weight, model.exponential_rate})
+  for (double v :
+       {model.corner_bias, model.corner_per_m, model.concave_corner_bias, model.face_bias,
+        model.face_per_m, model.face_per_rad_projection, model.face_per_rad_subtended,
+        model.max_return, model.sigma_relative, model.sigma_min, model.uniform_weight,
+        model.exponential_weight, model.max_weight, model.exponential_rate,
+        model.clear_uniform_weight, model.clear_exponential_weight, model.clear_max_weight})
     out.Put(v);
   return Fnv1a64(out.bytes());
 }
@@ -64,6 +66,14 @@ MappingData SonarMappingData(std::shared_ptr<const SonarData> data, const SonarM
   d.fingerprint = Fnv1a64(std::to_string(SonarDataFingerprint(*data, model)) + ":" +
                           std::to_string(RunFingerprint(LaserData{}, options)));
   d.make_data_term = [data, model] { return std::make_unique<SonarLikelihood>(data, model); };
+  d.make_thinned_data_term = [data, model](int stride) {
+    auto thinned = std::make_shared<SonarData>();
+    thinned->sensors = data->sensors;  // every transducer stays in white
+    thinned->max_range = data->max_range;
+    for (std::size_t i = 0; i < data->readings.size(); ++i)
+      if (KeptByThinning(i, stride)) thinned->readings.push_back(data->readings[i]);
+    return std::make_unique<SonarLikelihood>(std::move(thinned), model);
+  };
   return d;
 }
 

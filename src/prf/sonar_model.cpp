@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -31,8 +32,8 @@ bool Finite(std::initializer_list<double> values) {
 }  // namespace
 
 std::string SonarModel::Problem() const {
-  if (!Finite({corner_bias, corner_per_m, face_bias, face_per_m, face_per_rad_projection,
-               face_per_rad_subtended}))
+  if (!Finite({corner_bias, corner_per_m, concave_corner_bias, face_bias, face_per_m,
+               face_per_rad_projection, face_per_rad_subtended}))
     return "the logistic coefficients must be finite";
   if (!(max_return > 0.0 && max_return < 1.0))
     return fmt::format("max_return {} is not in (0, 1)", max_return);
@@ -42,25 +43,30 @@ std::string SonarModel::Problem() const {
                        sigma_relative);
   if (!(exponential_rate > 0.0 && std::isfinite(exponential_rate)))
     return fmt::format("exponential_rate {} is not positive", exponential_rate);
-  if (!(uniform_weight > 0.0 && exponential_weight >= 0.0 && max_weight > 0.0))
-    return fmt::format(
-        "the outlier weights (uniform {}, exponential {}, max {}) must be positive (the "
-        "exponential's may be zero)",
-        uniform_weight, exponential_weight, max_weight);
-  const double total = uniform_weight + exponential_weight + max_weight;
-  if (std::abs(total - 1.0) > 1e-9)
-    return fmt::format("the outlier weights (uniform {}, exponential {}, max {}) sum to {}, not 1",
-                       uniform_weight, exponential_weight, max_weight, total);
+  for (const auto& [which, u, e, m] :
+       {std::tuple{"", uniform_weight, exponential_weight, max_weight},
+        std::tuple{"clear ", clear_uniform_weight, clear_exponential_weight, clear_max_weight}}) {
+    if (!(u > 0.0 && e >= 0.0 && m > 0.0))
+      return fmt::format(
+          "the {}outlier weights (uniform {}, exponential {}, max {}) must be positive (the "
+          "exponential's may be zero)",
+          which, u, e, m);
+    if (std::abs(u + e + m - 1.0) > 1e-9)
+      return fmt::format(
+          "the {}outlier weights (uniform {}, exponential {}, max {}) sum to {}, not 1", which, u,
+          e, m, u + e + m);
+  }
   return {};
 }
 
 double SonarModel::IndependentReturn(const SonarFeature& f) const {
   // Paskin & Thrun, Sec. 2.3: a logistic independent-return model.
-  const double logit = f.kind == SonarFeature::Kind::kCorner
-                           ? corner_bias + corner_per_m * f.distance
-                           : face_bias + face_per_m * f.distance +
-                                 face_per_rad_projection * (f.projection - std::numbers::pi / 2.0) +
-                                 face_per_rad_subtended * f.subtended;
+  const double logit =
+      f.kind == SonarFeature::Kind::kCorner
+          ? corner_bias + corner_per_m * f.distance + (f.concave ? concave_corner_bias : 0.0)
+          : face_bias + face_per_m * f.distance +
+                face_per_rad_projection * (f.projection - std::numbers::pi / 2.0) +
+                face_per_rad_subtended * f.subtended;
   return max_return * Logistic(logit);
 }
 
@@ -76,8 +82,34 @@ double SonarModel::ReturnProbabilities(std::span<const SonarFeature> features,
   return none_closer;
 }
 
+SonarModel::Draw SonarModel::Sample(std::span<const SonarFeature> features, double seen_fraction,
+                                    double max_range, Rng& rng) const {
+  const auto reading = [&](double r) {
+    return r >= max_range ? Draw{.range = 0.0, .max_reading = true} : Draw{.range = r};
+  };
+  for (const SonarFeature& f : features) {
+    if (!rng.Bernoulli(IndependentReturn(f))) continue;
+    const double sigma = std::max(sigma_min, sigma_relative * f.distance);
+    double r;
+    do r = rng.Normal(f.distance, sigma);
+    while (r < 0.0);
+    return reading(r);
+  }
+  const bool specular = rng.Bernoulli(seen_fraction);
+  const double u = specular ? uniform_weight : clear_uniform_weight;
+  const double e = specular ? exponential_weight : clear_exponential_weight;
+  const double pick = rng.Uniform();
+  if (pick < u) return reading(rng.Uniform(0.0, max_range));
+  if (pick < u + e)  // the exponential truncated to [0, R), by inversion
+    return reading(std::min(
+        std::nextafter(max_range, 0.0),
+        -std::log1p(rng.Uniform() * std::expm1(-exponential_rate * max_range)) / exponential_rate));
+  return {.range = 0.0, .max_reading = true};
+}
+
 double SonarModel::LogLikelihood(double reading, bool max_reading,
-                                 std::span<const SonarFeature> features, double max_range) const {
+                                 std::span<const SonarFeature> features, double max_range,
+                                 double seen_fraction) const {
   double density = 0.0;  // of the reading, or its probability when a max reading
   double none_closer = 1.0;
   for (const SonarFeature& f : features) {
@@ -94,13 +126,15 @@ double SonarModel::LogLikelihood(double reading, bool max_reading,
       density += r * std::exp(-0.5 * z * z) / (sigma * std::sqrt(2.0 * std::numbers::pi) * kept);
     }
   }
+  const double specular = seen_fraction, clear = 1.0 - seen_fraction;
   double outlier;
   if (max_reading) {
-    outlier = max_weight;
+    outlier = specular * max_weight + clear * clear_max_weight;
   } else {
-    outlier = uniform_weight / max_range + exponential_weight * exponential_rate *
-                                               std::exp(-exponential_rate * reading) /
-                                               -std::expm1(-exponential_rate * max_range);
+    const double exponential = exponential_rate * std::exp(-exponential_rate * reading) /
+                               -std::expm1(-exponential_rate * max_range);
+    outlier = (specular * uniform_weight + clear * clear_uniform_weight) / max_range +
+              (specular * exponential_weight + clear * clear_exponential_weight) * exponential;
   }
   return std::log(density + none_closer * outlier);
 }

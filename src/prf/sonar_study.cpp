@@ -13,6 +13,7 @@
 #include <priormap/core/simulate.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 #include <priormap/prf/point_buckets.hpp>
+#include <priormap/prf/scene_coloring.hpp>
 #include <priormap/prf/sonar_mapping.hpp>
 #include <priormap/prf/sonar_study.hpp>
 
@@ -142,7 +143,7 @@ SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& op
   MappingOptions mapping = options.mapping;
   mapping.seed = SplitMix64(c.seed + 1);
   mapping.raster_resolution = options.resolution;
-  const MappingData mapping_data = SonarMappingData(data, options.model, mapping);
+  MappingData mapping_data = SonarMappingData(data, options.model, mapping);
   const Window& window = mapping_data.window;
   const CellGrid evaluation_grid = CellGrid::Covering(window.min, window.max, options.resolution);
 
@@ -152,6 +153,15 @@ SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& op
   const SceneTruth truth(scene, seeds,
                          {.resolution = options.truth_resolution,
                           .margin = std::max(0.1, 2.0 * options.truth_resolution)});
+  auto true_map = SceneColoring(scene, truth, window, mapping.cell_size);
+  if (auto* map = std::get_if<Coloring>(&true_map)) {
+    const PrfSampler at_truth(*map, mapping.sampler, 0, mapping_data.make_data_term());
+    c.truth_log_posterior = at_truth.LogPosterior();
+    if (options.start_at_truth) mapping_data.start = std::move(*map);
+  } else {
+    PRIORMAP_CHECK(!options.start_at_truth, "scene " + scene.name + " has no true coloring: " +
+                                                std::get<std::string>(true_map));
+  }
   c.evaluation.grid = evaluation_grid;
   const auto n = static_cast<std::size_t>(evaluation_grid.NumCells());
   c.evaluation.truth_black.resize(n);

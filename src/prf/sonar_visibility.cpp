@@ -25,6 +25,29 @@ bool OnWindowBoundary(const Window& w, const Vec2& p) {
   return p.x() == w.min.x() || p.x() == w.max.x() || p.y() == w.min.y() || p.y() == w.max.y();
 }
 
+// True when the apex looks into the corner at v from inside: the two edges at v, to a and b, meet
+// at less than 180° on its side, i.e. the apex lies strictly within the sector they span.
+bool SeenFromInside(const Vec2& apex, const Vec2& v, const Vec2& a, const Vec2& b) {
+  const Vec2 u1 = a - v, u2 = b - v, w = apex - v;
+  const double span = Cross(u1, u2);
+  if (span == 0.0) return false;  // a straight or folded vertex: no sector
+  return Cross(u1, w) * span > 0.0 && Cross(w, u2) * span > 0.0;
+}
+
+// Whether the apex sees the vertex at v from inside (SeenFromInside), given the segments that
+// may hold its two edges; a vertex with another number of edges among them counts as outside.
+bool ConcaveCorner(const Vec2& apex, const Vec2& v, std::span<const TaggedSegment> segments) {
+  Vec2 others[2];
+  int found = 0;
+  for (const TaggedSegment& t : segments) {
+    const bool at_a = t.segment.a == v, at_b = t.segment.b == v;
+    if (at_a == at_b) continue;
+    if (found == 2) return false;
+    others[found++] = at_a ? t.segment.b : t.segment.a;
+  }
+  return found == 2 && SeenFromInside(apex, v, others[0], others[1]);
+}
+
 Vec2 ToCone(const SonarCone& cone, const Vec2& p) {
   const Vec2 d = p - cone.origin;
   return {cone.axis.dot(d), Cross(cone.axis, d)};
@@ -207,12 +230,14 @@ void ConeSweep::Features(const SonarCone& cone, std::span<const TaggedSegment> s
   const auto angle = [&](double tau) {
     return tau == -tan_h ? -h : (tau == tan_h ? h : std::atan(tau));
   };
+  double unseen = 0.0;  // angle through which nothing is seen
   for (VisiblePiece& piece : view->pieces) {
     const double tau_from = piece.from, tau_to = piece.to;
     piece.from = angle(tau_from);
     piece.to = angle(tau_to);
     if (piece.segment < 0) {
       view->extent = cone.max_range;
+      unseen += piece.to - piece.from;
       continue;
     }
     const Clipped& c = clipped_[static_cast<std::size_t>(piece.segment)];
@@ -248,17 +273,19 @@ void ConeSweep::Features(const SonarCone& cone, std::span<const TaggedSegment> s
     view->contact_tags.push_back(segments[static_cast<std::size_t>(c.input)].tag);
     piece.segment = c.input;
   }
+  view->seen_fraction = std::clamp(1.0 - unseen / (2.0 * h), 0.0, 1.0);
   std::sort(view->corners.begin(), view->corners.end(), LexLess);
   view->corners.erase(std::unique(view->corners.begin(), view->corners.end()), view->corners.end());
   for (const Vec2& corner : view->corners)
     view->features.push_back({.kind = SonarFeature::Kind::kCorner,
                               .distance = ToCone(cone, corner).norm(),
                               .projection = 0.0,
-                              .subtended = 0.0});
+                              .subtended = 0.0,
+                              .concave = ConcaveCorner(cone.origin, corner, segments)});
   std::sort(view->features.begin(), view->features.end(),
             [](const SonarFeature& f, const SonarFeature& g) {
-              return std::tuple(f.distance, f.kind, f.projection, f.subtended) <
-                     std::tuple(g.distance, g.kind, g.projection, g.subtended);
+              return std::tuple(f.distance, f.kind, f.projection, f.subtended, f.concave) <
+                     std::tuple(g.distance, g.kind, g.projection, g.subtended, g.concave);
             });
   std::sort(view->contact_tags.begin(), view->contact_tags.end());
   view->contact_tags.erase(std::unique(view->contact_tags.begin(), view->contact_tags.end()),

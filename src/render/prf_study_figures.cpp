@@ -54,6 +54,53 @@ void SaveTruthFigure(const std::filesystem::path& path, const prf::EvaluationRas
   figure.Save(path);
 }
 
+void SaveErrorFigure(const std::filesystem::path& path, const prf::EvaluationRaster& raster,
+                     std::span<const double> probability, const std::string& title) {
+  const prf::CellGrid& grid = raster.grid;
+  const Box2 extent(grid.origin,
+                    grid.origin + Vec2(grid.nx * grid.cell.x(), grid.ny * grid.cell.y()));
+  enum Kind {
+    kNotScored,
+    kRightFree,
+    kRightOccupied,
+    kFreeCalledOccupied,
+    kOccupiedCalledFree,
+    kUndecided
+  };
+  const Color colours[] = {kUnknown,           {0.93, 0.93, 0.93},
+                           {0.45, 0.45, 0.45}, palette::kVermillion,
+                           palette::kBlue,     palette::kYellow};
+  const auto kind = [&](std::size_t i) {
+    if (!raster.Observed(i)) return kNotScored;
+    const double p = probability[i];
+    const bool black = raster.truth_black[i] != 0;
+    if (!(p > 0.5) && !(p < 0.5)) return kUndecided;
+    if ((p > 0.5) == black) return black ? kRightOccupied : kRightFree;
+    return black ? kOccupiedCalledFree : kFreeCalledOccupied;
+  };
+  Figure figure = StudyFigure(extent, title);
+  // One rectangle per run of equal cells along a row: a figure of tens, not thousands, of
+  // thousands of shapes.
+  for (int iy = 0; iy < grid.ny; ++iy) {
+    int from = 0;
+    for (int ix = 1; ix <= grid.nx; ++ix) {
+      const auto at = [&](int x) { return kind(static_cast<std::size_t>(iy * grid.nx + x)); };
+      if (ix < grid.nx && at(ix) == at(from)) continue;
+      const Vec2 lo = grid.origin + Vec2(from * grid.cell.x(), iy * grid.cell.y());
+      const Vec2 hi = grid.origin + Vec2(ix * grid.cell.x(), (iy + 1) * grid.cell.y());
+      figure.FilledPolygon(Polygon{{lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())}},
+                           colours[at(from)]);
+      from = ix;
+    }
+  }
+  figure.AddLegend("right: free / occupied", colours[kRightOccupied]);
+  figure.AddLegend("free called occupied", colours[kFreeCalledOccupied]);
+  figure.AddLegend("occupied called free", colours[kOccupiedCalledFree]);
+  figure.AddLegend("undecided", colours[kUndecided]);
+  figure.AddLegend("not scored", kUnknown);
+  figure.Save(path);
+}
+
 void SaveMapAndWallsFigure(const std::filesystem::path& path,
                            const std::vector<prf::MapFace>& faces, const prf::Window& window,
                            const Scene& scene, const std::string& title) {

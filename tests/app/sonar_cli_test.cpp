@@ -164,5 +164,68 @@ TEST_F(SonarCli, GridAndPrfMapASonarLogWhichTheyRecogniseByItself) {
               HasSubstr("--sensor laser"));
 }
 
+// `prf fit-sonar` writes a model file that `prf --sonar-model` reads, with the posterior options
+// of docs/prf.md; run.json keeps them for --resume; bad values are refused before any work.
+TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
+  const auto fit = Run({"prf", "fit-sonar", "--scenes", "office", "--rate", "1", "-o", "m.json"});
+  ASSERT_EQ(fit.status, 0) << fit.err;
+  const json model = json::parse(testing::ReadAll(Work("m.json")));
+  EXPECT_EQ(model["format"], "priormap.sonar_model");
+  EXPECT_GT(model["fit"]["log_likelihood"].get<double>(),
+            model["fit"]["start_log_likelihood"].get<double>());
+
+  WriteSonarLog("sonar.json");
+  const std::vector<std::string> run = {"prf",
+                                        "--log",
+                                        "sonar.json",
+                                        "--sonar-model",
+                                        "m.json",
+                                        "--free-space",
+                                        "0.3",
+                                        "--orientation-weight",
+                                        "1",
+                                        "--burn-in-temperature",
+                                        "3",
+                                        "--thinned-burn-in",
+                                        "4:1000,2:1000",
+                                        "--burn-in",
+                                        "3000",
+                                        "--samples",
+                                        "2000",
+                                        "--chains",
+                                        "1",
+                                        "--trace-every",
+                                        "500",
+                                        "--seed",
+                                        "5"};
+  auto whole = run;
+  for (const char* arg : {"-o", "prf"}) whole.push_back(arg);
+  const auto prf = Run(whole);
+  ASSERT_EQ(prf.status, 0) << prf.err;
+  const json posterior = Summary("prf")["posterior"];
+  EXPECT_EQ(posterior["free_space"], 0.3);
+  EXPECT_EQ(posterior["thinned_burn_in"].size(), 2u);
+  // Stopped in the second thinned stage and resumed: the same map.
+  auto stopped = run;
+  for (const char* arg : {"--stop-after-steps", "1500", "-o", "resumed"}) stopped.push_back(arg);
+  ASSERT_EQ(Run(stopped).status, 0);
+  ASSERT_EQ(Run({"prf", "--resume", "resumed"}).status, 0);
+  EXPECT_EQ(testing::ReadAll(Work("resumed") / "posterior.pgm"),
+            testing::ReadAll(Work("prf") / "posterior.pgm"));
+
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--thinned-burn-in", "4:x", "-o", "b"}).err,
+              HasSubstr("expected STRIDE:STEPS"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--thinned-burn-in", "4:5000", "--burn-in",
+                          "1000", "-o", "b"})
+                  .err,
+              HasSubstr("more than the burn-in's 1000"));
+  WriteText("bad.json",
+            "{\"format\": \"priormap.sonar_model\", \"version\": 1,\n \"face_bias\": \"x\"}");
+  EXPECT_THAT(
+      RunFailing({"prf", "--log", "sonar.json", "--sonar-model", "bad.json", "-o", "b"}).err,
+      HasSubstr("bad.json:2:15"));
+  EXPECT_FALSE(std::filesystem::exists(Work("b")));
+}
+
 }  // namespace
 }  // namespace priormap

@@ -155,14 +155,14 @@ TEST(SonarLikelihood, ASensorIsNeverPutInOccupiedSpace) {
 // every `check_every` steps and at the end.
 void ExpectIncrementalEqualsRecomputed(std::shared_ptr<const SonarData> data, double p,
                                        double temperature, int steps, int check_every,
-                                       std::uint64_t seed) {
+                                       std::uint64_t seed, const SonarModel& model = {}) {
   const Window window = WindowAround(*data, 1.0);
   SamplerOptions options;
   options.p = p;
   options.temperature = temperature;
   options.birth_scale = 1.0;
   options.step_scales = {0.05, 0.2, 1.0};
-  auto likelihood = std::make_unique<SonarLikelihood>(data, SonarModel{});
+  auto likelihood = std::make_unique<SonarLikelihood>(data, model);
   PrfSampler sampler(Coloring(window, 0.5), options, seed, std::move(likelihood));
   for (int done = 0; done < steps; done += check_every) {
     sampler.Run(static_cast<std::uint64_t>(check_every));
@@ -196,6 +196,24 @@ TEST(SonarLikelihood, IncrementalEqualsRecomputedAfter100kMovesOnASimulatedLog) 
   ExpectIncrementalEqualsRecomputed(data, 0.3, 1.0, 100000, 10000, 1);
   // Hot: many more moves accepted, much more structure.
   ExpectIncrementalEqualsRecomputed(data, 0.3, 20.0, 100000, 10000, 2);
+}
+
+// With the model's default parameters a corner's concavity and the share of the cone seen
+// change nothing: a model that weighs them shows whether the incremental views keep them as a
+// recomputation does.
+TEST(SonarLikelihood, IncrementalEqualsRecomputedWithConcaveCornersAndTheClearMixture) {
+  const Scene scene = *BuiltinScene("office");
+  const SonarSensor sensor = *SonarSensor::Preset("pioneer16");
+  const auto trajectory = TrajectoryFromWaypoints(scene.waypoints, 0.5, 2.0);
+  const auto data = Selected(SimulateSonarLog(scene, sensor, trajectory, 8), 5.0);
+  ASSERT_TRUE(data);
+  SonarModel model;
+  model.concave_corner_bias = 2.0;
+  model.clear_uniform_weight = 0.05;
+  model.clear_exponential_weight = 0.05;
+  model.clear_max_weight = 0.9;
+  ExpectIncrementalEqualsRecomputed(data, 0.3, 1.0, 30000, 5000, 5, model);
+  ExpectIncrementalEqualsRecomputed(data, 0.3, 20.0, 30000, 5000, 6, model);
 }
 
 TEST(SonarLikelihood, IncrementalEqualsRecomputedAfter100kMovesOnTheRealSonarLog) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <priormap/core/scene.hpp>
+#include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/prf/sonar_study.hpp>
 
 namespace priormap::prf {
@@ -34,6 +35,35 @@ TEST(SonarStudy, ThePrfFindsTheWallsTheGridErasesOnASimulatedOffice) {
   // The grid decides nearly all of what the cones saw; the PRF decides everything.
   EXPECT_GT(grid.classification.observed.Coverage(), 0.95);
   EXPECT_GT(prf.classification.observed.Coverage(), 0.95);
+}
+
+// docs/prf.md's protocol at CI length: the shipped sonar model (fitted on other seeds), the
+// free-space and orientation priors, a tempered start. On the office the posterior classifies
+// what the cones saw clearly better than the grid, misses fewer walls and draws its 0.5 contour
+// within 10 cm of the true walls on average. (Issue 7 asks for 5 points of accuracy: with 3M
+// steps per chain docs/prf.md measures 5.3 and 6.0 on two seeds; at this length, 4.9, and the
+// chains are not yet mixed, so the margin moves by a point with the length.)
+TEST(SonarStudy, WithTheFittedModelAndPriorsThePrfBeatsTheGridOnTheOffice) {
+  SonarStudyOptions options;
+  options.scenes = {*BuiltinScene("office")};
+  const Result<SonarModel> model =
+      ReadSonarModel(PRIORMAP_EXAMPLES_DIR "/formats/sonar-model-simulated.json");
+  ASSERT_TRUE(model.ok()) << model.error();
+  options.model = model.value();
+  options.mapping.sampler.free_space = 0.3;
+  options.mapping.sampler.orientation.weight = 1.0;
+  options.mapping.burn_in_temperature = 5.0;
+  options.mapping.burn_in = 600000;
+  options.mapping.samples = 600000;
+  options.mapping.chains = 2;
+  ASSERT_EQ(options.Problem(), "");
+  const SonarStudyResult result = RunSonarStudy(options);
+  ASSERT_EQ(result.cases.size(), 1u);
+  const SonarStudyMethod& grid = result.cases[0].Method("grid");
+  const SonarStudyMethod& prf = result.cases[0].Method("prf posterior");
+  EXPECT_GT(prf.classification.observed.Accuracy(), grid.classification.observed.Accuracy() + 0.04);
+  EXPECT_LT(prf.walls.walls_missed, grid.walls.walls_missed);
+  EXPECT_LT(prf.walls.mean_distance, 0.10);
 }
 
 TEST(SonarStudy, ReportsBadOptions) {

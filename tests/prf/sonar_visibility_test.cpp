@@ -16,26 +16,14 @@
 #include <priormap/prf/sampler.hpp>
 #include <priormap/prf/sonar_visibility.hpp>
 
+#include "cone_testing.hpp"
+
 namespace priormap::prf {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-const Window kWindow{Vec2(-10, -10), Vec2(10, 10)};
-
-SonarCone Cone(Vec2 origin, double axis_angle, double half_spread, double max_range) {
-  return {.origin = origin,
-          .axis = UnitVector(axis_angle),
-          .half_spread = half_spread,
-          .max_range = max_range};
-}
-
-std::vector<TaggedSegment> Tagged(const std::vector<Segment>& segments) {
-  std::vector<TaggedSegment> tagged;
-  for (std::size_t i = 0; i < segments.size(); ++i)
-    tagged.push_back({segments[i], static_cast<std::int32_t>(i)});
-  return tagged;
-}
+const Window& kWindow = kConeTestWindow;
 
 // The first segment a ray meets within R (index, distance), by testing all of them.
 std::pair<int, double> FirstHitByBruteForce(const std::vector<Segment>& segments,

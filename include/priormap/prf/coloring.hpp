@@ -13,6 +13,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <priormap/core/binary_io.hpp>
@@ -139,6 +140,14 @@ class Coloring {
   /// A coloring saved by Save for this window and cell size; BinaryFormatError when the data
   /// are not a valid coloring of it.
   [[nodiscard]] static Coloring Load(BinaryReader& in, const Window& window, double cell_size);
+
+  /// A coloring given its discontinuity graph outright (a known map, the truth of a simulated
+  /// scene): vertices with their sides (kInterior or the side they lie on), edges as pairs of
+  /// vertex indices, and the colour at the anchor. Returns what is wrong when the graph is not a
+  /// valid coloring of the window (degrees, crossings, vertices off the window or its sides).
+  [[nodiscard]] static std::variant<Coloring, std::string> FromGraph(
+      const Window& window, double cell_size, std::span<const NewVertex> vertices,
+      std::span<const std::array<int, 2>> edges, Colour anchor);
 
   /// log sin φ of a vertex at `position` on `side` with the given neighbours (one for boundary
   /// vertices, two for interior ones); −inf for a zero angle.

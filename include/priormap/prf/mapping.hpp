@@ -25,6 +25,14 @@
 
 namespace priormap::prf {
 
+/// A stage of the burn-in on 1/stride of the readings only (all sensor positions kept): steps
+/// that cost a fraction of full ones and bring the chain near the posterior before the full data
+/// refine it. The samples are taken on all readings, so the posterior sampled is unchanged.
+struct ThinnedBurnIn {
+  int stride = 1;
+  std::uint64_t steps = 0;
+};
+
 struct MappingOptions {
   SamplerOptions sampler;  // p, move weights, scales (temperature is set by the run)
   LaserModel model;
@@ -36,6 +44,13 @@ struct MappingOptions {
   double guide_jitter = 0.05;
   std::uint64_t samples = 1000000;  // steps recorded per chain, after the burn-in
   std::uint64_t burn_in = 200000;   // steps per chain
+  /// The chains start the burn-in at this temperature and cool geometrically to 1 over its
+  /// first half (in blocks of kTemperatureBlock steps), so that they cross barriers between
+  /// modes early; samples are taken at temperature 1 only. 1: no tempering.
+  double burn_in_temperature = 1.0;
+  /// The first steps of the burn-in, stage after stage, on thinned data; their steps count
+  /// towards burn_in, whose remaining steps use every reading.
+  std::vector<ThinnedBurnIn> thinned_burn_in;
   int chains = 2;
   std::uint64_t seed = 1;
   std::uint64_t trace_every = 1000;  // steps between trace records (R̂)
@@ -45,6 +60,28 @@ struct MappingOptions {
   /// Steps per chain between progress calls (and between chunks of work).
   std::uint64_t chunk = 20000;
 };
+
+/// Steps run at one temperature of the tempered burn-in.
+inline constexpr std::uint64_t kTemperatureBlock = 10000;
+/// The temperature of the tempered burn-in at step s (by its block), 1 from the middle of the
+/// burn-in on.
+[[nodiscard]] double BurnInTemperature(const MappingOptions& options, std::uint64_t step);
+/// Where the temperature of step s's block ends: the next block or the middle of the burn-in,
+/// whichever comes first (the largest step count when the temperature is 1 from s on).
+[[nodiscard]] std::uint64_t BurnInTemperatureEnd(const MappingOptions& options, std::uint64_t step);
+
+/// Whether reading i is among the 1/stride of the readings a thinned stage keeps: a fixed
+/// pseudo-random choice (every stride-th reading would pick the same transducer of every ring,
+/// or the same beam of every scan, when the stride divides their count).
+[[nodiscard]] bool KeptByThinning(std::size_t i, int stride);
+
+/// The stride of the readings used at step s (1 past the thinned stages), and the step where
+/// its stage ends.
+struct BurnInStage {
+  int stride = 1;
+  std::uint64_t end = 0;
+};
+[[nodiscard]] BurnInStage BurnInStageAt(const MappingOptions& options, std::uint64_t step);
 
 /// How one session of a run is carried out; none of it changes the result. A run stopped
 /// (by `stop`, `stop_after_steps` or a crash) and resumed from its checkpoints ends exactly
@@ -108,6 +145,12 @@ struct MappingData {
   std::uint64_t fingerprint = 0;
   /// A fresh data term, one per chain.
   std::function<std::unique_ptr<DataTerm>()> make_data_term;
+  /// A fresh data term of the readings KeptByThinning(i, stride), with every sensor position (for
+  /// the thinned burn-in; may be empty when the data offer none).
+  std::function<std::unique_ptr<DataTerm>(int stride)> make_thinned_data_term;
+  /// Where every chain starts (a coloring of `window` with the run's cell size, of nonzero
+  /// likelihood); the empty all-white coloring when unset.
+  std::optional<Coloring> start;
 };
 
 /// The laser run's data: the window around the beams (options.margin), the trace and guide

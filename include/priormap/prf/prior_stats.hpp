@@ -30,6 +30,8 @@ struct PriorStatsOptions {
   std::size_t batches = 40;
   /// Sampler settings; birth_scale and step_scales are multiplied by the window side.
   SamplerOptions sampler{.p = 1.0,
+                         .orientation = {},
+                         .free_space = 0.0,
                          .weights = {},
                          .birth_scale = 0.3,
                          .vertex_birth_width = 0.5,

@@ -21,6 +21,13 @@ namespace priormap::prf {
 
 struct SamplerOptions {
   double p = 0.1;  // scale parameter of the Arak process (1/length)
+  /// A preference for edges along two perpendicular directions, added to the Arak potential
+  /// (off by default: the Arak process).
+  OrientationPrior orientation;
+  /// β of a preference for free space: the potential β · (black area in the window), per m²
+  /// (0 by default: the Arak process, indifferent to colour). While it is on, edits whose
+  /// flipped region crosses itself or holds structure are refused (black_area.hpp).
+  double free_space = 0.0;
   MoveWeights weights;
   /// r of the births: the other vertices of a triangle within ±r of the first (per axis), a
   /// boundary triangle's second boundary vertex within r of the first, a corner edge's vertices
@@ -70,13 +77,24 @@ class PrfSampler {
   /// Goes on recording into estimates that already hold this chain's samples up to steps()
   /// (restored from a checkpoint with the chain).
   void ContinueRecordingInto(PosteriorEstimates* estimates) { estimates_ = estimates; }
-  [[nodiscard]] double LogPrior() const { return coloring_.LogArakDensity(options_.p); }
+  /// log of the prior's density: the Arak measure with its potential, the orientation
+  /// potential and the free-space potential.
+  [[nodiscard]] double LogPrior() const {
+    return coloring_.LogArakDensity(options_.p) -
+           OrientationPotential(coloring_.stats(), options_.orientation) -
+           options_.free_space * black_area_;
+  }
+  /// The black area of the coloring, kept while the free-space prior is on (else 0).
+  [[nodiscard]] double black_area() const { return black_area_; }
   [[nodiscard]] double LogLikelihood() const {
     return data_ ? FromFixed(data_->log_likelihood()) : 0.0;
   }
   /// Untempered log density of the posterior (up to its normalizing constant).
   [[nodiscard]] double LogPosterior() const { return LogPrior() + LogLikelihood(); }
   void set_temperature(double temperature) { options_.temperature = temperature; }
+  /// Goes on with another data term (the same data thinned, say), reset to the coloring, which
+  /// must have nonzero likelihood under it.
+  void ReplaceDataTerm(std::unique_ptr<DataTerm> data);
 
   /// The chain's state: coloring, step count, random generator, counters and temperature. The
   /// data term is not saved: its state is a function of the coloring, rebuilt on Load.
@@ -147,6 +165,7 @@ class PrfSampler {
   std::vector<double> cumulative_weights_;
   Edit edit_;
   EditEffect effect_;
+  double black_area_ = 0.0;
   std::vector<EdgeId> scratch_edges_;
   VisitMarks cell_marks_;
 };

@@ -18,14 +18,20 @@
 #include <string>
 #include <vector>
 
+#include <priormap/core/rng.hpp>
 #include <priormap/prf/sonar_visibility.hpp>
 
 namespace priormap::prf {
 
 struct SonarModel {
-  // Corners: q = max_return · logistic(corner_bias + corner_per_m · d).
+  // Corners: q = max_return · logistic(corner_bias + corner_per_m · d
+  //              + concave_corner_bias · [seen from inside]).
   double corner_bias = 1.0;
   double corner_per_m = -0.5;
+  /// A corner seen from inside is a corner reflector; one seen from outside (a tip, a door
+  /// frame) only diffracts. 0 gives the paper's model, where a corner's echo depends on its
+  /// distance alone.
+  double concave_corner_bias = 0.0;
   // Faces: q = max_return · logistic(face_bias + face_per_m · d
   //            + face_per_rad_projection · (projection − π/2) + face_per_rad_subtended ·
   //            subtended).
@@ -39,11 +45,20 @@ struct SonarModel {
   double sigma_relative = 0.01;  // range noise relative to the distance
   double sigma_min = 0.01;       // m
 
-  // The outlier component, given no feature echoed: weights summing to one.
+  // The outlier component, given no feature echoed: a mixture of a uniform, an exponential and
+  // a max-range atom, its weights summing to one, for the sound that met a surface and was
+  // reflected away (a specular miss, possibly heard back after several bounces)...
   double uniform_weight = 0.3;
   double exponential_weight = 0.1;
   double max_weight = 0.6;
   double exponential_rate = 2.0;  // 1/m
+  // ... and for the sound that met nothing within R, which has no surface to bounce off: a
+  // second mixture. The outlier density is the two weighted by the share of the cone's angle
+  // that sees a face (SonarView::seen_fraction) and the rest. Equal to the first (the
+  // defaults), it gives the paper's single outlier mixture.
+  double clear_uniform_weight = 0.3;
+  double clear_exponential_weight = 0.1;
+  double clear_max_weight = 0.6;
 
   /// Empty when valid, else what is wrong.
   [[nodiscard]] std::string Problem() const;
@@ -54,10 +69,22 @@ struct SonarModel {
   /// Π (1 − q_f), which with the r_f sums to one.
   double ReturnProbabilities(std::span<const SonarFeature> features,
                              std::vector<double>* returns) const;
-  /// log p(reading | features) for a reading r < R, or of a max reading when `max_reading`.
+  /// A reading drawn from the model (the generative story of LogLikelihood): each feature in
+  /// depth order echoes with its q until one does, its range Gaussian around the feature's
+  /// distance (truncated to r >= 0; at or beyond R a max reading); when none does, an outlier
+  /// from the specular mixture with probability `seen_fraction`, else from the clear one.
+  struct Draw {
+    double range = 0.0;  // when not max_reading
+    bool max_reading = false;
+  };
+  [[nodiscard]] Draw Sample(std::span<const SonarFeature> features, double seen_fraction,
+                            double max_range, Rng& rng) const;
+
+  /// log p(reading | features) for a reading r < R, or of a max reading when `max_reading`;
+  /// `seen_fraction` is the share of the cone that meets a surface (SonarView).
   [[nodiscard]] double LogLikelihood(double reading, bool max_reading,
-                                     std::span<const SonarFeature> features,
-                                     double max_range) const;
+                                     std::span<const SonarFeature> features, double max_range,
+                                     double seen_fraction = 1.0) const;
 };
 
 }  // namespace priormap::prf

@@ -12,6 +12,7 @@
 /// and the study seed; cases run in parallel.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ struct SonarStudyOptions {
   MappingOptions mapping;  // seed and raster resolution are set per case
   grid::SonarGridOptions grid;
   std::uint64_t seed = 1;
+  /// Diagnostic: start every chain at the true map (SceneColoring) instead of the empty one,
+  /// which shows what the posterior itself gives, apart from how fast the chains find it.
+  bool start_at_truth = false;
 
   /// Empty when usable, else what is wrong.
   [[nodiscard]] std::string Problem() const;
@@ -62,6 +66,10 @@ struct SonarStudyCase {
   EvaluationRaster evaluation;
   OccupancyRaster grid_map;  // P(occupied), NaN where never observed
   MappingResult prf;
+  /// log-posterior (Arak prior + sonar likelihood) of the true map, when the scene is made of
+  /// closed polylines (NaN otherwise); against the chains', it tells a model that prefers
+  /// another map from chains that have not found this one.
+  double truth_log_posterior = std::numeric_limits<double>::quiet_NaN();
   std::vector<SonarStudyMethod> methods;
   double wall_time_s = 0.0;
 

@@ -38,6 +38,10 @@ struct SonarFeature {
   double projection = 0.0;
   /// Faces: the angle the visible part subtends at the apex, rad.
   double subtended = 0.0;
+  /// Corners: seen from inside, the two edges meeting at less than 180° on the apex's side (a
+  /// corner reflector, which echoes strongly); false for a corner seen from outside (a tip,
+  /// which only diffracts).
+  bool concave = false;
 };
 
 /// One angular interval of the cone (angles relative to its axis, in [-h, h]) and the segment
@@ -53,12 +57,16 @@ struct SonarView {
   std::vector<VisiblePiece> pieces;
   /// Faces (one per piece that sees a segment) and corners, in depth order.
   std::vector<SonarFeature> features;
-  /// The visible corners (vertices of the input segments not on the window's boundary).
+  /// The visible corners (vertices of the input segments not on the window's boundary),
+  /// sorted by their coordinates.
   std::vector<Vec2> corners;
   /// Tags of the segments seen (the faces' segments), sorted, without repeats.
   std::vector<std::int32_t> contact_tags;
   /// The farthest point seen: R where some direction sees nothing.
   double extent = 0.0;
+  /// The share of the cone's angle through which a face is seen within R (1: the sound meets
+  /// a surface in every direction; 0: nothing within R to reflect it).
+  double seen_fraction = 0.0;
 };
 
 /// A cone's half-angle with its trigonometry, kept while consecutive cones share it.

@@ -19,6 +19,13 @@ namespace priormap::render {
 void SaveTruthFigure(const std::filesystem::path& path, const prf::EvaluationRaster& raster,
                      std::span<const Se2> poses, const std::string& title);
 
+/// Where a map is right and wrong over the scored cells: right ones light (free) or dark grey
+/// (occupied), free cells called occupied in vermillion, occupied cells called free in blue,
+/// undecided ones (P = 0.5 or unknown) in yellow; `probability` is P(occupied) at each cell of
+/// the raster's grid.
+void SaveErrorFigure(const std::filesystem::path& path, const prf::EvaluationRaster& raster,
+                     std::span<const double> probability, const std::string& title);
+
 /// The map's faces (occupied filled dark) with the scene's true walls over them.
 void SaveMapAndWallsFigure(const std::filesystem::path& path,
                            const std::vector<prf::MapFace>& faces, const prf::Window& window,

@@ -1,0 +1,141 @@
+// priormap prf fit-sonar: the sonar model's parameters by maximum likelihood on readings whose
+// true map is known, from simulated rings in scenes or from a log of a surveyed scene
+// (docs/sonar.md).
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include <priormap/core/log_io.hpp>
+#include <priormap/core/rng.hpp>
+#include <priormap/core/sonar_simulate.hpp>
+#include <priormap/prf/sonar_fit.hpp>
+#include <priormap/prf/sonar_model_io.hpp>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+
+namespace priormap::app {
+namespace {
+
+struct FitSonarCliOptions {
+  std::vector<std::string> scenes{"office", "l-office"};
+  std::string sensor = "pioneer16";
+  double speed = 0.5;
+  double rate = 2.0;
+  std::uint64_t seed = 1000;
+  std::optional<double> max_range;
+  std::string log;    // a surveyed log, with --scene
+  std::string scene;  // the scene the log was recorded in
+  std::string start;  // a model file to start from
+  std::string out;
+  prf::SonarFitOptions fit;
+};
+
+// The readings with their true views, from --log and --scene or simulated in --scenes.
+std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
+                                                   nlohmann::ordered_json* about) {
+  std::vector<prf::SonarFitReading> readings;
+  const auto add = [&](const Log& log, const Scene& scene, double max_range) {
+    auto views = prf::ViewsOfScene(log, scene, max_range);
+    if (auto* problem = std::get_if<std::string>(&views)) throw UserError(*problem);
+    auto& v = std::get<std::vector<prf::SonarFitReading>>(views);
+    readings.insert(readings.end(), std::make_move_iterator(v.begin()),
+                    std::make_move_iterator(v.end()));
+  };
+  if (!o.log.empty()) {
+    if (o.scene.empty()) throw UserError("--log needs --scene: the map the log was recorded in");
+    const Log log = ValueOrThrow(ReadLog(o.log));
+    add(log, LoadScene(o.scene), o.max_range.value_or(5.0));
+    (*about)["log"] = std::filesystem::absolute(o.log).string();
+    (*about)["scene"] = o.scene;
+    return readings;
+  }
+  const auto sensor = SonarSensor::Preset(o.sensor);
+  if (!sensor)
+    throw UserError(fmt::format("--sensor: unknown sonar '{}' (expected one of: {})", o.sensor,
+                                fmt::join(SonarSensor::PresetNames(), ", ")));
+  SonarSensor ring = *sensor;
+  if (o.max_range) ring.max_range = *o.max_range;
+  for (const std::string& name : o.scenes) {
+    const Scene scene = LoadScene(name);
+    if (scene.waypoints.size() < 2)
+      throw UserError(
+          fmt::format("scene '{}' has no waypoint path to drive the sonar along", name));
+    const Log log =
+        SimulateSonarLog(scene, ring, TrajectoryFromWaypoints(scene.waypoints, o.speed, o.rate),
+                         SplitMix64(o.seed ^ Fnv1a64(scene.name + "/" + ring.name)));
+    add(log, scene, ring.max_range);
+  }
+  (*about)["scenes"] = o.scenes;
+  (*about)["sensor"] = ring.name;
+  (*about)["speed"] = o.speed;
+  (*about)["rate"] = o.rate;
+  (*about)["seed"] = o.seed;
+  return readings;
+}
+
+void RunFitSonarCommand(const FitSonarCliOptions& o) {
+  if (o.out.empty()) throw UserError("-o/--out is required");
+  nlohmann::ordered_json about;
+  const std::vector<prf::SonarFitReading> readings = TrainingReadings(o, &about);
+  const prf::SonarModel start =
+      o.start.empty() ? prf::SonarModel{} : ValueOrThrow(prf::ReadSonarModel(o.start));
+  const prf::SonarFitResult fit = prf::FitSonarModel(readings, start, o.fit);
+  const auto n = static_cast<double>(fit.readings);
+  about["readings"] = fit.readings;
+  about["log_likelihood"] = fit.log_likelihood;
+  about["start_log_likelihood"] = fit.initial_log_likelihood;
+  about["evaluations"] = fit.evaluations;
+  about["clear_mixture"] = o.fit.fit_clear_mixture;
+  about["concave_corners"] = o.fit.fit_concave_corners;
+  prf::WriteSonarModel(fit.model, o.out, &about);
+  fmt::print(
+      "{} readings: log-likelihood {:.1f} -> {:.1f} ({:.3f} -> {:.3f} per reading), "
+      "{} evaluations\n",
+      fit.readings, fit.initial_log_likelihood, fit.log_likelihood, fit.initial_log_likelihood / n,
+      fit.log_likelihood / n, fit.evaluations);
+  fmt::print("{}wrote {}\n", prf::FormatSonarModel(fit.model), o.out);
+}
+
+}  // namespace
+
+void AddPrfFitSonarCommand(CLI::App& prf_cmd) {
+  auto o = std::make_shared<FitSonarCliOptions>();
+  CLI::App* cmd = prf_cmd.add_subcommand(
+      "fit-sonar",
+      "Fit the PRF sonar model by maximum likelihood to readings whose true map is known: "
+      "simulated rings in --scenes, or --log recorded in --scene");
+  cmd->add_option("--scenes", o->scenes,
+                  "Scenes (closed wall polylines, with a waypoint path) to simulate rings in")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--sensor", o->sensor, "Sonar ring preset of the simulation")
+      ->capture_default_str();
+  cmd->add_option("--speed", o->speed, "Robot speed along the waypoints, m/s")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd->add_option("--rate", o->rate, "Rings per second")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Seed of the simulated rings")->capture_default_str();
+  cmd->add_option("--max-range", o->max_range, "R, m (default: the sensor's, or 5 with --log)")
+      ->check(PositiveValue());
+  cmd->add_option("--log", o->log, "A localized sonar log instead of simulated rings");
+  cmd->add_option("--scene", o->scene, "The true map of --log (a scene of closed polylines)");
+  cmd->add_option("--start", o->start, "Start from this model file (default: the built-in one)");
+  cmd->add_flag("!--no-clear-mixture", o->fit.fit_clear_mixture,
+                "Keep one outlier mixture for every cone (the paper's model)");
+  cmd->add_flag("!--no-concave-corners", o->fit.fit_concave_corners,
+                "Keep corners' echoes a function of their distance alone (the paper's model)");
+  cmd->add_option("-o,--out", o->out, "Model file to write (priormap.sonar_model JSON)")
+      ->required();
+  cmd->callback([o] { RunFitSonarCommand(*o); });
+}
+
+}  // namespace priormap::app

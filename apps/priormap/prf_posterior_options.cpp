@@ -1,0 +1,99 @@
+#include "prf_posterior_options.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "cli_support.hpp"
+
+namespace priormap::app {
+namespace {
+
+// "STRIDE:STEPS", e.g. "16:1000000".
+prf::ThinnedBurnIn ParseStage(const std::string& text) {
+  const auto colon = text.find(':');
+  prf::ThinnedBurnIn stage;
+  const auto parse = [&](std::string_view part, auto* value) {
+    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), *value);
+    return error == std::errc() && end == part.data() + part.size();
+  };
+  if (colon == std::string::npos ||
+      !parse(std::string_view(text).substr(0, colon), &stage.stride) ||
+      !parse(std::string_view(text).substr(colon + 1), &stage.steps) || stage.stride < 1)
+    throw UserError(fmt::format(
+        "--thinned-burn-in: expected STRIDE:STEPS with a stride of at least 1 (e.g. 16:1000000), "
+        "got '{}'",
+        text));
+  return stage;
+}
+
+}  // namespace
+
+void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOptions& cli) {
+  cmd.add_option("--free-space", m.sampler.free_space,
+                 "β of a prior for free space (Paskin & Thrun, Sec. 4): a cost per m² of black; "
+                 "0 is the Arak process")
+      ->check(NonNegativeValue())
+      ->capture_default_str();
+  cmd.add_option("--orientation-weight", m.sampler.orientation.weight,
+                 "κ of a prior for edges along --orientation or across it: a cost per metre of "
+                 "edge at 45° to them; 0 is the Arak process")
+      ->check(NonNegativeValue())
+      ->capture_default_str();
+  cmd.add_option("--orientation", cli.orientation_deg,
+                 "θ₀ of the orientation prior (the building's axes), degrees")
+      ->capture_default_str();
+  cmd.add_option("--burn-in-temperature", m.burn_in_temperature,
+                 "Start the burn-in at this temperature, cooling to 1 over its first half")
+      ->check(CLI::Range(1.0, 1000.0))
+      ->capture_default_str();
+  cmd.add_option("--thinned-burn-in", cli.thinned_burn_in,
+                 "Burn-in stages on 1/STRIDE of the readings first, STEPS each (counted in the "
+                 "burn-in), e.g. 16:1000000,4:500000")
+      ->delimiter(',');
+}
+
+void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* m) {
+  m->sampler.orientation.angle = cli.orientation_deg * std::numbers::pi / 180.0;
+  if (!std::isfinite(m->sampler.orientation.angle))
+    throw UserError("--orientation must be a finite angle");
+  if (!cli.thinned_burn_in.empty()) {
+    m->thinned_burn_in.clear();
+    for (const std::string& text : cli.thinned_burn_in)
+      m->thinned_burn_in.push_back(ParseStage(text));
+  }
+  std::uint64_t steps = 0;
+  for (const prf::ThinnedBurnIn& stage : m->thinned_burn_in) steps += stage.steps;
+  if (steps > m->burn_in)
+    throw UserError(fmt::format(
+        "--thinned-burn-in: the stages take {} steps, more than the burn-in's {} (they are part "
+        "of it)",
+        steps, m->burn_in));
+}
+
+nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
+  nlohmann::json stages = nlohmann::json::array();
+  for (const prf::ThinnedBurnIn& stage : m.thinned_burn_in)
+    stages.push_back({{"stride", stage.stride}, {"steps", stage.steps}});
+  return {{"free_space", m.sampler.free_space},
+          {"orientation_weight", m.sampler.orientation.weight},
+          {"orientation_deg", m.sampler.orientation.angle * 180.0 / std::numbers::pi},
+          {"burn_in_temperature", m.burn_in_temperature},
+          {"thinned_burn_in", stages}};
+}
+
+void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
+  m->sampler.free_space = j.value("free_space", 0.0);
+  m->sampler.orientation.weight = j.value("orientation_weight", 0.0);
+  m->sampler.orientation.angle = j.value("orientation_deg", 0.0) * std::numbers::pi / 180.0;
+  m->burn_in_temperature = j.value("burn_in_temperature", 1.0);
+  m->thinned_burn_in.clear();
+  if (j.contains("thinned_burn_in"))
+    for (const nlohmann::json& stage : j.at("thinned_burn_in"))
+      m->thinned_burn_in.push_back(
+          {stage.at("stride").get<int>(), stage.at("steps").get<std::uint64_t>()});
+}
+
+}  // namespace priormap::app
