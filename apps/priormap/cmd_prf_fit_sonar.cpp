@@ -12,10 +12,10 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/log_io.hpp>
-#include <priormap/core/rng.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 #include <priormap/prf/sonar_fit.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
+#include <priormap/prf/sonar_study.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -69,7 +69,7 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
           fmt::format("scene '{}' has no waypoint path to drive the sonar along", name));
     const Log log =
         SimulateSonarLog(scene, ring, TrajectoryFromWaypoints(scene.waypoints, o.speed, o.rate),
-                         SplitMix64(o.seed ^ Fnv1a64(scene.name + "/" + ring.name)));
+                         prf::SonarStudyCaseSeed(o.seed, scene.name, ring.name));
     add(log, scene, ring.max_range);
   }
   (*about)["scenes"] = o.scenes;

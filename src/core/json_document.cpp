@@ -84,10 +84,8 @@ class JsonScanner {
     }
   }
 
-  // Reads a string starting at '"'; escapes other than \" and \\ are kept verbatim, which is
-  // enough to match the plain keys of priormap documents.
-  // A string as the JSON parser decodes it (escapes, \uXXXX and surrogate pairs as UTF-8), so
-  // that keys written with escapes are found under their decoded names.
+  // Reads a string starting at '"', as the JSON parser decodes it (escapes, \uXXXX and surrogate
+  // pairs as UTF-8), so that keys written with escapes are found under their decoded names.
   std::string ReadString() {
     std::string out;
     ++pos_;

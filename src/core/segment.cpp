@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/segment.hpp>
@@ -62,6 +63,28 @@ std::optional<Vec2> IntersectSegments(const Segment& s, const Segment& t) {
   const double v = Cross(w, r) / denominator;
   if (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0) return std::nullopt;
   return s.a + u * r;
+}
+
+std::optional<Segment> ClipSegmentToBox(const Segment& segment, const Box2& box) {
+  const Vec2& a = segment.a;
+  const Vec2 d = segment.b - a;
+  double t0 = 0.0, t1 = 1.0;
+  for (int k = 0; k < 2; ++k) {
+    for (const auto& [p, q] :
+         {std::pair{-d[k], a[k] - box.min()[k]}, std::pair{d[k], box.max()[k] - a[k]}}) {
+      if (p == 0.0) {
+        if (q < 0.0) return std::nullopt;
+        continue;
+      }
+      const double t = q / p;
+      if (p < 0.0)
+        t0 = std::max(t0, t);
+      else
+        t1 = std::min(t1, t);
+    }
+  }
+  if (t0 > t1) return std::nullopt;
+  return Segment{a + t0 * d, a + t1 * d};
 }
 
 }  // namespace priormap

@@ -10,28 +10,6 @@
 namespace priormap::prf {
 namespace {
 
-// The part of segment ab inside the box (Liang & Barsky), if any.
-std::optional<Segment> ClipToBox(const Vec2& a, const Vec2& b, const Box2& box) {
-  double t0 = 0.0, t1 = 1.0;
-  const Vec2 d = b - a;
-  for (int k = 0; k < 2; ++k) {
-    for (const auto& [p, q] :
-         {std::pair{-d[k], a[k] - box.min()[k]}, std::pair{d[k], box.max()[k] - a[k]}}) {
-      if (p == 0.0) {
-        if (q < 0.0) return std::nullopt;
-        continue;
-      }
-      const double t = q / p;
-      if (p < 0.0)
-        t0 = std::max(t0, t);
-      else
-        t1 = std::min(t1, t);
-    }
-  }
-  if (t0 > t1) return std::nullopt;
-  return Segment{a + t0 * d, a + t1 * d};
-}
-
 Box2 GridBox(const CellGrid& grid) {
   return {grid.origin, grid.origin + Vec2(grid.nx * grid.cell.x(), grid.ny * grid.cell.y())};
 }
@@ -64,7 +42,8 @@ EvaluationRaster MakeEvaluationRaster(const CellGrid& grid, const SceneTruth& tr
 void MarkCoverage(const LaserData& data, EvaluationRaster* raster) {
   const Box2 box = GridBox(raster->grid);
   for (const LaserBeam& beam : data.beams) {
-    const auto inside = ClipToBox(beam.origin, beam.origin + beam.range * beam.direction, box);
+    const auto inside =
+        ClipSegmentToBox({beam.origin, beam.origin + beam.range * beam.direction}, box);
     if (!inside) continue;
     WalkCells(raster->grid, inside->a, inside->b, [&](int cell, double, double) {
       raster->covered[static_cast<std::size_t>(cell)] = 1;

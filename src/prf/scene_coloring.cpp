@@ -1,9 +1,11 @@
 #include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include <priormap/core/segment.hpp>
 #include <priormap/prf/scene_coloring.hpp>
 
 namespace priormap::prf {
@@ -23,29 +25,6 @@ int SnapToSide(const Window& w, Vec2* p) {
   if (top) return p->y() = w.max.y(), 2;
   if (left) return p->x() = w.min.x(), 3;
   return -1;
-}
-
-// Liang-Barsky: the parameters [t0, t1] of the part of ab inside the window, if any.
-bool ClipToWindow(const Window& w, const Vec2& a, const Vec2& b, double* t0, double* t1) {
-  const Vec2 d = b - a;
-  *t0 = 0.0;
-  *t1 = 1.0;
-  const std::array<std::pair<double, double>, 4> bounds = {{{-d.x(), a.x() - w.min.x()},
-                                                            {d.x(), w.max.x() - a.x()},
-                                                            {-d.y(), a.y() - w.min.y()},
-                                                            {d.y(), w.max.y() - a.y()}}};
-  for (const auto& [p, q] : bounds) {
-    if (p == 0.0) {
-      if (q < 0.0) return false;
-      continue;
-    }
-    const double t = q / p;
-    if (p < 0.0)
-      *t0 = std::max(*t0, t);
-    else
-      *t1 = std::min(*t1, t);
-  }
-  return *t0 < *t1;
 }
 
 }  // namespace
@@ -83,10 +62,10 @@ std::variant<Coloring, std::string> SceneColoring(const Scene& scene, const Scen
       const std::size_t j = (i + 1) % n;
       const Vec2& a = polyline->points[i];
       const Vec2& b = polyline->points[j];
-      double t0 = 0.0, t1 = 1.0;
-      if (!ClipToWindow(window, a, b, &t0, &t1)) continue;
-      const int from = inside[i] >= 0 ? inside[i] : boundary_vertex(a + t0 * (b - a));
-      const int to = inside[j] >= 0 ? inside[j] : boundary_vertex(a + t1 * (b - a));
+      const std::optional<Segment> clipped = ClipSegmentToBox({a, b}, Box2(window.min, window.max));
+      if (!clipped || clipped->a == clipped->b) continue;  // outside, or only touching it
+      const int from = inside[i] >= 0 ? inside[i] : boundary_vertex(clipped->a);
+      const int to = inside[j] >= 0 ? inside[j] : boundary_vertex(clipped->b);
       if (from < 0 || to < 0)
         return fmt::format("surface {}: segment {} meets a corner of the window", s, i);
       edges.push_back({from, to});

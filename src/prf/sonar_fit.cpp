@@ -29,6 +29,8 @@ class Parameterization {
   Parameterization(const SonarModel& start, const SonarFitOptions& options)
       : start_(start), options_(options) {}
 
+  [[nodiscard]] bool fits_clear_mixture() const { return options_.fit_clear_mixture; }
+
   [[nodiscard]] std::vector<double> Encode(const SonarModel& m) const {
     std::vector<double> x = {m.corner_bias,
                              m.corner_per_m,
@@ -126,7 +128,6 @@ class Parameterization {
 struct Objective {
   std::span<const SonarFitReading> readings;
   const Parameterization* parameters;
-  bool fit_clear_mixture = true;
   int evaluations = 0;
 };
 
@@ -149,7 +150,7 @@ double NegativeLogLikelihood(unsigned, const double* x, double*, void* data) {
   const SonarModel model = objective->parameters->Decode(x);
   if (!model.Problem().empty()) return std::numeric_limits<double>::infinity();
   const double log_posterior = FitLogLikelihood(objective->readings, model) +
-                               MixtureLogPrior(model, objective->fit_clear_mixture);
+                               MixtureLogPrior(model, objective->parameters->fits_clear_mixture());
   return std::isfinite(log_posterior) ? -log_posterior : std::numeric_limits<double>::infinity();
 }
 
@@ -217,9 +218,7 @@ SonarFitResult FitSonarModel(std::span<const SonarFitReading> readings, const So
   SonarFitResult result;
   result.readings = readings.size();
   result.initial_log_likelihood = FitLogLikelihood(readings, start);
-  Objective objective{.readings = readings,
-                      .parameters = &parameters,
-                      .fit_clear_mixture = options.fit_clear_mixture};
+  Objective objective{.readings = readings, .parameters = &parameters};
   double minimum = NegativeLogLikelihood(n, x.data(), nullptr, &objective);
   for (int round = 0; round < options.rounds; ++round) {
     nlopt_opt opt = nlopt_create(NLOPT_LN_SBPLX, n);

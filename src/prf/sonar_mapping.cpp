@@ -31,13 +31,7 @@ std::uint64_t SonarDataFingerprint(const SonarData& data, const SonarModel& mode
     out.Put<std::uint8_t>(r.max_reading ? 1 : 0);
     out.Put<std::int32_t>(r.sensor);
   }
-  for (double v :
-       {model.corner_bias, model.corner_per_m, model.concave_corner_bias, model.face_bias,
-        model.face_per_m, model.face_per_rad_projection, model.face_per_rad_subtended,
-        model.max_return, model.sigma_relative, model.sigma_min, model.uniform_weight,
-        model.exponential_weight, model.max_weight, model.exponential_rate,
-        model.clear_uniform_weight, model.clear_exponential_weight, model.clear_max_weight})
-    out.Put(v);
+  for (const auto& [name, member] : kSonarModelParameters) out.Put(model.*member);
   return Fnv1a64(out.bytes());
 }
 

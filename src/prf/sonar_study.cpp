@@ -118,12 +118,16 @@ const SonarStudyMethod& SonarStudyCase::Method(const std::string& name) const {
   return methods.front();  // not reached
 }
 
+std::uint64_t SonarStudyCaseSeed(std::uint64_t study_seed, const std::string& scene,
+                                 const std::string& sensor) {
+  return SplitMix64(study_seed ^ Fnv1a64(scene + "/" + sensor));
+}
+
 SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& options) {
   const auto start = Clock::now();
   SonarStudyCase c;
   c.scene = scene.name;
-  // From the case's name, so that a case gives the same numbers in any study.
-  c.seed = SplitMix64(options.seed ^ Fnv1a64(scene.name + "/" + options.sensor.name));
+  c.seed = SonarStudyCaseSeed(options.seed, scene.name, options.sensor.name);
 
   const Log log = SimulateSonarLog(
       scene, options.sensor, TrajectoryFromWaypoints(scene.waypoints, options.speed, options.rate),

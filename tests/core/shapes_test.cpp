@@ -1,12 +1,12 @@
+#include <random>
+
+#include <gtest/gtest.h>
+
 #include <priormap/core/check.hpp>
 #include <priormap/core/circle.hpp>
 #include <priormap/core/polygon.hpp>
 #include <priormap/core/polyline.hpp>
 #include <priormap/core/segment.hpp>
-
-#include <gtest/gtest.h>
-
-#include <random>
 
 #include "testing/numeric_diff.hpp"
 
@@ -41,7 +41,10 @@ TEST(Segment, DistanceJacobianMatchesNumeric) {
     Row2 J;
     (void)PointSegmentDistance(p, s, &J);
     const Eigen::MatrixXd numeric = NumericJacobian(
-        [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return Eigen::VectorXd::Constant(1, PointSegmentDistance(v, s)); }, p);
+        [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+          return Eigen::VectorXd::Constant(1, PointSegmentDistance(v, s));
+        },
+        p);
     EXPECT_TRUE(testing::JacobiansMatch(J, numeric));
   }
 }
@@ -64,7 +67,8 @@ TEST(Segment, SignedLineDistanceJacobiansMatchNumeric) {
     x << p, a, b;
     const Eigen::MatrixXd numeric = NumericJacobian(
         [](const Eigen::VectorXd& v) -> Eigen::VectorXd {
-          return Eigen::VectorXd::Constant(1, SignedLineDistance(v.segment<2>(0), v.segment<2>(2), v.segment<2>(4)));
+          return Eigen::VectorXd::Constant(
+              1, SignedLineDistance(v.segment<2>(0), v.segment<2>(2), v.segment<2>(4)));
         },
         x);
     EXPECT_TRUE(testing::JacobiansMatch(J_p, numeric.block<1, 2>(0, 0)));
@@ -77,9 +81,33 @@ TEST(Segment, IntersectionOfCrossingSegments) {
   const auto hit = IntersectSegments({{0, 0}, {2, 2}}, {{0, 2}, {2, 0}});
   ASSERT_TRUE(hit);
   EXPECT_TRUE(hit->isApprox(Vec2(1, 1)));
-  EXPECT_FALSE(IntersectSegments({{0, 0}, {1, 0}}, {{0, 1}, {1, 1}}));   // parallel
-  EXPECT_FALSE(IntersectSegments({{0, 0}, {1, 0}}, {{2, -1}, {2, 1}}));  // would meet beyond the end
-  EXPECT_TRUE(IntersectSegments({{0, 0}, {1, 0}}, {{1, 0}, {1, 1}}));    // shared endpoint
+  EXPECT_FALSE(IntersectSegments({{0, 0}, {1, 0}}, {{0, 1}, {1, 1}}));  // parallel
+  EXPECT_FALSE(
+      IntersectSegments({{0, 0}, {1, 0}}, {{2, -1}, {2, 1}}));         // would meet beyond the end
+  EXPECT_TRUE(IntersectSegments({{0, 0}, {1, 0}}, {{1, 0}, {1, 1}}));  // shared endpoint
+}
+
+TEST(Segment, ClippedToABoxKeepsThePartInside) {
+  const Box2 box(Vec2(0, 0), Vec2(4, 2));
+  const auto across = ClipSegmentToBox({{-2, 1}, {6, 1}}, box);  // through both sides
+  ASSERT_TRUE(across);
+  EXPECT_TRUE(across->a.isApprox(Vec2(0, 1)));
+  EXPECT_TRUE(across->b.isApprox(Vec2(4, 1)));
+  const auto half = ClipSegmentToBox({{1, 1}, {1, 5}}, box);  // from inside out through the top
+  ASSERT_TRUE(half);
+  EXPECT_EQ(half->a, Vec2(1, 1));
+  EXPECT_TRUE(half->b.isApprox(Vec2(1, 2)));
+  const Segment inside{{1, 0.5}, {3, 1.5}};
+  const auto whole = ClipSegmentToBox(inside, box);
+  ASSERT_TRUE(whole);
+  EXPECT_EQ(whole->a, inside.a);
+  EXPECT_EQ(whole->b, inside.b);
+  EXPECT_FALSE(ClipSegmentToBox({{5, 0}, {6, 2}}, box));          // beside it
+  EXPECT_FALSE(ClipSegmentToBox({{-1, 3}, {5, 3}}, box));         // parallel, above
+  EXPECT_FALSE(ClipSegmentToBox({{3, 4}, {6, 1}}, box));          // past the corner
+  const auto touching = ClipSegmentToBox({{3, 3}, {5, 1}}, box);  // through the corner (4, 2)
+  ASSERT_TRUE(touching);
+  EXPECT_TRUE(touching->a.isApprox(touching->b));
 }
 
 TEST(Polyline, SegmentsLengthAndDistance) {

@@ -20,6 +20,7 @@
 #include <priormap/core/simulate.hpp>
 #include <priormap/prf/mapping.hpp>
 
+#include "mapping_testing.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap::prf {
@@ -109,36 +110,6 @@ TEST(BurnInStageAt, GoesThroughTheStagesThenUsesEveryReading) {
   EXPECT_EQ(BurnInStageAt(options, 0).stride, 1);
 }
 
-// A small simulated localized log's beams (as in checkpoint_test.cpp).
-std::shared_ptr<const LaserData> RoomData() {
-  const Scene scene = *BuiltinScene("l-room");
-  const RangeSensor sensor = *RangeSensor::Preset("lms200");
-  const Log log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, 0.5, 1.0), 3);
-  auto data = SelectBeams(
-      log, {.first_scan = 0, .end_scan = std::nullopt, .beam_step = 8, .max_range = 8.0});
-  return std::make_shared<const LaserData>(std::get<LaserData>(std::move(data)));
-}
-
-// Runs `options` in sessions of `steps` steps per chain, each resuming from the last one's
-// checkpoints, until the run completes: the last session's result and the number of sessions.
-std::pair<MappingResult, int> RunInSessions(const MappingData& data, const MappingOptions& options,
-                                            std::uint64_t steps) {
-  testing::TempDir dir;
-  MappingSession session{.checkpoint_directory = dir.path(),
-                         .checkpoint_every_s = 1e9,
-                         .resume = false,
-                         .stop_after_steps = steps,
-                         .stop = nullptr};
-  int sessions = 0;
-  MappingResult part;
-  do {
-    part = RunMapping(data, options, {}, session);
-    session.resume = true;
-    ++sessions;
-  } while (!part.complete && sessions < 20);
-  return {std::move(part), sessions};
-}
-
 MappingOptions TemperedRun() {
   MappingOptions options;
   options.sampler.p = 0.5;
@@ -159,7 +130,8 @@ TEST(TemperedMapping, AStoppedRunResumesToTheSameResult) {
 
   // Sessions of 7000 steps stop mid-block (7000, 14000, ...): the resumed chains must take up
   // the temperature of the block they are in.
-  const auto [part, sessions] = RunInSessions(data, TemperedRun(), 7000);
+  testing::TempDir dir;
+  const auto [part, sessions] = RunInSessions(data, TemperedRun(), 7000, dir.path());
   EXPECT_EQ(sessions, 7);  // 48000 steps a chain
   EXPECT_EQ(part.black_fraction, whole.black_fraction);
   EXPECT_EQ(part.white_fraction, whole.white_fraction);
@@ -213,7 +185,8 @@ TEST(ThinnedMapping, AStoppedRunResumesToTheSameResult) {
 
   // Sessions of 7000 steps stop inside each stage (7000, 14000, 21000, ...): the resumed chains
   // must take up the data term of the stage they are in.
-  const auto [part, sessions] = RunInSessions(data, ThinnedRun(), 7000);
+  testing::TempDir dir;
+  const auto [part, sessions] = RunInSessions(data, ThinnedRun(), 7000, dir.path());
   EXPECT_EQ(sessions, 6);  // 40000 steps a chain
   EXPECT_EQ(part.black_fraction, whole.black_fraction);
   for (std::size_t c = 0; c < 2; ++c) {
@@ -314,11 +287,7 @@ TEST(MappingStart, ACheckpointOfARunFromAnotherStartIsRefused) {
   options.chunk = 500;
   data.start = TriangleStart(data.window, options, 1.5);
   testing::TempDir dir;
-  const MappingSession stop{.checkpoint_directory = dir.path(),
-                            .checkpoint_every_s = 1e9,
-                            .resume = false,
-                            .stop_after_steps = 1000,
-                            .stop = nullptr};
+  const MappingSession stop = StoppingSession(dir.path(), 1000);
   ASSERT_FALSE(RunMapping(data, options, {}, stop).complete);
   MappingSession resume = stop;
   resume.resume = true;

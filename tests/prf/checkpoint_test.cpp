@@ -17,6 +17,7 @@
 #include <priormap/prf/mapping.hpp>
 #include <priormap/prf/sampler.hpp>
 
+#include "mapping_testing.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap::prf {
@@ -134,16 +135,6 @@ TEST(Checkpoint, AColoringOfAnotherWindowOrDamagedIsRefused) {
   EXPECT_GT(refused, 0);
 }
 
-// A small simulated localized log's beams.
-std::shared_ptr<const LaserData> RoomData() {
-  const Scene scene = *BuiltinScene("l-room");
-  const RangeSensor sensor = *RangeSensor::Preset("lms200");
-  const Log log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, 0.5, 1.0), 3);
-  auto data = SelectBeams(
-      log, {.first_scan = 0, .end_scan = std::nullopt, .beam_step = 8, .max_range = 8.0});
-  return std::make_shared<const LaserData>(std::get<LaserData>(std::move(data)));
-}
-
 TEST(Checkpoint, AStoppedMappingRunResumesToTheSameResult) {
   const auto data = RoomData();
   MappingOptions options;
@@ -159,18 +150,8 @@ TEST(Checkpoint, AStoppedMappingRunResumesToTheSameResult) {
   ASSERT_TRUE(whole.complete);
 
   testing::TempDir dir;
-  MappingSession session{.checkpoint_directory = dir.path(),
-                         .checkpoint_every_s = 1e9,
-                         .resume = false,
-                         .stop_after_steps = 5000,
-                         .stop = nullptr};
-  int sessions = 0;
-  MappingResult part;
-  do {
-    part = RunMapping(data, options, {}, session);
-    session.resume = true;
-    ++sessions;
-  } while (!part.complete && sessions < 20);
+  const auto [part, sessions] =
+      RunInSessions(LaserMappingData(data, options), options, 5000, dir.path());
   // 20000 steps a chain in 4 sessions of 5000, the 4th also anneals 5000 of the 6000 steps.
   EXPECT_EQ(sessions, 5);
   EXPECT_EQ(part.black_fraction, whole.black_fraction);
@@ -193,7 +174,9 @@ TEST(Checkpoint, AStoppedMappingRunResumesToTheSameResult) {
 
   // Checkpoints of other options are refused.
   options.sampler.p = 0.6;
-  EXPECT_THROW((void)RunMapping(data, options, {}, session), BinaryFormatError);
+  MappingSession resume = StoppingSession(dir.path(), 5000);
+  resume.resume = true;
+  EXPECT_THROW((void)RunMapping(data, options, {}, resume), BinaryFormatError);
 }
 
 }  // namespace

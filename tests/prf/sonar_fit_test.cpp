@@ -22,7 +22,6 @@
 #include <priormap/prf/coloring.hpp>
 #include <priormap/prf/sonar_data.hpp>
 #include <priormap/prf/sonar_fit.hpp>
-#include <priormap/prf/sonar_model_io.hpp>
 
 namespace priormap::prf {
 namespace {

@@ -89,23 +89,16 @@ TEST(SonarCorners, ConcaveMatchesTheAnglesAtEachVertexOfArakSamples) {
   // Each interior vertex of a coloring has exactly two edges, so every visible corner is
   // concave or not; the apex is inside the sector of the two edges exactly when the angles
   // from each edge to the apex add up to the angle between them.
-  const Window window{Vec2::Zero(), Vec2(6, 6)};
-  SamplerOptions options;
-  options.p = 3.0;
-  PrfSampler sampler(Coloring(window, 0.5), options, 31);
-  sampler.Run(60000);
-  const Coloring& coloring = sampler.coloring();
+  const Window& window = kArakSampleWindow;
+  const Coloring coloring = DenseArakSample(31);
   std::vector<TaggedSegment> segments;
   for (EdgeId e : coloring.edge_ids()) segments.push_back({coloring.EdgeSegment(e), e});
   std::mt19937_64 random(7);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   ConeSweep sweep;
   SonarView view;
   int concave = 0, convex = 0;
   for (int trial = 0; trial < 150; ++trial) {
-    const SonarCone cone =
-        Cone(Vec2(0.5 + 5.0 * unit(random), 0.5 + 5.0 * unit(random)), 2.0 * kPi * unit(random),
-             0.05 + 0.4 * unit(random), 0.5 + 3.0 * unit(random));
+    const SonarCone cone = RandomCone(random, 0.05, 0.4);
     sweep.Compute(cone, segments, window, &view);
     std::vector<ExpectedCorner> expected;
     for (const Vec2& corner : view.corners) {
@@ -174,12 +167,8 @@ TEST(SonarSeenFraction, IsTheShareOfTheConesAngleThatMeetsAFaceWithinR) {
 }
 
 TEST(SonarView, DoesNotDependOnTheOrderOfSegmentsConcaveCornersIncluded) {
-  const Window window{Vec2::Zero(), Vec2(6, 6)};
-  SamplerOptions options;
-  options.p = 3.0;
-  PrfSampler sampler(Coloring(window, 0.5), options, 32);
-  sampler.Run(60000);
-  const Coloring& coloring = sampler.coloring();
+  const Window& window = kArakSampleWindow;
+  const Coloring coloring = DenseArakSample(32);
   std::vector<TaggedSegment> segments;
   for (EdgeId e : coloring.edge_ids()) segments.push_back({coloring.EdgeSegment(e), e});
   std::mt19937_64 random(8);
@@ -188,9 +177,7 @@ TEST(SonarView, DoesNotDependOnTheOrderOfSegmentsConcaveCornersIncluded) {
   SonarView first, second;
   int concave = 0, partial = 0;
   for (int trial = 0; trial < 100; ++trial) {
-    const SonarCone cone =
-        Cone(Vec2(0.5 + 5.0 * unit(random), 0.5 + 5.0 * unit(random)), 2.0 * kPi * unit(random),
-             0.05 + 0.4 * unit(random), 0.5 + 3.0 * unit(random));
+    const SonarCone cone = RandomCone(random, 0.05, 0.4);
     sweep.Compute(cone, segments, window, &first);
     std::vector<TaggedSegment> shuffled = segments;
     std::shuffle(shuffled.begin(), shuffled.end(), random);

@@ -253,24 +253,17 @@ TEST(ConeSweep, TheViewDoesNotDependOnTheOrderOfSegmentsOrOfTheirEnds) {
 
 TEST(ConeSweep, MatchesBruteForceRaysOnArakSamplesInRandomCones) {
   // Dense samples of the Arak process: many edges, vertices and partial occlusions.
-  const Window window{Vec2::Zero(), Vec2(6, 6)};
-  SamplerOptions options;
-  options.p = 3.0;
-  PrfSampler sampler(Coloring(window, 0.5), options, 11);
-  sampler.Run(60000);
-  const Coloring& coloring = sampler.coloring();
+  const Window& window = kArakSampleWindow;
+  const Coloring coloring = DenseArakSample(11);
   std::vector<Segment> segments;
   for (EdgeId e : coloring.edge_ids()) segments.push_back(coloring.EdgeSegment(e));
   ASSERT_GT(segments.size(), 100u);
   std::mt19937_64 random(5);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   ConeSweep sweep;
   SonarView view;
   int corners_seen = 0, pieces_seen = 0;
   for (int trial = 0; trial < 60; ++trial) {
-    const SonarCone cone =
-        Cone(Vec2(0.5 + 5.0 * unit(random), 0.5 + 5.0 * unit(random)), 2.0 * kPi * unit(random),
-             0.03 + 0.5 * unit(random), 0.5 + 3.0 * unit(random));
+    const SonarCone cone = RandomCone(random, 0.03, 0.5);
     sweep.Compute(cone, Tagged(segments), window, &view);
     ExpectViewMatchesRays(segments, cone, view, 3001, window);
     if (HasFatalFailure()) return;
@@ -286,23 +279,16 @@ TEST(ConeSweep, SegmentsBeyondTheExtentDoNotChangeTheView) {
   // What lies wholly beyond the farthest point seen is hidden: leaving it out of the sweep
   // must give the same view, bit for bit (the likelihood's incremental updates rely on views
   // depending only on what they could see).
-  const Window window{Vec2::Zero(), Vec2(6, 6)};
-  SamplerOptions options;
-  options.p = 3.0;
-  PrfSampler sampler(Coloring(window, 0.5), options, 12);
-  sampler.Run(60000);
-  const Coloring& coloring = sampler.coloring();
+  const Window& window = kArakSampleWindow;
+  const Coloring coloring = DenseArakSample(12);
   std::vector<Segment> segments;
   for (EdgeId e : coloring.edge_ids()) segments.push_back(coloring.EdgeSegment(e));
   std::mt19937_64 random(6);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   ConeSweep sweep;
   SonarView all, near;
   int trimmed = 0;
   for (int trial = 0; trial < 200; ++trial) {
-    const SonarCone cone =
-        Cone(Vec2(0.5 + 5.0 * unit(random), 0.5 + 5.0 * unit(random)), 2.0 * kPi * unit(random),
-             0.03 + 0.5 * unit(random), 0.5 + 3.0 * unit(random));
+    const SonarCone cone = RandomCone(random, 0.03, 0.5);
     sweep.Compute(cone, Tagged(segments), window, &all);
     if (all.extent >= cone.max_range) continue;
     std::vector<TaggedSegment> kept;

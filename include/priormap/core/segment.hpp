@@ -42,4 +42,8 @@ struct Segment {
 /// (collinear overlapping segments give nullopt).
 [[nodiscard]] std::optional<Vec2> IntersectSegments(const Segment& s, const Segment& t);
 
+/// The part of `segment` inside the closed box (Liang & Barsky), if any; a segment that only
+/// touches the box gives a single point (a == b).
+[[nodiscard]] std::optional<Segment> ClipSegmentToBox(const Segment& segment, const Box2& box);
+
 }  // namespace priormap

@@ -14,6 +14,7 @@
 /// The observation space is [0, R) plus the max-reading atom; the density integrates to one
 /// over it for every set of features (tests/prf/sonar_model_test.cpp).
 
+#include <array>
 #include <span>
 #include <string>
 #include <vector>
@@ -86,5 +87,31 @@ struct SonarModel {
                                      std::span<const SonarFeature> features, double max_range,
                                      double seen_fraction = 1.0) const;
 };
+
+/// A parameter of SonarModel and its name (in model files, sonar_model_io.hpp).
+struct SonarModelParameter {
+  const char* name;
+  double SonarModel::*member;
+};
+/// Every parameter of SonarModel, in a fixed order (that of the files and of fingerprints).
+inline constexpr std::array<SonarModelParameter, 17> kSonarModelParameters = {{
+    {"corner_bias", &SonarModel::corner_bias},
+    {"corner_per_m", &SonarModel::corner_per_m},
+    {"concave_corner_bias", &SonarModel::concave_corner_bias},
+    {"face_bias", &SonarModel::face_bias},
+    {"face_per_m", &SonarModel::face_per_m},
+    {"face_per_rad_projection", &SonarModel::face_per_rad_projection},
+    {"face_per_rad_subtended", &SonarModel::face_per_rad_subtended},
+    {"max_return", &SonarModel::max_return},
+    {"sigma_relative", &SonarModel::sigma_relative},
+    {"sigma_min", &SonarModel::sigma_min},
+    {"uniform_weight", &SonarModel::uniform_weight},
+    {"exponential_weight", &SonarModel::exponential_weight},
+    {"max_weight", &SonarModel::max_weight},
+    {"exponential_rate", &SonarModel::exponential_rate},
+    {"clear_uniform_weight", &SonarModel::clear_uniform_weight},
+    {"clear_exponential_weight", &SonarModel::clear_exponential_weight},
+    {"clear_max_weight", &SonarModel::clear_max_weight},
+}};
 
 }  // namespace priormap::prf

@@ -81,6 +81,12 @@ struct SonarStudyResult {
   double wall_time_s = 0.0;
 };
 
+/// The seed of a case's rings, from the study seed and the case's name (scene and sensor), so
+/// that a case gives the same rings in any study; `prf fit-sonar --seed S` simulates the rings
+/// `sonar-study --seed S` would score.
+[[nodiscard]] std::uint64_t SonarStudyCaseSeed(std::uint64_t study_seed, const std::string& scene,
+                                               const std::string& sensor);
+
 /// Precondition: options.Problem() is empty.
 [[nodiscard]] SonarStudyCase RunSonarStudyCase(const Scene& scene,
                                                const SonarStudyOptions& options);
