@@ -455,6 +455,11 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["acceptance"] = AcceptanceJson(total);
   summary["edges"] = nlohmann::json::array();
   for (const prf::ChainSummary& chain : r.chains) summary["edges"].push_back(chain.edges);
+  if (o.mapping.burn_in_replicas > 1) {
+    summary["swap_rates"] = nlohmann::json::array();
+    for (const prf::ChainSummary& chain : r.chains)
+      summary["swap_rates"].push_back(prf::SwapRates(chain.swaps));
+  }
   std::string outputs =
       "summary.json, posterior.png, posterior.pgm, posterior.yaml, not_white.png, trace.csv";
   if (r.map) {

@@ -49,6 +49,20 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "Start the burn-in at this temperature, cooling to 1 over its first half")
       ->check(CLI::Range(1.0, 1000.0))
       ->capture_default_str();
+  cmd.add_option("--burn-in-replicas", m.burn_in_replicas,
+                 "Replica exchange through the burn-in: replicas per chain, at temperatures "
+                 "from 1 to --replica-temperature, swapping states every 1000 steps (1: none; "
+                 "the burn-in costs this many times its steps)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  cmd.add_option("--replica-temperature", m.replica_temperature,
+                 "The hottest replica's temperature (the ladder is geometric from 1)")
+      ->check(CLI::Range(1.0, 1000.0))
+      ->capture_default_str();
+  cmd.add_option("--replica-steps", m.replica_steps,
+                 "The replicas run for this many steps of the burn-in, then the chain goes on "
+                 "alone (0: the whole burn-in)")
+      ->capture_default_str();
   cmd.add_option("--thinned-burn-in", cli.thinned_burn_in,
                  "Burn-in stages on 1/STRIDE of the readings first, STEPS each (counted in the "
                  "burn-in), e.g. 16:1000000,4:500000")
@@ -64,6 +78,11 @@ void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* 
     for (const std::string& text : cli.thinned_burn_in)
       m->thinned_burn_in.push_back(ParseStage(text));
   }
+  if (m->burn_in_replicas > 1 && !(m->replica_temperature > 1.0))
+    throw UserError("--replica-temperature must be above 1 for more than one replica");
+  if (m->replica_steps > m->burn_in)
+    throw UserError(fmt::format("--replica-steps: {} steps, more than the burn-in's {}",
+                                m->replica_steps, m->burn_in));
   std::uint64_t steps = 0;
   for (const prf::ThinnedBurnIn& stage : m->thinned_burn_in) steps += stage.steps;
   if (steps > m->burn_in)
@@ -81,6 +100,9 @@ nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
           {"orientation_weight", m.sampler.orientation.weight},
           {"orientation_deg", m.sampler.orientation.angle * 180.0 / std::numbers::pi},
           {"burn_in_temperature", m.burn_in_temperature},
+          {"burn_in_replicas", m.burn_in_replicas},
+          {"replica_temperature", m.replica_temperature},
+          {"replica_steps", m.replica_steps},
           {"thinned_burn_in", stages}};
 }
 
@@ -89,6 +111,9 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->sampler.orientation.weight = j.value("orientation_weight", 0.0);
   m->sampler.orientation.angle = j.value("orientation_deg", 0.0) * std::numbers::pi / 180.0;
   m->burn_in_temperature = j.value("burn_in_temperature", 1.0);
+  m->burn_in_replicas = j.value("burn_in_replicas", 1);
+  m->replica_temperature = j.value("replica_temperature", 4.0);
+  m->replica_steps = j.value("replica_steps", std::uint64_t{0});
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))

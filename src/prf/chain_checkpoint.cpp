@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include <priormap/core/binary_io.hpp>
@@ -9,7 +11,8 @@ namespace priormap::prf {
 namespace {
 
 // 2: the coloring statistics of the orientation prior, the black area of the free-space one.
-constexpr std::uint32_t kFormatVersion = 2;
+// 3: a chain's burn-in replicas and swap counts.
+constexpr std::uint32_t kFormatVersion = 3;
 constexpr std::string_view kChainKind = "PRFCHAIN";
 constexpr std::string_view kAnnealKind = "PRFANNEA";
 
@@ -78,6 +81,12 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
     out.PutString("free space");
     out.Put(s.free_space);
   }
+  if (options.burn_in_replicas != 1) {
+    out.PutString("burn-in replicas");
+    out.Put<std::int32_t>(options.burn_in_replicas);
+    out.Put(options.replica_temperature);
+    out.Put(options.replica_steps);
+  }
   for (double w : s.weights.weight) out.Put(w);
   out.Put(s.birth_scale);
   out.Put(s.vertex_birth_width);
@@ -105,34 +114,55 @@ std::filesystem::path AnnealCheckpointPath(const std::filesystem::path& director
 }
 
 void SaveChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
-                         const PrfSampler& sampler, const PosteriorEstimates* estimates,
-                         const ChainSummary& summary) {
+                         const PrfSampler& sampler, std::span<const PrfSampler* const> hot,
+                         const PosteriorEstimates* estimates, const ChainSummary& summary) {
   BinaryWriter out;
   out.Put(fingerprint);
   sampler.Save(out);
+  out.Put<std::uint64_t>(hot.size());
+  for (const PrfSampler* replica : hot) replica->Save(out);
   out.Put<std::uint8_t>(estimates ? 1 : 0);
   if (estimates) estimates->Save(out);
   out.PutVector(summary.log_posterior_trace);
   out.Put<std::uint64_t>(summary.point_traces.size());
   for (const std::vector<double>& trace : summary.point_traces) out.PutVector(trace);
+  out.Put<std::uint64_t>(summary.swaps.size());
+  for (const SwapCounter& swaps : summary.swaps) {
+    out.Put(swaps.proposed);
+    out.Put(swaps.accepted);
+  }
   WriteSealed(path, kChainKind, out);
 }
 
 LoadedChain LoadChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
                                 const Window& window, const MappingOptions& options,
-                                std::unique_ptr<DataTerm> data, PosteriorEstimates* estimates,
-                                ChainSummary* summary) {
+                                const std::function<std::unique_ptr<DataTerm>()>& make_data,
+                                PosteriorEstimates* estimates, ChainSummary* summary) {
   const std::string bytes = ReadWhole(path);
   BinaryReader in = OpenPayload(bytes, kChainKind, path, fingerprint);
-  SamplerOptions sampler_options = options.sampler;
   LoadedChain chain;
-  chain.sampler = PrfSampler::Load(in, window, options.cell_size, sampler_options, std::move(data));
+  chain.sampler = PrfSampler::Load(in, window, options.cell_size, options.sampler, make_data());
+  // K − 1: the most hot replicas, and the pairs of adjacent rungs.
+  const auto pairs = static_cast<std::uint64_t>(std::max(options.burn_in_replicas, 1)) - 1;
+  const std::uint64_t hot = in.GetCount(pairs, "replicas");
+  for (std::uint64_t k = 0; k < hot; ++k) {
+    chain.hot.push_back(
+        PrfSampler::Load(in, window, options.cell_size, options.sampler, make_data()));
+    if (chain.hot.back()->steps() != chain.sampler->steps())
+      in.Fail("a replica out of step with its chain");
+  }
   chain.recording = in.Get<std::uint8_t>() != 0;
   if (chain.recording) estimates->Load(in);
   summary->log_posterior_trace = in.GetVector<double>();
   if (in.Get<std::uint64_t>() != summary->point_traces.size())
     in.Fail("traces of another set of points");
   for (std::vector<double>& trace : summary->point_traces) trace = in.GetVector<double>();
+  summary->swaps.resize(in.GetCount(pairs, "swap counters"));
+  for (SwapCounter& swaps : summary->swaps) {
+    swaps.proposed = in.Get<std::uint64_t>();
+    swaps.accepted = in.Get<std::uint64_t>();
+    if (swaps.accepted > swaps.proposed) in.Fail("more swaps accepted than offered");
+  }
   if (!in.AtEnd()) in.Fail("data after the chain's state");
   return chain;
 }

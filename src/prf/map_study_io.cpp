@@ -218,6 +218,9 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
                   {"orientation_weight", m.sampler.orientation.weight},
                   {"orientation_rad", m.sampler.orientation.angle},
                   {"burn_in_temperature", m.burn_in_temperature},
+                  {"burn_in_replicas", m.burn_in_replicas},
+                  {"replica_temperature", m.replica_temperature},
+                  {"replica_steps", m.replica_steps},
                   {"thinned_burn_in", thinned},
                   {"sonar_model", nlohmann::json::parse(FormatSonarModel(options.model))}};
   j["wall_time_s"] = study.wall_time_s;
@@ -225,7 +228,9 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
   for (const SonarStudyCase& c : study.cases) {
     nlohmann::json chains = nlohmann::json::array();
     for (const ChainSummary& chain : c.prf.chains)
-      chains.push_back({{"log_posterior", chain.log_posterior}, {"edges", chain.edges}});
+      chains.push_back({{"log_posterior", chain.log_posterior},
+                        {"edges", chain.edges},
+                        {"swap_rates", SwapRates(chain.swaps)}});
     nlohmann::json methods = nlohmann::json::object();
     for (const SonarStudyMethod& method : c.methods) {
       methods[method.method] = ClassificationJson(method.classification);

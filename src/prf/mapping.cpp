@@ -133,6 +133,17 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                  "these data offer no thinned data term for the thinned burn-in");
   PRIORMAP_CHECK(run_options.trace_every >= 1 && run_options.chunk >= 1,
                  "positive trace and chunk");
+  PRIORMAP_CHECK(run_options.burn_in_replicas >= 1, "at least one replica");
+  // The ladder's temperatures, which also checks the top one.
+  const std::vector<double> ladder_temperatures =
+      GeometricLadder(run_options.burn_in_replicas, run_options.replica_temperature);
+  PRIORMAP_CHECK(run_options.burn_in_replicas == 1 || run_options.replica_temperature > 1.0,
+                 "the replicas' top temperature must be above 1");
+  PRIORMAP_CHECK(run_options.replica_steps <= run_options.burn_in,
+                 "the replicas' steps must fit in the burn-in");
+  // Where the ladders end and the chains go on alone.
+  const std::uint64_t ladder_end =
+      run_options.replica_steps == 0 ? run_options.burn_in : run_options.replica_steps;
   const auto start = Clock::now();
   MappingResult result;
   result.window = data.window;
@@ -161,7 +172,19 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   sampler_options.temperature = 1.0;
 
   // Chains from their checkpoints (or afresh), before any runs, so that progress counts them.
+  // A chain in a replica-exchange burn-in is its ladder's cold replica (samplers[c] is then
+  // empty) until the burn-in ends.
   std::vector<std::unique_ptr<PrfSampler>> samplers(chains);
+  std::vector<std::optional<ReplicaLadder>> ladders(chains);
+  const auto chain_seed = [&](std::size_t c) { return SplitMix64(options.seed + c); };
+  const auto make_ladder = [&](std::size_t c, std::vector<std::unique_ptr<PrfSampler>> hot) {
+    std::vector<std::unique_ptr<PrfSampler>> replicas;
+    replicas.push_back(std::move(samplers[c]));
+    for (auto& replica : hot) replicas.push_back(std::move(replica));
+    ladders[c].emplace(std::move(replicas), ladder_temperatures, SplitMix64(chain_seed(c) ^ 1),
+                       result.chains[c].swaps);
+  };
+  const std::size_t hot_replicas = ladder_temperatures.size() - 1;
   std::vector<std::unique_ptr<PosteriorEstimates>> estimates(chains);
   // Bytes, not vector<bool>'s packed bits: the chains write their flags from parallel threads.
   std::vector<std::uint8_t> recording(chains, 0);
@@ -173,19 +196,31 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     const auto path = ChainCheckpointPath(checkpoints, c);
     if (session.resume && std::filesystem::exists(path)) {
       LoadedChain loaded =
-          LoadChainCheckpoint(path, fingerprint, result.window, options, make_likelihood(),
+          LoadChainCheckpoint(path, fingerprint, result.window, options, make_likelihood,
                               estimates[c].get(), &result.chains[c]);
-      if (loaded.sampler->steps() > options.burn_in + options.samples)
+      const std::uint64_t steps = loaded.sampler->steps();
+      if (steps > options.burn_in + options.samples)
         throw BinaryFormatError(path.string() + ": a chain past the run's end");
+      if (loaded.hot.size() != (steps < ladder_end ? hot_replicas : 0))
+        throw BinaryFormatError(path.string() + ": a chain with the wrong number of replicas");
       samplers[c] = std::move(loaded.sampler);
       recording[c] = loaded.recording ? 1 : 0;
       if (recording[c]) samplers[c]->ContinueRecordingInto(estimates[c].get());
+      if (!loaded.hot.empty()) make_ladder(c, std::move(loaded.hot));
     } else {
-      samplers[c] = std::make_unique<PrfSampler>(
-          data.start ? *data.start : Coloring(result.window, options.cell_size), sampler_options,
-          SplitMix64(options.seed + c), make_likelihood());
+      const auto fresh = [&](std::uint64_t seed) {
+        return std::make_unique<PrfSampler>(
+            data.start ? *data.start : Coloring(result.window, options.cell_size), sampler_options,
+            seed, make_likelihood());
+      };
+      samplers[c] = fresh(chain_seed(c));
+      if (hot_replicas > 0 && ladder_end > 0) {
+        std::vector<std::unique_ptr<PrfSampler>> hot;
+        for (std::size_t k = 1; k <= hot_replicas; ++k) hot.push_back(fresh(chain_seed(c) + k));
+        make_ladder(c, std::move(hot));
+      }
     }
-    session_start[c] = samplers[c]->steps();
+    session_start[c] = ladders[c] ? ladders[c]->cold().steps() : samplers[c]->steps();
   });
 
   const std::uint64_t end = options.burn_in + options.samples;
@@ -194,6 +229,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   for (std::size_t c = 0; c < chains; ++c) resumed += std::min(session_start[c], end);
   result.resumed_steps = resumed;
   std::atomic<std::uint64_t> steps_done{resumed};
+  std::atomic<std::uint64_t> hot_steps{0};  // of the replicas other than the chains, this session
   std::atomic<bool> stopped{false};
   const std::uint64_t steps_total = chains * end;
   const auto stop_requested = [&] { return session.stop && session.stop->load(); };
@@ -205,24 +241,36 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   // The stride of each chain's data term: samplers are made or restored with every reading.
   std::vector<int> strides(chains, 1);
   tbb::parallel_for(std::size_t{0}, chains, [&](std::size_t c) {
-    PrfSampler& sampler = *samplers[c];
+    std::optional<ReplicaLadder>& ladder = ladders[c];
+    // The chain: its ladder's cold replica while it has one (whose sampler changes with swaps).
+    const auto chain = [&]() -> PrfSampler& { return ladder ? ladder->cold() : *samplers[c]; };
     ChainSummary& summary = result.chains[c];
     auto last_checkpoint = Clock::now();
     const auto checkpoint = [&](bool now) {
       if (checkpoints.empty()) return;
       if (!now && Seconds(last_checkpoint) < session.checkpoint_every_s) return;
-      SaveChainCheckpoint(ChainCheckpointPath(checkpoints, c), fingerprint, sampler,
+      std::vector<const PrfSampler*> hot;
+      if (ladder)
+        for (std::size_t k = 1; k < ladder->replicas().size(); ++k)
+          hot.push_back(ladder->replicas()[k].get());
+      SaveChainCheckpoint(ChainCheckpointPath(checkpoints, c), fingerprint, chain(), hot,
                           recording[c] ? estimates[c].get() : nullptr, summary);
       last_checkpoint = Clock::now();
     };
-    // The step count is the chain's clock: where the burn-in ends, traces are taken and the
-    // session stops depend on it alone, so chunks and restarts do not change the course.
-    while (sampler.steps() < end) {
-      const std::uint64_t s = sampler.steps();
+    // The step count is the chain's clock: where the burn-in ends, traces are taken, replicas
+    // exchange and the session stops depend on it alone, so chunks and restarts do not change
+    // the course.
+    while (chain().steps() < end) {
+      const std::uint64_t s = chain().steps();
       if (stop_requested() || budget_left(session_start[c], s) == 0) {
         stopped = true;
         break;
       }
+      if (s >= ladder_end && ladder) {
+        samplers[c] = std::move(*ladder).TakeCold();
+        ladder.reset();
+      }
+      PrfSampler& sampler = chain();
       if (s >= options.burn_in && !recording[c]) {
         sampler.RecordInto(estimates[c].get());
         recording[c] = 1;
@@ -230,14 +278,26 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
       // The data of this step's stage (thinned in the first stages of the burn-in).
       const BurnInStage stage = BurnInStageAt(options, s);
       if (stage.stride != strides[c]) {
-        sampler.ReplaceDataTerm(stage.stride == 1 ? make_likelihood()
-                                                  : data.make_thinned_data_term(stage.stride));
+        const auto replace = [&](PrfSampler& replica) {
+          replica.ReplaceDataTerm(stage.stride == 1 ? make_likelihood()
+                                                    : data.make_thinned_data_term(stage.stride));
+        };
+        if (ladder)
+          for (const auto& replica : ladder->replicas()) replace(*replica);
+        else
+          replace(sampler);
         strides[c] = stage.stride;
       }
       std::uint64_t target = std::min({end, s + options.chunk, stage.end});
       if (s < options.burn_in) {
         target = std::min(target, options.burn_in);
-        sampler.set_temperature(BurnInTemperature(options, s));
+        const double temperature = BurnInTemperature(options, s);
+        if (ladder) {
+          ladder->set_scale(temperature);
+          target = std::min({target, (s / kExchangeEvery + 1) * kExchangeEvery, ladder_end});
+        } else {
+          sampler.set_temperature(temperature);
+        }
         target = std::min(target, BurnInTemperatureEnd(options, s));
       } else {
         sampler.set_temperature(1.0);
@@ -246,12 +306,21 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                           options.burn_in + (into / options.trace_every + 1) * options.trace_every);
       }
       target = s + std::min(target - s, budget_left(session_start[c], s));
-      sampler.Run(target - s);
+      if (ladder) {
+        ladder->Run(target - s);
+        hot_steps += (ladder->replicas().size() - 1) * (target - s);
+        if (target % kExchangeEvery == 0) {
+          ladder->Exchange(target / kExchangeEvery);
+          summary.swaps = ladder->swaps();
+        }
+      } else {
+        sampler.Run(target - s);
+      }
       if (target > options.burn_in && (target - options.burn_in) % options.trace_every == 0) {
-        summary.log_posterior_trace.push_back(sampler.LogPosterior());
+        summary.log_posterior_trace.push_back(chain().LogPosterior());
         for (std::size_t k = 0; k < result.trace_points.size(); ++k)
           summary.point_traces[k].push_back(
-              sampler.coloring().ColourAt(result.trace_points[k]) == Colour::kBlack ? 1.0 : 0.0);
+              chain().coloring().ColourAt(result.trace_points[k]) == Colour::kBlack ? 1.0 : 0.0);
       }
       steps_done += target - s;
       if (progress) {
@@ -260,11 +329,17 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                   .steps_total = steps_total,
                   .steps_resumed = resumed,
                   .seconds = Seconds(start),
-                  .log_posterior = sampler.LogPosterior(),
-                  .counters = sampler.counters()});
+                  .log_posterior = chain().LogPosterior(),
+                  .counters = chain().counters()});
       }
       checkpoint(false);
     }
+    // A ladder to the run's end (a burn-in without samples): the chain goes on alone.
+    if (ladder && chain().steps() >= ladder_end) {
+      samplers[c] = std::move(*ladder).TakeCold();
+      ladder.reset();
+    }
+    PrfSampler& sampler = chain();
     // A burn-in thinned to its end, with no samples after it: back to every reading.
     if (strides[c] != 1 && sampler.steps() >= options.burn_in) {
       sampler.ReplaceDataTerm(make_likelihood());
@@ -280,7 +355,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     summary.edges = sampler.coloring().stats().edges;
   });
   result.sampling_time_s = Seconds(start);
-  result.proposals = steps_done.load() - resumed;
+  result.proposals = steps_done.load() - resumed + hot_steps.load();
   if (stopped) {
     result.complete = false;
     result.wall_time_s = Seconds(start);

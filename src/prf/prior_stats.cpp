@@ -59,7 +59,21 @@ PriorStatsResult RunPriorStats(const PriorStatsOptions& options) {
   const double expected_edges = ExpectedEdges(options.p, window);
   const int cells_per_side =
       std::clamp(static_cast<int>(std::ceil(std::sqrt(expected_edges))), 2, 64);
-  PrfSampler sampler(Coloring(window, side / cells_per_side), sampler_options, options.seed);
+  // The chain, or the replicas of a ladder (the first seeded as the lone chain would be).
+  const std::vector<double> temperatures =
+      options.ladder.empty() ? std::vector<double>{1.0} : options.ladder;
+  std::vector<std::unique_ptr<PrfSampler>> replicas;
+  for (std::size_t k = 0; k < temperatures.size(); ++k)
+    replicas.push_back(
+        std::make_unique<PrfSampler>(Coloring(window, side / cells_per_side), sampler_options,
+                                     k == 0 ? options.seed : SplitMix64(options.seed + k)));
+  ReplicaLadder ladder(std::move(replicas), temperatures, SplitMix64(options.seed ^ 0x5eed));
+  ladder.set_scale(options.sampler.temperature);  // a lone chain keeps its temperature
+  std::uint64_t round = 0;
+  const auto advance = [&](std::uint64_t steps) {
+    ladder.Run(steps);
+    ladder.Exchange(round++);
+  };
 
   Rng placement = Rng::ForStream(options.seed, 1);
   std::vector<Vec2> points;
@@ -70,15 +84,16 @@ PriorStatsResult RunPriorStats(const PriorStatsOptions& options) {
     for (int i = 0; i < options.segments_per_distance; ++i)
       segments[k].push_back(PlaceSegment(window, options.distances[k] * side, placement));
 
-  sampler.Run(options.burn_in);
+  for (std::uint64_t done = 0; done < options.burn_in; done += options.thin)
+    advance(std::min(options.thin, options.burn_in - done));
   const std::size_t n = options.samples;
   std::vector<double> edges(n), black(n);
   std::vector<std::vector<double>> same(segments.size(), std::vector<double>(n)),
       crossings(segments.size(), std::vector<double>(n)),
       none(segments.size(), std::vector<double>(n));
   for (std::size_t i = 0; i < n; ++i) {
-    sampler.Run(options.thin);
-    const Coloring& coloring = sampler.coloring();
+    advance(options.thin);
+    const Coloring& coloring = ladder.cold().coloring();
     edges[i] = coloring.stats().edges;
     int black_points = 0;
     for (const Vec2& q : points) black_points += coloring.ColourAt(q) == Colour::kBlack;
@@ -113,7 +128,8 @@ PriorStatsResult RunPriorStats(const PriorStatsOptions& options) {
     stats.expected_no_crossing = std::exp(-stats.expected_crossings);
     result.by_distance.push_back(stats);
   }
-  result.counters = sampler.counters();
+  result.counters = ladder.cold().counters();
+  result.swaps = ladder.swaps();
   result.steps = options.burn_in + options.thin * options.samples;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

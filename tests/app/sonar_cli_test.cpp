@@ -188,6 +188,10 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                                         "3",
                                         "--thinned-burn-in",
                                         "4:1000,2:1000",
+                                        "--burn-in-replicas",
+                                        "3",
+                                        "--replica-temperature",
+                                        "4",
                                         "--burn-in",
                                         "3000",
                                         "--samples",
@@ -205,7 +209,9 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   const json posterior = Summary("prf")["posterior"];
   EXPECT_EQ(posterior["free_space"], 0.3);
   EXPECT_EQ(posterior["thinned_burn_in"].size(), 2u);
-  // Stopped in the second thinned stage and resumed: the same map.
+  EXPECT_EQ(posterior["burn_in_replicas"], 3);
+  EXPECT_EQ(Summary("prf")["swap_rates"][0].size(), 2u);  // one chain, two pairs of rungs
+  // Stopped in the second thinned stage, replicas and all, and resumed: the same map.
   auto stopped = run;
   for (const char* arg : {"--stop-after-steps", "1500", "-o", "resumed"}) stopped.push_back(arg);
   ASSERT_EQ(Run(stopped).status, 0);
@@ -219,6 +225,10 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                           "1000", "-o", "b"})
                   .err,
               HasSubstr("more than the burn-in's 1000"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--burn-in-replicas", "2",
+                          "--replica-temperature", "1", "-o", "b"})
+                  .err,
+              HasSubstr("--replica-temperature must be above 1"));
   WriteText("bad.json",
             "{\"format\": \"priormap.sonar_model\", \"version\": 1,\n \"face_bias\": \"x\"}");
   EXPECT_THAT(

@@ -4,6 +4,7 @@
 // runs stopped and resumed from checkpoints (across changes of temperature and of data term)
 // ending as the uninterrupted run; what a run records after a thinned burn-in; chains starting
 // where they are told, and checkpoints of a run from another start refused.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <memory>
@@ -110,42 +111,110 @@ TEST(BurnInStageAt, GoesThroughTheStagesThenUsesEveryReading) {
   EXPECT_EQ(BurnInStageAt(options, 0).stride, 1);
 }
 
-MappingOptions TemperedRun() {
+// The runs of the resume tests: two chains on RoomData at p = 0.5, traced every 1000 steps,
+// in chunks of 3000.
+MappingOptions SmallRun(std::uint64_t seed, std::uint64_t burn_in, std::uint64_t samples) {
   MappingOptions options;
   options.sampler.p = 0.5;
-  options.burn_in = 40000;  // at 4, then 2 (block 10000), then 1 from 20000 on
-  options.burn_in_temperature = 4.0;
-  options.samples = 8000;
+  options.burn_in = burn_in;
+  options.samples = samples;
   options.chains = 2;
-  options.seed = 9;
+  options.seed = seed;
   options.trace_every = 1000;
   options.chunk = 3000;
   return options;
 }
 
-TEST(TemperedMapping, AStoppedRunResumesToTheSameResult) {
-  const MappingData data = LaserMappingData(RoomData(), TemperedRun());
-  const MappingResult whole = RunMapping(data, TemperedRun(), {});
-  ASSERT_TRUE(whole.complete);
-
-  // Sessions of 7000 steps stop mid-block (7000, 14000, ...): the resumed chains must take up
-  // the temperature of the block they are in.
+// Runs `options` whole and in sessions of `steps` steps per chain, resumed from checkpoints,
+// expects `sessions` sessions and the same estimates, traces and swap counts; returns the whole
+// run.
+MappingResult ExpectResumesExactly(const MappingData& data, const MappingOptions& options,
+                                   std::uint64_t steps, int sessions) {
+  const MappingResult whole = RunMapping(data, options, {});
+  EXPECT_TRUE(whole.complete);
   testing::TempDir dir;
-  const auto [part, sessions] = RunInSessions(data, TemperedRun(), 7000, dir.path());
-  EXPECT_EQ(sessions, 7);  // 48000 steps a chain
+  const auto [part, count] = RunInSessions(data, options, steps, dir.path());
+  EXPECT_EQ(count, sessions);
   EXPECT_EQ(part.black_fraction, whole.black_fraction);
   EXPECT_EQ(part.white_fraction, whole.white_fraction);
-  for (std::size_t c = 0; c < 2; ++c) {
-    EXPECT_EQ(part.chains[c].log_posterior_trace, whole.chains[c].log_posterior_trace);
-    EXPECT_EQ(part.chains[c].point_traces, whole.chains[c].point_traces);
-    EXPECT_EQ(part.chains[c].log_posterior, whole.chains[c].log_posterior);
+  for (std::size_t c = 0; c < whole.chains.size(); ++c) {
+    const ChainSummary& a = part.chains[c];
+    const ChainSummary& b = whole.chains[c];
+    EXPECT_EQ(a.log_posterior_trace, b.log_posterior_trace);
+    EXPECT_EQ(a.point_traces, b.point_traces);
+    EXPECT_EQ(a.log_posterior, b.log_posterior);
+    EXPECT_EQ(a.swaps.size(), b.swaps.size());
+    for (std::size_t k = 0; k < std::min(a.swaps.size(), b.swaps.size()); ++k) {
+      EXPECT_EQ(a.swaps[k].proposed, b.swaps[k].proposed);
+      EXPECT_EQ(a.swaps[k].accepted, b.swaps[k].accepted);
+    }
   }
+  return whole;
+}
+
+MappingOptions TemperedRun() {
+  MappingOptions options = SmallRun(9, 40000, 8000);
+  options.burn_in_temperature = 4.0;  // at 4, then 2 (block 10000), then 1 from 20000 on
+  return options;
+}
+
+// Sessions of 7000 steps stop mid-block (7000, 14000, ...): the resumed chains must take up the
+// temperature of the block they are in.
+TEST(TemperedMapping, AStoppedRunResumesToTheSameResult) {
+  const MappingData data = LaserMappingData(RoomData(), TemperedRun());
+  const MappingResult whole = ExpectResumesExactly(data, TemperedRun(), 7000, 7);  // 48000 steps
 
   // The tempering changed the course of the chains (so the comparison above covers it).
   MappingOptions untempered = TemperedRun();
   untempered.burn_in_temperature = 1.0;
   const MappingResult cold = RunMapping(data, untempered, {});
   EXPECT_NE(cold.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
+}
+
+MappingOptions ReplicaRun() {
+  MappingOptions options = SmallRun(4, 30000, 8000);
+  options.thinned_burn_in = {{.stride = 2, .steps = 10000}};
+  options.burn_in_replicas = 3;
+  options.replica_temperature = 3.0;
+  options.replica_steps = 22500;  // not a whole number of rounds
+  return options;
+}
+
+// Replicas through most of a burn-in that is also thinned at first: sessions of 6500 steps stop
+// between exchange rounds, inside the thinned stage and past the ladders' end, and the resumed
+// chains must take up their ladders (or go on alone), the rungs' data terms and the swap counts
+// where they left them.
+TEST(ReplicaMapping, AStoppedRunResumesToTheSameResult) {
+  const MappingData data = LaserMappingData(RoomData(), ReplicaRun());
+  const MappingResult whole = ExpectResumesExactly(data, ReplicaRun(), 6500, 6);  // 38000 steps
+  for (const ChainSummary& chain : whole.chains) {
+    ASSERT_EQ(chain.swaps.size(), 2u);
+    for (const SwapCounter& swaps : chain.swaps) {
+      EXPECT_EQ(swaps.proposed, 11u);  // 22 rounds, each pair every other one
+      EXPECT_GT(swaps.accepted, 0u);
+    }
+  }
+  // Every replica's steps are counted: 3 × 22500 with the ladder, 7500 alone and 8000 samples.
+  EXPECT_EQ(whole.proposals, 2u * (3u * 22500u + 7500u + 8000u));
+
+  // The replicas changed the course of the chains (so the comparison above covers them).
+  MappingOptions alone = ReplicaRun();
+  alone.burn_in_replicas = 1;
+  const MappingResult single = RunMapping(data, alone, {});
+  EXPECT_NE(single.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
+}
+
+// A checkpoint of a run with replicas is not one of the run without them.
+TEST(ReplicaMapping, ACheckpointOfAnotherLadderIsRefused) {
+  const MappingData data = LaserMappingData(RoomData(), ReplicaRun());
+  testing::TempDir dir;
+  ASSERT_FALSE(RunMapping(data, ReplicaRun(), {}, StoppingSession(dir.path(), 5000)).complete);
+  MappingOptions other = ReplicaRun();
+  other.burn_in_replicas = 2;
+  MappingSession resume = StoppingSession(dir.path(), 5000);
+  resume.resume = true;
+  EXPECT_THROW((void)RunMapping(LaserMappingData(RoomData(), other), other, {}, resume),
+               BinaryFormatError);
 }
 
 // The thinned term scores the kept readings only: on the empty map, where every beam sees
@@ -166,33 +235,16 @@ TEST(ThinnedDataTerm, ScoresAboutOneInStrideOfTheReadings) {
 }
 
 MappingOptions ThinnedRun() {
-  MappingOptions options;
-  options.sampler.p = 0.5;
-  options.burn_in = 30000;
+  MappingOptions options = SmallRun(5, 30000, 10000);
   options.thinned_burn_in = {{.stride = 4, .steps = 10000}, {.stride = 2, .steps = 10000}};
-  options.samples = 10000;
-  options.chains = 2;
-  options.seed = 5;
-  options.trace_every = 1000;
-  options.chunk = 3000;
   return options;
 }
 
+// Sessions of 7000 steps stop inside each stage (7000, 14000, 21000, ...): the resumed chains
+// must take up the data term of the stage they are in.
 TEST(ThinnedMapping, AStoppedRunResumesToTheSameResult) {
   const MappingData data = LaserMappingData(RoomData(), ThinnedRun());
-  const MappingResult whole = RunMapping(data, ThinnedRun(), {});
-  ASSERT_TRUE(whole.complete);
-
-  // Sessions of 7000 steps stop inside each stage (7000, 14000, 21000, ...): the resumed chains
-  // must take up the data term of the stage they are in.
-  testing::TempDir dir;
-  const auto [part, sessions] = RunInSessions(data, ThinnedRun(), 7000, dir.path());
-  EXPECT_EQ(sessions, 6);  // 40000 steps a chain
-  EXPECT_EQ(part.black_fraction, whole.black_fraction);
-  for (std::size_t c = 0; c < 2; ++c) {
-    EXPECT_EQ(part.chains[c].log_posterior_trace, whole.chains[c].log_posterior_trace);
-    EXPECT_EQ(part.chains[c].point_traces, whole.chains[c].point_traces);
-  }
+  const MappingResult whole = ExpectResumesExactly(data, ThinnedRun(), 7000, 6);  // 40000 steps
 
   // The thinning changed the course of the chains (so the comparison above covers it).
   MappingOptions unthinned = ThinnedRun();

@@ -161,5 +161,27 @@ std::string SubsetName(const ::testing::TestParamInfo<Subset>& param) {
 
 INSTANTIATE_TEST_SUITE_P(EachMoveKind, MoveSubset, ::testing::ValuesIn(Subsets()), SubsetName);
 
+// Replica exchange leaves the cold replica's law alone: it still matches the closed forms, while
+// its hottest replica alone, run as one chain, is far from them (its energy 2pL is divided by
+// the temperature, the reference measure is not), so swaps that ignored the energies, or a
+// tempered density that counted λ, would pull the cold replica off.
+TEST(ReplicaExchange, TheColdReplicaMatchesTheArakProcess) {
+  PriorStatsOptions options = Chain(1.0, 31);
+  options.ladder = GeometricLadder(3, 2.25);
+  const PriorStatsResult r = RunPriorStats(options);
+  ExpectMatchesArak(r, "ladder 1, 1.5, 2.25");
+  ASSERT_EQ(r.swaps.size(), 2u);
+  for (const SwapCounter& swaps : r.swaps) {
+    EXPECT_GT(swaps.rate(), 0.05) << "swaps too rare for the test to mean something";
+    EXPECT_LT(swaps.rate(), 0.95);
+  }
+
+  PriorStatsOptions hottest = Chain(1.0, 31);
+  hottest.sampler.temperature = 2.25;
+  const PriorStatsResult h = RunPriorStats(hottest);
+  EXPECT_GT(StandardScore(h.edges, h.expected_edges), 10.0)
+      << "mean edges at T = 2.25: " << h.edges.mean << ", Arak's " << h.expected_edges;
+}
+
 }  // namespace
 }  // namespace priormap::prf

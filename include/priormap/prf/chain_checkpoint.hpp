@@ -5,11 +5,15 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include <priormap/prf/estimates.hpp>
 #include <priormap/prf/laser_data.hpp>
+#include <priormap/prf/replica_exchange.hpp>
 #include <priormap/prf/sampler.hpp>
 
 namespace priormap::prf {
@@ -25,23 +29,26 @@ struct ChainSummary;
                                                         std::size_t chain);
 [[nodiscard]] std::filesystem::path AnnealCheckpointPath(const std::filesystem::path& directory);
 
-/// Writes a chain's state atomically. `estimates` is null before the chain records.
+/// Writes a chain's state atomically: its sampler, the hot replicas of its burn-in's ladder
+/// (none outside one; in one file with the rest, so that they cannot fall out of step) and its
+/// summary (traces and swap counts). `estimates` is null before the chain records.
 void SaveChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
-                         const PrfSampler& sampler, const PosteriorEstimates* estimates,
-                         const ChainSummary& summary);
+                         const PrfSampler& sampler, std::span<const PrfSampler* const> hot,
+                         const PosteriorEstimates* estimates, const ChainSummary& summary);
 
 struct LoadedChain {
   std::unique_ptr<PrfSampler> sampler;
-  bool recording = false;  // the estimates hold samples
+  std::vector<std::unique_ptr<PrfSampler>> hot;  // the ladder's other replicas, hotter and hotter
+  bool recording = false;                        // the estimates hold samples
 };
 
-/// Restores a chain saved by SaveChainCheckpoint into `estimates` and `summary`, with `data`
-/// as its data term. BinaryFormatError when the file is damaged or of another run.
-[[nodiscard]] LoadedChain LoadChainCheckpoint(const std::filesystem::path& path,
-                                              std::uint64_t fingerprint, const Window& window,
-                                              const MappingOptions& options,
-                                              std::unique_ptr<DataTerm> data,
-                                              PosteriorEstimates* estimates, ChainSummary* summary);
+/// Restores a chain saved by SaveChainCheckpoint into `estimates` and `summary`, each sampler
+/// with a data term from `make_data`. BinaryFormatError when the file is damaged or of another
+/// run.
+[[nodiscard]] LoadedChain LoadChainCheckpoint(
+    const std::filesystem::path& path, std::uint64_t fingerprint, const Window& window,
+    const MappingOptions& options, const std::function<std::unique_ptr<DataTerm>()>& make_data,
+    PosteriorEstimates* estimates, ChainSummary* summary);
 
 /// The annealing chain: which chain it started from, and its sampler.
 void SaveAnnealCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,

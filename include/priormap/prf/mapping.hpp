@@ -21,6 +21,7 @@
 #include <priormap/prf/laser_data.hpp>
 #include <priormap/prf/laser_model.hpp>
 #include <priormap/prf/moves.hpp>
+#include <priormap/prf/replica_exchange.hpp>
 #include <priormap/prf/sampler.hpp>
 
 namespace priormap::prf {
@@ -51,6 +52,14 @@ struct MappingOptions {
   /// The first steps of the burn-in, stage after stage, on thinned data; their steps count
   /// towards burn_in, whose remaining steps use every reading.
   std::vector<ThinnedBurnIn> thinned_burn_in;
+  /// Replica exchange through the burn-in (replica_exchange.hpp): each chain runs this many
+  /// replicas (1: none) at temperatures rising geometrically from 1 to replica_temperature
+  /// (times the tempered burn-in's), which offer swaps every kExchangeEvery steps, for the
+  /// first replica_steps of the burn-in (0: all of it); then the chain goes on from the cold
+  /// replica. Those steps cost `burn_in_replicas` times as much.
+  int burn_in_replicas = 1;
+  double replica_temperature = 4.0;
+  std::uint64_t replica_steps = 0;
   int chains = 2;
   std::uint64_t seed = 1;
   std::uint64_t trace_every = 1000;  // steps between trace records (R̂)
@@ -63,6 +72,8 @@ struct MappingOptions {
 
 /// Steps run at one temperature of the tempered burn-in.
 inline constexpr std::uint64_t kTemperatureBlock = 10000;
+/// Steps of every replica between exchange rounds (a divisor of kTemperatureBlock).
+inline constexpr std::uint64_t kExchangeEvery = 1000;
 /// The temperature of the tempered burn-in at step s (by its block), 1 from the middle of the
 /// burn-in on.
 [[nodiscard]] double BurnInTemperature(const MappingOptions& options, std::uint64_t step);
@@ -106,6 +117,7 @@ struct ChainSummary {
   int edges = 0;
   std::vector<double> log_posterior_trace;
   std::vector<std::vector<double>> point_traces;  // per trace point: 1 black, 0 white
+  std::vector<SwapCounter> swaps;                 // of the burn-in's replicas, per adjacent pair
 };
 
 struct MappingProgress {
@@ -128,7 +140,8 @@ struct MappingResult {
   double rhat_point_colours = 0.0;  // the largest over the trace points
   double wall_time_s = 0.0;
   double sampling_time_s = 0.0;
-  std::uint64_t proposals = 0;  // all chains, burn-in included, annealing excluded
+  /// All chains and their replicas, burn-in included, annealing excluded.
+  std::uint64_t proposals = 0;
   std::optional<Coloring> map;  // the annealed MAP coloring
   double map_log_posterior = 0.0;
   /// False when the session stopped before the end (the estimates and R̂ are then unset).

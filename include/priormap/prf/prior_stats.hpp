@@ -8,6 +8,7 @@
 
 #include <priormap/prf/batch_means.hpp>
 #include <priormap/prf/moves.hpp>
+#include <priormap/prf/replica_exchange.hpp>
 #include <priormap/prf/sampler.hpp>
 
 namespace priormap::prf {
@@ -28,6 +29,10 @@ struct PriorStatsOptions {
   std::vector<Vec2> guide_points;
   double guide_jitter = 0.03;  // in units of the window side
   std::size_t batches = 40;
+  /// The temperatures of a replica-exchange ladder (1 first, increasing) whose cold replica is
+  /// the chain recorded, its replicas offering swaps every `thin` steps; empty: one chain. The
+  /// swaps must leave the closed forms alone.
+  std::vector<double> ladder;
   /// Sampler settings; birth_scale and step_scales are multiplied by the window side.
   SamplerOptions sampler{.p = 1.0,
                          .orientation = {},
@@ -57,7 +62,8 @@ struct PriorStatsResult {
   Estimate black_fraction;
   std::vector<DistanceStats> by_distance;
   MoveCounters counters{};
-  std::uint64_t steps = 0;
+  std::vector<SwapCounter> swaps;  // per adjacent pair of the ladder's rungs
+  std::uint64_t steps = 0;         // per replica
   double seconds = 0.0;
 };
 
