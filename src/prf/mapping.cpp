@@ -173,7 +173,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
 
   // Chains from their checkpoints (or afresh), before any runs, so that progress counts them.
   // A chain in a replica-exchange burn-in is its ladder's cold replica (samplers[c] is then
-  // empty) until the burn-in ends.
+  // empty) until the ladder ends.
   std::vector<std::unique_ptr<PrfSampler>> samplers(chains);
   std::vector<std::optional<ReplicaLadder>> ladders(chains);
   const auto chain_seed = [&](std::size_t c) { return SplitMix64(options.seed + c); };
