@@ -133,12 +133,9 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                  "these data offer no thinned data term for the thinned burn-in");
   PRIORMAP_CHECK(run_options.trace_every >= 1 && run_options.chunk >= 1,
                  "positive trace and chunk");
-  PRIORMAP_CHECK(run_options.burn_in_replicas >= 1, "at least one replica");
-  // The ladder's temperatures, which also checks the top one.
+  // The ladder's temperatures (GeometricLadder checks the count and the top).
   const std::vector<double> ladder_temperatures =
       GeometricLadder(run_options.burn_in_replicas, run_options.replica_temperature);
-  PRIORMAP_CHECK(run_options.burn_in_replicas == 1 || run_options.replica_temperature > 1.0,
-                 "the replicas' top temperature must be above 1");
   PRIORMAP_CHECK(run_options.replica_steps <= run_options.burn_in,
                  "the replicas' steps must fit in the burn-in");
   // Where the ladders end and the chains go on alone.
@@ -246,14 +243,17 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     const auto chain = [&]() -> PrfSampler& { return ladder ? ladder->cold() : *samplers[c]; };
     ChainSummary& summary = result.chains[c];
     auto last_checkpoint = Clock::now();
+    // Past its ladder's end, the chain goes on alone from the cold replica.
+    const auto leave_ladder_if_done = [&] {
+      if (!ladder || chain().steps() < ladder_end) return;
+      samplers[c] = std::move(*ladder).TakeCold();
+      ladder.reset();
+    };
     const auto checkpoint = [&](bool now) {
       if (checkpoints.empty()) return;
       if (!now && Seconds(last_checkpoint) < session.checkpoint_every_s) return;
-      std::vector<const PrfSampler*> hot;
-      if (ladder)
-        for (std::size_t k = 1; k < ladder->replicas().size(); ++k)
-          hot.push_back(ladder->replicas()[k].get());
-      SaveChainCheckpoint(ChainCheckpointPath(checkpoints, c), fingerprint, chain(), hot,
+      SaveChainCheckpoint(ChainCheckpointPath(checkpoints, c), fingerprint, chain(),
+                          ladder ? ladder->hot() : std::vector<const PrfSampler*>{},
                           recording[c] ? estimates[c].get() : nullptr, summary);
       last_checkpoint = Clock::now();
     };
@@ -266,10 +266,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
         stopped = true;
         break;
       }
-      if (s >= ladder_end && ladder) {
-        samplers[c] = std::move(*ladder).TakeCold();
-        ladder.reset();
-      }
+      leave_ladder_if_done();
       PrfSampler& sampler = chain();
       if (s >= options.burn_in && !recording[c]) {
         sampler.RecordInto(estimates[c].get());
@@ -334,11 +331,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
       }
       checkpoint(false);
     }
-    // A ladder to the run's end (a burn-in without samples): the chain goes on alone.
-    if (ladder && chain().steps() >= ladder_end) {
-      samplers[c] = std::move(*ladder).TakeCold();
-      ladder.reset();
-    }
+    leave_ladder_if_done();  // a ladder to the run's end (a burn-in without samples)
     PrfSampler& sampler = chain();
     // A burn-in thinned to its end, with no samples after it: back to every reading.
     if (strides[c] != 1 && sampler.steps() >= options.burn_in) {

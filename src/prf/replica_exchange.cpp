@@ -11,7 +11,8 @@ namespace priormap::prf {
 
 std::vector<double> GeometricLadder(int replicas, double top) {
   PRIORMAP_CHECK(replicas >= 1, "at least one replica");
-  PRIORMAP_CHECK(top >= 1.0 && std::isfinite(top), "the top temperature must be finite and >= 1");
+  PRIORMAP_CHECK(std::isfinite(top) && (replicas == 1 ? top >= 1.0 : top > 1.0),
+                 "the replicas' top temperature must be finite and above 1");
   std::vector<double> ladder(static_cast<std::size_t>(replicas), 1.0);
   for (int k = 1; k < replicas; ++k)
     ladder[static_cast<std::size_t>(k)] = std::pow(top, static_cast<double>(k) / (replicas - 1));
@@ -55,8 +56,13 @@ ReplicaLadder::ReplicaLadder(std::vector<std::unique_ptr<PrfSampler>> replicas,
 
 void ReplicaLadder::set_scale(double scale) {
   scale_ = scale;
-  for (std::size_t k = 0; k < replicas_.size(); ++k)
-    replicas_[k]->set_temperature(scale_ * ladder_[k]);
+  for (std::size_t k = 0; k < replicas_.size(); ++k) replicas_[k]->set_temperature(temperature(k));
+}
+
+std::vector<const PrfSampler*> ReplicaLadder::hot() const {
+  std::vector<const PrfSampler*> hot;
+  for (std::size_t k = 1; k < replicas_.size(); ++k) hot.push_back(replicas_[k].get());
+  return hot;
 }
 
 void ReplicaLadder::Run(std::uint64_t steps) {
@@ -72,14 +78,14 @@ void ReplicaLadder::Exchange(std::uint64_t round) {
     SwapCounter& counter = swaps_[k];
     ++counter.proposed;
     const double log_ratio =
-        LogSwapRatio(TemperedLogDensity(*replicas_[k]), scale_ * ladder_[k],
-                     TemperedLogDensity(*replicas_[k + 1]), scale_ * ladder_[k + 1]);
+        LogSwapRatio(TemperedLogDensity(*replicas_[k]), temperature(k),
+                     TemperedLogDensity(*replicas_[k + 1]), temperature(k + 1));
     // The uniform is drawn whatever the ratio, so that each pair's decision uses its own draw.
     const double u = rng.Uniform();
     if (log_ratio >= 0.0 || u < std::exp(log_ratio)) {
       std::swap(replicas_[k], replicas_[k + 1]);
-      replicas_[k]->set_temperature(scale_ * ladder_[k]);
-      replicas_[k + 1]->set_temperature(scale_ * ladder_[k + 1]);
+      replicas_[k]->set_temperature(temperature(k));
+      replicas_[k + 1]->set_temperature(temperature(k + 1));
       ++counter.accepted;
     }
   }

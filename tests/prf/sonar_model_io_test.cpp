@@ -28,7 +28,8 @@ using ::testing::Matcher;
 
 constexpr const char* kName = "model.json";
 
-// Every parameter, by its name in the file (docs/formats.md).
+// Every parameter, by its name in the file (docs/formats.md): written out here, not taken from
+// kSonarModelParameters, so that a key renamed there breaks the round trip below.
 const std::vector<std::pair<std::string, double SonarModel::*>> kParameters = {
     {"corner_bias", &SonarModel::corner_bias},
     {"corner_per_m", &SonarModel::corner_per_m},

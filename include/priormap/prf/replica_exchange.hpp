@@ -15,7 +15,8 @@
 
 namespace priormap::prf {
 
-/// T_k = top^(k/(K−1)) for k = 0..K−1: a geometric ladder, {1} for one replica.
+/// T_k = top^(k/(K−1)) for k = 0..K−1: a geometric ladder, {1} for one replica (top > 1 for
+/// more than one).
 [[nodiscard]] std::vector<double> GeometricLadder(int replicas, double top);
 
 /// The part of the sampler's log-target that a temperature divides: its log-posterior without
@@ -60,12 +61,16 @@ class ReplicaLadder {
   [[nodiscard]] const std::vector<std::unique_ptr<PrfSampler>>& replicas() const {
     return replicas_;
   }
+  /// The replicas above the cold one, hottest last.
+  [[nodiscard]] std::vector<const PrfSampler*> hot() const;
   [[nodiscard]] const std::vector<double>& ladder() const { return ladder_; }
   [[nodiscard]] const std::vector<SwapCounter>& swaps() const { return swaps_; }
   /// Ends the ladder: its cold replica, to go on alone.
   [[nodiscard]] std::unique_ptr<PrfSampler> TakeCold() &&;
 
  private:
+  [[nodiscard]] double temperature(std::size_t rung) const { return scale_ * ladder_[rung]; }
+
   std::vector<std::unique_ptr<PrfSampler>> replicas_;
   std::vector<double> ladder_;
   std::uint64_t seed_;
