@@ -415,6 +415,13 @@ void RunMappingCommand(MappingCliOptions o) {
                               .resolution = r.raster.cell.x()};
   render::SaveProbabilityFigure(dir / "not_white.png", white, "PRF: 1 - P(cell completely white)",
                                 data.sensors);
+  if (r.chains.size() > 1) {
+    const OccupancyRaster spread{
+        .probability = r.chain_spread, .origin = r.raster.origin, .resolution = r.raster.cell.x()};
+    render::SaveProbabilityFigure(dir / "chains_disagree.png", spread,
+                                  "PRF: where the chains disagree", data.sensors,
+                                  "max - min P(black) over chains");
+  }
   std::string trace = "sample";
   for (std::size_t c = 0; c < r.chains.size(); ++c) trace += fmt::format(",chain{}", c);
   trace += "\n";
@@ -446,6 +453,15 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["rhat"] = {{"log_posterior", r.rhat_log_posterior},
                      {"point_colours", r.rhat_point_colours},
                      {"points", r.trace_points.size()}};
+  if (r.chains.size() > 1) {
+    // The area where the chains' P(black) differ by more than a half: where they hold
+    // different maps, which R̂ only summarizes.
+    const double cell_area = r.raster.cell.x() * r.raster.cell.y();
+    summary["chain_disagreement"] = {
+        {"area_over_half_m2",
+         static_cast<double>((r.chain_spread.array() > 0.5).count()) * cell_area},
+        {"largest", r.chain_spread.maxCoeff()}};
+  }
   prf::MoveCounters total{};
   summary["log_posterior"] = nlohmann::json::array();
   for (const prf::ChainSummary& chain : r.chains) {
@@ -462,6 +478,7 @@ void RunMappingCommand(MappingCliOptions o) {
   }
   std::string outputs =
       "summary.json, posterior.png, posterior.pgm, posterior.yaml, not_white.png, trace.csv";
+  if (r.chains.size() > 1) outputs += ", chains_disagree.png";
   if (r.map) {
     const auto faces = prf::ExtractFaces(*r.map);
     const std::string geojson = prf::FacesToGeoJson(faces, r.window);

@@ -68,6 +68,7 @@ py::dict PrfMap(const Doubles& poses, const Doubles& ranges, const Doubles& angl
   py::dict out;
   out["black_fraction"] = MatrixToNumpy(r.black_fraction);
   out["white_fraction"] = MatrixToNumpy(r.white_fraction);
+  out["chain_spread"] = MatrixToNumpy(r.chain_spread);
   out["origin"] = py::make_tuple(r.raster.origin.x(), r.raster.origin.y());
   out["resolution"] = r.raster.cell.x();
   out["window"] =
@@ -110,7 +111,9 @@ void BindMapping(py::module_& m) {
                      "scans, chains in parallel. ") +
          kScansDoc +
          ". Returns 'black_fraction' = P(occupied) per cell (rows from the bottom), "
-         "'white_fraction', 'origin', 'resolution', R-hats, speed; with anneal=True the MAP "
+         "'white_fraction', 'chain_spread' (the largest minus the smallest chain's P(black): "
+         "where the chains disagree), 'origin', 'resolution', R-hats, speed; with anneal=True "
+         "the MAP "
          "polygon map as 'map_geojson'. The same seed gives the same result.")
             .c_str());
 }

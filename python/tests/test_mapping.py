@@ -36,6 +36,11 @@ def test_prf_posterior_is_white_inside_black_outside_and_reproducible(room_scans
     assert black[cell_of(a, xmax + 0.1, 0.5)] > 0.8  # just behind the wall: occupied
     assert a["beams"] == 8 * 46
     assert len(a["log_posterior"]) == 2
+    # Two chains: each chain's P(black) is the pooled one plus or minus half the spread.
+    spread = a["chain_spread"]
+    assert spread.shape == black.shape
+    assert np.all(spread >= 0.0)
+    assert np.all(spread <= 2.0 * np.minimum(black, 1.0 - black) + 1e-12)
     geojson = json.loads(a["map_geojson"])
     assert geojson["type"] == "FeatureCollection"
     b = priormap.prf_map(poses, ranges, angles, anneal=True, **args)

@@ -359,13 +359,19 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   result.raster = estimates[0]->grid();
   result.black_fraction = Eigen::MatrixXd::Zero(result.raster.ny, result.raster.nx);
   result.white_fraction = result.black_fraction;
+  result.chain_spread = result.black_fraction;
   if (options.samples > 0) {
+    Eigen::MatrixXd lowest, highest;
     for (std::size_t c = 0; c < chains; ++c) {
-      result.black_fraction += estimates[c]->BlackFraction(samplers[c]->steps());
+      const Eigen::MatrixXd black = estimates[c]->BlackFraction(samplers[c]->steps());
+      result.black_fraction += black;
       result.white_fraction += estimates[c]->WhiteFraction(samplers[c]->steps());
+      lowest = c == 0 ? black : lowest.cwiseMin(black);
+      highest = c == 0 ? black : highest.cwiseMax(black);
     }
     result.black_fraction /= static_cast<double>(chains);
     result.white_fraction /= static_cast<double>(chains);
+    result.chain_spread = highest - lowest;
   }
 
   // R̂ needs at least 4 trace records per chain.

@@ -22,7 +22,8 @@ Figure MapFigure(const Box2& extent, const std::string& title, bool colorbar) {
 }  // namespace
 
 void SaveProbabilityFigure(const std::filesystem::path& path, const OccupancyRaster& raster,
-                           const std::string& title, std::span<const Vec2> sensors) {
+                           const std::string& title, std::span<const Vec2> sensors,
+                           const std::string& scale_label) {
   const Eigen::MatrixXd& p = raster.probability;
   const Box2 extent(raster.origin,
                     raster.origin + raster.resolution * Vec2(static_cast<double>(p.cols()),
@@ -31,7 +32,7 @@ void SaveProbabilityFigure(const std::filesystem::path& path, const OccupancyRas
   figure.FilledPolygon(Polygon{{extent.corner(Box2::BottomLeft), extent.corner(Box2::BottomRight),
                                 extent.corner(Box2::TopRight), extent.corner(Box2::TopLeft)}},
                        kUnknown);
-  figure.HeatMap(p, extent, Colormap::kOccupancy, 0.0, 1.0, "P(occupied)");
+  figure.HeatMap(p, extent, Colormap::kOccupancy, 0.0, 1.0, scale_label);
   if (!sensors.empty()) figure.Points(sensors, palette::kOrange, 1.2);
   figure.Save(path);
 }

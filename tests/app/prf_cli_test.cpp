@@ -90,15 +90,18 @@ TEST_F(MappingCli, PrfWritesThePosteriorTheMapAndASummary) {
   };
   const auto r = Run(with_out("run1"));
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* file :
-       {"summary.json", "posterior.png", "posterior.pgm", "posterior.yaml", "not_white.png",
-        "trace.csv", "map.geojson", "map.svg", "map.png", "map.pgm", "map.yaml"})
+  for (const char* file : {"summary.json", "posterior.png", "posterior.pgm", "posterior.yaml",
+                           "not_white.png", "trace.csv", "chains_disagree.png", "map.geojson",
+                           "map.svg", "map.png", "map.pgm", "map.yaml"})
     EXPECT_TRUE(std::filesystem::exists(Work("run1") / file)) << file;
   const json summary = json::parse(testing::ReadAll(Work("run1") / "summary.json"));
   EXPECT_GT(summary["proposals_per_second"].get<double>(), 0.0);
   EXPECT_GT(summary["wall_time_s"].get<double>(), 0.0);
   EXPECT_EQ(summary["log_posterior"].size(), 2u);
   EXPECT_TRUE(summary["rhat"]["log_posterior"].is_number());
+  const double disagree = summary["chain_disagreement"]["area_over_half_m2"].get<double>();
+  EXPECT_GE(disagree, 0.0);
+  EXPECT_LE(summary["chain_disagreement"]["largest"].get<double>(), 1.0);
   EXPECT_GT(summary["acceptance"]["slide"]["accepted"].get<int>(), 0);
   EXPECT_GT(summary["map"]["edges"].get<int>(), 4);
   const json map = json::parse(testing::ReadAll(Work("run1") / "map.geojson"));

@@ -134,6 +134,9 @@ struct MappingResult {
   CellGrid raster;
   Eigen::MatrixXd black_fraction;  // pooled over chains, row 0 at the bottom
   Eigen::MatrixXd white_fraction;
+  /// The largest minus the smallest chain's P(black), per cell: where the chains disagree
+  /// (what R̂ only summarizes); zero with one chain.
+  Eigen::MatrixXd chain_spread;
   std::vector<ChainSummary> chains;
   std::vector<Vec2> trace_points;
   double rhat_log_posterior = 0.0;

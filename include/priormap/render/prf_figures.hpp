@@ -16,9 +16,10 @@
 namespace priormap::render {
 
 /// The raster white (0) to black (1), unknown (NaN) cells light blue-grey, the sensor positions
-/// as small dots when given.
+/// as small dots when given; `scale_label` names the colour bar.
 void SaveProbabilityFigure(const std::filesystem::path& path, const OccupancyRaster& raster,
-                           const std::string& title, std::span<const Vec2> sensors = {});
+                           const std::string& title, std::span<const Vec2> sensors = {},
+                           const std::string& scale_label = "P(occupied)");
 
 /// The faces of a polygonal map: occupied ones filled dark, the discontinuities drawn.
 void SaveFacesFigure(const std::filesystem::path& path, const std::vector<prf::MapFace>& faces,
