@@ -11,6 +11,7 @@
 #include <string>
 #include <tuple>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -404,24 +405,25 @@ void RunMappingCommand(MappingCliOptions o) {
     return;
   }
 
-  const OccupancyRaster posterior{
-      .probability = r.black_fraction, .origin = r.raster.origin, .resolution = r.raster.cell.x()};
+  // The run's rasters share one grid.
+  const auto on_raster = [&](Eigen::MatrixXd values) {
+    return OccupancyRaster{.probability = std::move(values),
+                           .origin = r.raster.origin,
+                           .resolution = r.raster.cell.x()};
+  };
+  const bool several_chains = r.chains.size() > 1;
+  const OccupancyRaster posterior = on_raster(r.black_fraction);
   WriteMapServerMap(dir / "posterior.yaml", posterior);
   render::SaveProbabilityFigure(dir / "posterior.png", posterior,
                                 fmt::format("PRF posterior P(black), p = {}", o.mapping.sampler.p),
                                 data.sensors);
-  const OccupancyRaster white{.probability = (1.0 - r.white_fraction.array()).matrix(),
-                              .origin = r.raster.origin,
-                              .resolution = r.raster.cell.x()};
-  render::SaveProbabilityFigure(dir / "not_white.png", white, "PRF: 1 - P(cell completely white)",
-                                data.sensors);
-  if (r.chains.size() > 1) {
-    const OccupancyRaster spread{
-        .probability = r.chain_spread, .origin = r.raster.origin, .resolution = r.raster.cell.x()};
-    render::SaveProbabilityFigure(dir / "chains_disagree.png", spread,
+  render::SaveProbabilityFigure(dir / "not_white.png",
+                                on_raster((1.0 - r.white_fraction.array()).matrix()),
+                                "PRF: 1 - P(cell completely white)", data.sensors);
+  if (several_chains)
+    render::SaveProbabilityFigure(dir / "chains_disagree.png", on_raster(r.chain_spread),
                                   "PRF: where the chains disagree", data.sensors,
                                   "max - min P(black) over chains");
-  }
   std::string trace = "sample";
   for (std::size_t c = 0; c < r.chains.size(); ++c) trace += fmt::format(",chain{}", c);
   trace += "\n";
@@ -453,7 +455,7 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["rhat"] = {{"log_posterior", r.rhat_log_posterior},
                      {"point_colours", r.rhat_point_colours},
                      {"points", r.trace_points.size()}};
-  if (r.chains.size() > 1) {
+  if (several_chains) {
     // The area where the chains' P(black) differ by more than a half: where they hold
     // different maps, which R̂ only summarizes.
     const double cell_area = r.raster.cell.x() * r.raster.cell.y();
@@ -478,7 +480,7 @@ void RunMappingCommand(MappingCliOptions o) {
   }
   std::string outputs =
       "summary.json, posterior.png, posterior.pgm, posterior.yaml, not_white.png, trace.csv";
-  if (r.chains.size() > 1) outputs += ", chains_disagree.png";
+  if (several_chains) outputs += ", chains_disagree.png";
   if (r.map) {
     const auto faces = prf::ExtractFaces(*r.map);
     const std::string geojson = prf::FacesToGeoJson(faces, r.window);

@@ -113,8 +113,7 @@ void BindMapping(py::module_& m) {
          ". Returns 'black_fraction' = P(occupied) per cell (rows from the bottom), "
          "'white_fraction', 'chain_spread' (the largest minus the smallest chain's P(black): "
          "where the chains disagree), 'origin', 'resolution', R-hats, speed; with anneal=True "
-         "the MAP "
-         "polygon map as 'map_geojson'. The same seed gives the same result.")
+         "the MAP polygon map as 'map_geojson'. The same seed gives the same result.")
             .c_str());
 }
 
