@@ -13,10 +13,12 @@ namespace priormap::prf {
 [[nodiscard]] double BlackArea(const Coloring& coloring);
 
 /// The change of BlackArea if `edit` (which coloring.Evaluate accepted) were applied, when the
-/// region it flips is a simple polygon holding nothing of the coloring (no vertex, no edge):
-/// that region is then of one colour, and the change is plus or minus its area. nullopt for any
-/// other edit (a self-crossing region, or one with structure inside), whose change would need
-/// the faces it cuts. An edit and its reverse flip the same region, so both or neither qualify.
+/// region it flips holds nothing of the coloring (no vertex, no edge) and is a simple polygon
+/// (then of one colour: the change is plus or minus its area) or a bow tie, a ring crossing
+/// itself once (a vertex moved past the line of its neighbours: two simple lobes, each of one
+/// colour, the change the sum of their ± areas). nullopt for any other edit (more crossings,
+/// or structure inside), whose change would need the faces it cuts. An edit and its reverse flip
+/// the same region, so both or neither qualify.
 [[nodiscard]] std::optional<double> BlackAreaChange(const Coloring& coloring, const Edit& edit);
 
 }  // namespace priormap::prf
