@@ -63,6 +63,11 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "The replicas run for this many steps of the burn-in, then the chain goes on "
                  "alone (0: the whole burn-in)")
       ->capture_default_str();
+  cmd.add_option("--replica-pick", cli.replica_pick,
+                 "Which replica the chain goes on from at the ladder's end: the cold one, or the "
+                 "best (highest log-posterior), a best-of-K start")
+      ->check(CLI::IsMember({"cold", "best"}))
+      ->capture_default_str();
   cmd.add_option("--thinned-burn-in", cli.thinned_burn_in,
                  "Burn-in stages on 1/STRIDE of the readings first, STEPS each (counted in the "
                  "burn-in), e.g. 16:1000000,4:500000")
@@ -70,6 +75,7 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
 }
 
 void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* m) {
+  m->replica_pick_best = cli.replica_pick == "best";
   m->sampler.orientation.angle = cli.orientation_deg * std::numbers::pi / 180.0;
   if (!std::isfinite(m->sampler.orientation.angle))
     throw UserError("--orientation must be a finite angle");
@@ -103,6 +109,7 @@ nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
           {"burn_in_replicas", m.burn_in_replicas},
           {"replica_temperature", m.replica_temperature},
           {"replica_steps", m.replica_steps},
+          {"replica_pick", m.replica_pick_best ? "best" : "cold"},
           {"thinned_burn_in", stages}};
 }
 
@@ -114,6 +121,7 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->burn_in_replicas = j.value("burn_in_replicas", 1);
   m->replica_temperature = j.value("replica_temperature", 4.0);
   m->replica_steps = j.value("replica_steps", std::uint64_t{0});
+  m->replica_pick_best = j.value("replica_pick", std::string("cold")) == "best";
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))

@@ -17,6 +17,7 @@ namespace priormap::app {
 struct PosteriorCliOptions {
   double orientation_deg = 0.0;
   std::vector<std::string> thinned_burn_in;  // "STRIDE:STEPS"
+  std::string replica_pick = "cold";         // or "best"
 };
 
 void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& mapping, PosteriorCliOptions& cli);

@@ -86,6 +86,7 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
     out.Put<std::int32_t>(options.burn_in_replicas);
     out.Put(options.replica_temperature);
     out.Put(options.replica_steps);
+    if (options.replica_pick_best) out.PutString("pick the best replica");
   }
   for (double w : s.weights.weight) out.Put(w);
   out.Put(s.birth_scale);

@@ -246,7 +246,8 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     // Past its ladder's end, the chain goes on alone from the cold replica.
     const auto leave_ladder_if_done = [&] {
       if (!ladder || chain().steps() < ladder_end) return;
-      samplers[c] = std::move(*ladder).TakeCold();
+      samplers[c] =
+          options.replica_pick_best ? std::move(*ladder).TakeBest() : std::move(*ladder).TakeCold();
       ladder.reset();
     };
     const auto checkpoint = [&](bool now) {

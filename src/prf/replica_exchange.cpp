@@ -95,4 +95,12 @@ std::unique_ptr<PrfSampler> ReplicaLadder::TakeCold() && {
   return std::move(replicas_.front());
 }
 
+std::unique_ptr<PrfSampler> ReplicaLadder::TakeBest() && {
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < replicas_.size(); ++k)
+    if (replicas_[k]->LogPosterior() > replicas_[best]->LogPosterior()) best = k;
+  replicas_[best]->set_temperature(temperature(0));
+  return std::move(replicas_[best]);
+}
+
 }  // namespace priormap::prf

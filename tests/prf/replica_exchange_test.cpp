@@ -88,6 +88,28 @@ TEST(ReplicaLadder, AlternatesPairsAndMovesTemperaturesWithTheRungs) {
   EXPECT_EQ(pair.swaps()[0].proposed, 10u);
 }
 
+// TakeBest hands on the replica of highest log-posterior, at the cold rung's temperature;
+// TakeCold the cold one, whatever its log-posterior.
+TEST(ReplicaLadder, TakesTheBestOrTheColdReplica) {
+  const auto ladder_after_steps = [] {
+    ReplicaLadder ladder(Replicas(4), GeometricLadder(4, 3.0), 5);
+    ladder.set_scale(2.0);
+    ladder.Run(3000);  // no exchange: the replicas' log-posteriors are their own
+    return ladder;
+  };
+  ReplicaLadder ladder = ladder_after_steps();
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < 4; ++k)
+    if (ladder.replicas()[k]->LogPosterior() > ladder.replicas()[best]->LogPosterior()) best = k;
+  ASSERT_NE(best, 0u) << "the test wants a hot replica to lead";
+  const double best_log_posterior = ladder.replicas()[best]->LogPosterior();
+  const double cold_log_posterior = ladder.replicas()[0]->LogPosterior();
+  const std::unique_ptr<PrfSampler> taken = std::move(ladder).TakeBest();
+  EXPECT_EQ(taken->LogPosterior(), best_log_posterior);
+  EXPECT_DOUBLE_EQ(taken->options().temperature, 2.0);
+  EXPECT_EQ(ladder_after_steps().TakeCold()->LogPosterior(), cold_log_posterior);
+}
+
 TEST(ReplicaLadder, ScalesEveryRung) {
   ReplicaLadder ladder(Replicas(3), GeometricLadder(3, 4.0), 1);
   ladder.set_scale(5.0);

@@ -60,6 +60,9 @@ struct MappingOptions {
   int burn_in_replicas = 1;
   double replica_temperature = 4.0;
   std::uint64_t replica_steps = 0;
+  /// At the ladder's end the chain goes on from the replica of highest log-posterior instead of
+  /// the cold one (ReplicaLadder::TakeBest): a best-of-K start.
+  bool replica_pick_best = false;
   int chains = 2;
   std::uint64_t seed = 1;
   std::uint64_t trace_every = 1000;  // steps between trace records (R̂)

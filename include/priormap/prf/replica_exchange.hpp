@@ -67,6 +67,10 @@ class ReplicaLadder {
   [[nodiscard]] const std::vector<SwapCounter>& swaps() const { return swaps_; }
   /// Ends the ladder: its cold replica, to go on alone.
   [[nodiscard]] std::unique_ptr<PrfSampler> TakeCold() &&;
+  /// Ends the ladder: the replica of highest log-posterior (the coldest of equals), to go on
+  /// alone at temperature 1 — a best-of-K start for a burn-in, which no longer keeps the ladder's
+  /// stationary law (what follows the burn-in must restore it).
+  [[nodiscard]] std::unique_ptr<PrfSampler> TakeBest() &&;
 
  private:
   [[nodiscard]] double temperature(std::size_t rung) const { return scale_ * ladder_[rung]; }
