@@ -94,6 +94,7 @@ void RunFitSonarCommand(const FitSonarCliOptions& o) {
   about["evaluations"] = fit.evaluations;
   about["clear_mixture"] = o.fit.fit_clear_mixture;
   about["concave_corners"] = o.fit.fit_concave_corners;
+  about["multipath"] = o.fit.fit_multipath;
   prf::WriteSonarModel(fit.model, o.out, &about);
   fmt::print(
       "{} readings: log-likelihood {:.1f} -> {:.1f} ({:.3f} -> {:.3f} per reading), "
@@ -133,6 +134,9 @@ void AddPrfFitSonarCommand(CLI::App& prf_cmd) {
                 "Keep one outlier mixture for every cone (the paper's model)");
   cmd->add_flag("!--no-concave-corners", o->fit.fit_concave_corners,
                 "Keep corners' echoes a function of their distance alone (the paper's model)");
+  cmd->add_flag("!--no-multipath", o->fit.fit_multipath,
+                "Leave out the multipath component: a specular miss is an outlier drawn from the "
+                "mixtures alone (the paper's model)");
   cmd->add_option("-o,--out", o->out, "Model file to write (priormap.sonar_model JSON)")
       ->required();
   cmd->callback([o] { RunFitSonarCommand(*o); });

@@ -12,17 +12,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Distance from a point inside the window to its side along a unit direction.
-double DistanceToSide(const Window& window, const Vec2& origin, const Vec2& direction) {
-  double t = kInf;
-  for (int axis = 0; axis < 2; ++axis) {
-    const double d = direction[axis];
-    if (d > 0.0) t = std::min(t, (window.max[axis] - origin[axis]) / d);
-    if (d < 0.0) t = std::min(t, (window.min[axis] - origin[axis]) / d);
-  }
-  return t;
-}
-
 }  // namespace
 
 LaserLikelihood::LaserLikelihood(std::shared_ptr<const LaserData> data, LaserModel model,
@@ -74,7 +63,7 @@ std::optional<std::string> LaserLikelihood::Reset(const Coloring& coloring) {
   for (std::size_t i = 0; i < n; ++i) {
     const LaserBeam& beam = data_->beams[i];
     BeamState& state = state_[i];
-    state.reach = std::min(data_->max_range, DistanceToSide(window, beam.origin, beam.direction));
+    state.reach = std::min(data_->max_range, window.DistanceToSide(beam.origin, beam.direction));
     const BeamHit hit = WalkBeam(coloring, i, state.reach, nullptr);
     state.distance = hit.distance;
     state.hit = hit.edge;

@@ -48,6 +48,11 @@ class Parameterization {
       x.push_back(std::log(m.clear_uniform_weight / m.clear_max_weight));
       x.push_back(LogRatio(m.clear_exponential_weight, m.clear_max_weight));
     }
+    if (options_.fit_multipath) {
+      // Off in the starting model (weight 0): start it at a guess inside the bounds.
+      x.push_back(Logit(m.multipath_weight > 0.0 ? m.multipath_weight : 0.2));
+      x.push_back(std::log(m.multipath_sigma_relative));
+    }
     return x;
   }
 
@@ -68,10 +73,15 @@ class Parameterization {
     if (options_.fit_clear_mixture) {
       Weights(x[k], x[k + 1], &m.clear_uniform_weight, &m.clear_exponential_weight,
               &m.clear_max_weight);
+      k += 2;
     } else {
       m.clear_uniform_weight = m.uniform_weight;
       m.clear_exponential_weight = m.exponential_weight;
       m.clear_max_weight = m.max_weight;
+    }
+    if (options_.fit_multipath) {
+      m.multipath_weight = Logistic(x[k]);
+      m.multipath_sigma_relative = std::exp(x[k + 1]);
     }
     return m;
   }
@@ -100,12 +110,17 @@ class Parameterization {
         {-25.0, 25.0},        // log exponential / max weight
         {-kLog1e3, kLog1e3},  // log exponential_rate
     }};
+    std::vector<std::pair<double, double>> bounds(kBounds.begin(), kBounds.end());
+    if (options_.fit_concave_corners) bounds.emplace_back(-500.0, 500.0);
+    if (options_.fit_clear_mixture) bounds.insert(bounds.end(), 2, {-25.0, 25.0});  // log-ratios
+    if (options_.fit_multipath) {
+      bounds.emplace_back(-15.0, 15.0);  // logit multipath_weight
+      // log multipath_sigma_relative: [0.5 %, 20 %] of the path
+      bounds.emplace_back(std::log(0.005), std::log(0.2));
+    }
+    PRIORMAP_CHECK(bounds.size() == n, "a bound for every fitted parameter");
     Box box;
-    for (std::size_t i = 0; i < n; ++i) {
-      const bool concave = options_.fit_concave_corners && i == kBounds.size();
-      const auto [lo, hi] = i < kBounds.size() ? kBounds[i]
-                            : concave          ? std::pair{-500.0, 500.0}
-                                               : std::pair{-25.0, 25.0};  // clear log-ratios
+    for (const auto& [lo, hi] : bounds) {
       box.lower.push_back(lo);
       box.upper.push_back(hi);
     }
@@ -169,7 +184,8 @@ std::vector<SonarFitReading> ViewsOf(std::shared_ptr<const SonarData> data, cons
                         .max_reading = r.max_reading,
                         .max_range = data->max_range,
                         .features = std::move(view.features),
-                        .seen_fraction = view.seen_fraction});
+                        .seen_fraction = view.seen_fraction,
+                        .multipath = likelihood.MultipathLength(truth, i)});
   }
   return readings;
 }
@@ -196,8 +212,8 @@ double FitLogLikelihood(std::span<const SonarFitReading> readings, const SonarMo
   std::vector<double> terms(readings.size());
   tbb::parallel_for(std::size_t{0}, readings.size(), [&](std::size_t i) {
     const SonarFitReading& r = readings[i];
-    terms[i] =
-        model.LogLikelihood(r.range, r.max_reading, r.features, r.max_range, r.seen_fraction);
+    terms[i] = model.LogLikelihood(r.range, r.max_reading, r.features, r.max_range, r.seen_fraction,
+                                   r.multipath);
   });
   double total = 0.0;
   for (const double t : terms) total += t;

@@ -15,6 +15,11 @@ double Inflated(double extent) {
   return extent * (1.0 + 1e-9) + 1e-9;
 }
 
+// The edge a tag of an Evaluate names once the edit is applied: added edge k is tagged -1 - k.
+EdgeId Resolved(std::int32_t tag, std::span<const EdgeId> added_edges) {
+  return tag >= 0 ? tag : added_edges[static_cast<std::size_t>(-1 - tag)];
+}
+
 bool SameGrid(const CellGrid& a, const CellGrid& b) {
   return a.origin == b.origin && a.cell == b.cell && a.nx == b.nx && a.ny == b.ny;
 }
@@ -71,6 +76,39 @@ std::unique_ptr<DataTerm> SonarLikelihood::Clone() const {
   return std::make_unique<SonarLikelihood>(*this);
 }
 
+bool SonarLikelihood::Leg::operator==(const Leg& other) const {
+  const bool same_hit = hit.has_value() == other.hit.has_value() &&
+                        (!hit || (hit->t == other.hit->t && hit->tag == other.hit->tag));
+  return same_hit && path.from == other.path.from && path.direction == other.path.direction &&
+         path.reach == other.path.reach;
+}
+
+std::optional<SonarLikelihood::Leg> SonarLikelihood::LegOf(const Coloring& coloring, std::size_t i,
+                                                           const Edit* ignoring,
+                                                           std::span<const Segment> added) const {
+  const auto mirror = AxisMirror(data_->readings[i].cone, view_, segments_, window_);
+  if (!mirror) return std::nullopt;
+  return Leg{*mirror, FirstLegHit(*mirror, coloring, ignoring, added)};
+}
+
+template <typename Visit>
+void SonarLikelihood::ForEachLegCell(const Leg& leg, Visit&& visit) const {
+  if (leg.length() <= 0.0) return;
+  WalkCells(cone_cells_->grid, leg.path.from, leg.path.PointAt(leg.length()),
+            [&](int cell, double, double) {
+              visit(cell);
+              return true;
+            });
+}
+
+bool SonarLikelihood::ChangesLeg(const Leg& leg, const Edit& edit, std::span<const Segment> added) {
+  if (leg.hit && edit.Removes(leg.hit->tag)) return true;
+  const double length = leg.length();
+  return std::any_of(added.begin(), added.end(), [&](const Segment& s) {
+    return RaySegmentHit(leg.path.from, leg.path.direction, s.a, s.b, length).has_value();
+  });
+}
+
 SonarLikelihood::ReadingResult SonarLikelihood::Compute(const Coloring& coloring, std::size_t i,
                                                         const Edit* ignoring,
                                                         std::span<const Segment> added) const {
@@ -89,7 +127,7 @@ SonarLikelihood::ReadingResult SonarLikelihood::ComputeFromExtent(
   const double reach = Inflated(state_[i].extent);
   if (reach < data_->readings[i].cone.max_range) {
     const ReadingResult near =
-        ComputeWithin(coloring, i, ignoring, added, reach, index_.listed_cells(i));
+        ComputeWithin(coloring, i, ignoring, added, reach, state_[i].cone_cells);
     if (near.extent < reach) return near;
   }
   return Compute(coloring, i, ignoring, added);
@@ -122,9 +160,13 @@ SonarLikelihood::ReadingResult SonarLikelihood::ComputeWithin(const Coloring& co
   SonarCone cone = reading.cone;
   cone.max_range = reach;
   sweep_.Compute(cone, segments_, window_, &view_);
+  std::optional<Leg> leg =
+      model_.models_multipath() ? LegOf(coloring, i, ignoring, added) : std::nullopt;
+  const std::optional<double> multipath =
+      leg ? std::optional(prf::MultipathLength(leg->path, leg->hit)) : std::nullopt;
   return {ToFixed(model_.LogLikelihood(reading.range, reading.max_reading, view_.features,
-                                       data_->max_range, view_.seen_fraction)),
-          view_.extent};
+                                       data_->max_range, view_.seen_fraction, multipath)),
+          view_.extent, std::move(leg)};
 }
 
 SonarView SonarLikelihood::View(const Coloring& coloring, std::size_t i) const {
@@ -133,6 +175,14 @@ SonarView SonarLikelihood::View(const Coloring& coloring, std::size_t i) const {
   for (VisiblePiece& piece : view.pieces)
     if (piece.segment >= 0) piece.segment = segments_[static_cast<std::size_t>(piece.segment)].tag;
   return view;
+}
+
+std::optional<double> SonarLikelihood::MultipathLength(const Coloring& coloring,
+                                                       std::size_t i) const {
+  Compute(coloring, i, nullptr, {});
+  const std::optional<Leg> leg = LegOf(coloring, i, nullptr, {});
+  if (!leg) return std::nullopt;
+  return prf::MultipathLength(leg->path, leg->hit);
 }
 
 std::optional<std::string> SonarLikelihood::Reset(const Coloring& coloring) {
@@ -177,6 +227,7 @@ std::optional<std::string> SonarLikelihood::Reset(const Coloring& coloring) {
     ReadingState& state = state_[i];
     state.log_lik = result.log_lik;
     state.extent = result.extent;
+    state.leg = result.leg;
     state.contacts.assign(view_.contact_tags.begin(), view_.contact_tags.end());
     total_ += state.log_lik;
   }
@@ -194,12 +245,15 @@ std::uint32_t SonarLikelihood::ListedCellCount(std::size_t i, double extent) con
   return static_cast<std::uint32_t>(std::upper_bound(begin, end, Inflated(extent)) - begin);
 }
 
-// Lists (or re-lists) reading i on its cone's cells up to its extent: a prefix of its cells.
+// Lists (or re-lists) reading i on its cone's cells up to its extent (a prefix of its cells),
+// then on the cells of its multipath leg up to the edge that ends it.
 void SonarLikelihood::ListReading(std::size_t i, bool relist) {
   const ConeCells& cc = *cone_cells_;
-  const std::uint32_t count = ListedCellCount(i, state_[i].extent);
+  ReadingState& state = state_[i];
+  state.cone_cells = ListedCellCount(i, state.extent);
   const auto cells = [&](const auto& add) {
-    for (std::uint32_t k = 0; k < count; ++k) add(cc.cells[cc.offsets[i] + k]);
+    for (std::uint32_t k = 0; k < state.cone_cells; ++k) add(cc.cells[cc.offsets[i] + k]);
+    if (state.leg) ForEachLegCell(*state.leg, add);
   };
   if (relist)
     index_.Relist(i, cells);
@@ -252,17 +306,19 @@ std::optional<FixedLogLik> SonarLikelihood::Evaluate(const Coloring& coloring, c
     const auto i = static_cast<std::size_t>(id);
     const ReadingState& state = state_[i];
     // Unchanged unless it loses an edge it sees or gains one in front of what it sees.
+    const std::span<const Segment> added_span{added.begin(), added.size()};
     bool affected =
         std::any_of(edit.removed_edges.begin(), edit.removed_edges.end(), [&](EdgeId e) {
           return std::binary_search(state.contacts.begin(), state.contacts.end(), e);
         });
     for (std::size_t k = 0; !affected && k < added.size(); ++k)
       affected = SegmentMeetsCone(added[k], data_->readings[i].cone, state.extent);
+    affected = affected || (state.leg && ChangesLeg(*state.leg, edit, added_span));
     if (!affected) continue;
-    const ReadingResult result =
-        ComputeFromExtent(coloring, i, &edit, {added.begin(), added.size()});
+    ReadingResult result = ComputeFromExtent(coloring, i, &edit, added_span);
     const std::vector<std::int32_t>& tags = view_.contact_tags;
     if (result.log_lik == state.log_lik && result.extent == state.extent &&
+        result.leg == state.leg &&
         std::equal(tags.begin(), tags.end(), state.contacts.begin(), state.contacts.end()))
       continue;
     const auto begin = static_cast<std::uint32_t>(pending_contacts_.size());
@@ -271,7 +327,8 @@ std::optional<FixedLogLik> SonarLikelihood::Evaluate(const Coloring& coloring, c
                         .extent = result.extent,
                         .log_lik = result.log_lik,
                         .contacts_begin = begin,
-                        .contacts_end = static_cast<std::uint32_t>(pending_contacts_.size())});
+                        .contacts_end = static_cast<std::uint32_t>(pending_contacts_.size()),
+                        .leg = std::move(result.leg)});
     pending_delta_ += result.log_lik - state.log_lik;
   }
   return pending_delta_;
@@ -283,14 +340,22 @@ void SonarLikelihood::Commit(std::span<const EdgeId> added_edges) {
     ReadingState& state = state_[i];
     state.log_lik = change.log_lik;
     state.contacts.clear();
-    for (std::uint32_t k = change.contacts_begin; k < change.contacts_end; ++k) {
-      const std::int32_t tag = pending_contacts_[k];
-      state.contacts.push_back(tag >= 0 ? tag : added_edges[static_cast<std::size_t>(-1 - tag)]);
-    }
+    for (std::uint32_t k = change.contacts_begin; k < change.contacts_end; ++k)
+      state.contacts.push_back(Resolved(pending_contacts_[k], added_edges));
     std::sort(state.contacts.begin(), state.contacts.end());
-    if (change.extent == state.extent) continue;  // the same cells
+    std::optional<Leg> leg = change.leg;
+    if (leg) {
+      leg->path.mirror_tag = Resolved(leg->path.mirror_tag, added_edges);
+      if (leg->hit) leg->hit->tag = Resolved(leg->hit->tag, added_edges);
+    }
+    const bool same_leg_cells = leg.has_value() == state.leg.has_value() &&
+                                (!leg || (leg->path.from == state.leg->path.from &&
+                                          leg->path.direction == state.leg->path.direction &&
+                                          leg->length() == state.leg->length()));
+    state.leg = std::move(leg);
+    if (change.extent == state.extent && same_leg_cells) continue;  // the same cells
     state.extent = change.extent;
-    if (ListedCellCount(i, state.extent) == index_.listed_cells(i)) continue;
+    if (same_leg_cells && ListedCellCount(i, state.extent) == state.cone_cells) continue;
     ListReading(i, true);
   }
   total_ += pending_delta_;
@@ -325,14 +390,27 @@ std::optional<std::string> SonarLikelihood::FindInconsistency(const Coloring& co
     if (!std::equal(view_.contact_tags.begin(), view_.contact_tags.end(), state.contacts.begin(),
                     state.contacts.end()))
       return fmt::format("reading {}: the edges it sees differ from the recomputed ones", i);
+    if (!(result.leg == state.leg))
+      return fmt::format("reading {}: its multipath leg differs from the recomputed one", i);
     total += state.log_lik;
-    // Listed exactly on the cells of its cone up to its extent.
-    if (index_.listed_cells(i) != ListedCellCount(i, state.extent))
-      return fmt::format("reading {} is listed in {} cells, its extent has {}", i,
-                         index_.listed_cells(i), ListedCellCount(i, state.extent));
-    for (std::uint32_t k = 0; k < index_.listed_cells(i); ++k)
+    // Listed exactly on the cells of its cone up to its extent, then on those of its leg.
+    if (state.cone_cells != ListedCellCount(i, state.extent))
+      return fmt::format("reading {} is listed in {} cells of its cone, its extent has {}", i,
+                         state.cone_cells, ListedCellCount(i, state.extent));
+    std::uint32_t listed = state.cone_cells;
+    for (std::uint32_t k = 0; k < state.cone_cells; ++k)
       if (!index_.IsListed(cc.cells[cc.offsets[i] + k], i))
         return fmt::format("reading {} is missing from a cell of its cone", i);
+    bool missing = false;
+    if (state.leg)
+      ForEachLegCell(*state.leg, [&](int cell) {
+        missing = missing || !index_.IsListed(cell, i);
+        ++listed;
+      });
+    if (missing) return fmt::format("reading {} is missing from a cell of its leg", i);
+    if (index_.listed_cells(i) != listed)
+      return fmt::format("reading {} is listed in {} cells, its cone and leg have {}", i,
+                         index_.listed_cells(i), listed);
   }
   if (total != total_)
     return fmt::format("total log-likelihood kept {} differs from the sum {}", FromFixed(total_),

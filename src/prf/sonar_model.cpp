@@ -25,6 +25,24 @@ double NormalTail(double x) {
   return 0.5 * std::erfc(x * std::numbers::sqrt2 / 2.0);
 }
 
+// `weight` times a reading Gaussian around `mean` (σ), truncated to r >= 0: its density at
+// `reading`, or, for a max reading, its mass at or beyond R.
+double WeightedTruncatedNormal(double weight, double reading, bool max_reading, double mean,
+                               double sigma, double max_range) {
+  const double kept = NormalCdf(mean / sigma);  // the mass on [0, ∞)
+  if (max_reading) return weight * NormalTail((max_range - mean) / sigma) / kept;
+  const double z = (reading - mean) / sigma;
+  return weight * std::exp(-0.5 * z * z) / (sigma * std::sqrt(2.0 * std::numbers::pi) * kept);
+}
+
+// A draw of that Gaussian.
+double DrawTruncatedNormal(double mean, double sigma, Rng& rng) {
+  double r;
+  do r = rng.Normal(mean, sigma);
+  while (r < 0.0);
+  return r;
+}
+
 bool Finite(std::initializer_list<double> values) {
   return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
 }
@@ -56,6 +74,10 @@ std::string SonarModel::Problem() const {
           "the {}outlier weights (uniform {}, exponential {}, max {}) sum to {}, not 1", which, u,
           e, m, u + e + m);
   }
+  if (!(multipath_weight >= 0.0 && multipath_weight < 1.0))
+    return fmt::format("multipath_weight {} is not in [0, 1)", multipath_weight);
+  if (!(multipath_sigma_relative > 0.0 && std::isfinite(multipath_sigma_relative)))
+    return fmt::format("multipath_sigma_relative {} is not positive", multipath_sigma_relative);
   return {};
 }
 
@@ -83,17 +105,20 @@ double SonarModel::ReturnProbabilities(std::span<const SonarFeature> features,
 }
 
 SonarModel::Draw SonarModel::Sample(std::span<const SonarFeature> features, double seen_fraction,
-                                    double max_range, Rng& rng) const {
+                                    double max_range, Rng& rng,
+                                    std::optional<double> multipath) const {
   const auto reading = [&](double r) {
     return r >= max_range ? Draw{.range = 0.0, .max_reading = true} : Draw{.range = r};
   };
   for (const SonarFeature& f : features) {
     if (!rng.Bernoulli(IndependentReturn(f))) continue;
-    const double sigma = std::max(sigma_min, sigma_relative * f.distance);
-    double r;
-    do r = rng.Normal(f.distance, sigma);
-    while (r < 0.0);
-    return reading(r);
+    return reading(
+        DrawTruncatedNormal(f.distance, std::max(sigma_min, sigma_relative * f.distance), rng));
+  }
+  if (multipath && models_multipath() && rng.Bernoulli(multipath_weight)) {
+    if (!std::isfinite(*multipath)) return {.range = 0.0, .max_reading = true};
+    return reading(DrawTruncatedNormal(
+        *multipath, std::max(sigma_min, multipath_sigma_relative * *multipath), rng));
   }
   const bool specular = rng.Bernoulli(seen_fraction);
   const double u = specular ? uniform_weight : clear_uniform_weight;
@@ -109,22 +134,15 @@ SonarModel::Draw SonarModel::Sample(std::span<const SonarFeature> features, doub
 
 double SonarModel::LogLikelihood(double reading, bool max_reading,
                                  std::span<const SonarFeature> features, double max_range,
-                                 double seen_fraction) const {
+                                 double seen_fraction, std::optional<double> multipath) const {
   double density = 0.0;  // of the reading, or its probability when a max reading
   double none_closer = 1.0;
   for (const SonarFeature& f : features) {
     const double q = IndependentReturn(f);
     const double r = q * none_closer;
     none_closer *= 1.0 - q;
-    const double sigma = std::max(sigma_min, sigma_relative * f.distance);
-    // The Gaussian truncated to r >= 0: its mass on [0, ∞).
-    const double kept = NormalCdf(f.distance / sigma);
-    if (max_reading) {
-      density += r * NormalTail((max_range - f.distance) / sigma) / kept;
-    } else {
-      const double z = (reading - f.distance) / sigma;
-      density += r * std::exp(-0.5 * z * z) / (sigma * std::sqrt(2.0 * std::numbers::pi) * kept);
-    }
+    density += WeightedTruncatedNormal(r, reading, max_reading, f.distance,
+                                       std::max(sigma_min, sigma_relative * f.distance), max_range);
   }
   const double specular = seen_fraction, clear = 1.0 - seen_fraction;
   double outlier;
@@ -135,6 +153,16 @@ double SonarModel::LogLikelihood(double reading, bool max_reading,
                                -std::expm1(-exponential_rate * max_range);
     outlier = (specular * uniform_weight + clear * clear_uniform_weight) / max_range +
               (specular * exponential_weight + clear * clear_exponential_weight) * exponential;
+  }
+  if (multipath && models_multipath()) {
+    // Heard along the mirrored path, or beyond R (a max reading) when that path is not.
+    const double mirrored =
+        std::isfinite(*multipath)
+            ? WeightedTruncatedNormal(1.0, reading, max_reading, *multipath,
+                                      std::max(sigma_min, multipath_sigma_relative * *multipath),
+                                      max_range)
+            : (max_reading ? 1.0 : 0.0);
+    outlier = multipath_weight * mirrored + (1.0 - multipath_weight) * outlier;
   }
   return std::log(density + none_closer * outlier);
 }

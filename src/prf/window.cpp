@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <priormap/prf/window.hpp>
 
@@ -28,6 +30,16 @@ Vec2 Window::SideDirection(int side) const {
     default:
       return {0.0, -1.0};
   }
+}
+
+double Window::DistanceToSide(const Vec2& origin, const Vec2& direction) const {
+  double t = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 2; ++axis) {
+    const double d = direction[axis];
+    if (d > 0.0) t = std::min(t, (max[axis] - origin[axis]) / d);
+    if (d < 0.0) t = std::min(t, (min[axis] - origin[axis]) / d);
+  }
+  return t;
 }
 
 double Window::CornerCoordinate(int k) const {

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -55,7 +56,7 @@ SonarModel TrueModel() {
 // incidence or oblique, corners concave or not, and any share of the cone seen; each reading
 // drawn from `model`.
 std::vector<SonarFitReading> SyntheticReadings(const SonarModel& model, int count,
-                                               std::uint64_t seed) {
+                                               std::uint64_t seed, bool with_multipath = false) {
   Rng rng(seed);
   std::vector<SonarFitReading> readings;
   for (int i = 0; i < count; ++i) {
@@ -79,7 +80,13 @@ std::vector<SonarFitReading> SyntheticReadings(const SonarModel& model, int coun
     std::sort(r.features.begin(), r.features.end(),
               [](const SonarFeature& a, const SonarFeature& b) { return a.distance < b.distance; });
     r.seen_fraction = features == 0 ? rng.Uniform(0.0, 0.3) : rng.Uniform(0.3, 1.0);
-    const SonarModel::Draw draw = model.Sample(r.features, r.seen_fraction, kMaxRange, rng);
+    // A mirrored path for most cones that see a face: within R, or beyond it (not heard).
+    if (with_multipath && features > 0 && rng.Bernoulli(0.8)) {
+      const double path = rng.Uniform(1.0, 7.0);
+      r.multipath = path < kMaxRange ? path : std::numeric_limits<double>::infinity();
+    }
+    const SonarModel::Draw draw =
+        model.Sample(r.features, r.seen_fraction, kMaxRange, rng, r.multipath);
     r.range = draw.range;
     r.max_reading = draw.max_reading;
     readings.push_back(std::move(r));
@@ -137,6 +144,25 @@ TEST(SonarFit, FindsTheParametersOfTheModelThatMadeTheReadings) {
   EXPECT_GT(m.clear_max_weight, m.max_weight + 0.15);
 }
 
+TEST(SonarFit, FindsTheMultipathWeightAndSpread) {
+  SonarModel truth = TrueModel();
+  truth.multipath_weight = 0.35;
+  truth.multipath_sigma_relative = 0.03;
+  ASSERT_EQ(truth.Problem(), "");
+  const std::vector<SonarFitReading> readings = SyntheticReadings(truth, 3000, 15, true);
+  const SonarFitResult fit = FitSonarModel(readings, SonarModel{});
+  EXPECT_GE(fit.log_likelihood, FitLogLikelihood(readings, truth) - 1.0);
+  // About 2000 readings have a path and about a third of them are outliers, a third of those
+  // multipath: the weight is known to a few hundredths, the spread to a few thousandths.
+  EXPECT_NEAR(fit.model.multipath_weight, truth.multipath_weight, 0.08);
+  EXPECT_NEAR(fit.model.multipath_sigma_relative, truth.multipath_sigma_relative, 0.008);
+  // Without the component the same readings are much less likely.
+  SonarFitOptions without;
+  without.fit_multipath = false;
+  EXPECT_GT(fit.log_likelihood,
+            FitSonarModel(readings, SonarModel{}, without).log_likelihood + 50.0);
+}
+
 TEST(SonarFit, IsDeterministic) {
   const std::vector<SonarFitReading> readings = SyntheticReadings(TrueModel(), 1000, 6);
   SonarFitOptions options;
@@ -154,9 +180,11 @@ TEST(SonarFit, OptionsLeavingPartsOutKeepThePapersModel) {
   SonarFitOptions options;
   options.fit_clear_mixture = false;
   options.fit_concave_corners = false;
+  options.fit_multipath = false;
   options.rounds = 1;
   const SonarFitResult fit = FitSonarModel(readings, SonarModel{}, options);
   EXPECT_EQ(fit.model.concave_corner_bias, 0.0);
+  EXPECT_EQ(fit.model.multipath_weight, 0.0);
   EXPECT_EQ(fit.model.clear_uniform_weight, fit.model.uniform_weight);
   EXPECT_EQ(fit.model.clear_exponential_weight, fit.model.exponential_weight);
   EXPECT_EQ(fit.model.clear_max_weight, fit.model.max_weight);
@@ -206,6 +234,10 @@ TEST(SonarFit, ViewsOfPairEachReadingWithWhatTheTrueMapShowsItsCone) {
   EXPECT_NEAR(face.distance, 2.0, 1e-12);
   EXPECT_NEAR(face.projection, std::numbers::pi / 2, 1e-12);
   EXPECT_NEAR(face.subtended, 0.4, 1e-12);
+  // Mirrored head-on, the axis's path goes back out through the window's left side: nothing
+  // heard within R.
+  ASSERT_TRUE(readings[0].multipath);
+  EXPECT_EQ(*readings[0].multipath, std::numeric_limits<double>::infinity());
   // A sensor inside black is a broken precondition.
   const WallCase inside = Wall(Vec2(3.5, 1.5));
   EXPECT_THROW((void)ViewsOf(inside.data, inside.truth), ContractError);

@@ -216,6 +216,24 @@ TEST(SonarLikelihood, IncrementalEqualsRecomputedWithConcaveCornersAndTheClearMi
   ExpectIncrementalEqualsRecomputed(data, 0.3, 20.0, 30000, 5000, 6, model);
 }
 
+// With multipath, a reading also hangs on the leg of its axis's path beyond the mirror: the
+// incremental state must follow edits there too (edges removed from or added across the leg).
+TEST(SonarLikelihood, IncrementalEqualsRecomputedWithMultipath) {
+  const Scene scene = *BuiltinScene("office");
+  const SonarSensor sensor = *SonarSensor::Preset("pioneer16");
+  const auto trajectory = TrajectoryFromWaypoints(scene.waypoints, 0.5, 2.0);
+  const auto data = Selected(SimulateSonarLog(scene, sensor, trajectory, 9), 5.0);
+  ASSERT_TRUE(data);
+  SonarModel model;
+  model.multipath_weight = 0.4;
+  model.multipath_sigma_relative = 0.02;
+  model.clear_uniform_weight = 0.05;
+  model.clear_exponential_weight = 0.05;
+  model.clear_max_weight = 0.9;
+  ExpectIncrementalEqualsRecomputed(data, 0.3, 1.0, 50000, 5000, 7, model);
+  ExpectIncrementalEqualsRecomputed(data, 0.3, 20.0, 50000, 5000, 8, model);
+}
+
 TEST(SonarLikelihood, IncrementalEqualsRecomputedAfter100kMovesOnTheRealSonarLog) {
   const auto shared = testing::SharedDataDir();
   if (!shared) GTEST_SKIP() << "../shared/data is absent: no real sonar log to test on";

@@ -221,13 +221,15 @@ TEST(SonarModelIo, AnUnknownKeyWrittenWithAnEscapeIsLocated) {
 }
 
 // The fitted model shipped as examples/formats/sonar-model-simulated.json (docs/sonar.md) reads,
-// with the fit's record ignored and the corner reflectors' bias it was fitted for.
+// with the fit's record ignored, the corner reflectors' bias and the multipath weight it was
+// fitted for (the simulator's multipath probability is 0.4).
 TEST(SonarModelIo, ReadsTheShippedFittedModel) {
   const Result<SonarModel> model =
       ReadSonarModel(PRIORMAP_EXAMPLES_DIR "/formats/sonar-model-simulated.json");
   ASSERT_TRUE(model.ok()) << model.error();
   EXPECT_GT(model.value().concave_corner_bias, 1.0);
   EXPECT_GT(model.value().clear_max_weight, 0.9);
+  EXPECT_NEAR(model.value().multipath_weight, 0.4, 0.05);
 }
 
 }  // namespace

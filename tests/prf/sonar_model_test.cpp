@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -37,17 +38,19 @@ SonarFeature Corner(double distance, bool concave = false) {
 // ∫_0^R p(r | features) dr + P(max | features), by Simpson's rule on a grid fine against the
 // narrowest Gaussian.
 double TotalProbability(const SonarModel& model, const std::vector<SonarFeature>& features,
-                        double max_range, double seen_fraction = 1.0) {
+                        double max_range, double seen_fraction = 1.0,
+                        std::optional<double> multipath = std::nullopt) {
   const int n = 100000;  // even
   const double h = max_range / n;
   double sum = 0.0;
   for (int i = 0; i <= n; ++i) {
     const double weight = (i == 0 || i == n) ? 1.0 : (i % 2 == 1 ? 4.0 : 2.0);
     const double r = std::min(i * h, max_range * (1.0 - 1e-15));  // [0, R): just below R
-    sum += weight * std::exp(model.LogLikelihood(r, false, features, max_range, seen_fraction));
+    sum += weight *
+           std::exp(model.LogLikelihood(r, false, features, max_range, seen_fraction, multipath));
   }
-  return sum * h / 3.0 +
-         std::exp(model.LogLikelihood(max_range, true, features, max_range, seen_fraction));
+  return sum * h / 3.0 + std::exp(model.LogLikelihood(max_range, true, features, max_range,
+                                                      seen_fraction, multipath));
 }
 
 // Random features in depth order, as a view would give them; corners are concave half of the
@@ -244,14 +247,16 @@ TEST(SonarModel, ConcaveCornersEchoMoreByTheirBias) {
 
 // ∫ p(r | features) dr over [lo, hi) by Simpson's rule (fine against the narrowest Gaussian).
 double BinProbability(const SonarModel& model, const std::vector<SonarFeature>& features,
-                      double max_range, double seen_fraction, double lo, double hi) {
+                      double max_range, double seen_fraction, std::optional<double> multipath,
+                      double lo, double hi) {
   const int n = 400;  // even
   const double h = (hi - lo) / n;
   double sum = 0.0;
   for (int i = 0; i <= n; ++i) {
     const double weight = (i == 0 || i == n) ? 1.0 : (i % 2 == 1 ? 4.0 : 2.0);
     const double r = std::min(lo + i * h, max_range * (1.0 - 1e-15));
-    sum += weight * std::exp(model.LogLikelihood(r, false, features, max_range, seen_fraction));
+    sum += weight *
+           std::exp(model.LogLikelihood(r, false, features, max_range, seen_fraction, multipath));
   }
   return sum * h / 3.0;
 }
@@ -262,7 +267,8 @@ double BinProbability(const SonarModel& model, const std::vector<SonarFeature>& 
 // once in 30000 seeds (and the seed is fixed).
 void ExpectSampleMatchesLikelihood(const SonarModel& model,
                                    const std::vector<SonarFeature>& features, double seen,
-                                   std::uint64_t seed) {
+                                   std::uint64_t seed,
+                                   std::optional<double> multipath = std::nullopt) {
   const double r_max = 5.0;
   constexpr int kBins = 50;
   constexpr int kDraws = 200000;
@@ -270,7 +276,7 @@ void ExpectSampleMatchesLikelihood(const SonarModel& model,
   std::vector<int> counts(kBins, 0);
   int max_readings = 0;
   for (int i = 0; i < kDraws; ++i) {
-    const SonarModel::Draw draw = model.Sample(features, seen, r_max, rng);
+    const SonarModel::Draw draw = model.Sample(features, seen, r_max, rng, multipath);
     if (draw.max_reading) {
       ++max_readings;
       continue;
@@ -285,11 +291,12 @@ void ExpectSampleMatchesLikelihood(const SonarModel& model,
     EXPECT_LE(std::abs(count - mean), 5.0 * standard_error + 1.0)
         << what << ": " << count << " draws, expected " << mean << " ± " << standard_error;
   };
-  const double p_max = std::exp(model.LogLikelihood(r_max, true, features, r_max, seen));
+  const double p_max = std::exp(model.LogLikelihood(r_max, true, features, r_max, seen, multipath));
   expect_count(max_readings, p_max, "max readings");
   double total = p_max;
   for (int b = 0; b < kBins; ++b) {
-    const double p = BinProbability(model, features, r_max, seen, 0.1 * b, 0.1 * (b + 1));
+    const double p =
+        BinProbability(model, features, r_max, seen, multipath, 0.1 * b, 0.1 * (b + 1));
     total += p;
     expect_count(counts[static_cast<std::size_t>(b)], p, "bin " + std::to_string(b));
   }
@@ -317,6 +324,105 @@ TEST(SonarModel, SampleDrawsFromTheLikelihoodsDensity) {
     ASSERT_LT(model.IndependentReturn(faint[0]), 0.01);
     ExpectSampleMatchesLikelihood(model, faint, 0.3, 2025);
   }
+}
+
+// MixtureModel with the multipath component on, its spread wide enough for 0.1 m bins.
+SonarModel MultipathModel() {
+  SonarModel model = MixtureModel();
+  model.multipath_weight = 0.4;
+  model.multipath_sigma_relative = 0.03;
+  model.sigma_min = 0.05;
+  return model;
+}
+
+TEST(SonarModel, WithMultipathItStillIntegratesToOne) {
+  const SonarModel model = MultipathModel();
+  ASSERT_EQ(model.Problem(), "");
+  const double r_max = 5.0;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::mt19937_64 random(22);
+  // A path well inside R, one whose Gaussian straddles R (part of it a max reading), one near
+  // the apex (truncated at 0), one not heard within R, and no mirror at all.
+  for (const std::optional<double> multipath :
+       {std::optional(2.7), std::optional(4.97), std::optional(0.03), std::optional(inf),
+        std::optional<double>()}) {
+    SCOPED_TRACE(::testing::Message() << "multipath " << multipath.value_or(-1.0));
+    for (double seen : {0.0, 0.6, 1.0}) {
+      EXPECT_NEAR(TotalProbability(model, {}, r_max, seen, multipath), 1.0, 1e-6);
+      EXPECT_NEAR(
+          TotalProbability(model, RandomFeatures(random, 3, r_max, true), r_max, seen, multipath),
+          1.0, 1e-6);
+    }
+  }
+}
+
+TEST(SonarModel, MultipathMixesAGaussianAtThePathIntoTheOutliers) {
+  SonarModel model = MixtureModel();
+  const double r_max = 5.0;
+  const double seen = 0.7;
+  const std::vector<SonarFeature> features = {Face(1.0, 1.2, 0.1)};
+  // Off (weight 0), the path changes nothing: the paper's model.
+  for (double r : {0.5, 2.0, 3.1})
+    EXPECT_EQ(model.LogLikelihood(r, false, features, r_max, seen, 3.0),
+              model.LogLikelihood(r, false, features, r_max, seen));
+  model.multipath_weight = 0.25;
+  model.multipath_sigma_relative = 0.02;
+  std::vector<double> returns;
+  const double outlier = model.ReturnProbabilities(features, &returns);
+  const auto gaussian = [](double r, double mean, double sigma) {
+    const double z = (r - mean) / sigma;
+    return std::exp(-0.5 * z * z) / (sigma * std::sqrt(2.0 * std::numbers::pi));
+  };
+  // p = echo + outlier · mixture without the path; with it, the mixture becomes
+  // 0.25 N(r; 3, 0.02 · 3) + 0.75 · mixture, and the echo stays.
+  for (double r : {0.99, 2.9, 3.0, 3.05, 4.0}) {
+    const double without = std::exp(model.LogLikelihood(r, false, features, r_max, seen));
+    const double echo = returns[0] * gaussian(r, 1.0, model.sigma_min);
+    const double mixture = (without - echo) / outlier;
+    const double expected = echo + outlier * (0.25 * gaussian(r, 3.0, 0.06) + 0.75 * mixture);
+    EXPECT_NEAR(std::exp(model.LogLikelihood(r, false, features, r_max, seen, 3.0)), expected,
+                1e-9 * expected)
+        << "r = " << r;
+  }
+  // A path not heard within R gives its share to the max reading.
+  const double max_without = std::exp(model.LogLikelihood(r_max, true, features, r_max, seen));
+  const double max_with = std::exp(model.LogLikelihood(r_max, true, features, r_max, seen,
+                                                       std::numeric_limits<double>::infinity()));
+  EXPECT_NEAR(max_with, outlier * 0.25 + 0.75 * max_without, 1e-12);
+  // Beyond R a Gaussian path is a max reading too: half of one centred on R.
+  const double max_at_r = std::exp(model.LogLikelihood(r_max, true, features, r_max, seen, r_max));
+  EXPECT_NEAR(max_at_r, outlier * 0.25 * 0.5 + 0.75 * max_without, 1e-12);
+}
+
+TEST(SonarModel, SampleDrawsMultipathReadingsFromTheLikelihoodsDensity) {
+  const SonarModel model = MultipathModel();
+  const std::vector<SonarFeature> faint = {Face(2.0, 1.1, 0.05), Corner(4.0, false)};
+  {
+    SCOPED_TRACE("a path within R");
+    ExpectSampleMatchesLikelihood(model, faint, 0.8, 2026, 3.4);
+  }
+  {
+    SCOPED_TRACE("a path straddling R");
+    ExpectSampleMatchesLikelihood(model, faint, 0.8, 2027, 4.9);
+  }
+  {
+    SCOPED_TRACE("a path not heard within R");
+    ExpectSampleMatchesLikelihood(model, faint, 0.8, 2028, std::numeric_limits<double>::infinity());
+  }
+}
+
+TEST(SonarModel, ReportsBadMultipathParameters) {
+  using ::testing::HasSubstr;
+  SonarModel model;
+  model.multipath_weight = 1.0;
+  EXPECT_THAT(model.Problem(), HasSubstr("multipath_weight"));
+  model.multipath_weight = -0.1;
+  EXPECT_THAT(model.Problem(), HasSubstr("multipath_weight"));
+  model = SonarModel{};
+  model.multipath_sigma_relative = 0.0;
+  EXPECT_THAT(model.Problem(), HasSubstr("multipath_sigma_relative"));
+  model.multipath_sigma_relative = std::nan("");
+  EXPECT_THAT(model.Problem(), HasSubstr("multipath_sigma_relative"));
 }
 
 TEST(SonarModel, ReportsBadClearWeightsAndCoefficients) {

@@ -6,6 +6,7 @@
 /// the PRF's sonar likelihood says what the sensor actually does (docs/sonar.md).
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <variant>
@@ -26,6 +27,9 @@ struct SonarFitReading {
   double max_range = 0.0;
   std::vector<SonarFeature> features;  // in depth order
   double seen_fraction = 0.0;
+  /// The length of its multipath path in the true map (+inf: not heard within R), nullopt when
+  /// its axis meets no face (SonarLikelihood::MultipathLength).
+  std::optional<double> multipath;
 };
 
 /// The readings of `data` with their views of `truth` (a coloring whose window holds the
@@ -59,6 +63,9 @@ struct SonarFitOptions {
   /// Also fit concave_corner_bias; when false it keeps the starting model's value (0 by
   /// default: the paper's distance-only corners).
   bool fit_concave_corners = true;
+  /// Also fit the multipath component (multipath_weight, multipath_sigma_relative); when false
+  /// they keep the starting model's values (weight 0 by default: the paper's model).
+  bool fit_multipath = true;
 };
 
 struct SonarFitResult {

@@ -10,6 +10,11 @@
 /// over the edges the coloring's index holds in the cone's cells up to R. A sensor inside the
 /// region an edit reverses would turn black, which has likelihood zero.
 ///
+/// With the model's multipath component (SonarModel::multipath_weight), a reading also depends on
+/// the leg of its axis's path beyond the face that mirrors it (sonar_multipath.hpp): it is listed
+/// in the cells of that leg as well, up to the leg's first edge, and recomputed when an edit
+/// removes that edge or adds one across the leg before it.
+///
 /// The index is the coloring's own cell grid, so that one list of cells per cone (computed once,
 /// shared by the copies of the term) serves both the gathering of edges and the listing.
 
@@ -21,6 +26,7 @@
 #include <priormap/prf/dynamic_cell_index.hpp>
 #include <priormap/prf/sonar_data.hpp>
 #include <priormap/prf/sonar_model.hpp>
+#include <priormap/prf/sonar_multipath.hpp>
 #include <priormap/prf/sonar_visibility.hpp>
 
 namespace priormap::prf {
@@ -44,6 +50,10 @@ class SonarLikelihood final : public DataTerm {
   [[nodiscard]] double extent(std::size_t i) const { return state_[i].extent; }
   /// What reading `i` sees in `coloring` (tests, figures), its pieces naming the edge ids seen.
   [[nodiscard]] SonarView View(const Coloring& coloring, std::size_t i) const;
+  /// The length of reading `i`'s multipath path in `coloring` (+inf when it is not heard within
+  /// R), nullopt when its axis meets no face within R.
+  [[nodiscard]] std::optional<double> MultipathLength(const Coloring& coloring,
+                                                      std::size_t i) const;
 
  private:
   // Cells overlapping each cone up to R (conservatively), nearest first, with their distance
@@ -54,9 +64,19 @@ class SonarLikelihood final : public DataTerm {
     std::vector<std::int32_t> cells;
     std::vector<double> near;
   };
+  // The leg of a reading's multipath path beyond its mirror, and the edge that ends it.
+  struct Leg {
+    MirrorLeg path;
+    std::optional<LegHit> hit;  // its tag an edge id once committed
+    /// The part of the leg whose edges matter: to its hit, or its whole reach.
+    [[nodiscard]] double length() const { return hit ? hit->t : path.reach; }
+    [[nodiscard]] bool operator==(const Leg& other) const;
+  };
   struct ReadingState {
     double extent = 0.0;
     FixedLogLik log_lik = 0;
+    std::uint32_t cone_cells = 0;  // listed: the prefix of its cone's cells within its extent
+    std::optional<Leg> leg;        // with the multipath model, when its axis meets a face
     std::vector<EdgeId> contacts;  // the edges it sees, sorted
   };
   struct Change {
@@ -65,10 +85,12 @@ class SonarLikelihood final : public DataTerm {
     FixedLogLik log_lik;
     std::uint32_t contacts_begin;  // into pending_contacts_; added edge k is -1 - k
     std::uint32_t contacts_end;
+    std::optional<Leg> leg;  // tags as contacts
   };
   struct ReadingResult {
     FixedLogLik log_lik;
     double extent;
+    std::optional<Leg> leg;
   };
 
   /// Sweeps reading i's cone to R over the coloring's edges in its cells, less those `ignoring`
@@ -82,6 +104,18 @@ class SonarLikelihood final : public DataTerm {
   ReadingResult ComputeWithin(const Coloring& coloring, std::size_t i, const Edit* ignoring,
                               std::span<const Segment> added, double reach,
                               std::uint32_t cells) const;
+  /// The multipath leg of reading i given its view (in view_, over segments_), when the axis
+  /// meets a face.
+  [[nodiscard]] std::optional<Leg> LegOf(const Coloring& coloring, std::size_t i,
+                                         const Edit* ignoring,
+                                         std::span<const Segment> added) const;
+  /// The cells of a leg up to the edge that ends it (or its reach).
+  template <typename Visit>
+  void ForEachLegCell(const Leg& leg, Visit&& visit) const;
+  /// Whether the edit changes what ends a kept leg: it removes the leg's edge or adds one
+  /// across the leg before it.
+  [[nodiscard]] static bool ChangesLeg(const Leg& leg, const Edit& edit,
+                                       std::span<const Segment> added);
   [[nodiscard]] bool SensorFlips(const Edit& edit) const;
   void CollectReadings(const Vec2& a, const Vec2& b);
   [[nodiscard]] std::uint32_t ListedCellCount(std::size_t i, double extent) const;

@@ -11,10 +11,15 @@
 ///     truncated to r ≥ 0, its mass beyond R a max reading), and with the outlier weight
 ///     Π_f (1 − q_f) drawn from a mixture of a uniform on [0, R), an exponential truncated to
 ///     [0, R) and a max-range point mass.
+/// One extension, off by default (multipath_weight = 0): when the cone's axis meets a face, the
+/// outlier component gives weight multipath_weight to a Gaussian around the length of the axis's
+/// path mirrored at that face and followed to the next edge (the multipath reading a specular
+/// miss gives; sonar_multipath.hpp finds that path), its mass beyond R a max reading.
 /// The observation space is [0, R) plus the max-reading atom; the density integrates to one
 /// over it for every set of features (tests/prf/sonar_model_test.cpp).
 
 #include <array>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -60,6 +65,12 @@ struct SonarModel {
   double clear_uniform_weight = 0.3;
   double clear_exponential_weight = 0.1;
   double clear_max_weight = 0.6;
+  // Multipath: given a specular miss whose axis meets a face, the share of the outlier
+  // component that is heard back along the mirrored path (0: the paper's model), and that
+  // reading's spread relative to the path's length (wider than a direct echo's, as the map's
+  // faces are never exactly where the sound bounced).
+  double multipath_weight = 0.0;
+  double multipath_sigma_relative = 0.02;
 
   /// Empty when valid, else what is wrong.
   [[nodiscard]] std::string Problem() const;
@@ -73,19 +84,27 @@ struct SonarModel {
   /// A reading drawn from the model (the generative story of LogLikelihood): each feature in
   /// depth order echoes with its q until one does, its range Gaussian around the feature's
   /// distance (truncated to r >= 0; at or beyond R a max reading); when none does, an outlier
-  /// from the specular mixture with probability `seen_fraction`, else from the clear one.
+  /// from the specular mixture with probability `seen_fraction`, else from the clear one; with
+  /// a mirrored path (`multipath`: its length, +inf when not heard within R), first the
+  /// multipath reading with probability multipath_weight.
   struct Draw {
     double range = 0.0;  // when not max_reading
     bool max_reading = false;
   };
   [[nodiscard]] Draw Sample(std::span<const SonarFeature> features, double seen_fraction,
-                            double max_range, Rng& rng) const;
+                            double max_range, Rng& rng,
+                            std::optional<double> multipath = std::nullopt) const;
 
   /// log p(reading | features) for a reading r < R, or of a max reading when `max_reading`;
-  /// `seen_fraction` is the share of the cone that meets a surface (SonarView).
+  /// `seen_fraction` is the share of the cone that meets a surface (SonarView); `multipath` the
+  /// length of the axis's mirrored path (+inf when it is not heard within R), nullopt when the
+  /// axis meets no face within R.
   [[nodiscard]] double LogLikelihood(double reading, bool max_reading,
                                      std::span<const SonarFeature> features, double max_range,
-                                     double seen_fraction = 1.0) const;
+                                     double seen_fraction = 1.0,
+                                     std::optional<double> multipath = std::nullopt) const;
+  /// Whether the multipath extension is on (views then need their mirrored paths).
+  [[nodiscard]] bool models_multipath() const { return multipath_weight > 0.0; }
 };
 
 /// A parameter of SonarModel and its name (in model files, sonar_model_io.hpp).
@@ -94,7 +113,7 @@ struct SonarModelParameter {
   double SonarModel::*member;
 };
 /// Every parameter of SonarModel, in a fixed order (that of the files and of fingerprints).
-inline constexpr std::array<SonarModelParameter, 17> kSonarModelParameters = {{
+inline constexpr std::array<SonarModelParameter, 19> kSonarModelParameters = {{
     {"corner_bias", &SonarModel::corner_bias},
     {"corner_per_m", &SonarModel::corner_per_m},
     {"concave_corner_bias", &SonarModel::concave_corner_bias},
@@ -112,6 +131,8 @@ inline constexpr std::array<SonarModelParameter, 17> kSonarModelParameters = {{
     {"clear_uniform_weight", &SonarModel::clear_uniform_weight},
     {"clear_exponential_weight", &SonarModel::clear_exponential_weight},
     {"clear_max_weight", &SonarModel::clear_max_weight},
+    {"multipath_weight", &SonarModel::multipath_weight},
+    {"multipath_sigma_relative", &SonarModel::multipath_sigma_relative},
 }};
 
 }  // namespace priormap::prf

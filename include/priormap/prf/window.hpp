@@ -33,6 +33,9 @@ struct Window {
     return p.x() > min.x() && p.x() < max.x() && p.y() > min.y() && p.y() < max.y();
   }
 
+  /// The distance from a point inside to the boundary along a unit direction.
+  [[nodiscard]] double DistanceToSide(const Vec2& origin, const Vec2& direction) const;
+
   /// The side holding perimeter coordinate s (wrapped into [0, Perimeter())), or -1 when s is
   /// exactly a corner: boundary vertices never sit on corners.
   [[nodiscard]] int SideAt(double s) const;
