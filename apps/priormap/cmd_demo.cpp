@@ -185,7 +185,7 @@ GalleryEntry SonarPrf(Steps& s, const std::string& steps) {
   s.Run(&e, {"simulate", "--scene", "office", "--sensor", "pioneer16", "--log", "--seed", s.seed(),
              "-o", log});
   return PrfOnLog(s, std::move(e), log, "prf-sonar", {}, steps, false,
-                  {"--sonar-model", model, "--free-space", "0.3", "--orientation-weight", "1",
+                  {"--sonar-model", model, "--free-space", "1", "--orientation-weight", "1",
                    "--burn-in-temperature", "5"});
 }
 

@@ -37,12 +37,12 @@ TEST(SonarStudy, ThePrfFindsTheWallsTheGridErasesOnASimulatedOffice) {
   EXPECT_GT(prf.classification.observed.Coverage(), 0.95);
 }
 
-// docs/prf.md's protocol at CI length: the shipped sonar model (fitted on other seeds), the
-// free-space and orientation priors, a tempered start. On the office the posterior classifies
-// what the cones saw clearly better than the grid, misses fewer walls and draws its 0.5 contour
-// within 10 cm of the true walls on average. (Issue 7 asks for 5 points of accuracy: with 3M
-// steps per chain docs/prf.md measures 5.3 and 6.0 on two seeds; at this length, 4.9, and the
-// chains are not yet mixed, so the margin moves by a point with the length.)
+// docs/prf.md's protocol at CI length: the shipped sonar model (fitted on other seeds, with
+// multipath), the free-space and orientation priors, a tempered start. On the office the
+// posterior classifies what the cones saw clearly better than the grid, misses fewer walls and
+// draws its 0.5 contour within 10 cm of the true walls on average. (Issue 7 asks for 5 points
+// of accuracy: with 3M steps per chain docs/prf.md measures 6.0 and 6.3 on two seeds; at this
+// length the chains are not yet mixed, so the margin is asked only to pass 4 points.)
 TEST(SonarStudy, WithTheFittedModelAndPriorsThePrfBeatsTheGridOnTheOffice) {
   SonarStudyOptions options;
   options.scenes = {*BuiltinScene("office")};
@@ -50,7 +50,7 @@ TEST(SonarStudy, WithTheFittedModelAndPriorsThePrfBeatsTheGridOnTheOffice) {
       ReadSonarModel(PRIORMAP_EXAMPLES_DIR "/formats/sonar-model-simulated.json");
   ASSERT_TRUE(model.ok()) << model.error();
   options.model = model.value();
-  options.mapping.sampler.free_space = 0.3;
+  options.mapping.sampler.free_space = 1.0;
   options.mapping.sampler.orientation.weight = 1.0;
   options.mapping.burn_in_temperature = 5.0;
   options.mapping.burn_in = 600000;
