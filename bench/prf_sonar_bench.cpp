@@ -1,7 +1,8 @@
 // Polygonal random fields on sonar (issue 7's speed), one core: Metropolis-Hastings proposals per
 // second with the sonar likelihood on the real RoboND rings and on simulated office logs of about
 // 3,000 and 29,000 readings (the paper's Gates Hall set has 29,120), and the sonar grid's rate.
-// Each proposal benchmark burns its chain in first (setup, untimed), then times further steps.
+// Each proposal benchmark burns its chain in first (setup, untimed), then times further steps,
+// with the built-in model (the paper's form) or the fitted one of docs/sonar.md (multipath on).
 #include <memory>
 #include <optional>
 
@@ -12,6 +13,7 @@
 #include <priormap/grid/sonar_grid.hpp>
 #include <priormap/prf/sampler.hpp>
 #include <priormap/prf/sonar_likelihood.hpp>
+#include <priormap/prf/sonar_model_io.hpp>
 
 namespace {
 
@@ -40,14 +42,26 @@ Log OfficeLog(double rate) {
   return SimulateSonarLog(scene, *SonarSensor::Preset("pioneer16"), trajectory, 1);
 }
 
-void ProposalsPerSecond(benchmark::State& state, const Log& log, double max_range) {
+// The fitted model shipped with the examples (docs/sonar.md): corner reflectors, the clear
+// mixture and multipath.
+const SonarModel* FittedModel() {
+  static const std::optional<SonarModel> model = []() -> std::optional<SonarModel> {
+    auto read = ReadSonarModel(PRIORMAP_EXAMPLES_DIR "/formats/sonar-model-simulated.json");
+    if (!read.ok()) return std::nullopt;
+    return read.value();
+  }();
+  return model ? &*model : nullptr;
+}
+
+void ProposalsPerSecond(benchmark::State& state, const Log& log, double max_range,
+                        const SonarModel& model = {}) {
   auto selected =
       SelectSonarReadings(log, {.first_scan = 0, .end_scan = std::nullopt, .max_range = max_range});
   auto data = std::make_shared<const SonarData>(std::get<SonarData>(std::move(selected)));
   SamplerOptions options;
   options.p = 0.1;
   PrfSampler sampler(Coloring(WindowAround(*data, 1.0), kCellSize), options, 1,
-                     std::make_unique<SonarLikelihood>(data, SonarModel{}));
+                     std::make_unique<SonarLikelihood>(data, model));
   sampler.Run(kBurnIn);
   for (auto _ : state) sampler.Run(kStepsPerIteration);
   state.counters["readings"] = static_cast<double>(data->readings.size());
@@ -73,6 +87,21 @@ void BM_SonarProposalsOffice(benchmark::State& state) {
   ProposalsPerSecond(state, OfficeLog(static_cast<double>(state.range(0))), 5.0);
 }
 BENCHMARK(BM_SonarProposalsOffice)
+    ->Arg(2)
+    ->Arg(18)
+    ->ArgName("rings_per_s")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+void BM_SonarProposalsOfficeFitted(benchmark::State& state) {
+  const SonarModel* model = FittedModel();
+  if (model == nullptr) {
+    state.SkipWithError("examples/formats/sonar-model-simulated.json is not readable");
+    return;
+  }
+  ProposalsPerSecond(state, OfficeLog(static_cast<double>(state.range(0))), 5.0, *model);
+}
+BENCHMARK(BM_SonarProposalsOfficeFitted)
     ->Arg(2)
     ->Arg(18)
     ->ArgName("rings_per_s")
