@@ -3,6 +3,7 @@
 // put in black; and the dynamic cone index answers what a recomputation from scratch answers,
 // bit for bit, after long chains of random moves on simulated and real sonar logs.
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <numbers>
 
@@ -186,11 +187,16 @@ std::shared_ptr<const SonarData> Selected(const Log& log, double max_range) {
   return std::make_shared<const SonarData>(std::get<SonarData>(selected));
 }
 
-TEST(SonarLikelihood, IncrementalEqualsRecomputedAfter100kMovesOnASimulatedLog) {
+// Simulated pioneer16 rings along the office's trajectory (0.5 m/s, 2 rings/s), R = 5 m.
+std::shared_ptr<const SonarData> OfficeRings(std::uint64_t seed) {
   const Scene scene = *BuiltinScene("office");
   const SonarSensor sensor = *SonarSensor::Preset("pioneer16");
   const auto trajectory = TrajectoryFromWaypoints(scene.waypoints, 0.5, 2.0);
-  const auto data = Selected(SimulateSonarLog(scene, sensor, trajectory, 7), 5.0);
+  return Selected(SimulateSonarLog(scene, sensor, trajectory, seed), 5.0);
+}
+
+TEST(SonarLikelihood, IncrementalEqualsRecomputedAfter100kMovesOnASimulatedLog) {
+  const auto data = OfficeRings(7);
   ASSERT_TRUE(data);
   EXPECT_GT(data->readings.size(), 1000u);
   ExpectIncrementalEqualsRecomputed(data, 0.3, 1.0, 100000, 10000, 1);
@@ -202,10 +208,7 @@ TEST(SonarLikelihood, IncrementalEqualsRecomputedAfter100kMovesOnASimulatedLog) 
 // change nothing: a model that weighs them shows whether the incremental views keep them as a
 // recomputation does.
 TEST(SonarLikelihood, IncrementalEqualsRecomputedWithConcaveCornersAndTheClearMixture) {
-  const Scene scene = *BuiltinScene("office");
-  const SonarSensor sensor = *SonarSensor::Preset("pioneer16");
-  const auto trajectory = TrajectoryFromWaypoints(scene.waypoints, 0.5, 2.0);
-  const auto data = Selected(SimulateSonarLog(scene, sensor, trajectory, 8), 5.0);
+  const auto data = OfficeRings(8);
   ASSERT_TRUE(data);
   SonarModel model;
   model.concave_corner_bias = 2.0;
@@ -219,10 +222,7 @@ TEST(SonarLikelihood, IncrementalEqualsRecomputedWithConcaveCornersAndTheClearMi
 // With multipath, a reading also hangs on the leg of its axis's path beyond the mirror: the
 // incremental state must follow edits there too (edges removed from or added across the leg).
 TEST(SonarLikelihood, IncrementalEqualsRecomputedWithMultipath) {
-  const Scene scene = *BuiltinScene("office");
-  const SonarSensor sensor = *SonarSensor::Preset("pioneer16");
-  const auto trajectory = TrajectoryFromWaypoints(scene.waypoints, 0.5, 2.0);
-  const auto data = Selected(SimulateSonarLog(scene, sensor, trajectory, 9), 5.0);
+  const auto data = OfficeRings(9);
   ASSERT_TRUE(data);
   SonarModel model;
   model.multipath_weight = 0.4;
