@@ -83,6 +83,12 @@ bool SonarLikelihood::Leg::operator==(const Leg& other) const {
          path.reach == other.path.reach;
 }
 
+bool SonarLikelihood::Leg::SameCells(const std::optional<Leg>& a, const std::optional<Leg>& b) {
+  if (!a || !b) return a.has_value() == b.has_value();
+  return a->path.from == b->path.from && a->path.direction == b->path.direction &&
+         a->length() == b->length();
+}
+
 std::optional<SonarLikelihood::Leg> SonarLikelihood::LegOf(const Coloring& coloring, std::size_t i,
                                                            const Edit* ignoring,
                                                            std::span<const Segment> added) const {
@@ -179,6 +185,8 @@ SonarView SonarLikelihood::View(const Coloring& coloring, std::size_t i) const {
 
 std::optional<double> SonarLikelihood::MultipathLength(const Coloring& coloring,
                                                        std::size_t i) const {
+  // Compute's sweep leaves the reading's view in view_, where LegOf finds the face to mirror at;
+  // its leg is that of the model at hand, so take it from LegOf whatever the model.
   Compute(coloring, i, nullptr, {});
   const std::optional<Leg> leg = LegOf(coloring, i, nullptr, {});
   if (!leg) return std::nullopt;
@@ -348,10 +356,7 @@ void SonarLikelihood::Commit(std::span<const EdgeId> added_edges) {
       leg->path.mirror_tag = Resolved(leg->path.mirror_tag, added_edges);
       if (leg->hit) leg->hit->tag = Resolved(leg->hit->tag, added_edges);
     }
-    const bool same_leg_cells = leg.has_value() == state.leg.has_value() &&
-                                (!leg || (leg->path.from == state.leg->path.from &&
-                                          leg->path.direction == state.leg->path.direction &&
-                                          leg->length() == state.leg->length()));
+    const bool same_leg_cells = Leg::SameCells(leg, state.leg);
     state.leg = std::move(leg);
     if (change.extent == state.extent && same_leg_cells) continue;  // the same cells
     state.extent = change.extent;

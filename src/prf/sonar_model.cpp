@@ -35,6 +35,11 @@ double WeightedTruncatedNormal(double weight, double reading, bool max_reading, 
   return weight * std::exp(-0.5 * z * z) / (sigma * std::sqrt(2.0 * std::numbers::pi) * kept);
 }
 
+// A range's noise: a share of the distance, never below the floor.
+double Spread(double floor, double relative, double distance) {
+  return std::max(floor, relative * distance);
+}
+
 // A draw of that Gaussian.
 double DrawTruncatedNormal(double mean, double sigma, Rng& rng) {
   double r;
@@ -113,12 +118,12 @@ SonarModel::Draw SonarModel::Sample(std::span<const SonarFeature> features, doub
   for (const SonarFeature& f : features) {
     if (!rng.Bernoulli(IndependentReturn(f))) continue;
     return reading(
-        DrawTruncatedNormal(f.distance, std::max(sigma_min, sigma_relative * f.distance), rng));
+        DrawTruncatedNormal(f.distance, Spread(sigma_min, sigma_relative, f.distance), rng));
   }
   if (multipath && models_multipath() && rng.Bernoulli(multipath_weight)) {
     if (!std::isfinite(*multipath)) return {.range = 0.0, .max_reading = true};
     return reading(DrawTruncatedNormal(
-        *multipath, std::max(sigma_min, multipath_sigma_relative * *multipath), rng));
+        *multipath, Spread(sigma_min, multipath_sigma_relative, *multipath), rng));
   }
   const bool specular = rng.Bernoulli(seen_fraction);
   const double u = specular ? uniform_weight : clear_uniform_weight;
@@ -142,7 +147,7 @@ double SonarModel::LogLikelihood(double reading, bool max_reading,
     const double r = q * none_closer;
     none_closer *= 1.0 - q;
     density += WeightedTruncatedNormal(r, reading, max_reading, f.distance,
-                                       std::max(sigma_min, sigma_relative * f.distance), max_range);
+                                       Spread(sigma_min, sigma_relative, f.distance), max_range);
   }
   const double specular = seen_fraction, clear = 1.0 - seen_fraction;
   double outlier;
@@ -159,7 +164,7 @@ double SonarModel::LogLikelihood(double reading, bool max_reading,
     const double mirrored =
         std::isfinite(*multipath)
             ? WeightedTruncatedNormal(1.0, reading, max_reading, *multipath,
-                                      std::max(sigma_min, multipath_sigma_relative * *multipath),
+                                      Spread(sigma_min, multipath_sigma_relative, *multipath),
                                       max_range)
             : (max_reading ? 1.0 : 0.0);
     outlier = multipath_weight * mirrored + (1.0 - multipath_weight) * outlier;

@@ -71,6 +71,8 @@ class SonarLikelihood final : public DataTerm {
     /// The part of the leg whose edges matter: to its hit, or its whole reach.
     [[nodiscard]] double length() const { return hit ? hit->t : path.reach; }
     [[nodiscard]] bool operator==(const Leg& other) const;
+    /// Both legs walk the same cells (ForEachLegCell): same start, direction and length.
+    [[nodiscard]] static bool SameCells(const std::optional<Leg>& a, const std::optional<Leg>& b);
   };
   struct ReadingState {
     double extent = 0.0;
