@@ -2,7 +2,9 @@
 // second with the sonar likelihood on the real RoboND rings and on simulated office logs of about
 // 3,000 and 29,000 readings (the paper's Gates Hall set has 29,120), and the sonar grid's rate.
 // Each proposal benchmark burns its chain in first (setup, untimed), then times further steps,
-// with the built-in model (the paper's form) or the fitted one of docs/sonar.md (multipath on).
+// with the built-in model (the paper's form) or the fitted one of docs/sonar.md (multipath on),
+// and with the fitted one under delayed acceptance (docs/prf-moves.md), whose steps screen the
+// moves on a quarter of the readings first.
 #include <memory>
 #include <optional>
 
@@ -11,6 +13,7 @@
 #include <priormap/core/robond_sonar_io.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 #include <priormap/grid/sonar_grid.hpp>
+#include <priormap/prf/mapping.hpp>
 #include <priormap/prf/sampler.hpp>
 #include <priormap/prf/sonar_likelihood.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
@@ -53,21 +56,44 @@ const SonarModel* FittedModel() {
   return model ? &*model : nullptr;
 }
 
+// The readings a thinned stage of `stride` keeps, every sensor position kept.
+std::shared_ptr<const SonarData> Thinned(const SonarData& data, int stride) {
+  auto thinned = std::make_shared<SonarData>();
+  thinned->sensors = data.sensors;
+  thinned->max_range = data.max_range;
+  for (std::size_t i = 0; i < data.readings.size(); ++i)
+    if (KeptByThinning(i, stride)) thinned->readings.push_back(data.readings[i]);
+  return thinned;
+}
+
 void ProposalsPerSecond(benchmark::State& state, const Log& log, double max_range,
-                        const SonarModel& model = {}) {
+                        const SonarModel& model = {}, int screen_stride = 1) {
   auto selected =
       SelectSonarReadings(log, {.first_scan = 0, .end_scan = std::nullopt, .max_range = max_range});
   auto data = std::make_shared<const SonarData>(std::get<SonarData>(std::move(selected)));
   SamplerOptions options;
   options.p = 0.1;
+  options.screen_stride = screen_stride;
   PrfSampler sampler(Coloring(WindowAround(*data, 1.0), kCellSize), options, 1,
                      std::make_unique<SonarLikelihood>(data, model));
+  // The screen joins after the burn-in, so that the screened steps are timed from the state the
+  // unscreened benchmark of the same readings times.
   sampler.Run(kBurnIn);
+  if (screen_stride > 1)
+    sampler.SetScreen(std::make_unique<SonarLikelihood>(Thinned(*data, screen_stride), model));
+  const MoveCounter before = Total(sampler.counters());
   for (auto _ : state) sampler.Run(kStepsPerIteration);
+  // The timed steps' counts alone.
+  const MoveCounter after = Total(sampler.counters());
+  const auto timed = [&](std::uint64_t MoveCounter::*count) {
+    return static_cast<double>(after.*count - before.*count) /
+           static_cast<double>(after.proposed - before.proposed);
+  };
   state.counters["readings"] = static_cast<double>(data->readings.size());
   state.counters["edges"] = sampler.coloring().stats().edges;
   state.counters["log_posterior"] = sampler.LogPosterior();
-  state.counters["acceptance"] = Total(sampler.counters()).AcceptanceRate();
+  state.counters["acceptance"] = timed(&MoveCounter::accepted);
+  state.counters["screened_out"] = timed(&MoveCounter::screened_out);
   state.counters["proposals_per_s"] = benchmark::Counter(
       static_cast<double>(kStepsPerIteration * state.iterations()), benchmark::Counter::kIsRate);
 }
@@ -105,6 +131,21 @@ BENCHMARK(BM_SonarProposalsOfficeFitted)
     ->Arg(2)
     ->Arg(18)
     ->ArgName("rings_per_s")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The fitted model's 29k readings, screened on a quarter of them.
+void BM_SonarProposalsOfficeScreened(benchmark::State& state) {
+  const SonarModel* model = FittedModel();
+  if (model == nullptr) {
+    state.SkipWithError("examples/formats/sonar-model-simulated.json is not readable");
+    return;
+  }
+  ProposalsPerSecond(state, OfficeLog(18.0), 5.0, *model, static_cast<int>(state.range(0)));
+}
+BENCHMARK(BM_SonarProposalsOfficeScreened)
+    ->Arg(4)
+    ->ArgName("screen_stride")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -60,6 +60,7 @@ nlohmann::json AcceptanceJson(const prf::MoveCounters& counters) {
         {"proposed", c.proposed},
         {"invalid", c.invalid},
         {"accepted", c.accepted},
+        {"screened_out", c.screened_out},
         {"rate", c.AcceptanceRate()}};
   }
   return acceptance;

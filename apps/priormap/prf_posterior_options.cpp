@@ -68,6 +68,18 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "best (highest log-posterior), a best-of-K start")
       ->check(CLI::IsMember({"cold", "best"}))
       ->capture_default_str();
+  cmd.add_option("--edge-shifts", m.sampler.weights[prf::MoveKind::kEdgeShift],
+                 "Weight of the edge shifts, which move both ends of an edge by one step (a wall "
+                 "shifted whole; the other kinds weigh 0.5 to 3); 0, the paper's move set, "
+                 "switches them off")
+      ->check(NonNegativeValue())
+      ->capture_default_str();
+  cmd.add_option("--delayed-acceptance", m.sampler.screen_stride,
+                 "Screen each move on every K-th reading first (their log-likelihood times K) and "
+                 "evaluate all the data only for moves that pass; the posterior is unchanged, "
+                 "most rejections cost 1/K (1: off)")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
   cmd.add_option("--thinned-burn-in", cli.thinned_burn_in,
                  "Burn-in stages on 1/STRIDE of the readings first, STEPS each (counted in the "
                  "burn-in), e.g. 16:1000000,4:500000")
@@ -110,7 +122,9 @@ nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
           {"replica_temperature", m.replica_temperature},
           {"replica_steps", m.replica_steps},
           {"replica_pick", m.replica_pick_best ? "best" : "cold"},
-          {"thinned_burn_in", stages}};
+          {"thinned_burn_in", stages},
+          {"delayed_acceptance", m.sampler.screen_stride},
+          {"edge_shifts", m.sampler.weights[prf::MoveKind::kEdgeShift]}};
 }
 
 void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
@@ -122,6 +136,8 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->replica_temperature = j.value("replica_temperature", 4.0);
   m->replica_steps = j.value("replica_steps", std::uint64_t{0});
   m->replica_pick_best = j.value("replica_pick", std::string("cold")) == "best";
+  m->sampler.screen_stride = j.value("delayed_acceptance", 1);
+  m->sampler.weights[prf::MoveKind::kEdgeShift] = j.value("edge_shifts", 0.0);
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))

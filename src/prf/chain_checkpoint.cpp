@@ -12,7 +12,8 @@ namespace {
 
 // 2: the coloring statistics of the orientation prior, the black area of the free-space one.
 // 3: a chain's burn-in replicas and swap counts.
-constexpr std::uint32_t kFormatVersion = 3;
+// 4: the counters of the edge shift; delayed acceptance's screened-out counts.
+constexpr std::uint32_t kFormatVersion = 4;
 constexpr std::string_view kChainKind = "PRFCHAIN";
 constexpr std::string_view kAnnealKind = "PRFANNEA";
 
@@ -87,6 +88,10 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
     out.Put(options.replica_temperature);
     out.Put(options.replica_steps);
     if (options.replica_pick_best) out.PutString("pick the best replica");
+  }
+  if (s.screen_stride != 1) {
+    out.PutString("delayed acceptance");
+    out.Put<std::int32_t>(s.screen_stride);
   }
   for (double w : s.weights.weight) out.Put(w);
   out.Put(s.birth_scale);

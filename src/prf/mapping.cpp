@@ -131,6 +131,9 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                  "the thinned burn-in stages must fit in the burn-in");
   PRIORMAP_CHECK(thinned_steps == 0 || data.make_thinned_data_term,
                  "these data offer no thinned data term for the thinned burn-in");
+  const int screen_stride = run_options.sampler.screen_stride;
+  PRIORMAP_CHECK(screen_stride == 1 || data.make_thinned_data_term,
+                 "these data offer no thinned data term to screen moves with");
   PRIORMAP_CHECK(run_options.trace_every >= 1 && run_options.chunk >= 1,
                  "positive trace and chunk");
   // The ladder's temperatures (GeometricLadder checks the count and the top).
@@ -165,6 +168,12 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   }();
   if (!checkpoints.empty()) std::filesystem::create_directories(checkpoints);
   const auto make_likelihood = [&] { return data.make_data_term(); };
+  // A chain on all the data screens its moves with thinned data, when asked to (delayed
+  // acceptance); the screen's state is a function of the coloring, so it is made anew on resume.
+  const auto screen_if_asked = [&](PrfSampler& sampler) {
+    if (screen_stride > 1 && !sampler.has_screen())
+      sampler.SetScreen(data.make_thinned_data_term(screen_stride));
+  };
   SamplerOptions sampler_options = options.sampler;
   sampler_options.temperature = 1.0;
 
@@ -285,6 +294,12 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
         else
           replace(sampler);
         strides[c] = stage.stride;
+      }
+      if (stage.stride == 1) {
+        if (ladder)
+          for (const auto& replica : ladder->replicas()) screen_if_asked(*replica);
+        else
+          screen_if_asked(sampler);
       }
       std::uint64_t target = std::min({end, s + options.chunk, stage.end});
       if (s < options.burn_in) {
@@ -411,6 +426,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
       annealing = std::move(samplers[best]);
       annealing->RecordInto(nullptr);
     }
+    screen_if_asked(*annealing);
     const std::uint64_t first = annealing->steps();
     auto last_checkpoint = Clock::now();
     while (annealing->steps() < end + stages * per_stage) {

@@ -17,10 +17,11 @@ constexpr std::array<std::string_view, kNumMoveTypes> kTypeNames{"triangle_birth
                                                                  "local_recolor",
                                                                  "slide",
                                                                  "guided_triangle_birth",
-                                                                 "guided_triangle_death"};
+                                                                 "guided_triangle_death",
+                                                                 "edge_shift"};
 constexpr std::array<std::string_view, kNumMoveKinds> kKindNames{
-    "triangle",      "boundary_triangle", "corner",        "vertex", "interior_move",
-    "boundary_move", "recolor",           "local_recolor", "slide",  "guided_triangle"};
+    "triangle", "boundary_triangle", "corner", "vertex",          "interior_move", "boundary_move",
+    "recolor",  "local_recolor",     "slide",  "guided_triangle", "edge_shift"};
 
 }  // namespace
 

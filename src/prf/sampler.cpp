@@ -44,6 +44,7 @@ PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t 
     PRIORMAP_CHECK(scale > 0.0 && scale < 0.5 * coloring_.window().Perimeter(),
                    "step scales must be positive and below half the perimeter");
   PRIORMAP_CHECK(options_.temperature > 0.0, "the temperature must be positive");
+  PRIORMAP_CHECK(options_.screen_stride >= 1, "the screen stride must be at least 1");
   double total = 0.0;
   const bool guided = options_.guide && options_.guide->size() > 0;
   for (int k = 0; k < kNumMoveKinds; ++k) {
@@ -71,6 +72,18 @@ void PrfSampler::ReplaceDataTerm(std::unique_ptr<DataTerm> data) {
                                  problem.value_or(""));
   }
   data_ = std::move(data);
+  screen_.reset();
+}
+
+void PrfSampler::SetScreen(std::unique_ptr<DataTerm> screen) {
+  PRIORMAP_CHECK(!screen || (data_ && options_.screen_stride > 1),
+                 "a screen needs a data term and a screen stride above 1");
+  if (screen) {
+    const auto problem = screen->Reset(coloring_);
+    PRIORMAP_CHECK(!problem,
+                   "the coloring has likelihood zero under the screen: " + problem.value_or(""));
+  }
+  screen_ = std::move(screen);
 }
 
 MoveType PrfSampler::ChooseType() {
@@ -105,6 +118,8 @@ MoveType PrfSampler::ChooseType() {
       return MoveType::kSlide;
     case MoveKind::kGuidedTriangle:
       return rng_.Bernoulli(0.5) ? MoveType::kGuidedTriangleBirth : MoveType::kGuidedTriangleDeath;
+    case MoveKind::kEdgeShift:
+      return MoveType::kEdgeShift;
   }
   return MoveType::kInteriorMove;
 }
@@ -134,22 +149,43 @@ void PrfSampler::Step() {
     black_area_change = *change;
     log_energy_change -= options_.free_space * black_area_change;
   }
-  if (data_) {
+  const auto passes = [&](double log_alpha) {
+    return log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha);
+  };
+  const double log_measure = ArakLogMeasure(effect_.delta, options_.p);
+  bool accepted = false;
+  if (screen_) {
+    // Delayed acceptance: the screen's test first; the full data's ratio is then taken against
+    // the screen's, so that the two stages' product is the full Hastings ratio.
+    const auto screened = screen_->Evaluate(coloring_, edit_);
+    if (!screened) return;  // a sensor in black: likelihood zero under all data alike
+    const double log_screen = options_.screen_stride * FromFixed(*screened);
+    if (!passes(log_measure + (log_energy_change + log_screen) / options_.temperature + log_q)) {
+      ++counter.screened_out;
+      return;
+    }
     const auto delta = data_->Evaluate(coloring_, edit_);
-    if (!delta) return;  // likelihood zero: rejected
-    log_energy_change += FromFixed(*delta);
+    if (!delta) return;
+    accepted = passes((FromFixed(*delta) - log_screen) / options_.temperature);
+  } else {
+    if (data_) {
+      const auto delta = data_->Evaluate(coloring_, edit_);
+      if (!delta) return;  // likelihood zero: rejected
+      log_energy_change += FromFixed(*delta);
+    }
+    accepted = passes(log_measure + log_energy_change / options_.temperature + log_q);
   }
-  const double log_alpha =
-      ArakLogMeasure(effect_.delta, options_.p) + log_energy_change / options_.temperature + log_q;
-  if (log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha)) {
+  if (accepted) {
     if (estimates_) estimates_->Record(coloring_, edit_, steps_);
     const auto added = coloring_.Apply(edit_, effect_);
     black_area_ += black_area_change;
     if (data_) data_->Commit({added.begin(), added.size()});
+    if (screen_) screen_->Commit({added.begin(), added.size()});
     ++counter.accepted;
     if (options_.check_invariants) {
       auto violation = coloring_.FindInvariantViolation(1e-6);
       if (!violation && data_) violation = data_->FindInconsistency(coloring_);
+      if (!violation && screen_) violation = screen_->FindInconsistency(coloring_);
       PRIORMAP_CHECK(!violation, fmt::format("after {}: {}", MoveTypeName(type), *violation));
     }
   }
@@ -189,6 +225,8 @@ bool PrfSampler::Propose(MoveType type, Edit* edit, double* log_q) {
       return ProposeGuidedTriangleBirth(edit, log_q);
     case MoveType::kGuidedTriangleDeath:
       return ProposeGuidedTriangleDeath(edit, log_q);
+    case MoveType::kEdgeShift:
+      return ProposeEdgeShift(edit);
   }
   return false;
 }
@@ -484,6 +522,46 @@ bool PrfSampler::ProposeInteriorMove(Edit* edit) {
   return true;
 }
 
+bool PrfSampler::ProposeEdgeShift(Edit* edit) {
+  // The pair {a, b} is drawn with probability 1/n_i (from either end, each with ½ for the edge),
+  // the shift from a symmetric density, and neither changes n_i: the move is its own reverse
+  // with ratio 1.
+  const auto drawn = DrawInteriorVertex();
+  if (!drawn) return false;
+  const VertexId a = drawn->vertex;
+  const bool along_second = rng_.Bernoulli(0.5);
+  const VertexId b = along_second ? drawn->second : drawn->first;
+  const VertexId p = along_second ? drawn->first : drawn->second;
+  const ColoringVertex& va = coloring_.vertex(a);
+  const ColoringVertex& vb = coloring_.vertex(b);
+  if (vb.side != kInterior) return false;
+  const EdgeId ab = va.edges[along_second ? 1 : 0];
+  const EdgeId bq = OtherEdge(vb, ab);
+  const VertexId q = coloring_.Other(bq, b);
+  // On a free triangle p, a, b the shift would move two of its three vertices; refused in both
+  // directions alike, since the shift keeps the graph's structure.
+  if (q == p) return false;
+  const double step = StepScale();
+  const Vec2 shift(rng_.Uniform(-step, step), rng_.Uniform(-step, step));
+  const Vec2 new_a = va.position + shift;
+  const Vec2 new_b = vb.position + shift;
+  edit->removed_edges.push_back(va.edges[along_second ? 0 : 1]);
+  edit->removed_edges.push_back(ab);
+  edit->removed_edges.push_back(bq);
+  edit->removed_vertices.push_back(a);
+  edit->removed_vertices.push_back(b);
+  edit->new_vertices.push_back({new_a, kInterior});
+  edit->new_vertices.push_back({new_b, kInterior});
+  edit->added_edges.push_back({Old(p), Fresh(0)});
+  edit->added_edges.push_back({Fresh(0), Fresh(1)});
+  edit->added_edges.push_back({Fresh(1), Old(q)});
+  // The ring between the old path p, a, b, q and the new one.
+  for (const Vec2& x : {coloring_.vertex(p).position, va.position, vb.position,
+                        coloring_.vertex(q).position, new_b, new_a})
+    edit->flipped_region.push_back(x);
+  return true;
+}
+
 bool PrfSampler::ProposeBoundaryMove(Edit* edit) {
   const Window& w = coloring_.window();
   const auto boundary = coloring_.boundary_vertices();
@@ -632,6 +710,9 @@ void PrfSampler::Save(BinaryWriter& out) const {
   }
   out.Put(options_.temperature);
   out.Put(black_area_);
+  // Only chains with delayed acceptance have screened-out counts to save.
+  if (options_.screen_stride > 1)
+    for (const MoveCounter& c : counters_) out.Put(c.screened_out);
 }
 
 std::unique_ptr<PrfSampler> PrfSampler::Load(BinaryReader& in, const Window& window,
@@ -652,6 +733,8 @@ std::unique_ptr<PrfSampler> PrfSampler::Load(BinaryReader& in, const Window& win
   // As kept, not recomputed from the faces: a resumed chain continues bit for bit.
   const double black_area = in.Get<double>();
   if (!std::isfinite(black_area)) in.Fail("a black area that is not finite");
+  if (options.screen_stride > 1)
+    for (MoveCounter& c : counters) c.screened_out = in.Get<std::uint64_t>();
   if (data && data->Reset(coloring)) in.Fail("a chain whose coloring has likelihood zero");
   auto sampler =
       std::make_unique<PrfSampler>(std::move(coloring), std::move(options), 0, std::move(data));

@@ -157,6 +157,7 @@ TEST(BlackArea, TheSamplersRunningAreaMatchesTheColoringAfterEveryStep) {
   options.p = 1.0;
   options.birth_scale = 0.5;
   options.free_space = 0.5;
+  options.weights[MoveKind::kEdgeShift] = 1.0;
   PrfSampler sampler(Coloring(window, 0.25), options, 51);
   int changed = 0;
   double last = sampler.black_area();

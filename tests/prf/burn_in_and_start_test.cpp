@@ -253,6 +253,46 @@ TEST(ThinnedMapping, AStoppedRunResumesToTheSameResult) {
   EXPECT_NE(full.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
 }
 
+MappingOptions DelayedAcceptanceRun() {
+  MappingOptions options = SmallRun(6, 30000, 10000);
+  options.thinned_burn_in = {{.stride = 2, .steps = 8000}};
+  options.sampler.screen_stride = 4;
+  options.anneal_steps = 9000;  // 7000 in the sixth session, 2000 in the seventh
+  return options;
+}
+
+// Delayed acceptance screens the moves on all the data only: sessions of 7000 steps stop in the
+// thinned stage (no screen), in the full-data steps and in the annealing, and the resumed chains
+// must make their screens anew and go on exactly, their screened-out counts included.
+TEST(DelayedAcceptanceMapping, AStoppedRunResumesToTheSameResult) {
+  const MappingData data = LaserMappingData(RoomData(), DelayedAcceptanceRun());
+  const MappingResult whole = ExpectResumesExactly(data, DelayedAcceptanceRun(), 7000, 7);
+  testing::TempDir dir;
+  const MappingResult part = RunInSessions(data, DelayedAcceptanceRun(), 7000, dir.path()).first;
+  ASSERT_TRUE(whole.map && part.map);
+  EXPECT_EQ(part.map_log_posterior, whole.map_log_posterior);
+  for (std::size_t c = 0; c < whole.chains.size(); ++c) {
+    const MoveCounter screened = Total(whole.chains[c].counters);
+    EXPECT_EQ(Total(part.chains[c].counters).screened_out, screened.screened_out);
+    EXPECT_GT(screened.screened_out, 1000u);
+  }
+
+  // The screen changed the course of the chains (so the comparison above covers it), and a
+  // checkpoint of the screened run is not one of the unscreened run.
+  MappingOptions unscreened = DelayedAcceptanceRun();
+  unscreened.sampler.screen_stride = 1;
+  const MappingResult plain = RunMapping(data, unscreened, {});
+  EXPECT_NE(plain.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
+  EXPECT_EQ(Total(plain.chains[0].counters).screened_out, 0u);
+  testing::TempDir stopped;
+  ASSERT_FALSE(
+      RunMapping(data, DelayedAcceptanceRun(), {}, StoppingSession(stopped.path(), 5000)).complete);
+  MappingSession resume = StoppingSession(stopped.path(), 5000);
+  resume.resume = true;
+  EXPECT_THROW((void)RunMapping(LaserMappingData(RoomData(), unscreened), unscreened, {}, resume),
+               BinaryFormatError);
+}
+
 // A coloring of `window` with a black triangle, away from the sensors' path.
 Coloring TriangleStart(const Window& window, const MappingOptions& options, double size) {
   const Vec2 c = window.min + 0.3 * (window.max - window.min);

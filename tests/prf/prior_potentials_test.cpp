@@ -139,6 +139,31 @@ TEST(PriorPotentials, TheFreeSpacePriorMatchesTheReweightedArakProcess) {
   EXPECT_LE(Score(c[0].arak, {.mean = 0.5, .standard_error = 0.0}), kMaxStandardErrors);
 }
 
+// The edge shift's flipped ring (old path p, a, b, q and new one) under the free-space prior,
+// whose black-area change it must get right, and with the orientation prior: a chain with both
+// priors and edge shifts weighted well above the other kinds matches the reweighted process.
+TEST(PriorPotentials, EdgeShiftsUnderBothPriorsMatchTheReweightedArakProcess) {
+  const OrientationPrior axes{.weight = 1.0, .angle = 0.0};
+  const double beta = 1.0;
+  SamplerOptions with_prior = ArakOptions();
+  with_prior.free_space = beta;
+  with_prior.orientation = axes;
+  with_prior.weights[MoveKind::kEdgeShift] = 4.0;
+  const ChainPlan plan{.burn_in = 20000, .thin = 100, .records = 10000 * PRIORMAP_PRF_CHAIN_SCALE};
+  const auto black_fraction = [](const PrfSampler& s) {
+    return BlackArea(s.coloring()) / kWindow.Area();
+  };
+  const auto edges = [](const PrfSampler& s) {
+    return static_cast<double>(s.coloring().stats().edges);
+  };
+  const auto potential = [&](const PrfSampler& s) {
+    return beta * BlackArea(s.coloring()) + OrientationPotential(s.coloring().stats(), axes);
+  };
+  const auto c = ExpectReweightedArakMatchesPrior(
+      with_prior, plan, potential, {black_fraction, edges}, {"black fraction", "edges"});
+  EXPECT_LT(c[0].direct.mean, 0.5 - 5.0 * c[0].direct.standard_error);
+}
+
 TEST(PriorPotentials, TheOrientationPriorMatchesTheReweightedArakProcess) {
   const OrientationPrior axes{.weight = 1.0, .angle = 0.0};
   SamplerOptions with_prior = ArakOptions();

@@ -80,7 +80,9 @@ class WholeMoveSet : public ::testing::TestWithParam<double> {};
 
 TEST_P(WholeMoveSet, MatchesTheArakProcess) {
   const double p = GetParam();
-  const PriorStatsResult r = RunPriorStats(Chain(p, 11));
+  PriorStatsOptions options = Chain(p, 11);
+  options.sampler.weights[MoveKind::kEdgeShift] = 2.0;  // off by default; the whole set has it
+  const PriorStatsResult r = RunPriorStats(options);
   ExpectMatchesArak(r, "p = " + std::to_string(p));
   for (const MoveCounter& c : r.counters) EXPECT_GT(c.accepted, 0u);
 }
@@ -114,6 +116,11 @@ std::vector<Subset> Subsets() {
     s.kinds.push_back(extra);
     subsets.push_back(s);
   }
+  // Edge shifts, off in the default weights, against the base.
+  subsets.push_back({"base_and_edge_shift",
+                     {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kCorner,
+                      MoveKind::kVertex, MoveKind::kBoundaryMove, MoveKind::kEdgeShift},
+                     MoveKind::kEdgeShift});
   // Closed polygons without triangle births: a recolor of two edges of one path closes a loop.
   subsets.push_back({"without_triangle",
                      {MoveKind::kBoundaryTriangle, MoveKind::kCorner, MoveKind::kVertex,

@@ -44,6 +44,14 @@ struct SamplerOptions {
   /// The target is λ(dχ) · (exp(−F₀) · likelihood)^(1/temperature): 1 samples the posterior,
   /// lower anneals towards the coloring of least energy F₀ − log L against the Arak measure λ.
   double temperature = 1.0;
+  /// Delayed acceptance (Christen & Fox 2005) with 1/screen_stride of the readings, their
+  /// log-likelihood weighted by screen_stride, as the screen (1: none). A move first meets the
+  /// Metropolis–Hastings test of the prior and the screen; only if it passes is the full data
+  /// term evaluated, and the move accepted with probability min(1, exp(ΔL − ΔL_screen) ^ (1/T)).
+  /// The two stages together satisfy detailed balance for the same target, and most rejected
+  /// moves cost only the screen's fraction of the data. The screen itself is given with
+  /// SetScreen whenever the chain runs on all its data.
+  int screen_stride = 1;
   /// Debug: after each accepted move, check every invariant of the coloring by brute force and
   /// the data term's incremental state against a recomputation (slow).
   bool check_invariants = false;
@@ -93,8 +101,12 @@ class PrfSampler {
   [[nodiscard]] double LogPosterior() const { return LogPrior() + LogLikelihood(); }
   void set_temperature(double temperature) { options_.temperature = temperature; }
   /// Goes on with another data term (the same data thinned, say), reset to the coloring, which
-  /// must have nonzero likelihood under it.
+  /// must have nonzero likelihood under it; drops the screen, which was of the term replaced.
   void ReplaceDataTerm(std::unique_ptr<DataTerm> data);
+  /// The delayed acceptance's screen: a data term on 1/options().screen_stride of the data term's
+  /// readings, reset to the coloring (nullptr: none).
+  void SetScreen(std::unique_ptr<DataTerm> screen);
+  [[nodiscard]] bool has_screen() const { return screen_ != nullptr; }
 
   /// The chain's state: coloring, step count, random generator, counters and temperature. The
   /// data term is not saved: its state is a function of the coloring, rebuilt on Load.
@@ -142,6 +154,10 @@ class PrfSampler {
   bool ProposeBoundaryMove(Edit* edit);
   bool ProposeRecolor(Edit* edit, double* log_q, bool local);
   bool ProposeSlide(Edit* edit);
+  /// Both ends a, b of an edge between interior vertices moved by one random step: a wall
+  /// shifted (or turned) as a whole, where moving one end at a time would tilt it through
+  /// states the data refuse.
+  bool ProposeEdgeShift(Edit* edit);
 
   /// Unordered proposal densities of the births, shared by births and their deaths.
   [[nodiscard]] double TriangleDensity(const Vec2& a, const Vec2& b, const Vec2& c) const;
@@ -158,6 +174,7 @@ class PrfSampler {
   Coloring coloring_;
   SamplerOptions options_;
   std::unique_ptr<DataTerm> data_;
+  std::unique_ptr<DataTerm> screen_;
   PosteriorEstimates* estimates_ = nullptr;
   std::uint64_t steps_ = 0;
   Rng rng_;
