@@ -13,9 +13,9 @@
 #include <priormap/core/robond_sonar_io.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 #include <priormap/grid/sonar_grid.hpp>
-#include <priormap/prf/mapping.hpp>
 #include <priormap/prf/sampler.hpp>
 #include <priormap/prf/sonar_likelihood.hpp>
+#include <priormap/prf/sonar_mapping.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
 
 namespace {
@@ -56,16 +56,6 @@ const SonarModel* FittedModel() {
   return model ? &*model : nullptr;
 }
 
-// The readings a thinned stage of `stride` keeps, every sensor position kept.
-std::shared_ptr<const SonarData> Thinned(const SonarData& data, int stride) {
-  auto thinned = std::make_shared<SonarData>();
-  thinned->sensors = data.sensors;
-  thinned->max_range = data.max_range;
-  for (std::size_t i = 0; i < data.readings.size(); ++i)
-    if (KeptByThinning(i, stride)) thinned->readings.push_back(data.readings[i]);
-  return thinned;
-}
-
 void ProposalsPerSecond(benchmark::State& state, const Log& log, double max_range,
                         const SonarModel& model = {}, int screen_stride = 1) {
   auto selected =
@@ -80,7 +70,8 @@ void ProposalsPerSecond(benchmark::State& state, const Log& log, double max_rang
   // unscreened benchmark of the same readings times.
   sampler.Run(kBurnIn);
   if (screen_stride > 1)
-    sampler.SetScreen(std::make_unique<SonarLikelihood>(Thinned(*data, screen_stride), model));
+    sampler.SetScreen(
+        std::make_unique<SonarLikelihood>(ThinnedSonarData(*data, screen_stride), model));
   const MoveCounter before = Total(sampler.counters());
   for (auto _ : state) sampler.Run(kStepsPerIteration);
   // The timed steps' counts alone.

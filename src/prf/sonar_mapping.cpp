@@ -61,14 +61,18 @@ MappingData SonarMappingData(std::shared_ptr<const SonarData> data, const SonarM
                           std::to_string(RunFingerprint(LaserData{}, options)));
   d.make_data_term = [data, model] { return std::make_unique<SonarLikelihood>(data, model); };
   d.make_thinned_data_term = [data, model](int stride) {
-    auto thinned = std::make_shared<SonarData>();
-    thinned->sensors = data->sensors;  // every transducer stays in white
-    thinned->max_range = data->max_range;
-    for (std::size_t i = 0; i < data->readings.size(); ++i)
-      if (KeptByThinning(i, stride)) thinned->readings.push_back(data->readings[i]);
-    return std::make_unique<SonarLikelihood>(std::move(thinned), model);
+    return std::make_unique<SonarLikelihood>(ThinnedSonarData(*data, stride), model);
   };
   return d;
+}
+
+std::shared_ptr<const SonarData> ThinnedSonarData(const SonarData& data, int stride) {
+  auto thinned = std::make_shared<SonarData>();
+  thinned->sensors = data.sensors;  // every transducer stays in white
+  thinned->max_range = data.max_range;
+  for (std::size_t i = 0; i < data.readings.size(); ++i)
+    if (KeptByThinning(i, stride)) thinned->readings.push_back(data.readings[i]);
+  return thinned;
 }
 
 }  // namespace priormap::prf
