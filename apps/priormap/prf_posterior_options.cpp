@@ -74,6 +74,12 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "switches them off")
       ->check(NonNegativeValue())
       ->capture_default_str();
+  cmd.add_option("--step-scales", m.sampler.step_scales,
+                 "Half-widths of the random-walk steps of the vertex moves and edge shifts, m; "
+                 "each step draws one (finer ones help once walls are pinned to centimetres)")
+      ->delimiter(',')
+      ->check(PositiveValue())
+      ->capture_default_str();
   cmd.add_option("--delayed-acceptance", m.sampler.screen_stride,
                  "Screen each move on every K-th reading first (their log-likelihood times K) and "
                  "evaluate all the data only for moves that pass; the posterior is unchanged, "
@@ -124,7 +130,8 @@ nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
           {"replica_pick", m.replica_pick_best ? "best" : "cold"},
           {"thinned_burn_in", stages},
           {"delayed_acceptance", m.sampler.screen_stride},
-          {"edge_shifts", m.sampler.weights[prf::MoveKind::kEdgeShift]}};
+          {"edge_shifts", m.sampler.weights[prf::MoveKind::kEdgeShift]},
+          {"step_scales", m.sampler.step_scales}};
 }
 
 void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
@@ -138,6 +145,8 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->replica_pick_best = j.value("replica_pick", std::string("cold")) == "best";
   m->sampler.screen_stride = j.value("delayed_acceptance", 1);
   m->sampler.weights[prf::MoveKind::kEdgeShift] = j.value("edge_shifts", 0.0);
+  if (j.contains("step_scales"))
+    m->sampler.step_scales = j.at("step_scales").get<std::vector<double>>();
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))

@@ -165,7 +165,8 @@ TEST_F(SonarCli, GridAndPrfMapASonarLogWhichTheyRecogniseByItself) {
 }
 
 // `prf fit-sonar` writes a model file that `prf --sonar-model` reads, with the posterior options
-// of docs/prf.md; run.json keeps them for --resume; bad values are refused before any work.
+// of docs/prf.md and the step scales; run.json keeps them for --resume; bad values are refused
+// before any work.
 TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   const auto fit = Run({"prf", "fit-sonar", "--scenes", "office", "--rate", "1", "-o", "m.json"});
   ASSERT_EQ(fit.status, 0) << fit.err;
@@ -192,6 +193,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                                         "3",
                                         "--replica-temperature",
                                         "4",
+                                        "--step-scales",
+                                        "0.01,0.05,0.3",
                                         "--burn-in",
                                         "3000",
                                         "--samples",
@@ -210,6 +213,7 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_EQ(posterior["free_space"], 0.3);
   EXPECT_EQ(posterior["thinned_burn_in"].size(), 2u);
   EXPECT_EQ(posterior["burn_in_replicas"], 3);
+  EXPECT_EQ(posterior["step_scales"], json::array({0.01, 0.05, 0.3}));
   EXPECT_EQ(Summary("prf")["swap_rates"][0].size(), 2u);  // one chain, two pairs of rungs
   // Stopped in the second thinned stage, replicas and all, and resumed: the same map.
   auto stopped = run;
@@ -229,6 +233,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                           "--replica-temperature", "1", "-o", "b"})
                   .err,
               HasSubstr("--replica-temperature must be above 1"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--step-scales", "0.01,0", "-o", "b"}).err,
+              HasSubstr("--step-scales"));
   WriteText("bad.json",
             "{\"format\": \"priormap.sonar_model\", \"version\": 1,\n \"face_bias\": \"x\"}");
   EXPECT_THAT(
