@@ -145,8 +145,7 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->replica_pick_best = j.value("replica_pick", std::string("cold")) == "best";
   m->sampler.screen_stride = j.value("delayed_acceptance", 1);
   m->sampler.weights[prf::MoveKind::kEdgeShift] = j.value("edge_shifts", 0.0);
-  if (j.contains("step_scales"))
-    m->sampler.step_scales = j.at("step_scales").get<std::vector<double>>();
+  m->sampler.step_scales = j.value("step_scales", m->sampler.step_scales);
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))

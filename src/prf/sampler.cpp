@@ -153,28 +153,27 @@ void PrfSampler::Step() {
     return log_alpha >= 0.0 || rng_.Uniform() < std::exp(log_alpha);
   };
   const double log_measure = ArakLogMeasure(effect_.delta, options_.p);
-  bool accepted = false;
+  // Delayed acceptance: the screen's test first; the full data's ratio is then taken against
+  // the screen's, so that the two stages' product is the full Hastings ratio.
+  double log_screen = 0.0;
   if (screen_) {
-    // Delayed acceptance: the screen's test first; the full data's ratio is then taken against
-    // the screen's, so that the two stages' product is the full Hastings ratio.
     const auto screened = screen_->Evaluate(coloring_, edit_);
     if (!screened) return;  // a sensor in black: likelihood zero under all data alike
-    const double log_screen = options_.screen_stride * FromFixed(*screened);
+    log_screen = options_.screen_stride * FromFixed(*screened);
     if (!passes(log_measure + (log_energy_change + log_screen) / options_.temperature + log_q)) {
       ++counter.screened_out;
       return;
     }
-    const auto delta = data_->Evaluate(coloring_, edit_);
-    if (!delta) return;
-    accepted = passes((FromFixed(*delta) - log_screen) / options_.temperature);
-  } else {
-    if (data_) {
-      const auto delta = data_->Evaluate(coloring_, edit_);
-      if (!delta) return;  // likelihood zero: rejected
-      log_energy_change += FromFixed(*delta);
-    }
-    accepted = passes(log_measure + log_energy_change / options_.temperature + log_q);
   }
+  double log_data = 0.0;
+  if (data_) {
+    const auto delta = data_->Evaluate(coloring_, edit_);
+    if (!delta) return;  // likelihood zero: rejected
+    log_data = FromFixed(*delta);
+  }
+  const bool accepted =
+      screen_ ? passes((log_data - log_screen) / options_.temperature)
+              : passes(log_measure + (log_energy_change + log_data) / options_.temperature + log_q);
   if (accepted) {
     if (estimates_) estimates_->Record(coloring_, edit_, steps_);
     const auto added = coloring_.Apply(edit_, effect_);
