@@ -290,10 +290,14 @@ class MappingStatus {
     if (!terminal_ && percent / 10 == last_percent_ / 10 && p.steps_done != p.steps_total) return;
     if (percent == last_percent_ && p.steps_done != p.steps_total) return;
     last_percent_ = percent;
+    // A thinned stage's log posterior is of a fraction of the data, an order of magnitude below
+    // the full data's; saying so keeps the jump at the stage's end from reading as a failure.
+    const std::string data =
+        p.data_stride > 1 ? fmt::format(" (on 1/{} of the readings)", p.data_stride) : "";
     const std::string line =
-        fmt::format("{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, log posterior {:.1f}", percent,
-                    static_cast<double>(p.steps_done - p.steps_resumed) / p.seconds / 1e3,
-                    100.0 * prf::Total(p.counters).AcceptanceRate(), p.log_posterior);
+        fmt::format("{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, log posterior {:.1f}{}",
+                    percent, static_cast<double>(p.steps_done - p.steps_resumed) / p.seconds / 1e3,
+                    100.0 * prf::Total(p.counters).AcceptanceRate(), p.log_posterior, data);
     if (terminal_)
       fmt::print(stderr, "\r{}{}", line, p.steps_done == p.steps_total ? "\n" : "");
     else

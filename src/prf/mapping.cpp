@@ -343,6 +343,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                   .steps_resumed = resumed,
                   .seconds = Seconds(start),
                   .log_posterior = chain().LogPosterior(),
+                  .data_stride = strides[c],
                   .counters = chain().counters()});
       }
       checkpoint(false);

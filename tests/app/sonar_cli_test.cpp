@@ -20,6 +20,7 @@ namespace priormap {
 namespace {
 
 using nlohmann::json;
+using ::testing::ContainsRegex;
 using ::testing::HasSubstr;
 
 class SonarCli : public priormap::testing::CliFixture {
@@ -209,6 +210,10 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   for (const char* arg : {"-o", "prf"}) whole.push_back(arg);
   const auto prf = Run(whole);
   ASSERT_EQ(prf.status, 0) << prf.err;
+  // The progress lines say which log posteriors are of thinned data.
+  EXPECT_THAT(prf.err, HasSubstr("(on 1/4 of the readings)"));
+  EXPECT_THAT(prf.err, HasSubstr("(on 1/2 of the readings)"));
+  EXPECT_THAT(prf.err, ContainsRegex("100% [^\n]*log posterior -?[0-9.]+\n"));
   const json posterior = Summary("prf")["posterior"];
   EXPECT_EQ(posterior["free_space"], 0.3);
   EXPECT_EQ(posterior["thinned_burn_in"].size(), 2u);

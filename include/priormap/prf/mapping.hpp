@@ -128,7 +128,8 @@ struct MappingProgress {
   std::uint64_t steps_total = 0;
   std::uint64_t steps_resumed = 0;  // of steps_done, restored from checkpoints
   double seconds = 0.0;
-  double log_posterior = 0.0;  // of the chain reporting
+  double log_posterior = 0.0;  // of the chain reporting, under its stage's data:
+  int data_stride = 1;         // every data_stride-th reading (a thinned burn-in stage) or all
   MoveCounters counters{};     // of the chain reporting
 };
 
