@@ -129,7 +129,7 @@ struct MappingProgress {
   std::uint64_t steps_resumed = 0;  // of steps_done, restored from checkpoints
   double seconds = 0.0;
   double log_posterior = 0.0;  // of the chain reporting, under its stage's data:
-  int data_stride = 1;         // every data_stride-th reading (a thinned burn-in stage) or all
+  int data_stride = 1;         // 1/data_stride of the readings (KeptByThinning); 1: all of them
   MoveCounters counters{};     // of the chain reporting
 };
 
