@@ -29,6 +29,25 @@ prf::ThinnedBurnIn ParseStage(const std::string& text) {
   return stage;
 }
 
+// "T:STEPS", e.g. "2:400000".
+prf::WarmBurnIn ParseWarmStage(const std::string& text) {
+  const auto colon = text.find(':');
+  prf::WarmBurnIn warm;
+  const auto parse = [&](std::string_view part, auto* value) {
+    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), *value);
+    return error == std::errc() && end == part.data() + part.size();
+  };
+  if (colon == std::string::npos ||
+      !parse(std::string_view(text).substr(0, colon), &warm.temperature) ||
+      !parse(std::string_view(text).substr(colon + 1), &warm.steps) ||
+      !(warm.temperature >= 1.0 && warm.temperature <= 1000.0))
+    throw UserError(fmt::format(
+        "--warm-burn-in: expected T:STEPS with a temperature from 1 to 1000 (e.g. 2:400000), "
+        "got '{}'",
+        text));
+  return warm;
+}
+
 }  // namespace
 
 void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOptions& cli) {
@@ -90,6 +109,10 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "Burn-in stages on 1/STRIDE of the readings first, STEPS each (counted in the "
                  "burn-in), e.g. 16:1000000,4:500000")
       ->delimiter(',');
+  cmd.add_option("--warm-burn-in", cli.warm_burn_in,
+                 "After the thinned stages, STEPS burn-in steps on every reading at temperature "
+                 "T (counted in the burn-in; the rest of it is at 1), so that a chain can still "
+                 "unmake a wrong structure once all the data weigh in, e.g. 2:400000");
 }
 
 void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* m) {
@@ -114,6 +137,12 @@ void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* 
         "--thinned-burn-in: the stages take {} steps, more than the burn-in's {} (they are part "
         "of it)",
         steps, m->burn_in));
+  if (!cli.warm_burn_in.empty()) m->warm_burn_in = ParseWarmStage(cli.warm_burn_in);
+  if (m->warm_burn_in.steps > m->burn_in - steps)
+    throw UserError(fmt::format(
+        "--warm-burn-in: {} steps after the thinned stages' {}, more than the burn-in's {} (they "
+        "are part of it)",
+        m->warm_burn_in.steps, steps, m->burn_in));
 }
 
 nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
@@ -129,6 +158,8 @@ nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
           {"replica_steps", m.replica_steps},
           {"replica_pick", m.replica_pick_best ? "best" : "cold"},
           {"thinned_burn_in", stages},
+          {"warm_burn_in",
+           {{"temperature", m.warm_burn_in.temperature}, {"steps", m.warm_burn_in.steps}}},
           {"delayed_acceptance", m.sampler.screen_stride},
           {"edge_shifts", m.sampler.weights[prf::MoveKind::kEdgeShift]},
           {"step_scales", m.sampler.step_scales}};
@@ -151,6 +182,10 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))
       m->thinned_burn_in.push_back(
           {stage.at("stride").get<int>(), stage.at("steps").get<std::uint64_t>()});
+  m->warm_burn_in = {};
+  if (j.contains("warm_burn_in"))
+    m->warm_burn_in = {j.at("warm_burn_in").at("temperature").get<double>(),
+                       j.at("warm_burn_in").at("steps").get<std::uint64_t>()};
 }
 
 }  // namespace priormap::app

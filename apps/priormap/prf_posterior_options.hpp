@@ -17,12 +17,13 @@ namespace priormap::app {
 struct PosteriorCliOptions {
   double orientation_deg = 0.0;
   std::vector<std::string> thinned_burn_in;  // "STRIDE:STEPS"
+  std::string warm_burn_in;                  // "T:STEPS"
   std::string replica_pick = "cold";         // or "best"
 };
 
 void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& mapping, PosteriorCliOptions& cli);
-/// Puts the angle (radians) and the thinned stages into `mapping`; UserError on a malformed
-/// stage or stages longer than the burn-in.
+/// Puts the angle (radians), the thinned stages and the warm stage into `mapping`; UserError on
+/// a malformed stage or stages longer than the burn-in.
 void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* mapping);
 
 /// The options as JSON (run.json, summaries), and back (keys absent from older run files keep

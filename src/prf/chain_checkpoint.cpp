@@ -78,6 +78,11 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
     out.PutString("burn-in temperature");
     out.Put(options.burn_in_temperature);
   }
+  if (const WarmStage warm = WarmStageOf(options); warm.end > warm.begin) {
+    out.PutString("warm burn-in");
+    out.Put(options.warm_burn_in.temperature);
+    out.Put(options.warm_burn_in.steps);
+  }
   if (s.free_space != 0.0) {
     out.PutString("free space");
     out.Put(s.free_space);

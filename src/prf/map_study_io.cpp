@@ -222,6 +222,8 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
                   {"replica_temperature", m.replica_temperature},
                   {"replica_steps", m.replica_steps},
                   {"thinned_burn_in", thinned},
+                  {"warm_burn_in",
+                   {{"temperature", m.warm_burn_in.temperature}, {"steps", m.warm_burn_in.steps}}},
                   {"sonar_model", nlohmann::json::parse(FormatSonarModel(options.model))}};
   j["wall_time_s"] = study.wall_time_s;
   j["cases"] = nlohmann::json::array();

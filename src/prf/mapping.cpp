@@ -59,19 +59,35 @@ std::vector<Vec2> HitPoints(const LaserData& data, const Window& window) {
 
 }  // namespace
 
+WarmStage WarmStageOf(const MappingOptions& options) {
+  if (options.warm_burn_in.temperature == 1.0 || options.warm_burn_in.steps == 0) return {};
+  std::uint64_t begin = 0;
+  for (const ThinnedBurnIn& stage : options.thinned_burn_in) begin += stage.steps;
+  return {begin, begin + options.warm_burn_in.steps};
+}
+
 double BurnInTemperature(const MappingOptions& options, std::uint64_t step) {
+  const WarmStage warm = WarmStageOf(options);
+  const double floor =
+      warm.begin <= step && step < warm.end ? options.warm_burn_in.temperature : 1.0;
   const std::uint64_t cooling = options.burn_in / 2;
-  if (options.burn_in_temperature == 1.0 || step >= cooling) return 1.0;
+  if (options.burn_in_temperature == 1.0 || step >= cooling) return floor;
   const std::uint64_t block = step / kTemperatureBlock * kTemperatureBlock;
-  return std::pow(options.burn_in_temperature,
-                  1.0 - static_cast<double>(block) / static_cast<double>(cooling));
+  return std::max(floor, std::pow(options.burn_in_temperature,
+                                  1.0 - static_cast<double>(block) / static_cast<double>(cooling)));
 }
 
 std::uint64_t BurnInTemperatureEnd(const MappingOptions& options, std::uint64_t step) {
+  std::uint64_t end = std::numeric_limits<std::uint64_t>::max();
   const std::uint64_t cooling = options.burn_in / 2;
-  if (options.burn_in_temperature == 1.0 || step >= cooling)
-    return std::numeric_limits<std::uint64_t>::max();
-  return std::min(cooling, (step / kTemperatureBlock + 1) * kTemperatureBlock);
+  if (options.burn_in_temperature != 1.0 && step < cooling)
+    end = std::min(cooling, (step / kTemperatureBlock + 1) * kTemperatureBlock);
+  const WarmStage warm = WarmStageOf(options);
+  if (step < warm.begin)
+    end = std::min(end, warm.begin);
+  else if (step < warm.end)
+    end = std::min(end, warm.end);
+  return end;
 }
 
 bool KeptByThinning(std::size_t i, int stride) {
@@ -129,6 +145,11 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   }
   PRIORMAP_CHECK(thinned_steps <= run_options.burn_in,
                  "the thinned burn-in stages must fit in the burn-in");
+  PRIORMAP_CHECK(run_options.warm_burn_in.temperature >= 1.0 &&
+                     std::isfinite(run_options.warm_burn_in.temperature),
+                 "the warm burn-in's temperature must be finite and at least 1");
+  PRIORMAP_CHECK(run_options.warm_burn_in.steps <= run_options.burn_in - thinned_steps,
+                 "the warm burn-in must fit in the burn-in after the thinned stages");
   PRIORMAP_CHECK(thinned_steps == 0 || data.make_thinned_data_term,
                  "these data offer no thinned data term for the thinned burn-in");
   const int screen_stride = run_options.sampler.screen_stride;

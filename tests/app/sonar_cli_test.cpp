@@ -190,6 +190,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                                         "3",
                                         "--thinned-burn-in",
                                         "4:1000,2:1000",
+                                        "--warm-burn-in",
+                                        "2:500",
                                         "--burn-in-replicas",
                                         "3",
                                         "--replica-temperature",
@@ -219,6 +221,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_EQ(posterior["thinned_burn_in"].size(), 2u);
   EXPECT_EQ(posterior["burn_in_replicas"], 3);
   EXPECT_EQ(posterior["step_scales"], json::array({0.01, 0.05, 0.3}));
+  EXPECT_EQ(posterior["warm_burn_in"]["temperature"], 2.0);
+  EXPECT_EQ(posterior["warm_burn_in"]["steps"], 500u);
   EXPECT_EQ(Summary("prf")["swap_rates"][0].size(), 2u);  // one chain, two pairs of rungs
   // Stopped in the second thinned stage, replicas and all, and resumed: the same map.
   auto stopped = run;
@@ -234,6 +238,15 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                           "1000", "-o", "b"})
                   .err,
               HasSubstr("more than the burn-in's 1000"));
+  EXPECT_THAT(
+      RunFailing({"prf", "--log", "sonar.json", "--warm-burn-in", "0.5:100", "-o", "b"}).err,
+      HasSubstr("expected T:STEPS with a temperature from 1 to 1000"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--warm-burn-in", "2:x", "-o", "b"}).err,
+              HasSubstr("got '2:x'"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--thinned-burn-in", "4:600",
+                          "--warm-burn-in", "2:500", "--burn-in", "1000", "-o", "b"})
+                  .err,
+              HasSubstr("--warm-burn-in: 500 steps after the thinned stages' 600, more than"));
   EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--burn-in-replicas", "2",
                           "--replica-temperature", "1", "-o", "b"})
                   .err,

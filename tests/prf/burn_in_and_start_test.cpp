@@ -1,12 +1,14 @@
 // Mapping runs with a tempered burn-in (MappingOptions::burn_in_temperature), a thinned one
-// (MappingOptions::thinned_burn_in) and a given start (MappingData::start): the temperature
-// schedule; which readings a thinned stage keeps, where each stage ends, the thinned data term;
-// runs stopped and resumed from checkpoints (across changes of temperature and of data term)
-// ending as the uninterrupted run; what a run records after a thinned burn-in; chains starting
-// where they are told, and checkpoints of a run from another start refused.
+// (MappingOptions::thinned_burn_in), a warm stage (MappingOptions::warm_burn_in) and a given
+// start (MappingData::start): the temperature schedule; which readings a thinned stage keeps,
+// where each stage ends, the thinned data term; runs stopped and resumed from checkpoints
+// (across changes of temperature and of data term) ending as the uninterrupted run; what a run
+// records after a thinned burn-in; chains starting where they are told, and checkpoints of a run
+// from another start or schedule refused.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <tuple>
 #include <utility>
@@ -16,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <priormap/core/binary_io.hpp>
+#include <priormap/core/check.hpp>
 #include <priormap/core/range_sensor.hpp>
 #include <priormap/core/scene.hpp>
 #include <priormap/core/simulate.hpp>
@@ -73,6 +76,50 @@ TEST(BurnInTemperature, IsOneFromTheMiddleOfABurnInThatIsNotAWholeNumberOfBlocks
   const MappingOptions short_burn_in = Tempered(5000, 4.0);  // middle at 2500, in block 0
   EXPECT_EQ(BurnInTemperature(short_burn_in, 2500), 1.0);
   EXPECT_EQ(BurnInTemperature(short_burn_in, 4999), 1.0);
+}
+
+MappingOptions WarmAfterThinned() {
+  MappingOptions options;
+  options.burn_in = 300000;
+  options.thinned_burn_in = {{.stride = 16, .steps = 100000}, {.stride = 4, .steps = 50000}};
+  options.warm_burn_in = {.temperature = 2.0, .steps = 80000};
+  return options;
+}
+
+TEST(BurnInTemperature, IsTheWarmStagesRightAfterTheThinnedStagesAndOneElsewhere) {
+  const MappingOptions options = WarmAfterThinned();
+  const WarmStage warm = WarmStageOf(options);
+  EXPECT_EQ(warm.begin, 150000u);
+  EXPECT_EQ(warm.end, 230000u);
+  for (const std::uint64_t step : {0u, 99999u, 149999u, 230000u, 299999u, 300000u})
+    EXPECT_EQ(BurnInTemperature(options, step), 1.0) << "step " << step;
+  for (const std::uint64_t step : {150000u, 190000u, 229999u})
+    EXPECT_EQ(BurnInTemperature(options, step), 2.0) << "step " << step;
+  // The run's chunks end where the temperature changes.
+  EXPECT_EQ(BurnInTemperatureEnd(options, 0), 150000u);
+  EXPECT_EQ(BurnInTemperatureEnd(options, 150000), 230000u);
+  EXPECT_EQ(BurnInTemperatureEnd(options, 229999), 230000u);
+  EXPECT_EQ(BurnInTemperatureEnd(options, 230000), std::numeric_limits<std::uint64_t>::max());
+  // At temperature 1, or of no steps, there is no warm stage.
+  MappingOptions none = options;
+  none.warm_burn_in.temperature = 1.0;
+  EXPECT_EQ(WarmStageOf(none).end, WarmStageOf(none).begin);
+  none = options;
+  none.warm_burn_in.steps = 0;
+  EXPECT_EQ(BurnInTemperature(none, 150000), 1.0);
+}
+
+// Within the warm stage the tempered burn-in's temperature counts where it is the higher.
+TEST(BurnInTemperature, IsTheHigherOfTheWarmStagesAndTheCoolingOnes) {
+  MappingOptions options = Tempered(100000, 4.0);  // 4^(1 - block / 50000)
+  options.warm_burn_in = {.temperature = 1.5, .steps = 45000};
+  EXPECT_EQ(BurnInTemperature(options, 0), 4.0);
+  EXPECT_NEAR(BurnInTemperature(options, 20000), std::pow(4.0, 0.6), 1e-12);
+  EXPECT_EQ(BurnInTemperature(options, 40000), 1.5);  // the cooling's 4^0.2 = 1.32 is lower
+  EXPECT_NEAR(BurnInTemperature(options, 45000), std::pow(4.0, 0.2), 1e-12);
+  EXPECT_EQ(BurnInTemperature(options, 50000), 1.0);
+  EXPECT_EQ(BurnInTemperatureEnd(options, 40000), 45000u);
+  EXPECT_EQ(BurnInTemperatureEnd(options, 45000), 50000u);
 }
 
 TEST(KeptByThinning, KeepsEveryReadingAtStrideOne) {
@@ -232,6 +279,47 @@ TEST(ThinnedDataTerm, ScoresAboutOneInStrideOfTheReadings) {
     const double ratio = FromFixed(thinned->log_likelihood()) / FromFixed(full->log_likelihood());
     EXPECT_NEAR(ratio, 1.0 / stride, 0.25 / stride) << "stride " << stride;
   }
+}
+
+MappingOptions WarmRun() {
+  MappingOptions options = SmallRun(7, 30000, 8000);
+  options.thinned_burn_in = {{.stride = 2, .steps = 8000}};
+  options.warm_burn_in = {.temperature = 3.0, .steps = 9000};  // steps 8000 to 17000
+  return options;
+}
+
+// Sessions of 7000 steps stop in the thinned stage, in the warm one and after it: the resumed
+// chains must take up the temperature of the step they are at.
+TEST(WarmMapping, AStoppedRunResumesToTheSameResult) {
+  const MappingData data = LaserMappingData(RoomData(), WarmRun());
+  const MappingResult whole = ExpectResumesExactly(data, WarmRun(), 7000, 6);  // 38000 steps
+
+  // The warm stage changed the course of the chains (so the comparison above covers it).
+  MappingOptions cold = WarmRun();
+  cold.warm_burn_in = {};
+  const MappingResult without = RunMapping(data, cold, {});
+  EXPECT_NE(without.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
+}
+
+// A checkpoint of a run with a warm stage is not one of the run without it, and a warm stage
+// that does not fit in the burn-in after the thinned stages is refused.
+TEST(WarmMapping, ACheckpointOfAnotherScheduleAndAStageBeyondTheBurnInAreRefused) {
+  const MappingData data = LaserMappingData(RoomData(), WarmRun());
+  testing::TempDir dir;
+  ASSERT_FALSE(RunMapping(data, WarmRun(), {}, StoppingSession(dir.path(), 10000)).complete);
+  MappingOptions other = WarmRun();
+  other.warm_burn_in.temperature = 2.0;
+  MappingSession resume = StoppingSession(dir.path(), 10000);
+  resume.resume = true;
+  EXPECT_THROW((void)RunMapping(LaserMappingData(RoomData(), other), other, {}, resume),
+               BinaryFormatError);
+
+  MappingOptions too_long = WarmRun();
+  too_long.warm_burn_in.steps = 22001;  // the burn-in has 30000 - 8000 = 22000 left
+  EXPECT_THROW((void)RunMapping(data, too_long, {}), ContractError);
+  MappingOptions too_cold = WarmRun();
+  too_cold.warm_burn_in.temperature = 0.5;
+  EXPECT_THROW((void)RunMapping(data, too_cold, {}), ContractError);
 }
 
 MappingOptions ThinnedRun() {

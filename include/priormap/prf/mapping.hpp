@@ -34,6 +34,16 @@ struct ThinnedBurnIn {
   std::uint64_t steps = 0;
 };
 
+/// A stage of the burn-in right after the thinned ones, on every reading, at a temperature
+/// above 1: a chain that the thinned stages left with a wrong structure (a wedge across a room,
+/// a wall a door's width off) can still unmake it once the full data weigh in, where at
+/// temperature 1 it would keep it. The rest of the burn-in is at temperature 1, so the chain
+/// settles before the samples.
+struct WarmBurnIn {
+  double temperature = 1.0;
+  std::uint64_t steps = 0;
+};
+
 struct MappingOptions {
   SamplerOptions sampler;  // p, move weights, scales (temperature is set by the run)
   LaserModel model;
@@ -52,6 +62,9 @@ struct MappingOptions {
   /// The first steps of the burn-in, stage after stage, on thinned data; their steps count
   /// towards burn_in, whose remaining steps use every reading.
   std::vector<ThinnedBurnIn> thinned_burn_in;
+  /// After the thinned stages; its steps too count towards burn_in. Within it the temperature is
+  /// the larger of its own and the tempered burn-in's.
+  WarmBurnIn warm_burn_in;
   /// Replica exchange through the burn-in (replica_exchange.hpp): each chain runs this many
   /// replicas (1: none) at temperatures rising geometrically from 1 to replica_temperature
   /// (times the tempered burn-in's), which offer swaps every kExchangeEvery steps, for the
@@ -77,12 +90,19 @@ struct MappingOptions {
 inline constexpr std::uint64_t kTemperatureBlock = 10000;
 /// Steps of every replica between exchange rounds (a divisor of kTemperatureBlock).
 inline constexpr std::uint64_t kExchangeEvery = 1000;
-/// The temperature of the tempered burn-in at step s (by its block), 1 from the middle of the
-/// burn-in on.
+/// The burn-in's temperature at step s: that of the tempered burn-in (by its block; 1 from the
+/// middle of the burn-in on), raised to the warm stage's within it.
 [[nodiscard]] double BurnInTemperature(const MappingOptions& options, std::uint64_t step);
-/// Where the temperature of step s's block ends: the next block or the middle of the burn-in,
-/// whichever comes first (the largest step count when the temperature is 1 from s on).
+/// Where the temperature of step s ends: at the next block, the middle of the burn-in, or the
+/// warm stage's start or end, whichever comes first (the largest step count when the
+/// temperature does not change from s on).
 [[nodiscard]] std::uint64_t BurnInTemperatureEnd(const MappingOptions& options, std::uint64_t step);
+/// The steps [begin, end) of the warm stage (empty without one).
+struct WarmStage {
+  std::uint64_t begin = 0;
+  std::uint64_t end = 0;
+};
+[[nodiscard]] WarmStage WarmStageOf(const MappingOptions& options);
 
 /// Whether reading i is among the 1/stride of the readings a thinned stage keeps: a fixed
 /// pseudo-random choice (every stride-th reading would pick the same transducer of every ring,
