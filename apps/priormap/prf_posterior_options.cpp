@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -11,17 +12,22 @@
 namespace priormap::app {
 namespace {
 
-// "STRIDE:STEPS", e.g. "16:1000000".
-prf::ThinnedBurnIn ParseStage(const std::string& text) {
-  const auto colon = text.find(':');
-  prf::ThinnedBurnIn stage;
-  const auto parse = [&](std::string_view part, auto* value) {
+// Reads "A:B" into *a and *b, each the whole of its part; false on anything else.
+template <typename A, typename B>
+bool ParseColonPair(std::string_view text, A* a, B* b) {
+  const auto parse = [](std::string_view part, auto* value) {
     const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), *value);
     return error == std::errc() && end == part.data() + part.size();
   };
-  if (colon == std::string::npos ||
-      !parse(std::string_view(text).substr(0, colon), &stage.stride) ||
-      !parse(std::string_view(text).substr(colon + 1), &stage.steps) || stage.stride < 1)
+  const auto colon = text.find(':');
+  return colon != std::string_view::npos && parse(text.substr(0, colon), a) &&
+         parse(text.substr(colon + 1), b);
+}
+
+// "STRIDE:STEPS", e.g. "16:1000000".
+prf::ThinnedBurnIn ParseStage(const std::string& text) {
+  prf::ThinnedBurnIn stage;
+  if (!ParseColonPair(text, &stage.stride, &stage.steps) || stage.stride < 1)
     throw UserError(fmt::format(
         "--thinned-burn-in: expected STRIDE:STEPS with a stride of at least 1 (e.g. 16:1000000), "
         "got '{}'",
@@ -31,15 +37,8 @@ prf::ThinnedBurnIn ParseStage(const std::string& text) {
 
 // "T:STEPS", e.g. "2:400000".
 prf::WarmBurnIn ParseWarmStage(const std::string& text) {
-  const auto colon = text.find(':');
   prf::WarmBurnIn warm;
-  const auto parse = [&](std::string_view part, auto* value) {
-    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), *value);
-    return error == std::errc() && end == part.data() + part.size();
-  };
-  if (colon == std::string::npos ||
-      !parse(std::string_view(text).substr(0, colon), &warm.temperature) ||
-      !parse(std::string_view(text).substr(colon + 1), &warm.steps) ||
+  if (!ParseColonPair(text, &warm.temperature, &warm.steps) ||
       !(warm.temperature >= 1.0 && warm.temperature <= 1000.0))
     throw UserError(fmt::format(
         "--warm-burn-in: expected T:STEPS with a temperature from 1 to 1000 (e.g. 2:400000), "
@@ -99,6 +98,12 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
       ->delimiter(',')
       ->check(PositiveValue())
       ->capture_default_str();
+  cmd.add_option("--vertex-birth-width", m.sampler.vertex_birth_width,
+                 "κ of the vertex births on an edge e, whose new vertex is uniform within κ|e| of "
+                 "e; a vertex death straightens a bend only if its vertex lies that close to the "
+                 "chord: a larger κ lets one step unmake a tall wedge, and spreads every birth")
+      ->check(PositiveValue())
+      ->capture_default_str();
   cmd.add_option("--delayed-acceptance", m.sampler.screen_stride,
                  "Screen each move on every K-th reading first (their log-likelihood times K) and "
                  "evaluate all the data only for moves that pass; the posterior is unchanged, "
@@ -111,8 +116,9 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
       ->delimiter(',');
   cmd.add_option("--warm-burn-in", cli.warm_burn_in,
                  "After the thinned stages, STEPS burn-in steps on every reading at temperature "
-                 "T (counted in the burn-in; the rest of it is at 1), so that a chain can still "
-                 "unmake a wrong structure once all the data weigh in, e.g. 2:400000");
+                 "T (counted in the burn-in; the rest of it is at 1), to let a chain leave a "
+                 "wrong structure once all the data weigh in, e.g. 2:400000 (docs/benchmarks.md "
+                 "measures when that works)");
 }
 
 void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* m) {
@@ -162,7 +168,8 @@ nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
            {{"temperature", m.warm_burn_in.temperature}, {"steps", m.warm_burn_in.steps}}},
           {"delayed_acceptance", m.sampler.screen_stride},
           {"edge_shifts", m.sampler.weights[prf::MoveKind::kEdgeShift]},
-          {"step_scales", m.sampler.step_scales}};
+          {"step_scales", m.sampler.step_scales},
+          {"vertex_birth_width", m.sampler.vertex_birth_width}};
 }
 
 void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
@@ -177,6 +184,7 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->sampler.screen_stride = j.value("delayed_acceptance", 1);
   m->sampler.weights[prf::MoveKind::kEdgeShift] = j.value("edge_shifts", 0.0);
   m->sampler.step_scales = j.value("step_scales", m->sampler.step_scales);
+  m->sampler.vertex_birth_width = j.value("vertex_birth_width", m->sampler.vertex_birth_width);
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))

@@ -224,6 +224,10 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
                   {"thinned_burn_in", thinned},
                   {"warm_burn_in",
                    {{"temperature", m.warm_burn_in.temperature}, {"steps", m.warm_burn_in.steps}}},
+                  {"delayed_acceptance", m.sampler.screen_stride},
+                  {"edge_shifts", m.sampler.weights[MoveKind::kEdgeShift]},
+                  {"step_scales", m.sampler.step_scales},
+                  {"vertex_birth_width", m.sampler.vertex_birth_width},
                   {"sonar_model", nlohmann::json::parse(FormatSonarModel(options.model))}};
   j["wall_time_s"] = study.wall_time_s;
   j["cases"] = nlohmann::json::array();

@@ -251,17 +251,25 @@ TEST(ReplicaMapping, AStoppedRunResumesToTheSameResult) {
   EXPECT_NE(single.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
 }
 
-// A checkpoint of a run with replicas is not one of the run without them.
-TEST(ReplicaMapping, ACheckpointOfAnotherLadderIsRefused) {
-  const MappingData data = LaserMappingData(RoomData(), ReplicaRun());
+// Stops a run of `options` after `steps` per chain; resuming its checkpoints as a run of `other`
+// must be refused.
+void ExpectResumingAsOtherIsRefused(const MappingOptions& options, const MappingOptions& other,
+                                    std::uint64_t steps) {
   testing::TempDir dir;
-  ASSERT_FALSE(RunMapping(data, ReplicaRun(), {}, StoppingSession(dir.path(), 5000)).complete);
-  MappingOptions other = ReplicaRun();
-  other.burn_in_replicas = 2;
-  MappingSession resume = StoppingSession(dir.path(), 5000);
+  ASSERT_FALSE(RunMapping(LaserMappingData(RoomData(), options), options, {},
+                          StoppingSession(dir.path(), steps))
+                   .complete);
+  MappingSession resume = StoppingSession(dir.path(), steps);
   resume.resume = true;
   EXPECT_THROW((void)RunMapping(LaserMappingData(RoomData(), other), other, {}, resume),
                BinaryFormatError);
+}
+
+// A checkpoint of a run with replicas is not one of the run without them.
+TEST(ReplicaMapping, ACheckpointOfAnotherLadderIsRefused) {
+  MappingOptions other = ReplicaRun();
+  other.burn_in_replicas = 2;
+  ExpectResumingAsOtherIsRefused(ReplicaRun(), other, 5000);
 }
 
 // The thinned term scores the kept readings only: on the empty map, where every beam sees
@@ -304,15 +312,11 @@ TEST(WarmMapping, AStoppedRunResumesToTheSameResult) {
 // A checkpoint of a run with a warm stage is not one of the run without it, and a warm stage
 // that does not fit in the burn-in after the thinned stages is refused.
 TEST(WarmMapping, ACheckpointOfAnotherScheduleAndAStageBeyondTheBurnInAreRefused) {
-  const MappingData data = LaserMappingData(RoomData(), WarmRun());
-  testing::TempDir dir;
-  ASSERT_FALSE(RunMapping(data, WarmRun(), {}, StoppingSession(dir.path(), 10000)).complete);
   MappingOptions other = WarmRun();
   other.warm_burn_in.temperature = 2.0;
-  MappingSession resume = StoppingSession(dir.path(), 10000);
-  resume.resume = true;
-  EXPECT_THROW((void)RunMapping(LaserMappingData(RoomData(), other), other, {}, resume),
-               BinaryFormatError);
+  ExpectResumingAsOtherIsRefused(WarmRun(), other, 10000);
+
+  const MappingData data = LaserMappingData(RoomData(), WarmRun());
 
   MappingOptions too_long = WarmRun();
   too_long.warm_burn_in.steps = 22001;  // the burn-in has 30000 - 8000 = 22000 left
@@ -372,13 +376,7 @@ TEST(DelayedAcceptanceMapping, AStoppedRunResumesToTheSameResult) {
   const MappingResult plain = RunMapping(data, unscreened, {});
   EXPECT_NE(plain.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
   EXPECT_EQ(Total(plain.chains[0].counters).screened_out, 0u);
-  testing::TempDir stopped;
-  ASSERT_FALSE(
-      RunMapping(data, DelayedAcceptanceRun(), {}, StoppingSession(stopped.path(), 5000)).complete);
-  MappingSession resume = StoppingSession(stopped.path(), 5000);
-  resume.resume = true;
-  EXPECT_THROW((void)RunMapping(LaserMappingData(RoomData(), unscreened), unscreened, {}, resume),
-               BinaryFormatError);
+  ExpectResumingAsOtherIsRefused(DelayedAcceptanceRun(), unscreened, 5000);
 }
 
 // A coloring of `window` with a black triangle, away from the sensors' path.

@@ -98,6 +98,7 @@ struct Subset {
   std::string name;
   std::vector<MoveKind> kinds;
   MoveKind emphasised;  // the kind under test, given three times the weight
+  double vertex_birth_width = 0.5;
 };
 
 // The base set: births and deaths of every structure and boundary moves (which carry path ends
@@ -121,6 +122,9 @@ std::vector<Subset> Subsets() {
                      {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kCorner,
                       MoveKind::kVertex, MoveKind::kBoundaryMove, MoveKind::kEdgeShift},
                      MoveKind::kEdgeShift});
+  // Vertex births four times as wide (--vertex-birth-width 2), whose deaths straighten tall
+  // bends: the rectangle's density and the death's refusal outside it must still pair up.
+  subsets.push_back({"base_with_wide_vertex_births", kBase, MoveKind::kVertex, 2.0});
   // Closed polygons without triangle births: a recolor of two edges of one path closes a loop.
   subsets.push_back({"without_triangle",
                      {MoveKind::kBoundaryTriangle, MoveKind::kCorner, MoveKind::kVertex,
@@ -158,6 +162,7 @@ TEST_P(MoveSubset, MatchesTheArakProcess) {
   options.sampler.weights.weight.fill(0.0);
   for (MoveKind kind : subset.kinds) options.sampler.weights[kind] = 1.0;
   options.sampler.weights[subset.emphasised] = 3.0;
+  options.sampler.vertex_birth_width = subset.vertex_birth_width;
   const PriorStatsResult r = RunPriorStats(options);
   ExpectMatchesArak(r, subset.name);
 }

@@ -35,10 +35,11 @@ struct ThinnedBurnIn {
 };
 
 /// A stage of the burn-in right after the thinned ones, on every reading, at a temperature
-/// above 1: a chain that the thinned stages left with a wrong structure (a wedge across a room,
-/// a wall a door's width off) can still unmake it once the full data weigh in, where at
-/// temperature 1 it would keep it. The rest of the burn-in is at temperature 1, so the chain
-/// settles before the samples.
+/// above 1. It is meant for a chain that the thinned stages left with a wrong structure (a wedge
+/// across a room, a wall a door's width off), which at temperature 1 would keep it. Measured on
+/// the sonar log of docs/benchmarks.md ("2026-11-27 (late)"): it lifts chains close to the right
+/// structure and can push one into a wrong one. The rest of the burn-in is at temperature 1, so
+/// the chain settles before the samples.
 struct WarmBurnIn {
   double temperature = 1.0;
   std::uint64_t steps = 0;
