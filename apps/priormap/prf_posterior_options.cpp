@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include <priormap/prf/mapping_options_json.hpp>
+
 #include "cli_support.hpp"
 
 namespace priormap::app {
@@ -152,24 +154,10 @@ void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* 
 }
 
 nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
-  nlohmann::json stages = nlohmann::json::array();
-  for (const prf::ThinnedBurnIn& stage : m.thinned_burn_in)
-    stages.push_back({{"stride", stage.stride}, {"steps", stage.steps}});
-  return {{"free_space", m.sampler.free_space},
-          {"orientation_weight", m.sampler.orientation.weight},
-          {"orientation_deg", m.sampler.orientation.angle * 180.0 / std::numbers::pi},
-          {"burn_in_temperature", m.burn_in_temperature},
-          {"burn_in_replicas", m.burn_in_replicas},
-          {"replica_temperature", m.replica_temperature},
-          {"replica_steps", m.replica_steps},
-          {"replica_pick", m.replica_pick_best ? "best" : "cold"},
-          {"thinned_burn_in", stages},
-          {"warm_burn_in",
-           {{"temperature", m.warm_burn_in.temperature}, {"steps", m.warm_burn_in.steps}}},
-          {"delayed_acceptance", m.sampler.screen_stride},
-          {"edge_shifts", m.sampler.weights[prf::MoveKind::kEdgeShift]},
-          {"step_scales", m.sampler.step_scales},
-          {"vertex_birth_width", m.sampler.vertex_birth_width}};
+  nlohmann::json j = prf::SamplingOptionsJson(m);
+  j["orientation_deg"] = m.sampler.orientation.angle * 180.0 / std::numbers::pi;
+  j["replica_pick"] = m.replica_pick_best ? "best" : "cold";
+  return j;
 }
 
 void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {

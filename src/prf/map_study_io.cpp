@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/prf/map_study_io.hpp>
+#include <priormap/prf/mapping_options_json.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/prf/sonar_study.hpp>
 
@@ -198,9 +199,6 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
   nlohmann::json j;
   j["format"] = "priormap.prf_sonar_study";
   j["version"] = 1;
-  nlohmann::json thinned = nlohmann::json::array();
-  for (const ThinnedBurnIn& stage : m.thinned_burn_in)
-    thinned.push_back({{"stride", stage.stride}, {"steps", stage.steps}});
   j["options"] = {{"scenes", scenes},
                   {"sensor", options.sensor.name},
                   {"speed", options.speed},
@@ -214,21 +212,9 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
                   {"chains", m.chains},
                   {"seed", options.seed},
                   {"start_at_truth", options.start_at_truth},
-                  {"free_space", m.sampler.free_space},
-                  {"orientation_weight", m.sampler.orientation.weight},
                   {"orientation_rad", m.sampler.orientation.angle},
-                  {"burn_in_temperature", m.burn_in_temperature},
-                  {"burn_in_replicas", m.burn_in_replicas},
-                  {"replica_temperature", m.replica_temperature},
-                  {"replica_steps", m.replica_steps},
-                  {"thinned_burn_in", thinned},
-                  {"warm_burn_in",
-                   {{"temperature", m.warm_burn_in.temperature}, {"steps", m.warm_burn_in.steps}}},
-                  {"delayed_acceptance", m.sampler.screen_stride},
-                  {"edge_shifts", m.sampler.weights[MoveKind::kEdgeShift]},
-                  {"step_scales", m.sampler.step_scales},
-                  {"vertex_birth_width", m.sampler.vertex_birth_width},
                   {"sonar_model", nlohmann::json::parse(FormatSonarModel(options.model))}};
+  j["options"].update(SamplingOptionsJson(m));
   j["wall_time_s"] = study.wall_time_s;
   j["cases"] = nlohmann::json::array();
   for (const SonarStudyCase& c : study.cases) {
