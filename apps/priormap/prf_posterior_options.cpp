@@ -100,10 +100,12 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
       ->delimiter(',')
       ->check(PositiveValue())
       ->capture_default_str();
-  cmd.add_option("--vertex-birth-width", m.sampler.vertex_birth_width,
+  cmd.add_option("--vertex-birth-widths", m.sampler.vertex_birth_widths,
                  "κ of the vertex births on an edge e, whose new vertex is uniform within κ|e| of "
-                 "e; a vertex death straightens a bend only if its vertex lies that close to the "
-                 "chord: a larger κ lets one step unmake a tall wedge, and spreads every birth")
+                 "e, each birth drawing one κ; a vertex death straightens a bend only if its "
+                 "vertex lies within the largest κ of the chord: a wide κ lets one step unmake a "
+                 "tall wedge, and spreads the births that draw it")
+      ->delimiter(',')
       ->check(PositiveValue())
       ->capture_default_str();
   cmd.add_option("--delayed-acceptance", m.sampler.screen_stride,
@@ -172,7 +174,7 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->sampler.screen_stride = j.value("delayed_acceptance", 1);
   m->sampler.weights[prf::MoveKind::kEdgeShift] = j.value("edge_shifts", 0.0);
   m->sampler.step_scales = j.value("step_scales", m->sampler.step_scales);
-  m->sampler.vertex_birth_width = j.value("vertex_birth_width", m->sampler.vertex_birth_width);
+  m->sampler.vertex_birth_widths = j.value("vertex_birth_widths", m->sampler.vertex_birth_widths);
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))

@@ -100,7 +100,7 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
   }
   for (double w : s.weights.weight) out.Put(w);
   out.Put(s.birth_scale);
-  out.Put(s.vertex_birth_width);
+  out.PutVector(s.vertex_birth_widths);
   out.PutVector(s.step_scales);
   const LaserModel& m = options.model;
   for (double v :

@@ -18,7 +18,7 @@ nlohmann::json SamplingOptionsJson(const MappingOptions& m) {
           {"delayed_acceptance", m.sampler.screen_stride},
           {"edge_shifts", m.sampler.weights[MoveKind::kEdgeShift]},
           {"step_scales", m.sampler.step_scales},
-          {"vertex_birth_width", m.sampler.vertex_birth_width}};
+          {"vertex_birth_widths", m.sampler.vertex_birth_widths}};
 }
 
 }  // namespace priormap::prf

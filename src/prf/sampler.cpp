@@ -37,8 +37,11 @@ PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t 
       data_(std::move(data)),
       rng_(seed) {
   PRIORMAP_CHECK(options_.p > 0.0, "the Arak scale p must be positive");
-  PRIORMAP_CHECK(options_.birth_scale > 0.0 && options_.vertex_birth_width > 0.0,
-                 "birth scales must be positive");
+  PRIORMAP_CHECK(options_.birth_scale > 0.0, "the birth scale must be positive");
+  PRIORMAP_CHECK(!options_.vertex_birth_widths.empty(),
+                 "at least one vertex birth width is needed");
+  for (double width : options_.vertex_birth_widths)
+    PRIORMAP_CHECK(width > 0.0, "vertex birth widths must be positive");
   PRIORMAP_CHECK(!options_.step_scales.empty(), "at least one step scale is needed");
   for (double scale : options_.step_scales)
     PRIORMAP_CHECK(scale > 0.0 && scale < 0.5 * coloring_.window().Perimeter(),
@@ -269,14 +272,23 @@ double PrfSampler::BoundaryTriangleDensity(const Vec2& b1, int side1, const Vec2
 }
 
 double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v) const {
-  // Uniform in the rectangle along uw of half-width κ|uw|.
+  // The mixture, over the widths drawn uniformly, of the uniform densities on the rectangles
+  // along uw of half-width κ|uw|.
   const Vec2 along = w - u;
   const double length2 = along.squaredNorm();
   const double t = along.dot(v - u) / length2;
-  const double offset = std::abs(Cross(along, v - u)) / std::sqrt(length2);
-  const double half_width = options_.vertex_birth_width * std::sqrt(length2);
-  if (t < 0.0 || t > 1.0 || offset > half_width) return 0.0;
-  return 1.0 / (2.0 * options_.vertex_birth_width * length2);
+  if (t < 0.0 || t > 1.0) return 0.0;
+  const double length = std::sqrt(length2);
+  const double offset = std::abs(Cross(along, v - u)) / length;
+  double density = 0.0;
+  for (double width : options_.vertex_birth_widths)
+    if (offset <= width * length) density += 1.0 / (2.0 * width * length2);
+  return density / static_cast<double>(options_.vertex_birth_widths.size());
+}
+
+double PrfSampler::VertexBirthWidth() {
+  const auto& widths = options_.vertex_birth_widths;
+  return widths.size() == 1 ? widths[0] : widths[rng_.UniformIndex(widths.size())];
 }
 
 namespace {
@@ -466,7 +478,7 @@ bool PrfSampler::ProposeVertexBirth(Edit* edit, double* log_q) {
   const Vec2& pw = coloring_.vertex(w).position;
   const Vec2 along = pw - pu;
   const double length = along.norm();
-  const double half_width = options_.vertex_birth_width * length;
+  const double half_width = VertexBirthWidth() * length;
   const Vec2 v =
       pu + rng_.Uniform() * along + rng_.Uniform(-half_width, half_width) * (Perp(along) / length);
   edit->removed_edges.push_back(e);

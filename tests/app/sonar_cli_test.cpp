@@ -101,13 +101,13 @@ TEST_F(SonarCli, SimulatesSonarRingsAndLogsWithTheirTruth) {
 TEST_F(SonarCli, SonarStudyWritesItsSummaryTableAndFigures) {
   const auto r = Run({"prf", "sonar-study", "--scenes", "office", "--samples", "2000", "--burn-in",
                       "2000", "--chains", "1", "--seed", "2", "--edge-shifts", "1",
-                      "--vertex-birth-width", "1.5", "-o", "study"});
+                      "--vertex-birth-widths", "0.5,1.5", "-o", "study"});
   ASSERT_EQ(r.status, 0) << r.err;
   const json summary = Summary("study");
   EXPECT_EQ(summary["format"], "priormap.prf_sonar_study");
   // Every sampler option that changes the chains is in the record.
   EXPECT_EQ(summary["options"]["edge_shifts"], 1.0);
-  EXPECT_EQ(summary["options"]["vertex_birth_width"], 1.5);
+  EXPECT_EQ(summary["options"]["vertex_birth_widths"], json::array({0.5, 1.5}));
   EXPECT_EQ(summary["options"]["delayed_acceptance"], 1);
   EXPECT_EQ(summary["options"]["step_scales"].size(), 3u);
   ASSERT_EQ(summary["cases"].size(), 1u);
@@ -204,8 +204,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                                         "4",
                                         "--step-scales",
                                         "0.01,0.05,0.3",
-                                        "--vertex-birth-width",
-                                        "1.5",
+                                        "--vertex-birth-widths",
+                                        "0.5,1.5",
                                         "--burn-in",
                                         "3000",
                                         "--samples",
@@ -231,7 +231,7 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_EQ(posterior["step_scales"], json::array({0.01, 0.05, 0.3}));
   EXPECT_EQ(posterior["warm_burn_in"]["temperature"], 2.0);
   EXPECT_EQ(posterior["warm_burn_in"]["steps"], 500u);
-  EXPECT_EQ(posterior["vertex_birth_width"], 1.5);
+  EXPECT_EQ(posterior["vertex_birth_widths"], json::array({0.5, 1.5}));
   EXPECT_EQ(Summary("prf")["swap_rates"][0].size(), 2u);  // one chain, two pairs of rungs
   // Stopped in the second thinned stage, replicas and all, and resumed: the same map.
   auto stopped = run;
@@ -263,8 +263,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--step-scales", "0.01,0", "-o", "b"}).err,
               HasSubstr("--step-scales"));
   EXPECT_THAT(
-      RunFailing({"prf", "--log", "sonar.json", "--vertex-birth-width", "0", "-o", "b"}).err,
-      HasSubstr("--vertex-birth-width"));
+      RunFailing({"prf", "--log", "sonar.json", "--vertex-birth-widths", "0.5,0", "-o", "b"}).err,
+      HasSubstr("--vertex-birth-widths"));
   WriteText("bad.json",
             "{\"format\": \"priormap.sonar_model\", \"version\": 1,\n \"face_bias\": \"x\"}");
   EXPECT_THAT(

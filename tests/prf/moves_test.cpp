@@ -352,22 +352,48 @@ TEST_F(BirthDensity, CornerEdgeIntegratesToTheMeasureOfItsSupport) {
   EXPECT_NEAR(sum / kDraws, 4.0 * r * r, 1e-9);
 }
 
-TEST_F(BirthDensity, VertexBirthIntegratesToTheRectanglesAlongTheEdges) {
-  PrfSampler sampler = Warmed(2.0, 4, 3000);
+// Two integrals of the vertex birth's density: over its whole support (the widest rectangle
+// along each edge) and over the narrowest rectangle alone. The second is what tells a mixture
+// of widths from a density uniform on the widest rectangle, whose 1/q integrates to the same.
+void ExpectVertexBirthsIntegrateToTheirRectangles(const std::vector<double>& widths, int draws) {
+  SamplerOptions options = Options(2.0);
+  options.vertex_birth_widths = widths;
+  PrfSampler sampler(Warmed(2.0, 4, 3000).coloring(), options, 8);
   const Coloring& c = sampler.coloring();
   const double n_after = static_cast<double>(c.interior_vertices().size() + 1);
-  double sum = 0.0;
-  for (int i = 0; i < kDraws; ++i) {
+  const double narrowest = *std::min_element(widths.begin(), widths.end());
+  const double widest = *std::max_element(widths.begin(), widths.end());
+  double whole = 0.0;
+  double narrow = 0.0;
+  for (int i = 0; i < draws; ++i) {
     Edit edit;
     double log_q = 0.0;
     ASSERT_TRUE(sampler.Propose(MoveType::kVertexBirth, &edit, &log_q));
-    sum += std::exp(log_q) * n_after;  // 1 / (q(e) q(v | e))
+    const double inverse_q = std::exp(log_q) * n_after;  // 1 / (q(e) q(v | e))
+    const ColoringEdge& e = c.edge(edit.removed_edges[0]);
+    const Vec2& u = c.vertex(e.vertices[0]).position;
+    const Vec2& w = c.vertex(e.vertices[1]).position;
+    const double offset = std::abs(Cross(w - u, edit.new_vertices[0].position - u)) / e.length;
+    whole += inverse_q;
+    if (offset <= narrowest * e.length) narrow += inverse_q;
   }
-  // Σ_e area of the rectangle along e with half-width κ|e|.
-  double expected = 0.0;
-  for (EdgeId e : c.edge_ids())
-    expected += 2.0 * options_.vertex_birth_width * std::pow(c.edge(e).length, 2);
-  EXPECT_NEAR(sum / kDraws, expected, 0.01 * expected);
+  // Σ_e the area of the rectangle along e of half-width κ|e|.
+  double widest_area = 0.0;
+  double narrowest_area = 0.0;
+  for (EdgeId e : c.edge_ids()) {
+    widest_area += 2.0 * widest * std::pow(c.edge(e).length, 2);
+    narrowest_area += 2.0 * narrowest * std::pow(c.edge(e).length, 2);
+  }
+  EXPECT_NEAR(whole / draws, widest_area, 0.01 * widest_area);
+  EXPECT_NEAR(narrow / draws, narrowest_area, 0.02 * narrowest_area);
+}
+
+TEST_F(BirthDensity, VertexBirthIntegratesToTheRectanglesAlongTheEdges) {
+  ExpectVertexBirthsIntegrateToTheirRectangles({0.5}, kDraws);
+}
+
+TEST_F(BirthDensity, VertexBirthsOfMixedWidthsIntegrateToEachRectangle) {
+  ExpectVertexBirthsIntegrateToTheirRectangles({0.25, 3.0}, kDraws);
 }
 
 }  // namespace

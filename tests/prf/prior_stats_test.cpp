@@ -98,7 +98,7 @@ struct Subset {
   std::string name;
   std::vector<MoveKind> kinds;
   MoveKind emphasised;  // the kind under test, given three times the weight
-  double vertex_birth_width = 0.5;
+  std::vector<double> vertex_birth_widths{0.5};
 };
 
 // The base set: births and deaths of every structure and boundary moves (which carry path ends
@@ -122,9 +122,11 @@ std::vector<Subset> Subsets() {
                      {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kCorner,
                       MoveKind::kVertex, MoveKind::kBoundaryMove, MoveKind::kEdgeShift},
                      MoveKind::kEdgeShift});
-  // Vertex births four times as wide (--vertex-birth-width 2), whose deaths straighten tall
-  // bends: the rectangle's density and the death's refusal outside it must still pair up.
-  subsets.push_back({"base_with_wide_vertex_births", kBase, MoveKind::kVertex, 2.0});
+  // Vertex births four times as wide (--vertex-birth-widths 2), whose deaths straighten tall
+  // bends, and a mixture of a narrow and a wide width: the density and the death's refusal
+  // outside the widest rectangle must still pair up.
+  subsets.push_back({"base_with_wide_vertex_births", kBase, MoveKind::kVertex, {2.0}});
+  subsets.push_back({"base_with_mixed_vertex_births", kBase, MoveKind::kVertex, {0.25, 3.0}});
   // Closed polygons without triangle births: a recolor of two edges of one path closes a loop.
   subsets.push_back({"without_triangle",
                      {MoveKind::kBoundaryTriangle, MoveKind::kCorner, MoveKind::kVertex,
@@ -162,7 +164,7 @@ TEST_P(MoveSubset, MatchesTheArakProcess) {
   options.sampler.weights.weight.fill(0.0);
   for (MoveKind kind : subset.kinds) options.sampler.weights[kind] = 1.0;
   options.sampler.weights[subset.emphasised] = 3.0;
-  options.sampler.vertex_birth_width = subset.vertex_birth_width;
+  options.sampler.vertex_birth_widths = subset.vertex_birth_widths;
   const PriorStatsResult r = RunPriorStats(options);
   ExpectMatchesArak(r, subset.name);
 }

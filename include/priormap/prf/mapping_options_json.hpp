@@ -11,7 +11,7 @@ namespace priormap::prf {
 
 /// free_space, orientation_weight, burn_in_temperature, the replica ladder (but which replica
 /// is picked), thinned_burn_in, warm_burn_in, delayed_acceptance, edge_shifts, step_scales and
-/// vertex_birth_width.
+/// vertex_birth_widths.
 [[nodiscard]] nlohmann::json SamplingOptionsJson(const MappingOptions& m);
 
 }  // namespace priormap::prf

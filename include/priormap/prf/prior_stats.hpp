@@ -39,7 +39,7 @@ struct PriorStatsOptions {
                          .free_space = 0.0,
                          .weights = {},
                          .birth_scale = 0.3,
-                         .vertex_birth_width = 0.5,
+                         .vertex_birth_widths = {0.5},
                          .guide = nullptr,
                          .step_scales = {0.01, 0.05, 0.2},
                          .temperature = 1.0,

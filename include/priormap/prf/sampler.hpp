@@ -34,8 +34,9 @@ struct SamplerOptions {
   /// within r of the corner.
   double birth_scale = 1.0;
   /// κ of the vertex birth: the new vertex is uniform in the rectangle along the edge with
-  /// half-width κ|e|.
-  double vertex_birth_width = 0.5;
+  /// half-width κ|e|, κ drawn uniformly from these. A narrow κ keeps most births near their
+  /// edge; a wide one lets a death straighten a tall wedge in one step.
+  std::vector<double> vertex_birth_widths{0.5};
   /// Where the data put surfaces, for the guided triangle births (their kind is off without
   /// one). Shared, read-only, by every chain.
   std::shared_ptr<const BirthGuide> guide;
@@ -170,6 +171,8 @@ class PrfSampler {
                                        EdgeId removed2) const;
   [[nodiscard]] bool ShareACell(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
   [[nodiscard]] double StepScale();
+  /// κ for a vertex birth; draws nothing from the stream when there is one.
+  [[nodiscard]] double VertexBirthWidth();
 
   Coloring coloring_;
   SamplerOptions options_;
