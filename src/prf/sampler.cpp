@@ -233,9 +233,8 @@ bool PrfSampler::Propose(MoveType type, Edit* edit, double* log_q) {
   return false;
 }
 
-double PrfSampler::StepScale() {
-  const auto& scales = options_.step_scales;
-  return scales.size() == 1 ? scales[0] : scales[rng_.UniformIndex(scales.size())];
+double PrfSampler::DrawOneOf(const std::vector<double>& values) {
+  return values.size() == 1 ? values[0] : values[rng_.UniformIndex(values.size())];
 }
 
 std::optional<PrfSampler::DrawnVertex> PrfSampler::DrawInteriorVertex() {
@@ -284,11 +283,6 @@ double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& 
   for (double width : options_.vertex_birth_widths)
     if (offset <= width * length) density += 1.0 / (2.0 * width * length2);
   return density / static_cast<double>(options_.vertex_birth_widths.size());
-}
-
-double PrfSampler::VertexBirthWidth() {
-  const auto& widths = options_.vertex_birth_widths;
-  return widths.size() == 1 ? widths[0] : widths[rng_.UniformIndex(widths.size())];
 }
 
 namespace {
@@ -478,7 +472,7 @@ bool PrfSampler::ProposeVertexBirth(Edit* edit, double* log_q) {
   const Vec2& pw = coloring_.vertex(w).position;
   const Vec2 along = pw - pu;
   const double length = along.norm();
-  const double half_width = VertexBirthWidth() * length;
+  const double half_width = DrawOneOf(options_.vertex_birth_widths) * length;
   const Vec2 v =
       pu + rng_.Uniform() * along + rng_.Uniform(-half_width, half_width) * (Perp(along) / length);
   edit->removed_edges.push_back(e);
@@ -519,7 +513,7 @@ bool PrfSampler::ProposeInteriorMove(Edit* edit) {
   if (!drawn) return false;
   [[maybe_unused]] const auto [v, u, w, n_interior] = *drawn;
   const ColoringVertex& vertex = coloring_.vertex(v);
-  const double step = StepScale();
+  const double step = DrawOneOf(options_.step_scales);
   const Vec2 moved = vertex.position + Vec2(rng_.Uniform(-step, step), rng_.Uniform(-step, step));
   edit->removed_edges.push_back(vertex.edges[0]);
   edit->removed_edges.push_back(vertex.edges[1]);
@@ -552,7 +546,7 @@ bool PrfSampler::ProposeEdgeShift(Edit* edit) {
   // On a free triangle p, a, b the shift would move two of its three vertices; refused in both
   // directions alike, since the shift keeps the graph's structure.
   if (q == p) return false;
-  const double step = StepScale();
+  const double step = DrawOneOf(options_.step_scales);
   const Vec2 shift(rng_.Uniform(-step, step), rng_.Uniform(-step, step));
   const Vec2 new_a = va.position + shift;
   const Vec2 new_b = vb.position + shift;
@@ -579,7 +573,7 @@ bool PrfSampler::ProposeBoundaryMove(Edit* edit) {
   if (boundary.empty()) return false;
   const VertexId b = boundary[rng_.UniformIndex(boundary.size())];
   const ColoringVertex& vertex = coloring_.vertex(b);
-  const double step = StepScale();
+  const double step = DrawOneOf(options_.step_scales);
   const double delta = rng_.Uniform(-step, step);
   const double s = w.CoordinateOf(vertex.position, vertex.side);
   const double moved_s = w.Wrap(s + delta);

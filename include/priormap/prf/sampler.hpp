@@ -170,9 +170,10 @@ class PrfSampler {
   [[nodiscard]] int CellNeighbourCount(const Vec2& a, const Vec2& b, EdgeId self, EdgeId removed1,
                                        EdgeId removed2) const;
   [[nodiscard]] bool ShareACell(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
-  [[nodiscard]] double StepScale();
-  /// κ for a vertex birth; draws nothing from the stream when there is one.
-  [[nodiscard]] double VertexBirthWidth();
+  /// A step scale or a vertex birth width, drawn uniformly. With one value it draws nothing from
+  /// the stream, so the chains of a run with one value are those recorded before there was a
+  /// choice.
+  [[nodiscard]] double DrawOneOf(const std::vector<double>& values);
 
   Coloring coloring_;
   SamplerOptions options_;
