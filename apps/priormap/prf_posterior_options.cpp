@@ -108,6 +108,17 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
       ->delimiter(',')
       ->check(PositiveValue())
       ->capture_default_str();
+  cmd.add_option("--corner-completion", m.sampler.corner_completion,
+                 "Probability that a vertex birth on edge uw puts its vertex near the corner "
+                 "where the edges beyond u and w, extended, meet: a room's corner cut off by a "
+                 "diagonal edge comes back in one step (0: off)")
+      ->check(CLI::Range(0.0, 0.99))
+      ->capture_default_str();
+  cmd.add_option("--corner-completion-jitter", m.sampler.corner_completion_jitter,
+                 "Half-width of the square around that corner in which such a vertex is "
+                 "uniform, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
   cmd.add_option("--delayed-acceptance", m.sampler.screen_stride,
                  "Screen each move on every K-th reading first (their log-likelihood times K) and "
                  "evaluate all the data only for moves that pass; the posterior is unchanged, "
@@ -175,6 +186,12 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->sampler.weights[prf::MoveKind::kEdgeShift] = j.value("edge_shifts", 0.0);
   m->sampler.step_scales = j.value("step_scales", m->sampler.step_scales);
   m->sampler.vertex_birth_widths = j.value("vertex_birth_widths", m->sampler.vertex_birth_widths);
+  if (j.contains("corner_completion")) {
+    const nlohmann::json& corner = j.at("corner_completion");
+    m->sampler.corner_completion = corner.value("probability", 0.0);
+    m->sampler.corner_completion_jitter =
+        corner.value("jitter", m->sampler.corner_completion_jitter);
+  }
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))

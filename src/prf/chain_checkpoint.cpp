@@ -101,6 +101,12 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
   for (double w : s.weights.weight) out.Put(w);
   out.Put(s.birth_scale);
   out.PutVector(s.vertex_birth_widths);
+  // Only when on, so that checkpoints of runs without corner completion still resume.
+  if (s.corner_completion > 0.0) {
+    out.PutString("corner completion");
+    out.Put(s.corner_completion);
+    out.Put(s.corner_completion_jitter);
+  }
   out.PutVector(s.step_scales);
   const LaserModel& m = options.model;
   for (double v :

@@ -18,7 +18,10 @@ nlohmann::json SamplingOptionsJson(const MappingOptions& m) {
           {"delayed_acceptance", m.sampler.screen_stride},
           {"edge_shifts", m.sampler.weights[MoveKind::kEdgeShift]},
           {"step_scales", m.sampler.step_scales},
-          {"vertex_birth_widths", m.sampler.vertex_birth_widths}};
+          {"vertex_birth_widths", m.sampler.vertex_birth_widths},
+          {"corner_completion",
+           {{"probability", m.sampler.corner_completion},
+            {"jitter", m.sampler.corner_completion_jitter}}}};
 }
 
 }  // namespace priormap::prf

@@ -42,6 +42,10 @@ PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t 
                  "at least one vertex birth width is needed");
   for (double width : options_.vertex_birth_widths)
     PRIORMAP_CHECK(width > 0.0, "vertex birth widths must be positive");
+  PRIORMAP_CHECK(options_.corner_completion >= 0.0 && options_.corner_completion < 1.0,
+                 "the corner completion probability must be in [0, 1)");
+  PRIORMAP_CHECK(options_.corner_completion_jitter > 0.0,
+                 "the corner completion jitter must be positive");
   PRIORMAP_CHECK(!options_.step_scales.empty(), "at least one step scale is needed");
   for (double scale : options_.step_scales)
     PRIORMAP_CHECK(scale > 0.0 && scale < 0.5 * coloring_.window().Perimeter(),
@@ -270,19 +274,51 @@ double PrfSampler::BoundaryTriangleDensity(const Vec2& b1, int side1, const Vec2
   return 1.0 / (4.0 * w.Perimeter() * r * r * r);
 }
 
-double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v) const {
+double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v,
+                                      const std::optional<Vec2>& corner) const {
   // The mixture, over the widths drawn uniformly, of the uniform densities on the rectangles
-  // along uw of half-width κ|uw|.
+  // along uw of half-width κ|uw|; with a corner ahead, mixed with the square around it.
   const Vec2 along = w - u;
   const double length2 = along.squaredNorm();
   const double t = along.dot(v - u) / length2;
-  if (t < 0.0 || t > 1.0) return 0.0;
-  const double length = std::sqrt(length2);
-  const double offset = std::abs(Cross(along, v - u)) / length;
-  double density = 0.0;
-  for (double width : options_.vertex_birth_widths)
-    if (offset <= width * length) density += 1.0 / (2.0 * width * length2);
-  return density / static_cast<double>(options_.vertex_birth_widths.size());
+  double rectangles = 0.0;
+  if (t >= 0.0 && t <= 1.0) {
+    const double length = std::sqrt(length2);
+    const double offset = std::abs(Cross(along, v - u)) / length;
+    for (double width : options_.vertex_birth_widths)
+      if (offset <= width * length) rectangles += 1.0 / (2.0 * width * length2);
+    rectangles /= static_cast<double>(options_.vertex_birth_widths.size());
+  }
+  if (!corner) return rectangles;
+  const double h = options_.corner_completion_jitter;
+  const double square = ChebyshevDistance(v, *corner) <= h ? 1.0 / (4.0 * h * h) : 0.0;
+  return options_.corner_completion * square + (1.0 - options_.corner_completion) * rectangles;
+}
+
+std::optional<Vec2> PrfSampler::CornerAhead(VertexId u, EdgeId u_side, VertexId w,
+                                            EdgeId w_side) const {
+  if (options_.corner_completion == 0.0) return std::nullopt;
+  // From the lower vertex id, so that a birth and its death, which may see the chord's ends in
+  // either order, round the corner's position alike.
+  if (w < u) {
+    std::swap(u, w);
+    std::swap(u_side, w_side);
+  }
+  const ColoringVertex& vu = coloring_.vertex(u);
+  const ColoringVertex& vw = coloring_.vertex(w);
+  if (vu.side != kInterior || vw.side != kInterior) return std::nullopt;
+  const Vec2& pu = vu.position;
+  const Vec2& pw = vw.position;
+  // The lines t→u and x→w, where t and x are the neighbours beyond the chord's ends.
+  const Vec2 du = pu - coloring_.vertex(coloring_.Other(OtherEdge(vu, u_side), u)).position;
+  const Vec2 dw = pw - coloring_.vertex(coloring_.Other(OtherEdge(vw, w_side), w)).position;
+  const double denominator = Cross(du, dw);
+  if (std::abs(denominator) <= 1e-9 * du.norm() * dw.norm()) return std::nullopt;
+  // pu + a du = pw + b dw; ahead of both ends: a > 0 and b > 0.
+  const double a = Cross(pw - pu, dw) / denominator;
+  const double b = Cross(pw - pu, du) / denominator;
+  if (a <= 0.0 || b <= 0.0) return std::nullopt;
+  return pu + a * du;
 }
 
 namespace {
@@ -470,19 +506,26 @@ bool PrfSampler::ProposeVertexBirth(Edit* edit, double* log_q) {
   const VertexId w = coloring_.edge(e).vertices[1];
   const Vec2& pu = coloring_.vertex(u).position;
   const Vec2& pw = coloring_.vertex(w).position;
-  const Vec2 along = pw - pu;
-  const double length = along.norm();
-  const double half_width = DrawOneOf(options_.vertex_birth_widths) * length;
-  const Vec2 v =
-      pu + rng_.Uniform() * along + rng_.Uniform(-half_width, half_width) * (Perp(along) / length);
+  const std::optional<Vec2> corner = CornerAhead(u, e, w, e);
+  Vec2 v;
+  if (corner && rng_.Bernoulli(options_.corner_completion)) {
+    const double h = options_.corner_completion_jitter;
+    v = *corner + Vec2(rng_.Uniform(-h, h), rng_.Uniform(-h, h));
+  } else {
+    const Vec2 along = pw - pu;
+    const double length = along.norm();
+    const double half_width = DrawOneOf(options_.vertex_birth_widths) * length;
+    v = pu + rng_.Uniform() * along +
+        rng_.Uniform(-half_width, half_width) * (Perp(along) / length);
+  }
   edit->removed_edges.push_back(e);
   edit->new_vertices.push_back({v, kInterior});
   edit->added_edges.push_back({Old(u), Fresh(0)});
   edit->added_edges.push_back({Fresh(0), Old(w)});
   for (const Vec2& x : {pu, v, pw}) edit->flipped_region.push_back(x);
   const double n_after = static_cast<double>(coloring_.interior_vertices().size() + 1);
-  const double forward = VertexBirthDensity(pu, pw, v) / static_cast<double>(edges.size());
-  if (forward == 0.0) return false;  // only at the rectangle's rim, by rounding
+  const double forward = VertexBirthDensity(pu, pw, v, corner) / static_cast<double>(edges.size());
+  if (forward == 0.0) return false;  // only at the rim of a rectangle or square, by rounding
   *log_q = -std::log(n_after) - std::log(forward);
   return true;
 }
@@ -495,7 +538,8 @@ bool PrfSampler::ProposeVertexDeath(Edit* edit, double* log_q) {
   const Vec2& pu = coloring_.vertex(u).position;
   const Vec2& pw = coloring_.vertex(w).position;
   const double edges_after = static_cast<double>(coloring_.edge_ids().size() - 1);
-  const double reverse = VertexBirthDensity(pu, pw, vertex.position) / edges_after;
+  const std::optional<Vec2> corner = CornerAhead(u, vertex.edges[0], w, vertex.edges[1]);
+  const double reverse = VertexBirthDensity(pu, pw, vertex.position, corner) / edges_after;
   if (reverse == 0.0) return false;
   edit->removed_edges.push_back(vertex.edges[0]);
   edit->removed_edges.push_back(vertex.edges[1]);

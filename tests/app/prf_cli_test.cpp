@@ -90,9 +90,10 @@ TEST_F(MappingCli, PrfWritesThePosteriorTheMapAndASummary) {
   };
   const auto r = Run(with_out("run1"));
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* file : {"summary.json", "posterior.png", "posterior.pgm", "posterior.yaml",
-                           "not_white.png", "trace.csv", "chains_disagree.png", "map.geojson",
-                           "map.svg", "map.png", "map.pgm", "map.yaml"})
+  for (const char* file :
+       {"summary.json", "posterior.png", "posterior.pgm", "posterior.yaml", "not_white.png",
+        "trace.csv", "chains_disagree.png", "chain0.png", "chain1.png", "map.geojson", "map.svg",
+        "map.png", "map.pgm", "map.yaml"})
     EXPECT_TRUE(std::filesystem::exists(Work("run1") / file)) << file;
   const json summary = json::parse(testing::ReadAll(Work("run1") / "summary.json"));
   EXPECT_GT(summary["proposals_per_second"].get<double>(), 0.0);

@@ -99,15 +99,33 @@ TEST_F(SonarCli, SimulatesSonarRingsAndLogsWithTheirTruth) {
 }
 
 TEST_F(SonarCli, SonarStudyWritesItsSummaryTableAndFigures) {
-  const auto r = Run({"prf", "sonar-study", "--scenes", "office", "--samples", "2000", "--burn-in",
-                      "2000", "--chains", "1", "--seed", "2", "--edge-shifts", "1",
-                      "--vertex-birth-widths", "0.5,1.5", "-o", "study"});
+  const auto r = Run({"prf",
+                      "sonar-study",
+                      "--scenes",
+                      "office",
+                      "--samples",
+                      "2000",
+                      "--burn-in",
+                      "2000",
+                      "--chains",
+                      "1",
+                      "--seed",
+                      "2",
+                      "--edge-shifts",
+                      "1",
+                      "--vertex-birth-widths",
+                      "0.5,1.5",
+                      "--corner-completion",
+                      "0.25",
+                      "-o",
+                      "study"});
   ASSERT_EQ(r.status, 0) << r.err;
   const json summary = Summary("study");
   EXPECT_EQ(summary["format"], "priormap.prf_sonar_study");
   // Every sampler option that changes the chains is in the record.
   EXPECT_EQ(summary["options"]["edge_shifts"], 1.0);
   EXPECT_EQ(summary["options"]["vertex_birth_widths"], json::array({0.5, 1.5}));
+  EXPECT_EQ(summary["options"]["corner_completion"]["probability"], 0.25);
   EXPECT_EQ(summary["options"]["delayed_acceptance"], 1);
   EXPECT_EQ(summary["options"]["step_scales"].size(), 3u);
   ASSERT_EQ(summary["cases"].size(), 1u);
@@ -206,6 +224,10 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                                         "0.01,0.05,0.3",
                                         "--vertex-birth-widths",
                                         "0.5,1.5",
+                                        "--corner-completion",
+                                        "0.25",
+                                        "--corner-completion-jitter",
+                                        "0.03",
                                         "--burn-in",
                                         "3000",
                                         "--samples",
@@ -232,6 +254,9 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_EQ(posterior["warm_burn_in"]["temperature"], 2.0);
   EXPECT_EQ(posterior["warm_burn_in"]["steps"], 500u);
   EXPECT_EQ(posterior["vertex_birth_widths"], json::array({0.5, 1.5}));
+  EXPECT_EQ(posterior["corner_completion"]["probability"], 0.25);
+  EXPECT_EQ(posterior["corner_completion"]["jitter"], 0.03);
+  EXPECT_GT(Summary("prf")["acceptance"]["vertex_birth"]["accepted"].get<int>(), 0);
   EXPECT_EQ(Summary("prf")["swap_rates"][0].size(), 2u);  // one chain, two pairs of rungs
   // Stopped in the second thinned stage, replicas and all, and resumed: the same map.
   auto stopped = run;
@@ -265,6 +290,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_THAT(
       RunFailing({"prf", "--log", "sonar.json", "--vertex-birth-widths", "0.5,0", "-o", "b"}).err,
       HasSubstr("--vertex-birth-widths"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--corner-completion", "1", "-o", "b"}).err,
+              HasSubstr("--corner-completion"));
   WriteText("bad.json",
             "{\"format\": \"priormap.sonar_model\", \"version\": 1,\n \"face_bias\": \"x\"}");
   EXPECT_THAT(

@@ -1,6 +1,7 @@
 // MappingResult::chain_spread, where the chains disagree: per cell, the largest minus the smallest
-// chain's P(black). A chain of a run is the one-chain run of its seed (chain c of seed s has
-// seed s + c), which lets the test rebuild each chain's estimate on its own.
+// chain's P(black); and ChainSummary::black_fraction, each chain's own P(black). A chain of a run
+// is the one-chain run of its seed (chain c of seed s has seed s + c), which lets the test rebuild
+// each chain's estimate on its own.
 #include <gtest/gtest.h>
 
 #include <priormap/prf/mapping.hpp>
@@ -34,6 +35,10 @@ TEST(ChainSpread, IsTheLargestMinusTheSmallestChainsBlackFraction) {
   const Eigen::MatrixXd spread = (first.black_fraction - second.black_fraction).cwiseAbs();
   EXPECT_LT((both.black_fraction - pooled).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((both.chain_spread - spread).cwiseAbs().maxCoeff(), 1e-12);
+  // Each chain keeps its own estimate: the one-chain run of its seed.
+  ASSERT_EQ(both.chains.size(), 2u);
+  EXPECT_LT((both.chains[0].black_fraction - first.black_fraction).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((both.chains[1].black_fraction - second.black_fraction).cwiseAbs().maxCoeff(), 1e-12);
   // Short chains from the empty map do not agree everywhere: the test compares something.
   EXPECT_GT(both.chain_spread.maxCoeff(), 0.5);
   EXPECT_EQ(both.chain_spread.minCoeff(), 0.0);

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include <Eigen/Dense>
 #include <gtest/gtest.h>
 
 #include <priormap/core/rng.hpp>
@@ -82,9 +84,13 @@ Segments Added(const Coloring& c, const Edit& edit) {
 
 // Proposes `forward` until one is valid, applies it, then proposes `reverse` from the new
 // state until it undoes the first; the two log proposal ratios must cancel. Returns false when
-// the state offers no valid forward move.
-bool ExpectReversible(MoveType forward, MoveType reverse, double p, std::uint64_t seed) {
-  PrfSampler sampler = Warmed(p, seed, 3000);
+// the state offers no valid forward move. `corner_completion` sets the vertex births' share of
+// corner completions.
+bool ExpectReversible(MoveType forward, MoveType reverse, double p, std::uint64_t seed,
+                      double corner_completion = 0.0) {
+  SamplerOptions options = Options(p);
+  options.corner_completion = corner_completion;
+  PrfSampler sampler(Warmed(p, seed, 3000).coloring(), options, seed);
   Edit edit;
   EditEffect effect;
   double log_q = 0.0;
@@ -118,6 +124,7 @@ TEST(MoveRatios, BirthsAndDeathsCancel) {
                                  1.0, seed));
     EXPECT_TRUE(ExpectReversible(MoveType::kCornerBirth, MoveType::kCornerDeath, 1.0, seed));
     EXPECT_TRUE(ExpectReversible(MoveType::kVertexBirth, MoveType::kVertexDeath, 2.0, seed));
+    EXPECT_TRUE(ExpectReversible(MoveType::kVertexBirth, MoveType::kVertexDeath, 2.0, seed, 0.9));
     EXPECT_TRUE(ExpectReversible(MoveType::kGuidedTriangleBirth, MoveType::kGuidedTriangleDeath,
                                  1.0, seed));
   }
@@ -352,6 +359,22 @@ TEST_F(BirthDensity, CornerEdgeIntegratesToTheMeasureOfItsSupport) {
   EXPECT_NEAR(sum / kDraws, 4.0 * r * r, 1e-9);
 }
 
+// Draws `draws` vertex births from the sampler's state and calls f(1/q, e, u, w, v) on each:
+// 1/q = 1 / (q(e) q(v | e)), the birth on edge e from u to w at v.
+template <typename F>
+void ForEachVertexBirth(PrfSampler& sampler, int draws, F&& f) {
+  const Coloring& c = sampler.coloring();
+  const double n_after = static_cast<double>(c.interior_vertices().size() + 1);
+  for (int i = 0; i < draws; ++i) {
+    Edit edit;
+    double log_q = 0.0;
+    ASSERT_TRUE(sampler.Propose(MoveType::kVertexBirth, &edit, &log_q));
+    const EdgeId e = edit.removed_edges[0];
+    f(std::exp(log_q) * n_after, e, c.vertex(c.edge(e).vertices[0]).position,
+      c.vertex(c.edge(e).vertices[1]).position, edit.new_vertices[0].position);
+  }
+}
+
 // Two integrals of the vertex birth's density: over its whole support (the widest rectangle
 // along each edge) and over the narrowest rectangle alone. The second is what tells a mixture
 // of widths from a density uniform on the widest rectangle, whose 1/q integrates to the same.
@@ -360,23 +383,17 @@ void ExpectVertexBirthsIntegrateToTheirRectangles(const std::vector<double>& wid
   options.vertex_birth_widths = widths;
   PrfSampler sampler(Warmed(2.0, 4, 3000).coloring(), options, 8);
   const Coloring& c = sampler.coloring();
-  const double n_after = static_cast<double>(c.interior_vertices().size() + 1);
   const double narrowest = *std::min_element(widths.begin(), widths.end());
   const double widest = *std::max_element(widths.begin(), widths.end());
   double whole = 0.0;
   double narrow = 0.0;
-  for (int i = 0; i < draws; ++i) {
-    Edit edit;
-    double log_q = 0.0;
-    ASSERT_TRUE(sampler.Propose(MoveType::kVertexBirth, &edit, &log_q));
-    const double inverse_q = std::exp(log_q) * n_after;  // 1 / (q(e) q(v | e))
-    const ColoringEdge& e = c.edge(edit.removed_edges[0]);
-    const Vec2& u = c.vertex(e.vertices[0]).position;
-    const Vec2& w = c.vertex(e.vertices[1]).position;
-    const double offset = std::abs(Cross(w - u, edit.new_vertices[0].position - u)) / e.length;
-    whole += inverse_q;
-    if (offset <= narrowest * e.length) narrow += inverse_q;
-  }
+  ForEachVertexBirth(sampler, draws,
+                     [&](double inverse_q, EdgeId e, const Vec2& u, const Vec2& w, const Vec2& v) {
+                       const double length = c.edge(e).length;
+                       whole += inverse_q;
+                       if (std::abs(Cross(w - u, v - u)) / length <= narrowest * length)
+                         narrow += inverse_q;
+                     });
   // Σ_e the area of the rectangle along e of half-width κ|e|.
   double widest_area = 0.0;
   double narrowest_area = 0.0;
@@ -394,6 +411,62 @@ TEST_F(BirthDensity, VertexBirthIntegratesToTheRectanglesAlongTheEdges) {
 
 TEST_F(BirthDensity, VertexBirthsOfMixedWidthsIntegrateToEachRectangle) {
   ExpectVertexBirthsIntegrateToTheirRectangles({0.25, 3.0}, kDraws);
+}
+
+// The corner ahead of edge e, found anew: where the lines through the edges beyond its ends meet,
+// ahead of both ends, solved as a 2×2 system.
+std::optional<Vec2> CornerAheadOf(const Coloring& c, EdgeId e) {
+  const VertexId u = c.edge(e).vertices[0];
+  const VertexId w = c.edge(e).vertices[1];
+  if (c.vertex(u).side != kInterior || c.vertex(w).side != kInterior) return std::nullopt;
+  const auto beyond = [&](VertexId end) {
+    const ColoringVertex& vertex = c.vertex(end);
+    const EdgeId other = vertex.edges[0] == e ? vertex.edges[1] : vertex.edges[0];
+    return c.vertex(c.Other(other, end)).position;
+  };
+  const Vec2& pu = c.vertex(u).position;
+  const Vec2& pw = c.vertex(w).position;
+  const Vec2 du = pu - beyond(u);
+  const Vec2 dw = pw - beyond(w);
+  Eigen::Matrix2d system;
+  system << du.x(), -dw.x(), du.y(), -dw.y();
+  if (std::abs(system.determinant()) <= 1e-9 * du.norm() * dw.norm()) return std::nullopt;
+  const Eigen::Vector2d ahead = system.partialPivLu().solve(pw - pu);
+  if (ahead(0) <= 0.0 || ahead(1) <= 0.0) return std::nullopt;
+  return pu + ahead(0) * du;
+}
+
+// With corner completion on, the vertex birth's density is a mixture of the rectangle along the
+// edge and the square around the corner ahead. Its 1/q integrates over each part to that part's
+// area: a density that left out or misweighed either part would miss one of the two.
+TEST_F(BirthDensity, CornerCompletionIntegratesToItsSquaresAndRectangles) {
+  SamplerOptions options = Options(2.0);
+  options.corner_completion = 0.5;
+  options.corner_completion_jitter = 0.02;
+  PrfSampler sampler(Warmed(2.0, 4, 3000).coloring(), options, 9);
+  const Coloring& c = sampler.coloring();
+  const double h = options.corner_completion_jitter;
+  double rectangles = 0.0;
+  double squares = 0.0;
+  ForEachVertexBirth(sampler, kDraws,
+                     [&](double inverse_q, EdgeId e, const Vec2& u, const Vec2& w, const Vec2& v) {
+                       const double length = c.edge(e).length;
+                       const double t = (w - u).dot(v - u) / (length * length);
+                       const double offset = std::abs(Cross(w - u, v - u)) / length;
+                       if (t >= 0.0 && t <= 1.0 && offset <= 0.5 * length) rectangles += inverse_q;
+                       const std::optional<Vec2> corner = CornerAheadOf(c, e);
+                       if (corner && (v - *corner).cwiseAbs().maxCoeff() <= h) squares += inverse_q;
+                     });
+  double rectangle_area = 0.0;
+  int corners = 0;
+  for (EdgeId e : c.edge_ids()) {
+    rectangle_area += 2.0 * 0.5 * std::pow(c.edge(e).length, 2);
+    if (CornerAheadOf(c, e)) ++corners;
+  }
+  ASSERT_GE(corners, 3) << "too few corners ahead for the test to mean something";
+  const double square_area = corners * 4.0 * h * h;
+  EXPECT_NEAR(rectangles / kDraws, rectangle_area, 0.02 * rectangle_area);
+  EXPECT_NEAR(squares / kDraws, square_area, 0.03 * square_area);
 }
 
 }  // namespace

@@ -99,6 +99,8 @@ struct Subset {
   std::vector<MoveKind> kinds;
   MoveKind emphasised;  // the kind under test, given three times the weight
   std::vector<double> vertex_birth_widths{0.5};
+  double corner_completion = 0.0;
+  double corner_completion_jitter = 0.05;  // in units of the window side
 };
 
 // The base set: births and deaths of every structure and boundary moves (which carry path ends
@@ -127,6 +129,9 @@ std::vector<Subset> Subsets() {
   // outside the widest rectangle must still pair up.
   subsets.push_back({"base_with_wide_vertex_births", kBase, MoveKind::kVertex, {2.0}});
   subsets.push_back({"base_with_mixed_vertex_births", kBase, MoveKind::kVertex, {0.25, 3.0}});
+  // Half the vertex births near the corner ahead of their edge: a death must weigh the corner
+  // it removes by the same mixture.
+  subsets.push_back({"base_with_corner_completion", kBase, MoveKind::kVertex, {0.5}, 0.5, 0.4});
   // Closed polygons without triangle births: a recolor of two edges of one path closes a loop.
   subsets.push_back({"without_triangle",
                      {MoveKind::kBoundaryTriangle, MoveKind::kCorner, MoveKind::kVertex,
@@ -165,6 +170,8 @@ TEST_P(MoveSubset, MatchesTheArakProcess) {
   for (MoveKind kind : subset.kinds) options.sampler.weights[kind] = 1.0;
   options.sampler.weights[subset.emphasised] = 3.0;
   options.sampler.vertex_birth_widths = subset.vertex_birth_widths;
+  options.sampler.corner_completion = subset.corner_completion;
+  options.sampler.corner_completion_jitter = subset.corner_completion_jitter;
   const PriorStatsResult r = RunPriorStats(options);
   ExpectMatchesArak(r, subset.name);
 }

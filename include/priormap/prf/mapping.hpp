@@ -142,6 +142,9 @@ struct ChainSummary {
   std::vector<double> log_posterior_trace;
   std::vector<std::vector<double>> point_traces;  // per trace point: 1 black, 0 white
   std::vector<SwapCounter> swaps;                 // of the burn-in's replicas, per adjacent pair
+  /// This chain's P(black) per cell on MappingResult::raster: which chain holds what where the
+  /// chains disagree (MappingResult::chain_spread shows only where).
+  Eigen::MatrixXd black_fraction;
 };
 
 struct MappingProgress {

@@ -37,6 +37,15 @@ struct SamplerOptions {
   /// half-width κ|e|, κ drawn uniformly from these. A narrow κ keeps most births near their
   /// edge; a wide one lets a death straighten a tall wedge in one step.
   std::vector<double> vertex_birth_widths{0.5};
+  /// Corner completion: the probability that a vertex birth on edge uw puts its vertex in the
+  /// square of half-width corner_completion_jitter around the corner ahead of uw, where the edges
+  /// beyond u and beyond w, extended past u and w, meet. It restores in one step a room's corner
+  /// that a diagonal edge cuts off; and a death then weighs the corner it removes by this density
+  /// too. Edges with no corner ahead (an end on the window's side, the extensions parallel or
+  /// meeting behind an end) keep the rectangle alone. 0 (the default): off, and nothing extra is
+  /// drawn.
+  double corner_completion = 0.0;
+  double corner_completion_jitter = 0.05;
   /// Where the data put surfaces, for the guided triangle births (their kind is off without
   /// one). Shared, read-only, by every chain.
   std::shared_ptr<const BirthGuide> guide;
@@ -164,7 +173,15 @@ class PrfSampler {
   [[nodiscard]] double TriangleDensity(const Vec2& a, const Vec2& b, const Vec2& c) const;
   [[nodiscard]] double BoundaryTriangleDensity(const Vec2& b1, int side1, const Vec2& b2, int side2,
                                                const Vec2& v) const;
-  [[nodiscard]] double VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v) const;
+  /// The density of a vertex birth at v on the edge from u to w whose corner ahead (see
+  /// SamplerOptions::corner_completion) is `corner`.
+  [[nodiscard]] double VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v,
+                                          const std::optional<Vec2>& corner) const;
+  /// The corner ahead of the chord from u to w: u_side and w_side are the chord's edges at u and
+  /// at w (the edge uw itself before a birth; uv and vw before a death), so that a birth and the
+  /// death that undoes it see the same corner. nullopt when corner completion is off.
+  [[nodiscard]] std::optional<Vec2> CornerAhead(VertexId u, EdgeId u_side, VertexId w,
+                                                EdgeId w_side) const;
   /// Number of edges other than `self`, `removed1` and `removed2` sharing a grid cell with
   /// segment ab.
   [[nodiscard]] int CellNeighbourCount(const Vec2& a, const Vec2& b, EdgeId self, EdgeId removed1,
