@@ -429,10 +429,10 @@ void RunMappingCommand(MappingCliOptions o) {
     render::SaveProbabilityFigure(dir / "chains_disagree.png", on_raster(r.chain_spread),
                                   "PRF: where the chains disagree", data.sensors,
                                   "max - min P(black) over chains");
+  const auto chain_figure = [](std::size_t c) { return fmt::format("chain{}.png", c); };
   // Each chain's own map, to see which chain holds what where they disagree.
   for (std::size_t c = 0; several_chains && c < r.chains.size(); ++c)
-    render::SaveProbabilityFigure(dir / fmt::format("chain{}.png", c),
-                                  on_raster(r.chains[c].black_fraction),
+    render::SaveProbabilityFigure(dir / chain_figure(c), on_raster(r.chains[c].black_fraction),
                                   fmt::format("PRF chain {}: P(black)", c), data.sensors);
   std::string trace = "sample";
   for (std::size_t c = 0; c < r.chains.size(); ++c) trace += fmt::format(",chain{}", c);
@@ -492,7 +492,7 @@ void RunMappingCommand(MappingCliOptions o) {
       "summary.json, posterior.png, posterior.pgm, posterior.yaml, not_white.png, trace.csv";
   if (several_chains) {
     outputs += ", chains_disagree.png";
-    for (std::size_t c = 0; c < r.chains.size(); ++c) outputs += fmt::format(", chain{}.png", c);
+    for (std::size_t c = 0; c < r.chains.size(); ++c) outputs += ", " + chain_figure(c);
   }
   if (r.map) {
     const auto faces = prf::ExtractFaces(*r.map);

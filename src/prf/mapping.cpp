@@ -398,7 +398,8 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   result.black_fraction = Eigen::MatrixXd::Zero(result.raster.ny, result.raster.nx);
   result.white_fraction = result.black_fraction;
   result.chain_spread = result.black_fraction;
-  for (ChainSummary& chain : result.chains) chain.black_fraction = result.black_fraction;
+  if (options.samples == 0)
+    for (ChainSummary& chain : result.chains) chain.black_fraction = result.black_fraction;
   if (options.samples > 0) {
     Eigen::MatrixXd lowest, highest;
     for (std::size_t c = 0; c < chains; ++c) {
