@@ -430,10 +430,16 @@ void RunMappingCommand(MappingCliOptions o) {
                                   "PRF: where the chains disagree", data.sensors,
                                   "max - min P(black) over chains");
   const auto chain_figure = [](std::size_t c) { return fmt::format("chain{}.png", c); };
-  // Each chain's own map, to see which chain holds what where they disagree.
-  for (std::size_t c = 0; several_chains && c < r.chains.size(); ++c)
+  const auto chain_last = [](std::size_t c) { return fmt::format("chain{}_last.geojson", c); };
+  // Each chain's own map, to see which chain holds what where they disagree, and its last
+  // state, to see exactly which structures differ.
+  for (std::size_t c = 0; several_chains && c < r.chains.size(); ++c) {
     render::SaveProbabilityFigure(dir / chain_figure(c), on_raster(r.chains[c].black_fraction),
                                   fmt::format("PRF chain {}: P(black)", c), data.sensors);
+    if (r.chains[c].last)
+      WriteTextFileAtomically(dir / chain_last(c),
+                              prf::FacesToGeoJson(prf::ExtractFaces(*r.chains[c].last), r.window));
+  }
   std::string trace = "sample";
   for (std::size_t c = 0; c < r.chains.size(); ++c) trace += fmt::format(",chain{}", c);
   trace += "\n";
@@ -476,8 +482,12 @@ void RunMappingCommand(MappingCliOptions o) {
   }
   prf::MoveCounters total{};
   summary["log_posterior"] = nlohmann::json::array();
+  summary["log_prior"] = nlohmann::json::array();
+  summary["log_likelihood"] = nlohmann::json::array();
   for (const prf::ChainSummary& chain : r.chains) {
     summary["log_posterior"].push_back(chain.log_posterior);
+    summary["log_prior"].push_back(chain.log_prior);
+    summary["log_likelihood"].push_back(chain.log_posterior - chain.log_prior);
     for (std::size_t t = 0; t < total.size(); ++t) total[t] += chain.counters[t];
   }
   summary["acceptance"] = AcceptanceJson(total);
@@ -492,7 +502,8 @@ void RunMappingCommand(MappingCliOptions o) {
       "summary.json, posterior.png, posterior.pgm, posterior.yaml, not_white.png, trace.csv";
   if (several_chains) {
     outputs += ", chains_disagree.png";
-    for (std::size_t c = 0; c < r.chains.size(); ++c) outputs += ", " + chain_figure(c);
+    for (std::size_t c = 0; c < r.chains.size(); ++c)
+      outputs += ", " + chain_figure(c) + ", " + chain_last(c);
   }
   if (r.map) {
     const auto faces = prf::ExtractFaces(*r.map);

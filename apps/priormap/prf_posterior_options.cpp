@@ -119,6 +119,16 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "uniform, m")
       ->check(PositiveValue())
       ->capture_default_str();
+  cmd.add_option("--neighbour-births", m.sampler.neighbour_birth,
+                 "Probability that a vertex birth on edge uw puts its vertex next to the vertex "
+                 "beyond u or beyond w: a wedge whose one face stands on a wall thins to that wall "
+                 "in one step (0: off; with --corner-completion, the two sum below 1)")
+      ->check(CLI::Range(0.0, 0.99))
+      ->capture_default_str();
+  cmd.add_option("--neighbour-birth-jitter", m.sampler.neighbour_birth_jitter,
+                 "Half-width of the square around that vertex in which such a vertex is uniform, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
   cmd.add_option("--delayed-acceptance", m.sampler.screen_stride,
                  "Screen each move on every K-th reading first (their log-likelihood times K) and "
                  "evaluate all the data only for moves that pass; the posterior is unchanged, "
@@ -148,6 +158,11 @@ void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* 
   }
   if (m->burn_in_replicas > 1 && !(m->replica_temperature > 1.0))
     throw UserError("--replica-temperature must be above 1 for more than one replica");
+  if (m->sampler.corner_completion + m->sampler.neighbour_birth >= 1.0)
+    throw UserError(fmt::format(
+        "--corner-completion {} and --neighbour-births {} sum to 1 or more; a vertex birth "
+        "needs a share for its rectangles",
+        m->sampler.corner_completion, m->sampler.neighbour_birth));
   if (m->replica_steps > m->burn_in)
     throw UserError(fmt::format("--replica-steps: {} steps, more than the burn-in's {}",
                                 m->replica_steps, m->burn_in));
@@ -191,6 +206,12 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
     m->sampler.corner_completion = corner.value("probability", 0.0);
     m->sampler.corner_completion_jitter =
         corner.value("jitter", m->sampler.corner_completion_jitter);
+  }
+  if (j.contains("neighbour_birth")) {
+    const nlohmann::json& neighbour = j.at("neighbour_birth");
+    m->sampler.neighbour_birth = neighbour.value("probability", 0.0);
+    m->sampler.neighbour_birth_jitter =
+        neighbour.value("jitter", m->sampler.neighbour_birth_jitter);
   }
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))

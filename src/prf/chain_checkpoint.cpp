@@ -107,6 +107,11 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
     out.Put(s.corner_completion);
     out.Put(s.corner_completion_jitter);
   }
+  if (s.neighbour_birth > 0.0) {
+    out.PutString("neighbour births");
+    out.Put(s.neighbour_birth);
+    out.Put(s.neighbour_birth_jitter);
+  }
   out.PutVector(s.step_scales);
   const LaserModel& m = options.model;
   for (double v :

@@ -383,6 +383,8 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     checkpoint(true);
     summary.counters = sampler.counters();
     summary.log_posterior = sampler.LogPosterior();
+    summary.log_prior = sampler.LogPrior();
+    summary.last = sampler.coloring();
     summary.edges = sampler.coloring().stats().edges;
   });
   result.sampling_time_s = Seconds(start);

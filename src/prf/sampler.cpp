@@ -46,6 +46,11 @@ PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t 
                  "the corner completion probability must be in [0, 1)");
   PRIORMAP_CHECK(options_.corner_completion_jitter > 0.0,
                  "the corner completion jitter must be positive");
+  PRIORMAP_CHECK(options_.neighbour_birth >= 0.0 &&
+                     options_.corner_completion + options_.neighbour_birth < 1.0,
+                 "the neighbour birth probability must be in [0, 1 - corner completion)");
+  PRIORMAP_CHECK(options_.neighbour_birth_jitter > 0.0,
+                 "the neighbour birth jitter must be positive");
   PRIORMAP_CHECK(!options_.step_scales.empty(), "at least one step scale is needed");
   for (double scale : options_.step_scales)
     PRIORMAP_CHECK(scale > 0.0 && scale < 0.5 * coloring_.window().Perimeter(),
@@ -275,9 +280,9 @@ double PrfSampler::BoundaryTriangleDensity(const Vec2& b1, int side1, const Vec2
 }
 
 double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v,
-                                      const std::optional<Vec2>& corner) const {
+                                      const ChordAnchors& anchors) const {
   // The mixture, over the widths drawn uniformly, of the uniform densities on the rectangles
-  // along uw of half-width κ|uw|; with a corner ahead, mixed with the square around it.
+  // along uw of half-width κ|uw|; mixed with the squares around the chord's anchors.
   const Vec2 along = w - u;
   const double length2 = along.squaredNorm();
   const double t = along.dot(v - u) / length2;
@@ -289,10 +294,25 @@ double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& 
       if (offset <= width * length) rectangles += 1.0 / (2.0 * width * length2);
     rectangles /= static_cast<double>(options_.vertex_birth_widths.size());
   }
-  if (!corner) return rectangles;
-  const double h = options_.corner_completion_jitter;
-  const double square = ChebyshevDistance(v, *corner) <= h ? 1.0 / (4.0 * h * h) : 0.0;
-  return options_.corner_completion * square + (1.0 - options_.corner_completion) * rectangles;
+  const auto square = [&v](const Vec2& centre, double h) {
+    return ChebyshevDistance(v, centre) <= h ? 1.0 / (4.0 * h * h) : 0.0;
+  };
+  double anchored = 0.0;
+  double rectangles_share = 1.0;
+  if (anchors.corner) {
+    anchored +=
+        options_.corner_completion * square(*anchors.corner, options_.corner_completion_jitter);
+    rectangles_share -= options_.corner_completion;
+  }
+  if (anchors.num_beyond > 0) {
+    double squares = 0.0;
+    for (int k = 0; k < anchors.num_beyond; ++k)
+      squares +=
+          square(anchors.beyond[static_cast<std::size_t>(k)], options_.neighbour_birth_jitter);
+    anchored += options_.neighbour_birth * squares / anchors.num_beyond;
+    rectangles_share -= options_.neighbour_birth;
+  }
+  return anchored + rectangles_share * rectangles;
 }
 
 std::optional<Vec2> PrfSampler::CornerAhead(VertexId u, EdgeId u_side, VertexId w,
@@ -319,6 +339,20 @@ std::optional<Vec2> PrfSampler::CornerAhead(VertexId u, EdgeId u_side, VertexId 
   const double b = Cross(pw - pu, du) / denominator;
   if (a <= 0.0 || b <= 0.0) return std::nullopt;
   return pu + a * du;
+}
+
+PrfSampler::ChordAnchors PrfSampler::AnchorsOf(VertexId u, EdgeId u_side, VertexId w,
+                                               EdgeId w_side) const {
+  ChordAnchors anchors;
+  anchors.corner = CornerAhead(u, u_side, w, w_side);
+  if (options_.neighbour_birth == 0.0) return anchors;
+  for (const auto& [end, side] : {std::pair{u, u_side}, std::pair{w, w_side}}) {
+    const ColoringVertex& vertex = coloring_.vertex(end);
+    if (vertex.side != kInterior) continue;  // a boundary vertex has no neighbour beyond
+    anchors.beyond[static_cast<std::size_t>(anchors.num_beyond++)] =
+        coloring_.vertex(coloring_.Other(OtherEdge(vertex, side), end)).position;
+  }
+  return anchors;
 }
 
 namespace {
@@ -506,11 +540,19 @@ bool PrfSampler::ProposeVertexBirth(Edit* edit, double* log_q) {
   const VertexId w = coloring_.edge(e).vertices[1];
   const Vec2& pu = coloring_.vertex(u).position;
   const Vec2& pw = coloring_.vertex(w).position;
-  const std::optional<Vec2> corner = CornerAhead(u, e, w, e);
+  const ChordAnchors anchors = AnchorsOf(u, e, w, e);
+  const auto in_square = [this](const Vec2& centre, double h) -> Vec2 {
+    return centre + Vec2(rng_.Uniform(-h, h), rng_.Uniform(-h, h));
+  };
+  // Without a corner ahead its share goes to the rest, so the neighbours' share is
+  // neighbour_birth of the whole either way.
+  const double after_corner = 1.0 - (anchors.corner ? options_.corner_completion : 0.0);
   Vec2 v;
-  if (corner && rng_.Bernoulli(options_.corner_completion)) {
-    const double h = options_.corner_completion_jitter;
-    v = *corner + Vec2(rng_.Uniform(-h, h), rng_.Uniform(-h, h));
+  if (anchors.corner && rng_.Bernoulli(options_.corner_completion)) {
+    v = in_square(*anchors.corner, options_.corner_completion_jitter);
+  } else if (anchors.num_beyond > 0 && rng_.Bernoulli(options_.neighbour_birth / after_corner)) {
+    const std::size_t k = anchors.num_beyond == 1 ? 0 : rng_.UniformIndex(2);
+    v = in_square(anchors.beyond[k], options_.neighbour_birth_jitter);
   } else {
     const Vec2 along = pw - pu;
     const double length = along.norm();
@@ -524,7 +566,7 @@ bool PrfSampler::ProposeVertexBirth(Edit* edit, double* log_q) {
   edit->added_edges.push_back({Fresh(0), Old(w)});
   for (const Vec2& x : {pu, v, pw}) edit->flipped_region.push_back(x);
   const double n_after = static_cast<double>(coloring_.interior_vertices().size() + 1);
-  const double forward = VertexBirthDensity(pu, pw, v, corner) / static_cast<double>(edges.size());
+  const double forward = VertexBirthDensity(pu, pw, v, anchors) / static_cast<double>(edges.size());
   if (forward == 0.0) return false;  // only at the rim of a rectangle or square, by rounding
   *log_q = -std::log(n_after) - std::log(forward);
   return true;
@@ -538,8 +580,8 @@ bool PrfSampler::ProposeVertexDeath(Edit* edit, double* log_q) {
   const Vec2& pu = coloring_.vertex(u).position;
   const Vec2& pw = coloring_.vertex(w).position;
   const double edges_after = static_cast<double>(coloring_.edge_ids().size() - 1);
-  const std::optional<Vec2> corner = CornerAhead(u, vertex.edges[0], w, vertex.edges[1]);
-  const double reverse = VertexBirthDensity(pu, pw, vertex.position, corner) / edges_after;
+  const ChordAnchors anchors = AnchorsOf(u, vertex.edges[0], w, vertex.edges[1]);
+  const double reverse = VertexBirthDensity(pu, pw, vertex.position, anchors) / edges_after;
   if (reverse == 0.0) return false;
   edit->removed_edges.push_back(vertex.edges[0]);
   edit->removed_edges.push_back(vertex.edges[1]);

@@ -92,13 +92,19 @@ TEST_F(MappingCli, PrfWritesThePosteriorTheMapAndASummary) {
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* file :
        {"summary.json", "posterior.png", "posterior.pgm", "posterior.yaml", "not_white.png",
-        "trace.csv", "chains_disagree.png", "chain0.png", "chain1.png", "map.geojson", "map.svg",
-        "map.png", "map.pgm", "map.yaml"})
+        "trace.csv", "chains_disagree.png", "chain0.png", "chain1.png", "chain0_last.geojson",
+        "chain1_last.geojson", "map.geojson", "map.svg", "map.png", "map.pgm", "map.yaml"})
     EXPECT_TRUE(std::filesystem::exists(Work("run1") / file)) << file;
   const json summary = json::parse(testing::ReadAll(Work("run1") / "summary.json"));
   EXPECT_GT(summary["proposals_per_second"].get<double>(), 0.0);
   EXPECT_GT(summary["wall_time_s"].get<double>(), 0.0);
   EXPECT_EQ(summary["log_posterior"].size(), 2u);
+  // The log-posterior splits into the prior's part and the data's.
+  for (std::size_t c = 0; c < 2; ++c)
+    EXPECT_NEAR(summary["log_prior"][c].get<double>() + summary["log_likelihood"][c].get<double>(),
+                summary["log_posterior"][c].get<double>(), 1e-9);
+  EXPECT_EQ(json::parse(testing::ReadAll(Work("run1") / "chain1_last.geojson"))["type"],
+            "FeatureCollection");
   EXPECT_TRUE(summary["rhat"]["log_posterior"].is_number());
   EXPECT_GE(summary["chain_disagreement"]["area_over_half_m2"].get<double>(), 0.0);
   EXPECT_LE(summary["chain_disagreement"]["largest"].get<double>(), 1.0);

@@ -228,6 +228,10 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                                         "0.25",
                                         "--corner-completion-jitter",
                                         "0.03",
+                                        "--neighbour-births",
+                                        "0.2",
+                                        "--neighbour-birth-jitter",
+                                        "0.08",
                                         "--burn-in",
                                         "3000",
                                         "--samples",
@@ -256,6 +260,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_EQ(posterior["vertex_birth_widths"], json::array({0.5, 1.5}));
   EXPECT_EQ(posterior["corner_completion"]["probability"], 0.25);
   EXPECT_EQ(posterior["corner_completion"]["jitter"], 0.03);
+  EXPECT_EQ(posterior["neighbour_birth"]["probability"], 0.2);
+  EXPECT_EQ(posterior["neighbour_birth"]["jitter"], 0.08);
   EXPECT_GT(Summary("prf")["acceptance"]["vertex_birth"]["accepted"].get<int>(), 0);
   EXPECT_EQ(Summary("prf")["swap_rates"][0].size(), 2u);  // one chain, two pairs of rungs
   // Stopped in the second thinned stage, replicas and all, and resumed: the same map.
@@ -292,6 +298,10 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
       HasSubstr("--vertex-birth-widths"));
   EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--corner-completion", "1", "-o", "b"}).err,
               HasSubstr("--corner-completion"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--corner-completion", "0.5",
+                          "--neighbour-births", "0.5", "-o", "b"})
+                  .err,
+              HasSubstr("sum to 1 or more"));
   WriteText("bad.json",
             "{\"format\": \"priormap.sonar_model\", \"version\": 1,\n \"face_bias\": \"x\"}");
   EXPECT_THAT(

@@ -84,12 +84,13 @@ Segments Added(const Coloring& c, const Edit& edit) {
 
 // Proposes `forward` until one is valid, applies it, then proposes `reverse` from the new
 // state until it undoes the first; the two log proposal ratios must cancel. Returns false when
-// the state offers no valid forward move. `corner_completion` sets the vertex births' share of
-// corner completions.
+// the state offers no valid forward move. `corner_completion` and `neighbour_birth` set the
+// vertex births' shares of corner completions and neighbour births.
 bool ExpectReversible(MoveType forward, MoveType reverse, double p, std::uint64_t seed,
-                      double corner_completion = 0.0) {
+                      double corner_completion = 0.0, double neighbour_birth = 0.0) {
   SamplerOptions options = Options(p);
   options.corner_completion = corner_completion;
+  options.neighbour_birth = neighbour_birth;
   PrfSampler sampler(Warmed(p, seed, 3000).coloring(), options, seed);
   Edit edit;
   EditEffect effect;
@@ -125,6 +126,8 @@ TEST(MoveRatios, BirthsAndDeathsCancel) {
     EXPECT_TRUE(ExpectReversible(MoveType::kCornerBirth, MoveType::kCornerDeath, 1.0, seed));
     EXPECT_TRUE(ExpectReversible(MoveType::kVertexBirth, MoveType::kVertexDeath, 2.0, seed));
     EXPECT_TRUE(ExpectReversible(MoveType::kVertexBirth, MoveType::kVertexDeath, 2.0, seed, 0.9));
+    EXPECT_TRUE(
+        ExpectReversible(MoveType::kVertexBirth, MoveType::kVertexDeath, 2.0, seed, 0.05, 0.9));
     EXPECT_TRUE(ExpectReversible(MoveType::kGuidedTriangleBirth, MoveType::kGuidedTriangleDeath,
                                  1.0, seed));
   }
@@ -436,37 +439,76 @@ std::optional<Vec2> CornerAheadOf(const Coloring& c, EdgeId e) {
   return pu + ahead(0) * du;
 }
 
-// With corner completion on, the vertex birth's density is a mixture of the rectangle along the
-// edge and the square around the corner ahead. Its 1/q integrates over each part to that part's
-// area: a density that left out or misweighed either part would miss one of the two.
-TEST_F(BirthDensity, CornerCompletionIntegratesToItsSquaresAndRectangles) {
+// The vertices beyond the ends of edge e (none beyond an end on the window's side), found anew.
+std::vector<Vec2> BeyondEndsOf(const Coloring& c, EdgeId e) {
+  std::vector<Vec2> beyond;
+  for (VertexId end : c.edge(e).vertices) {
+    const ColoringVertex& vertex = c.vertex(end);
+    if (vertex.side != kInterior) continue;
+    const EdgeId other = vertex.edges[0] == e ? vertex.edges[1] : vertex.edges[0];
+    beyond.push_back(c.vertex(c.Other(other, end)).position);
+  }
+  return beyond;
+}
+
+// With corner completion or neighbour births on, the vertex birth's density mixes up to three
+// parts: the rectangle along the edge, the square around the corner ahead and the squares around
+// the vertices beyond the ends. 1/q integrates over each part to its area (a neighbour square
+// that holds v counts once for each anchor it is drawn around), so a density that left out or
+// misweighed any part would miss it.
+void ExpectAnchoredBirthsIntegrateToTheirParts(double corner_completion, double neighbour_birth,
+                                               std::uint64_t seed, int draws) {
   SamplerOptions options = Options(2.0);
-  options.corner_completion = 0.5;
+  options.corner_completion = corner_completion;
   options.corner_completion_jitter = 0.02;
-  PrfSampler sampler(Warmed(2.0, 4, 3000).coloring(), options, 9);
+  options.neighbour_birth = neighbour_birth;
+  options.neighbour_birth_jitter = 0.03;
+  PrfSampler sampler(Warmed(2.0, 4, 3000).coloring(), options, seed);
   const Coloring& c = sampler.coloring();
-  const double h = options.corner_completion_jitter;
+  const double hc = options.corner_completion_jitter;
+  const double hn = options.neighbour_birth_jitter;
   double rectangles = 0.0;
-  double squares = 0.0;
-  ForEachVertexBirth(sampler, kDraws,
+  double corner_squares = 0.0;
+  double neighbour_squares = 0.0;
+  ForEachVertexBirth(sampler, draws,
                      [&](double inverse_q, EdgeId e, const Vec2& u, const Vec2& w, const Vec2& v) {
                        const double length = c.edge(e).length;
                        const double t = (w - u).dot(v - u) / (length * length);
                        const double offset = std::abs(Cross(w - u, v - u)) / length;
                        if (t >= 0.0 && t <= 1.0 && offset <= 0.5 * length) rectangles += inverse_q;
                        const std::optional<Vec2> corner = CornerAheadOf(c, e);
-                       if (corner && (v - *corner).cwiseAbs().maxCoeff() <= h) squares += inverse_q;
+                       if (corner && (v - *corner).cwiseAbs().maxCoeff() <= hc)
+                         corner_squares += inverse_q;
+                       for (const Vec2& anchor : BeyondEndsOf(c, e))
+                         if ((v - anchor).cwiseAbs().maxCoeff() <= hn)
+                           neighbour_squares += inverse_q;
                      });
   double rectangle_area = 0.0;
   int corners = 0;
+  int anchors = 0;
   for (EdgeId e : c.edge_ids()) {
     rectangle_area += 2.0 * 0.5 * std::pow(c.edge(e).length, 2);
     if (CornerAheadOf(c, e)) ++corners;
+    anchors += static_cast<int>(BeyondEndsOf(c, e).size());
   }
-  ASSERT_GE(corners, 3) << "too few corners ahead for the test to mean something";
-  const double square_area = corners * 4.0 * h * h;
-  EXPECT_NEAR(rectangles / kDraws, rectangle_area, 0.02 * rectangle_area);
-  EXPECT_NEAR(squares / kDraws, square_area, 0.03 * square_area);
+  EXPECT_NEAR(rectangles / draws, rectangle_area, 0.02 * rectangle_area);
+  if (corner_completion > 0.0) {
+    ASSERT_GE(corners, 3) << "too few corners ahead for the test to mean something";
+    const double corner_area = corners * 4.0 * hc * hc;
+    EXPECT_NEAR(corner_squares / draws, corner_area, 0.04 * corner_area);
+  }
+  if (neighbour_birth > 0.0) {
+    const double neighbour_area = anchors * 4.0 * hn * hn;
+    EXPECT_NEAR(neighbour_squares / draws, neighbour_area, 0.03 * neighbour_area);
+  }
+}
+
+TEST_F(BirthDensity, CornerCompletionIntegratesToItsSquaresAndRectangles) {
+  ExpectAnchoredBirthsIntegrateToTheirParts(0.5, 0.0, 9, kDraws);
+}
+
+TEST_F(BirthDensity, NeighbourBirthsIntegrateToTheirSquares) {
+  ExpectAnchoredBirthsIntegrateToTheirParts(0.3, 0.4, 10, kDraws);
 }
 
 }  // namespace

@@ -101,6 +101,8 @@ struct Subset {
   std::vector<double> vertex_birth_widths{0.5};
   double corner_completion = 0.0;
   double corner_completion_jitter = 0.05;  // in units of the window side
+  double neighbour_birth = 0.0;
+  double neighbour_birth_jitter = 0.1;  // in units of the window side
 };
 
 // The base set: births and deaths of every structure and boundary moves (which carry path ends
@@ -132,6 +134,10 @@ std::vector<Subset> Subsets() {
   // Half the vertex births near the corner ahead of their edge: a death must weigh the corner
   // it removes by the same mixture.
   subsets.push_back({"base_with_corner_completion", kBase, MoveKind::kVertex, {0.5}, 0.5, 0.4});
+  // Half the vertex births next to a vertex beyond their edge's ends: a death must weigh a
+  // vertex next to its neighbour's neighbour by the same mixture.
+  subsets.push_back(
+      {"base_with_neighbour_births", kBase, MoveKind::kVertex, {0.5}, 0.0, 0.05, 0.5, 0.2});
   // Closed polygons without triangle births: a recolor of two edges of one path closes a loop.
   subsets.push_back({"without_triangle",
                      {MoveKind::kBoundaryTriangle, MoveKind::kCorner, MoveKind::kVertex,
@@ -172,6 +178,8 @@ TEST_P(MoveSubset, MatchesTheArakProcess) {
   options.sampler.vertex_birth_widths = subset.vertex_birth_widths;
   options.sampler.corner_completion = subset.corner_completion;
   options.sampler.corner_completion_jitter = subset.corner_completion_jitter;
+  options.sampler.neighbour_birth = subset.neighbour_birth;
+  options.sampler.neighbour_birth_jitter = subset.neighbour_birth_jitter;
   const PriorStatsResult r = RunPriorStats(options);
   ExpectMatchesArak(r, subset.name);
 }

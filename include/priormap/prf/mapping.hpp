@@ -137,7 +137,11 @@ struct MappingSession {
 
 struct ChainSummary {
   MoveCounters counters{};
-  double log_posterior = 0.0;
+  double log_posterior = 0.0;  // at the chain's last step: log_prior + its log-likelihood
+  double log_prior = 0.0;
+  /// The chain's last state, to compare chains that end in different modes structure by
+  /// structure (set when the chain ran to its end).
+  std::optional<Coloring> last;
   int edges = 0;
   std::vector<double> log_posterior_trace;
   std::vector<std::vector<double>> point_traces;  // per trace point: 1 black, 0 white

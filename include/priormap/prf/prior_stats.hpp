@@ -33,8 +33,8 @@ struct PriorStatsOptions {
   /// the chain recorded, its replicas offering swaps every `thin` steps; empty: one chain. The
   /// swaps must leave the closed forms alone.
   std::vector<double> ladder;
-  /// Sampler settings; birth_scale, step_scales and corner_completion_jitter are multiplied by the
-  /// window side.
+  /// Sampler settings; birth_scale, step_scales and the corner completion and neighbour birth
+  /// jitters are multiplied by the window side.
   SamplerOptions sampler{.p = 1.0,
                          .orientation = {},
                          .free_space = 0.0,

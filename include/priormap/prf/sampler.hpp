@@ -46,6 +46,16 @@ struct SamplerOptions {
   /// drawn.
   double corner_completion = 0.0;
   double corner_completion_jitter = 0.05;
+  /// Neighbour births: the probability that a vertex birth on edge uw puts its vertex in the
+  /// square of half-width neighbour_birth_jitter around the vertex beyond u or the one beyond w
+  /// (each with probability ½; the one there is when the other end lies on the window's side).
+  /// A black wedge whose face u'u stands where a wall is, with its far face uw across a room,
+  /// becomes a thin wall along u'u in one step: v next to u' turns the rest of the wedge white.
+  /// The death weighs a vertex next to its neighbour's neighbour by the same density. With
+  /// corner completion, corner_completion + neighbour_birth < 1. 0 (the default): off, and
+  /// nothing extra is drawn.
+  double neighbour_birth = 0.0;
+  double neighbour_birth_jitter = 0.1;
   /// Where the data put surfaces, for the guided triangle births (their kind is off without
   /// one). Shared, read-only, by every chain.
   std::shared_ptr<const BirthGuide> guide;
@@ -173,10 +183,17 @@ class PrfSampler {
   [[nodiscard]] double TriangleDensity(const Vec2& a, const Vec2& b, const Vec2& c) const;
   [[nodiscard]] double BoundaryTriangleDensity(const Vec2& b1, int side1, const Vec2& b2, int side2,
                                                const Vec2& v) const;
-  /// The density of a vertex birth at v on the edge from u to w whose corner ahead (see
-  /// SamplerOptions::corner_completion) is `corner`.
+  /// The points a vertex birth on a chord may be drawn next to, besides its rectangles.
+  struct ChordAnchors {
+    std::optional<Vec2> corner;  // the corner ahead (SamplerOptions::corner_completion)
+    std::array<Vec2, 2> beyond;  // the vertices beyond the ends (SamplerOptions::neighbour_birth)
+    int num_beyond = 0;
+  };
+  /// The density of a vertex birth at v on the edge from u to w with these anchors.
   [[nodiscard]] double VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v,
-                                          const std::optional<Vec2>& corner) const;
+                                          const ChordAnchors& anchors) const;
+  /// The anchors of the chord from u to w; u_side and w_side as for CornerAhead.
+  [[nodiscard]] ChordAnchors AnchorsOf(VertexId u, EdgeId u_side, VertexId w, EdgeId w_side) const;
   /// The corner ahead of the chord from u to w: u_side and w_side are the chord's edges at u and
   /// at w (the edge uw itself before a birth; uv and vw before a death), so that a birth and the
   /// death that undoes it see the same corner. nullopt when corner completion is off.
