@@ -487,7 +487,7 @@ void RunMappingCommand(MappingCliOptions o) {
   for (const prf::ChainSummary& chain : r.chains) {
     summary["log_posterior"].push_back(chain.log_posterior);
     summary["log_prior"].push_back(chain.log_prior);
-    summary["log_likelihood"].push_back(chain.log_posterior - chain.log_prior);
+    summary["log_likelihood"].push_back(chain.log_likelihood);
     for (std::size_t t = 0; t < total.size(); ++t) total[t] += chain.counters[t];
   }
   summary["acceptance"] = AcceptanceJson(total);
@@ -503,7 +503,7 @@ void RunMappingCommand(MappingCliOptions o) {
   if (several_chains) {
     outputs += ", chains_disagree.png";
     for (std::size_t c = 0; c < r.chains.size(); ++c)
-      outputs += ", " + chain_figure(c) + ", " + chain_last(c);
+      outputs += ", " + chain_figure(c) + (r.chains[c].last ? ", " + chain_last(c) : "");
   }
   if (r.map) {
     const auto faces = prf::ExtractFaces(*r.map);

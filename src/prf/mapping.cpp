@@ -384,6 +384,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     summary.counters = sampler.counters();
     summary.log_posterior = sampler.LogPosterior();
     summary.log_prior = sampler.LogPrior();
+    summary.log_likelihood = sampler.LogLikelihood();
     summary.last = sampler.coloring();
     summary.edges = sampler.coloring().stats().edges;
   });

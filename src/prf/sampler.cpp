@@ -315,23 +315,11 @@ double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& 
   return anchored + rectangles_share * rectangles;
 }
 
-std::optional<Vec2> PrfSampler::CornerAhead(VertexId u, EdgeId u_side, VertexId w,
-                                            EdgeId w_side) const {
-  if (options_.corner_completion == 0.0) return std::nullopt;
-  // From the lower vertex id, so that a birth and its death, which may see the chord's ends in
-  // either order, round the corner's position alike.
-  if (w < u) {
-    std::swap(u, w);
-    std::swap(u_side, w_side);
-  }
-  const ColoringVertex& vu = coloring_.vertex(u);
-  const ColoringVertex& vw = coloring_.vertex(w);
-  if (vu.side != kInterior || vw.side != kInterior) return std::nullopt;
-  const Vec2& pu = vu.position;
-  const Vec2& pw = vw.position;
-  // The lines t→u and x→w, where t and x are the neighbours beyond the chord's ends.
-  const Vec2 du = pu - coloring_.vertex(coloring_.Other(OtherEdge(vu, u_side), u)).position;
-  const Vec2 dw = pw - coloring_.vertex(coloring_.Other(OtherEdge(vw, w_side), w)).position;
+std::optional<Vec2> PrfSampler::CornerAhead(const Vec2& pu, const Vec2& beyond_u, const Vec2& pw,
+                                            const Vec2& beyond_w) {
+  // The lines through beyond_u → u and beyond_w → w.
+  const Vec2 du = pu - beyond_u;
+  const Vec2 dw = pw - beyond_w;
   const double denominator = Cross(du, dw);
   if (std::abs(denominator) <= 1e-9 * du.norm() * dw.norm()) return std::nullopt;
   // pu + a du = pw + b dw; ahead of both ends: a > 0 and b > 0.
@@ -344,14 +332,25 @@ std::optional<Vec2> PrfSampler::CornerAhead(VertexId u, EdgeId u_side, VertexId 
 PrfSampler::ChordAnchors PrfSampler::AnchorsOf(VertexId u, EdgeId u_side, VertexId w,
                                                EdgeId w_side) const {
   ChordAnchors anchors;
-  anchors.corner = CornerAhead(u, u_side, w, w_side);
-  if (options_.neighbour_birth == 0.0) return anchors;
-  for (const auto& [end, side] : {std::pair{u, u_side}, std::pair{w, w_side}}) {
+  if (options_.corner_completion == 0.0 && options_.neighbour_birth == 0.0) return anchors;
+  const auto beyond = [this](VertexId end, EdgeId side) -> std::optional<Vec2> {
     const ColoringVertex& vertex = coloring_.vertex(end);
-    if (vertex.side != kInterior) continue;  // a boundary vertex has no neighbour beyond
-    anchors.beyond[static_cast<std::size_t>(anchors.num_beyond++)] =
-        coloring_.vertex(coloring_.Other(OtherEdge(vertex, side), end)).position;
+    if (vertex.side != kInterior) return std::nullopt;  // a boundary vertex has no neighbour beyond
+    return coloring_.vertex(coloring_.Other(OtherEdge(vertex, side), end)).position;
+  };
+  const std::optional<Vec2> beyond_u = beyond(u, u_side);
+  const std::optional<Vec2> beyond_w = beyond(w, w_side);
+  if (options_.corner_completion > 0.0 && beyond_u && beyond_w) {
+    const Vec2& pu = coloring_.vertex(u).position;
+    const Vec2& pw = coloring_.vertex(w).position;
+    // From the lower vertex id, so that a birth and its death, which may see the chord's ends
+    // in either order, round the corner's position alike.
+    anchors.corner = u < w ? CornerAhead(pu, *beyond_u, pw, *beyond_w)
+                           : CornerAhead(pw, *beyond_w, pu, *beyond_u);
   }
+  if (options_.neighbour_birth > 0.0)
+    for (const std::optional<Vec2>& anchor : {beyond_u, beyond_w})
+      if (anchor) anchors.beyond[static_cast<std::size_t>(anchors.num_beyond++)] = *anchor;
   return anchors;
 }
 

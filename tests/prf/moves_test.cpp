@@ -456,8 +456,11 @@ std::vector<Vec2> BeyondEndsOf(const Coloring& c, EdgeId e) {
 // the vertices beyond the ends. 1/q integrates over each part to its area (a neighbour square
 // that holds v counts once for each anchor it is drawn around), so a density that left out or
 // misweighed any part would miss it.
+// `corner_tolerance`: the relative error allowed on the corners' squares, which fewer draws reach
+// when corner completion has the smaller share.
 void ExpectAnchoredBirthsIntegrateToTheirParts(double corner_completion, double neighbour_birth,
-                                               std::uint64_t seed, int draws) {
+                                               double corner_tolerance, std::uint64_t seed,
+                                               int draws) {
   SamplerOptions options = Options(2.0);
   options.corner_completion = corner_completion;
   options.corner_completion_jitter = 0.02;
@@ -495,7 +498,7 @@ void ExpectAnchoredBirthsIntegrateToTheirParts(double corner_completion, double 
   if (corner_completion > 0.0) {
     ASSERT_GE(corners, 3) << "too few corners ahead for the test to mean something";
     const double corner_area = corners * 4.0 * hc * hc;
-    EXPECT_NEAR(corner_squares / draws, corner_area, 0.04 * corner_area);
+    EXPECT_NEAR(corner_squares / draws, corner_area, corner_tolerance * corner_area);
   }
   if (neighbour_birth > 0.0) {
     const double neighbour_area = anchors * 4.0 * hn * hn;
@@ -504,11 +507,11 @@ void ExpectAnchoredBirthsIntegrateToTheirParts(double corner_completion, double 
 }
 
 TEST_F(BirthDensity, CornerCompletionIntegratesToItsSquaresAndRectangles) {
-  ExpectAnchoredBirthsIntegrateToTheirParts(0.5, 0.0, 9, kDraws);
+  ExpectAnchoredBirthsIntegrateToTheirParts(0.5, 0.0, 0.03, 9, kDraws);
 }
 
 TEST_F(BirthDensity, NeighbourBirthsIntegrateToTheirSquares) {
-  ExpectAnchoredBirthsIntegrateToTheirParts(0.3, 0.4, 10, kDraws);
+  ExpectAnchoredBirthsIntegrateToTheirParts(0.3, 0.4, 0.04, 10, kDraws);
 }
 
 }  // namespace

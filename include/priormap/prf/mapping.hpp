@@ -137,10 +137,13 @@ struct MappingSession {
 
 struct ChainSummary {
   MoveCounters counters{};
-  double log_posterior = 0.0;  // at the chain's last step: log_prior + its log-likelihood
+  /// At the chain's last step (log_prior + log_likelihood): chains apart in the likelihood
+  /// explain the readings differently.
+  double log_posterior = 0.0;
   double log_prior = 0.0;
-  /// The chain's last state, to compare chains that end in different modes structure by
-  /// structure (set when the chain ran to its end).
+  double log_likelihood = 0.0;
+  /// The chain's state at the session's end, to compare chains that end in different modes
+  /// structure by structure.
   std::optional<Coloring> last;
   int edges = 0;
   std::vector<double> log_posterior_trace;

@@ -192,13 +192,15 @@ class PrfSampler {
   /// The density of a vertex birth at v on the edge from u to w with these anchors.
   [[nodiscard]] double VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v,
                                           const ChordAnchors& anchors) const;
-  /// The anchors of the chord from u to w; u_side and w_side as for CornerAhead.
+  /// The anchors of the chord from u to w: u_side and w_side are the chord's edges at u and at w
+  /// (the edge uw itself before a birth; uv and vw before a death), so that a birth and the death
+  /// that undoes it see the same vertices beyond the ends, and so the same anchors. Empty when
+  /// corner completion and neighbour births are both off.
   [[nodiscard]] ChordAnchors AnchorsOf(VertexId u, EdgeId u_side, VertexId w, EdgeId w_side) const;
-  /// The corner ahead of the chord from u to w: u_side and w_side are the chord's edges at u and
-  /// at w (the edge uw itself before a birth; uv and vw before a death), so that a birth and the
-  /// death that undoes it see the same corner. nullopt when corner completion is off.
-  [[nodiscard]] std::optional<Vec2> CornerAhead(VertexId u, EdgeId u_side, VertexId w,
-                                                EdgeId w_side) const;
+  /// The corner ahead of the chord from pu to pw, where the lines beyond_u → pu and beyond_w → pw
+  /// meet ahead of both ends; nullopt when they are parallel or meet behind an end.
+  [[nodiscard]] static std::optional<Vec2> CornerAhead(const Vec2& pu, const Vec2& beyond_u,
+                                                       const Vec2& pw, const Vec2& beyond_w);
   /// Number of edges other than `self`, `removed1` and `removed2` sharing a grid cell with
   /// segment ab.
   [[nodiscard]] int CellNeighbourCount(const Vec2& a, const Vec2& b, EdgeId self, EdgeId removed1,
