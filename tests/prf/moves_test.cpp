@@ -416,29 +416,6 @@ TEST_F(BirthDensity, VertexBirthsOfMixedWidthsIntegrateToEachRectangle) {
   ExpectVertexBirthsIntegrateToTheirRectangles({0.25, 3.0}, kDraws);
 }
 
-// The corner ahead of edge e, found anew: where the lines through the edges beyond its ends meet,
-// ahead of both ends, solved as a 2×2 system.
-std::optional<Vec2> CornerAheadOf(const Coloring& c, EdgeId e) {
-  const VertexId u = c.edge(e).vertices[0];
-  const VertexId w = c.edge(e).vertices[1];
-  if (c.vertex(u).side != kInterior || c.vertex(w).side != kInterior) return std::nullopt;
-  const auto beyond = [&](VertexId end) {
-    const ColoringVertex& vertex = c.vertex(end);
-    const EdgeId other = vertex.edges[0] == e ? vertex.edges[1] : vertex.edges[0];
-    return c.vertex(c.Other(other, end)).position;
-  };
-  const Vec2& pu = c.vertex(u).position;
-  const Vec2& pw = c.vertex(w).position;
-  const Vec2 du = pu - beyond(u);
-  const Vec2 dw = pw - beyond(w);
-  Eigen::Matrix2d system;
-  system << du.x(), -dw.x(), du.y(), -dw.y();
-  if (std::abs(system.determinant()) <= 1e-9 * du.norm() * dw.norm()) return std::nullopt;
-  const Eigen::Vector2d ahead = system.partialPivLu().solve(pw - pu);
-  if (ahead(0) <= 0.0 || ahead(1) <= 0.0) return std::nullopt;
-  return pu + ahead(0) * du;
-}
-
 // The vertices beyond the ends of edge e (none beyond an end on the window's side), found anew.
 std::vector<Vec2> BeyondEndsOf(const Coloring& c, EdgeId e) {
   std::vector<Vec2> beyond;
@@ -449,6 +426,23 @@ std::vector<Vec2> BeyondEndsOf(const Coloring& c, EdgeId e) {
     beyond.push_back(c.vertex(c.Other(other, end)).position);
   }
   return beyond;
+}
+
+// The corner ahead of edge e, found anew: where the lines through the edges beyond its ends meet,
+// ahead of both ends, solved as a 2×2 system.
+std::optional<Vec2> CornerAheadOf(const Coloring& c, EdgeId e) {
+  const std::vector<Vec2> beyond = BeyondEndsOf(c, e);
+  if (beyond.size() != 2) return std::nullopt;  // an end on the window's side
+  const Vec2& pu = c.vertex(c.edge(e).vertices[0]).position;
+  const Vec2& pw = c.vertex(c.edge(e).vertices[1]).position;
+  const Vec2 du = pu - beyond[0];
+  const Vec2 dw = pw - beyond[1];
+  Eigen::Matrix2d system;
+  system << du.x(), -dw.x(), du.y(), -dw.y();
+  if (std::abs(system.determinant()) <= 1e-9 * du.norm() * dw.norm()) return std::nullopt;
+  const Eigen::Vector2d ahead = system.partialPivLu().solve(pw - pu);
+  if (ahead(0) <= 0.0 || ahead(1) <= 0.0) return std::nullopt;
+  return pu + ahead(0) * du;
 }
 
 // With corner completion or neighbour births on, the vertex birth's density mixes up to three
