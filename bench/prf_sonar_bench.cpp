@@ -136,6 +136,8 @@ void BM_SonarProposalsOfficeScreened(benchmark::State& state) {
 }
 BENCHMARK(BM_SonarProposalsOfficeScreened)
     ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
     ->ArgName("screen_stride")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

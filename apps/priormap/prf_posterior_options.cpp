@@ -129,6 +129,23 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "Half-width of the square around that vertex in which such a vertex is uniform, m")
       ->check(PositiveValue())
       ->capture_default_str();
+  cmd.add_option("--vertex-jumps", m.sampler.weights[prf::MoveKind::kVertexJump],
+                 "Weight of the vertex jumps, which move a vertex next to its neighbour's other "
+                 "neighbour (a wedge on a wall thins to the wall in one step) or anywhere within "
+                 "--vertex-jump-reach (the other kinds weigh 0.5 to 3; 0: off)")
+      ->check(NonNegativeValue())
+      ->capture_default_str();
+  cmd.add_option("--vertex-jump-reach", m.sampler.vertex_jump_reach,
+                 "Half-width of the square around a vertex in which its far jumps are uniform, "
+                 "m; a jump next to a neighbour's neighbour farther than this cannot be undone "
+                 "and is refused")
+      ->check(PositiveValue())
+      ->capture_default_str();
+  cmd.add_option("--vertex-jump-jitter", m.sampler.vertex_jump_jitter,
+                 "Half-width of the square around the neighbour's neighbour in which a jump "
+                 "lands, m")
+      ->check(PositiveValue())
+      ->capture_default_str();
   cmd.add_option("--delayed-acceptance", m.sampler.screen_stride,
                  "Screen each move on every K-th reading first (their log-likelihood times K) and "
                  "evaluate all the data only for moves that pass; the posterior is unchanged, "
@@ -212,6 +229,12 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
     m->sampler.neighbour_birth = neighbour.value("probability", 0.0);
     m->sampler.neighbour_birth_jitter =
         neighbour.value("jitter", m->sampler.neighbour_birth_jitter);
+  }
+  if (j.contains("vertex_jump")) {
+    const nlohmann::json& jump = j.at("vertex_jump");
+    m->sampler.weights[prf::MoveKind::kVertexJump] = jump.value("weight", 0.0);
+    m->sampler.vertex_jump_reach = jump.value("reach", m->sampler.vertex_jump_reach);
+    m->sampler.vertex_jump_jitter = jump.value("jitter", m->sampler.vertex_jump_jitter);
   }
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))

@@ -98,7 +98,16 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
     out.PutString("delayed acceptance");
     out.Put<std::int32_t>(s.screen_stride);
   }
-  for (double w : s.weights.weight) out.Put(w);
+  // The weights of the kinds there were before vertex jumps, and the jumps' only when on, so
+  // that checkpoints of runs without them still resume.
+  for (int k = 0; k < kNumMoveKindsBeforeJumps; ++k)
+    out.Put(s.weights.weight[static_cast<std::size_t>(k)]);
+  if (s.weights[MoveKind::kVertexJump] > 0.0) {
+    out.PutString("vertex jumps");
+    out.Put(s.weights[MoveKind::kVertexJump]);
+    out.Put(s.vertex_jump_reach);
+    out.Put(s.vertex_jump_jitter);
+  }
   out.Put(s.birth_scale);
   out.PutVector(s.vertex_birth_widths);
   // Only when on, so that checkpoints of runs without corner completion still resume.

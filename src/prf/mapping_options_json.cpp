@@ -24,7 +24,11 @@ nlohmann::json SamplingOptionsJson(const MappingOptions& m) {
        {{"probability", m.sampler.corner_completion},
         {"jitter", m.sampler.corner_completion_jitter}}},
       {"neighbour_birth",
-       {{"probability", m.sampler.neighbour_birth}, {"jitter", m.sampler.neighbour_birth_jitter}}}};
+       {{"probability", m.sampler.neighbour_birth}, {"jitter", m.sampler.neighbour_birth_jitter}}},
+      {"vertex_jump",
+       {{"weight", m.sampler.weights[MoveKind::kVertexJump]},
+        {"reach", m.sampler.vertex_jump_reach},
+        {"jitter", m.sampler.vertex_jump_jitter}}}};
 }
 
 }  // namespace priormap::prf

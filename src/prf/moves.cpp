@@ -18,10 +18,11 @@ constexpr std::array<std::string_view, kNumMoveTypes> kTypeNames{"triangle_birth
                                                                  "slide",
                                                                  "guided_triangle_birth",
                                                                  "guided_triangle_death",
-                                                                 "edge_shift"};
+                                                                 "edge_shift",
+                                                                 "vertex_jump"};
 constexpr std::array<std::string_view, kNumMoveKinds> kKindNames{
     "triangle", "boundary_triangle", "corner", "vertex",          "interior_move", "boundary_move",
-    "recolor",  "local_recolor",     "slide",  "guided_triangle", "edge_shift"};
+    "recolor",  "local_recolor",     "slide",  "guided_triangle", "edge_shift",    "vertex_jump"};
 
 }  // namespace
 

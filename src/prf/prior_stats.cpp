@@ -51,6 +51,8 @@ PriorStatsResult RunPriorStats(const PriorStatsOptions& options) {
   for (double& scale : sampler_options.step_scales) scale *= side;
   sampler_options.corner_completion_jitter *= side;
   sampler_options.neighbour_birth_jitter *= side;
+  sampler_options.vertex_jump_reach *= side;
+  sampler_options.vertex_jump_jitter *= side;
   if (!options.guide_points.empty()) {
     std::vector<Vec2> guide_points;
     for (const Vec2& g : options.guide_points) guide_points.push_back(side * g);

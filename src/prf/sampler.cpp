@@ -57,6 +57,8 @@ PrfSampler::PrfSampler(Coloring coloring, SamplerOptions options, std::uint64_t 
                    "step scales must be positive and below half the perimeter");
   PRIORMAP_CHECK(options_.temperature > 0.0, "the temperature must be positive");
   PRIORMAP_CHECK(options_.screen_stride >= 1, "the screen stride must be at least 1");
+  PRIORMAP_CHECK(options_.vertex_jump_reach > 0.0 && options_.vertex_jump_jitter > 0.0,
+                 "the vertex jumps' reach and jitter must be positive");
   double total = 0.0;
   const bool guided = options_.guide && options_.guide->size() > 0;
   for (int k = 0; k < kNumMoveKinds; ++k) {
@@ -132,6 +134,8 @@ MoveType PrfSampler::ChooseType() {
       return rng_.Bernoulli(0.5) ? MoveType::kGuidedTriangleBirth : MoveType::kGuidedTriangleDeath;
     case MoveKind::kEdgeShift:
       return MoveType::kEdgeShift;
+    case MoveKind::kVertexJump:
+      return MoveType::kVertexJump;
   }
   return MoveType::kInteriorMove;
 }
@@ -238,6 +242,8 @@ bool PrfSampler::Propose(MoveType type, Edit* edit, double* log_q) {
       return ProposeGuidedTriangleDeath(edit, log_q);
     case MoveType::kEdgeShift:
       return ProposeEdgeShift(edit);
+    case MoveType::kVertexJump:
+      return ProposeVertexJump(edit, log_q);
   }
   return false;
 }
@@ -596,10 +602,16 @@ bool PrfSampler::ProposeVertexDeath(Edit* edit, double* log_q) {
 bool PrfSampler::ProposeInteriorMove(Edit* edit) {
   const auto drawn = DrawInteriorVertex();
   if (!drawn) return false;
-  [[maybe_unused]] const auto [v, u, w, n_interior] = *drawn;
-  const ColoringVertex& vertex = coloring_.vertex(v);
   const double step = DrawOneOf(options_.step_scales);
-  const Vec2 moved = vertex.position + Vec2(rng_.Uniform(-step, step), rng_.Uniform(-step, step));
+  const Vec2 moved = coloring_.vertex(drawn->vertex).position +
+                     Vec2(rng_.Uniform(-step, step), rng_.Uniform(-step, step));
+  MoveVertex(*drawn, moved, edit);
+  return true;
+}
+
+void PrfSampler::MoveVertex(const DrawnVertex& drawn, const Vec2& moved, Edit* edit) const {
+  const auto [v, u, w, n_interior] = drawn;
+  const ColoringVertex& vertex = coloring_.vertex(v);
   edit->removed_edges.push_back(vertex.edges[0]);
   edit->removed_edges.push_back(vertex.edges[1]);
   edit->removed_vertices.push_back(v);
@@ -609,6 +621,54 @@ bool PrfSampler::ProposeInteriorMove(Edit* edit) {
   for (const Vec2& x :
        {coloring_.vertex(u).position, vertex.position, coloring_.vertex(w).position, moved})
     edit->flipped_region.push_back(x);
+}
+
+double PrfSampler::VertexJumpDensity(const Vec2& from, const Vec2& to,
+                                     const ChordAnchors& beyond) const {
+  const auto square = [&to](const Vec2& centre, double h) {
+    return ChebyshevDistance(to, centre) <= h ? 1.0 / (4.0 * h * h) : 0.0;
+  };
+  const double far = square(from, options_.vertex_jump_reach);
+  if (beyond.num_beyond == 0) return far;
+  double squares = 0.0;
+  for (int k = 0; k < beyond.num_beyond; ++k)
+    squares += square(beyond.beyond[static_cast<std::size_t>(k)], options_.vertex_jump_jitter);
+  return 0.5 * squares / beyond.num_beyond + 0.5 * far;
+}
+
+bool PrfSampler::ProposeVertexJump(Edit* edit, double* log_q) {
+  // The vertex is drawn with probability 1/n_i both ways, and the jump keeps the graph's
+  // structure, so the vertices beyond v's neighbours neither move nor change: the reverse jump
+  // draws from the same squares, and only the densities of the two jumps enter the ratio.
+  const auto drawn = DrawInteriorVertex();
+  if (!drawn) return false;
+  const ColoringVertex& vertex = coloring_.vertex(drawn->vertex);
+  ChordAnchors beyond;
+  for (const auto& [end, side] :
+       {std::pair{drawn->first, vertex.edges[0]}, std::pair{drawn->second, vertex.edges[1]}}) {
+    const ColoringVertex& neighbour = coloring_.vertex(end);
+    if (neighbour.side != kInterior) continue;  // a boundary vertex has no neighbour beyond
+    beyond.beyond[static_cast<std::size_t>(beyond.num_beyond++)] =
+        coloring_.vertex(coloring_.Other(OtherEdge(neighbour, side), end)).position;
+  }
+  const auto uniform_around = [this](const Vec2& centre, double h) {
+    return Vec2(centre + Vec2(rng_.Uniform(-h, h), rng_.Uniform(-h, h)));
+  };
+  const Vec2& from = vertex.position;
+  Vec2 to;
+  if (beyond.num_beyond > 0 && rng_.Bernoulli(0.5)) {
+    const std::size_t k = beyond.num_beyond == 1 ? 0 : rng_.UniformIndex(2);
+    to = uniform_around(beyond.beyond[k], options_.vertex_jump_jitter);
+  } else {
+    to = uniform_around(from, options_.vertex_jump_reach);
+  }
+  const double forward = VertexJumpDensity(from, to, beyond);
+  const double reverse = VertexJumpDensity(to, from, beyond);
+  // A jump to a neighbour's neighbour farther than the reach from v, when v lies in no square
+  // of the jump back, cannot be undone: refused.
+  if (forward == 0.0 || reverse == 0.0) return false;
+  *log_q = std::log(reverse) - std::log(forward);
+  MoveVertex(*drawn, to, edit);
   return true;
 }
 
@@ -789,20 +849,31 @@ bool PrfSampler::ProposeRecolor(Edit* edit, double* log_q, bool local) {
   return true;
 }
 
+namespace {
+
+// A chain without vertex jumps saves the counters of the types there were before them, so that
+// its checkpoints are those of the versions before them.
+std::size_t SavedMoveTypes(const SamplerOptions& options) {
+  return options.weights[MoveKind::kVertexJump] > 0.0 ? kNumMoveTypes : kNumMoveTypesBeforeJumps;
+}
+
+}  // namespace
+
 void PrfSampler::Save(BinaryWriter& out) const {
   coloring_.Save(out);
   out.Put(steps_);
   rng_.Save(out);
-  for (const MoveCounter& c : counters_) {
-    out.Put(c.proposed);
-    out.Put(c.invalid);
-    out.Put(c.accepted);
+  const std::size_t saved = SavedMoveTypes(options_);
+  for (std::size_t t = 0; t < saved; ++t) {
+    out.Put(counters_[t].proposed);
+    out.Put(counters_[t].invalid);
+    out.Put(counters_[t].accepted);
   }
   out.Put(options_.temperature);
   out.Put(black_area_);
   // Only chains with delayed acceptance have screened-out counts to save.
   if (options_.screen_stride > 1)
-    for (const MoveCounter& c : counters_) out.Put(c.screened_out);
+    for (std::size_t t = 0; t < saved; ++t) out.Put(counters_[t].screened_out);
 }
 
 std::unique_ptr<PrfSampler> PrfSampler::Load(BinaryReader& in, const Window& window,
@@ -813,10 +884,11 @@ std::unique_ptr<PrfSampler> PrfSampler::Load(BinaryReader& in, const Window& win
   Rng rng(0);
   rng.Load(in);
   MoveCounters counters{};
-  for (MoveCounter& c : counters) {
-    c.proposed = in.Get<std::uint64_t>();
-    c.invalid = in.Get<std::uint64_t>();
-    c.accepted = in.Get<std::uint64_t>();
+  const std::size_t saved = SavedMoveTypes(options);
+  for (std::size_t t = 0; t < saved; ++t) {
+    counters[t].proposed = in.Get<std::uint64_t>();
+    counters[t].invalid = in.Get<std::uint64_t>();
+    counters[t].accepted = in.Get<std::uint64_t>();
   }
   options.temperature = in.Get<double>();
   if (!(options.temperature > 0.0)) in.Fail("a chain with a temperature that is not positive");
@@ -824,7 +896,7 @@ std::unique_ptr<PrfSampler> PrfSampler::Load(BinaryReader& in, const Window& win
   const double black_area = in.Get<double>();
   if (!std::isfinite(black_area)) in.Fail("a black area that is not finite");
   if (options.screen_stride > 1)
-    for (MoveCounter& c : counters) c.screened_out = in.Get<std::uint64_t>();
+    for (std::size_t t = 0; t < saved; ++t) counters[t].screened_out = in.Get<std::uint64_t>();
   if (data && data->Reset(coloring)) in.Fail("a chain whose coloring has likelihood zero");
   auto sampler =
       std::make_unique<PrfSampler>(std::move(coloring), std::move(options), 0, std::move(data));

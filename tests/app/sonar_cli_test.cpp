@@ -232,6 +232,12 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                                         "0.2",
                                         "--neighbour-birth-jitter",
                                         "0.08",
+                                        "--vertex-jumps",
+                                        "2",
+                                        "--vertex-jump-reach",
+                                        "1.5",
+                                        "--vertex-jump-jitter",
+                                        "0.06",
                                         "--burn-in",
                                         "3000",
                                         "--samples",
@@ -262,7 +268,11 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_EQ(posterior["corner_completion"]["jitter"], 0.03);
   EXPECT_EQ(posterior["neighbour_birth"]["probability"], 0.2);
   EXPECT_EQ(posterior["neighbour_birth"]["jitter"], 0.08);
+  EXPECT_EQ(posterior["vertex_jump"]["weight"], 2.0);
+  EXPECT_EQ(posterior["vertex_jump"]["reach"], 1.5);
+  EXPECT_EQ(posterior["vertex_jump"]["jitter"], 0.06);
   EXPECT_GT(Summary("prf")["acceptance"]["vertex_birth"]["accepted"].get<int>(), 0);
+  EXPECT_GT(Summary("prf")["acceptance"]["vertex_jump"]["accepted"].get<int>(), 0);
   EXPECT_EQ(Summary("prf")["swap_rates"][0].size(), 2u);  // one chain, two pairs of rungs
   // Stopped in the second thinned stage, replicas and all, and resumed: the same map.
   auto stopped = run;
@@ -296,6 +306,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_THAT(
       RunFailing({"prf", "--log", "sonar.json", "--vertex-birth-widths", "0.5,0", "-o", "b"}).err,
       HasSubstr("--vertex-birth-widths"));
+  EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--vertex-jump-reach", "0", "-o", "b"}).err,
+              HasSubstr("--vertex-jump-reach"));
   EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--corner-completion", "1", "-o", "b"}).err,
               HasSubstr("--corner-completion"));
   EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--corner-completion", "0.5",

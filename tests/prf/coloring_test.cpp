@@ -194,6 +194,7 @@ TEST(Coloring, EveryMoveReversesExactlyItsRegion) {
   options.p = 3.0;
   options.birth_scale = 0.4;
   options.step_scales = {0.05, 0.3, 0.9};  // boundary moves that pass corners
+  options.vertex_jump_reach = 0.4;         // far jumps that mostly stay in the unit window
   std::vector<Vec2> guide_points;
   Rng guide_rng(5);
   for (int i = 0; i < 100; ++i) guide_points.emplace_back(guide_rng.Uniform(), guide_rng.Uniform());

@@ -236,7 +236,11 @@ TEST(MoveRatios, SlideKeepsTheEdgeDirection) {
 }
 
 TEST(MoveCounters, AddUpOverAChain) {
-  PrfSampler sampler = Warmed(1.0, 9, 20000);
+  SamplerOptions options = Options(1.0);
+  options.weights[MoveKind::kVertexJump] = 1.0;  // off by default, on here so that it is counted
+  options.vertex_jump_reach = 0.3;
+  PrfSampler sampler(Coloring(kUnit, 0.125), options, 9);
+  sampler.Run(20000);
   EXPECT_EQ(Total(sampler.counters()).proposed, 20000u);
   for (int t = 0; t < kNumMoveTypes; ++t)
     EXPECT_GT(sampler.counters()[static_cast<std::size_t>(t)].accepted, 0u)
@@ -506,6 +510,154 @@ TEST_F(BirthDensity, CornerCompletionIntegratesToItsSquaresAndRectangles) {
 
 TEST_F(BirthDensity, NeighbourBirthsIntegrateToTheirSquares) {
   ExpectAnchoredBirthsIntegrateToTheirParts(0.3, 0.4, 0.04, 10, kDraws);
+}
+
+// The vertices beyond v's neighbours (none beyond a neighbour on the window's side), found anew.
+std::vector<Vec2> BeyondNeighboursOf(const Coloring& c, VertexId v) {
+  std::vector<Vec2> beyond;
+  for (EdgeId e : c.vertex(v).edges) {
+    const VertexId neighbour = c.Other(e, v);
+    const ColoringVertex& n = c.vertex(neighbour);
+    if (n.side != kInterior) continue;
+    const EdgeId other = n.edges[0] == e ? n.edges[1] : n.edges[0];
+    beyond.push_back(c.vertex(c.Other(other, neighbour)).position);
+  }
+  return beyond;
+}
+
+struct Box {
+  Vec2 lo;
+  Vec2 hi;
+};
+
+Box SquareAround(const Vec2& centre, double h) {
+  return {centre - Vec2::Constant(h), centre + Vec2::Constant(h)};
+}
+
+// The area of the union of a few axis-aligned boxes, by inclusion and exclusion.
+double UnionArea(const std::vector<Box>& boxes) {
+  double area = 0.0;
+  const std::size_t n = boxes.size();
+  for (std::size_t subset = 1; subset < (std::size_t{1} << n); ++subset) {
+    Box meet{Vec2::Constant(-1e300), Vec2::Constant(1e300)};
+    int members = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      if (subset & (std::size_t{1} << k)) {
+        meet.lo = meet.lo.cwiseMax(boxes[k].lo);
+        meet.hi = meet.hi.cwiseMin(boxes[k].hi);
+        ++members;
+      }
+    const Vec2 extent = (meet.hi - meet.lo).cwiseMax(0.0);
+    area += (members % 2 == 1 ? 1.0 : -1.0) * extent.x() * extent.y();
+  }
+  return area;
+}
+
+// The vertex jump's density, written anew from docs/prf-moves.md: ½ over the squares around the
+// vertices beyond the neighbours, ½ in the far square around the vertex (all of it without
+// such vertices).
+double JumpDensity(const Vec2& from, const Vec2& to, const std::vector<Vec2>& beyond,
+                   const SamplerOptions& options) {
+  const auto square = [&to](const Vec2& centre, double h) {
+    return (to - centre).cwiseAbs().maxCoeff() <= h ? 1.0 / (4.0 * h * h) : 0.0;
+  };
+  const double far = square(from, options.vertex_jump_reach);
+  if (beyond.empty()) return far;
+  double squares = 0.0;
+  for (const Vec2& anchor : beyond) squares += square(anchor, options.vertex_jump_jitter);
+  return 0.5 * squares / static_cast<double>(beyond.size()) + 0.5 * far;
+}
+
+// Every jump's log proposal ratio is that of the densities above, and the draws follow the
+// forward density: over the jumps the sampler returns, 1/q integrates over each part of the
+// density (the far square, the square around the vertex beyond the first neighbour, the one
+// beyond the second) to the area of that part the jump can land on, so a part drawn too often,
+// too rarely or never would miss its area. A jump can land anywhere in the far square; in the
+// rest of a neighbour's neighbour's square only when the vertex lies in one of those squares
+// (the jump back may then draw it from its square), and is refused otherwise.
+TEST(MoveRatios, VertexJumpsDrawAndWeighTheirSquares) {
+  SamplerOptions options = Options(2.0);
+  options.weights[MoveKind::kVertexJump] = 1.0;
+  options.vertex_jump_reach = 0.3;
+  options.vertex_jump_jitter = 0.05;
+  PrfSampler sampler(Warmed(2.0, 6, 4000).coloring(), options, 17);
+  const Coloring& c = sampler.coloring();
+  const auto interior = c.interior_vertices();
+  ASSERT_GE(interior.size(), 10u) << "too few vertices for the test to mean something";
+  const auto inside = [](const Vec2& x, const Box& box) {
+    return (x.array() >= box.lo.array()).all() && (x.array() <= box.hi.array()).all();
+  };
+  // The squares of the density at v: the far one, then those beyond the first and the second
+  // neighbour in the order of v's edges, as the sampler's (none beyond a boundary neighbour).
+  const auto squares_of = [&](VertexId v) {
+    const Vec2& from = c.vertex(v).position;
+    std::array<std::optional<Box>, 3> squares{SquareAround(from, options.vertex_jump_reach)};
+    const std::vector<Vec2> beyond = BeyondNeighboursOf(c, v);
+    std::size_t next = 0;
+    for (std::size_t k = 0; k < 2; ++k)
+      if (c.vertex(c.Other(c.vertex(v).edges[k], v)).side == kInterior)
+        squares[k + 1] = SquareAround(beyond[next++], options.vertex_jump_jitter);
+    return squares;
+  };
+
+  // The area of each part a jump can land on, averaged over the vertex drawn.
+  std::array<double, 3> expected{};
+  int in_a_square = 0;
+  for (VertexId v : interior) {
+    const Vec2& from = c.vertex(v).position;
+    const auto squares = squares_of(v);
+    const Box& far = *squares[0];
+    bool near_an_anchor = false;
+    for (std::size_t k = 1; k < 3; ++k) near_an_anchor |= squares[k] && inside(from, *squares[k]);
+    in_a_square += near_an_anchor;
+    expected[0] += UnionArea({far});
+    for (std::size_t k = 1; k < 3; ++k) {
+      if (!squares[k]) continue;
+      const Box reachable{squares[k]->lo.cwiseMax(far.lo), squares[k]->hi.cwiseMin(far.hi)};
+      expected[k] += UnionArea({near_an_anchor ? *squares[k] : reachable});
+    }
+  }
+  for (double& area : expected) area /= static_cast<double>(interior.size());
+
+  const int draws = 400000;
+  std::array<double, 3> sum{};
+  std::array<double, 3> sum2{};
+  int far_jumps = 0;
+  for (int i = 0; i < draws; ++i) {
+    Edit edit;
+    double log_q = 0.0;
+    if (!sampler.Propose(MoveType::kVertexJump, &edit, &log_q)) continue;
+    ASSERT_EQ(edit.removed_vertices.size(), 1u);
+    ASSERT_EQ(edit.new_vertices.size(), 1u);
+    const VertexId v = edit.removed_vertices[0];
+    const Vec2& from = c.vertex(v).position;
+    const Vec2& to = edit.new_vertices[0].position;
+    const std::vector<Vec2> beyond = BeyondNeighboursOf(c, v);
+    const double forward = JumpDensity(from, to, beyond, options);
+    const double reverse = JumpDensity(to, from, beyond, options);
+    ASSERT_GT(forward, 0.0);
+    ASSERT_GT(reverse, 0.0);
+    EXPECT_NEAR(log_q, std::log(reverse) - std::log(forward), 1e-9);
+    far_jumps += (to - from).cwiseAbs().maxCoeff() > options.step_scales.back();
+    const auto squares = squares_of(v);
+    for (std::size_t k = 0; k < 3; ++k)
+      if (squares[k] && inside(to, *squares[k])) {
+        sum[k] += 1.0 / forward;
+        sum2[k] += 1.0 / (forward * forward);
+      }
+  }
+  const char* const parts[] = {"far square", "square beyond the first neighbour",
+                               "square beyond the second neighbour"};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double mean = sum[k] / draws;
+    const double standard_error = std::sqrt((sum2[k] / draws - mean * mean) / draws);
+    EXPECT_NEAR(mean, expected[k], 4.0 * standard_error + 1e-3 * expected[k])
+        << parts[k] << ": expected " << expected[k] << ", ±" << standard_error;
+  }
+  // The states where the two cases differ are there, and so are the far jumps that no
+  // random-walk step reaches.
+  EXPECT_GE(in_a_square, 1);
+  EXPECT_GT(far_jumps, 1000);
 }
 
 }  // namespace

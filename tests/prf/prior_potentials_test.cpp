@@ -139,16 +139,20 @@ TEST(PriorPotentials, TheFreeSpacePriorMatchesTheReweightedArakProcess) {
   EXPECT_LE(Score(c[0].arak, {.mean = 0.5, .standard_error = 0.0}), kMaxStandardErrors);
 }
 
-// The edge shift's flipped ring (old path p, a, b, q and new one) under the free-space prior,
-// whose black-area change it must get right, and with the orientation prior: a chain with both
-// priors and edge shifts weighted well above the other kinds matches the reweighted process.
-TEST(PriorPotentials, EdgeShiftsUnderBothPriorsMatchTheReweightedArakProcess) {
+// The edge shift's flipped ring (old path p, a, b, q and new one) and the vertex jump's
+// quadrilateral, often crossing itself, under the free-space prior, whose black-area change and
+// refusals they must get right, and with the orientation prior: a chain with both priors and
+// the two kinds weighted well above the others matches the reweighted process.
+TEST(PriorPotentials, EdgeShiftsAndVertexJumpsUnderBothPriorsMatchTheReweightedArakProcess) {
   const OrientationPrior axes{.weight = 1.0, .angle = 0.0};
   const double beta = 1.0;
   SamplerOptions with_prior = ArakOptions();
   with_prior.free_space = beta;
   with_prior.orientation = axes;
   with_prior.weights[MoveKind::kEdgeShift] = 4.0;
+  with_prior.weights[MoveKind::kVertexJump] = 3.0;
+  with_prior.vertex_jump_reach = 0.6;
+  with_prior.vertex_jump_jitter = 0.2;
   const ChainPlan plan{.burn_in = 20000, .thin = 100, .records = 10000 * PRIORMAP_PRF_CHAIN_SCALE};
   const auto black_fraction = [](const PrfSampler& s) {
     return BlackArea(s.coloring()) / kWindow.Area();

@@ -73,6 +73,9 @@ PriorStatsOptions Chain(double p, std::uint64_t seed) {
   options.samples = 20000 * PRIORMAP_PRF_CHAIN_SCALE;
   options.thin = p > 3.0 ? 200 : 100;
   options.burn_in = 200000;
+  // In units of the window side; they matter only where vertex jumps are on.
+  options.sampler.vertex_jump_reach = 0.3;
+  options.sampler.vertex_jump_jitter = 0.1;
   return options;
 }
 
@@ -81,7 +84,9 @@ class WholeMoveSet : public ::testing::TestWithParam<double> {};
 TEST_P(WholeMoveSet, MatchesTheArakProcess) {
   const double p = GetParam();
   PriorStatsOptions options = Chain(p, 11);
-  options.sampler.weights[MoveKind::kEdgeShift] = 2.0;  // off by default; the whole set has it
+  // Off by default; the whole set has them.
+  options.sampler.weights[MoveKind::kEdgeShift] = 2.0;
+  options.sampler.weights[MoveKind::kVertexJump] = 1.0;
   const PriorStatsResult r = RunPriorStats(options);
   ExpectMatchesArak(r, "p = " + std::to_string(p));
   for (const MoveCounter& c : r.counters) EXPECT_GT(c.accepted, 0u);
@@ -126,6 +131,12 @@ std::vector<Subset> Subsets() {
                      {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kCorner,
                       MoveKind::kVertex, MoveKind::kBoundaryMove, MoveKind::kEdgeShift},
                      MoveKind::kEdgeShift});
+  // Vertex jumps against the base: the jump back must weigh the neighbours' neighbours' squares
+  // and the far square by the same mixture.
+  subsets.push_back({"base_and_vertex_jump",
+                     {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kCorner,
+                      MoveKind::kVertex, MoveKind::kBoundaryMove, MoveKind::kVertexJump},
+                     MoveKind::kVertexJump});
   // Vertex births four times as wide (--vertex-birth-widths 2), whose deaths straighten tall
   // bends, and a mixture of a narrow and a wide width: the density and the death's refusal
   // outside the widest rectangle must still pair up.

@@ -22,8 +22,11 @@ enum class MoveKind : int {
   kSlide,             // slide a vertex along one of its edges (Fig. 2j)
   kGuidedTriangle,    // triangle birth/death with a data-guided birth (birth_guide.hpp)
   kEdgeShift,         // both ends of an edge between interior vertices moved by one step
+  kVertexJump,        // an interior vertex moved next to a neighbour's other neighbour, or far
 };
-inline constexpr int kNumMoveKinds = 11;
+inline constexpr int kNumMoveKinds = 12;
+/// The kinds there were before vertex jumps: what a checkpoint of a run without them holds.
+inline constexpr int kNumMoveKindsBeforeJumps = 11;
 
 enum class MoveType : int {
   kTriangleBirth,
@@ -42,8 +45,11 @@ enum class MoveType : int {
   kGuidedTriangleBirth,
   kGuidedTriangleDeath,
   kEdgeShift,
+  kVertexJump,
 };
-inline constexpr int kNumMoveTypes = 16;
+inline constexpr int kNumMoveTypes = 17;
+/// The types there were before vertex jumps: what a checkpoint of a run without them holds.
+inline constexpr int kNumMoveTypesBeforeJumps = 16;
 
 /// snake_case names, as in summary.json and on the command line ("triangle_birth", ...).
 [[nodiscard]] std::string_view MoveTypeName(MoveType type);
@@ -82,9 +88,10 @@ using MoveCounters = std::array<MoveCounter, kNumMoveTypes>;
 /// Relative weight of each move kind; zero switches a kind off. Guided triangles need a guide
 /// (SamplerOptions::guide); without one their weight counts as zero.
 struct MoveWeights {
-  /// Edge shifts are off by default: they are not among the paper's moves, and chains with the
-  /// default weights keep the course they had before the kind existed.
-  std::array<double, kNumMoveKinds> weight{1.0, 1.0, 1.0, 2.0, 2.0, 1.0, 0.5, 1.0, 1.0, 3.0, 0.0};
+  /// Edge shifts and vertex jumps are off by default: they are not among the paper's moves, and
+  /// chains with the default weights keep the course they had before the kinds existed.
+  std::array<double, kNumMoveKinds> weight{1.0, 1.0, 1.0, 2.0, 2.0, 1.0,
+                                           0.5, 1.0, 1.0, 3.0, 0.0, 0.0};
 
   [[nodiscard]] double& operator[](MoveKind kind) { return weight[static_cast<int>(kind)]; }
   [[nodiscard]] double operator[](MoveKind kind) const { return weight[static_cast<int>(kind)]; }

@@ -56,6 +56,15 @@ struct SamplerOptions {
   /// nothing extra is drawn.
   double neighbour_birth = 0.0;
   double neighbour_birth_jitter = 0.1;
+  /// Vertex jumps (MoveKind::kVertexJump, off while its weight is 0): an interior vertex v
+  /// between u and w goes, with probability ½, into the square of half-width vertex_jump_jitter
+  /// around the vertex beyond u or the one beyond w (each ½; the one there is when the other
+  /// neighbour lies on the window's side), else uniformly into the square of half-width
+  /// vertex_jump_reach around itself. A wedge u'–u–v–w whose face u'u stands on a wall becomes
+  /// the thin wall u'–u–v' and a white room in one step; the far squares make every such jump
+  /// reversible.
+  double vertex_jump_reach = 2.0;
+  double vertex_jump_jitter = 0.1;
   /// Where the data put surfaces, for the guided triangle births (their kind is off without
   /// one). Shared, read-only, by every chain.
   std::shared_ptr<const BirthGuide> guide;
@@ -153,6 +162,8 @@ class PrfSampler {
     std::size_t count;
   };
   std::optional<DrawnVertex> DrawInteriorVertex();
+  /// The edit that moves the drawn vertex to `moved`, keeping its edges' ends.
+  void MoveVertex(const DrawnVertex& drawn, const Vec2& moved, Edit* edit) const;
 
   MoveType ChooseType();
   bool ProposeTriangleBirth(Edit* edit, double* log_q);
@@ -178,6 +189,9 @@ class PrfSampler {
   /// shifted (or turned) as a whole, where moving one end at a time would tilt it through
   /// states the data refuse.
   bool ProposeEdgeShift(Edit* edit);
+  /// An interior vertex moved next to the vertex beyond one of its neighbours, or anywhere
+  /// within the reach (SamplerOptions::vertex_jump_reach); the graph keeps its structure.
+  bool ProposeVertexJump(Edit* edit, double* log_q);
 
   /// Unordered proposal densities of the births, shared by births and their deaths.
   [[nodiscard]] double TriangleDensity(const Vec2& a, const Vec2& b, const Vec2& c) const;
@@ -197,6 +211,10 @@ class PrfSampler {
   /// that undoes it see the same vertices beyond the ends, and so the same anchors. Empty when
   /// corner completion and neighbour births are both off.
   [[nodiscard]] ChordAnchors AnchorsOf(VertexId u, EdgeId u_side, VertexId w, EdgeId w_side) const;
+  /// The density of a vertex jump from `from` to `to` with the vertices beyond the neighbours
+  /// `beyond` (the same before and after the jump, which keeps the graph's structure).
+  [[nodiscard]] double VertexJumpDensity(const Vec2& from, const Vec2& to,
+                                         const ChordAnchors& beyond) const;
   /// The corner ahead of the chord from pu to pw, where the lines beyond_u → pu and beyond_w → pw
   /// meet ahead of both ends; nullopt when they are parallel or meet behind an end.
   [[nodiscard]] static std::optional<Vec2> CornerAhead(const Vec2& pu, const Vec2& beyond_u,
