@@ -23,6 +23,11 @@ double ChebyshevDistance(const Vec2& a, const Vec2& b) {
   return (a - b).cwiseAbs().maxCoeff();
 }
 
+// The density at v of the uniform law on the square of half-width h around `centre`.
+double SquareDensity(const Vec2& v, const Vec2& centre, double h) {
+  return ChebyshevDistance(v, centre) <= h ? 1.0 / (4.0 * h * h) : 0.0;
+}
+
 // The edge of an interior vertex other than `e`.
 EdgeId OtherEdge(const ColoringVertex& vertex, EdgeId e) {
   return vertex.edges[0] == e ? vertex.edges[1] : vertex.edges[0];
@@ -300,9 +305,7 @@ double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& 
       if (offset <= width * length) rectangles += 1.0 / (2.0 * width * length2);
     rectangles /= static_cast<double>(options_.vertex_birth_widths.size());
   }
-  const auto square = [&v](const Vec2& centre, double h) {
-    return ChebyshevDistance(v, centre) <= h ? 1.0 / (4.0 * h * h) : 0.0;
-  };
+  const auto square = [&v](const Vec2& centre, double h) { return SquareDensity(v, centre, h); };
   double anchored = 0.0;
   double rectangles_share = 1.0;
   if (anchors.corner) {
@@ -335,17 +338,18 @@ std::optional<Vec2> PrfSampler::CornerAhead(const Vec2& pu, const Vec2& beyond_u
   return pu + a * du;
 }
 
+std::optional<Vec2> PrfSampler::BeyondEnd(VertexId end, EdgeId side) const {
+  const ColoringVertex& vertex = coloring_.vertex(end);
+  if (vertex.side != kInterior) return std::nullopt;  // a boundary vertex has no neighbour beyond
+  return coloring_.vertex(coloring_.Other(OtherEdge(vertex, side), end)).position;
+}
+
 PrfSampler::ChordAnchors PrfSampler::AnchorsOf(VertexId u, EdgeId u_side, VertexId w,
                                                EdgeId w_side) const {
   ChordAnchors anchors;
   if (options_.corner_completion == 0.0 && options_.neighbour_birth == 0.0) return anchors;
-  const auto beyond = [this](VertexId end, EdgeId side) -> std::optional<Vec2> {
-    const ColoringVertex& vertex = coloring_.vertex(end);
-    if (vertex.side != kInterior) return std::nullopt;  // a boundary vertex has no neighbour beyond
-    return coloring_.vertex(coloring_.Other(OtherEdge(vertex, side), end)).position;
-  };
-  const std::optional<Vec2> beyond_u = beyond(u, u_side);
-  const std::optional<Vec2> beyond_w = beyond(w, w_side);
+  const std::optional<Vec2> beyond_u = BeyondEnd(u, u_side);
+  const std::optional<Vec2> beyond_w = BeyondEnd(w, w_side);
   if (options_.corner_completion > 0.0 && beyond_u && beyond_w) {
     const Vec2& pu = coloring_.vertex(u).position;
     const Vec2& pw = coloring_.vertex(w).position;
@@ -625,9 +629,7 @@ void PrfSampler::MoveVertex(const DrawnVertex& drawn, const Vec2& moved, Edit* e
 
 double PrfSampler::VertexJumpDensity(const Vec2& from, const Vec2& to,
                                      const ChordAnchors& beyond) const {
-  const auto square = [&to](const Vec2& centre, double h) {
-    return ChebyshevDistance(to, centre) <= h ? 1.0 / (4.0 * h * h) : 0.0;
-  };
+  const auto square = [&to](const Vec2& centre, double h) { return SquareDensity(to, centre, h); };
   const double far = square(from, options_.vertex_jump_reach);
   if (beyond.num_beyond == 0) return far;
   double squares = 0.0;
@@ -644,13 +646,9 @@ bool PrfSampler::ProposeVertexJump(Edit* edit, double* log_q) {
   if (!drawn) return false;
   const ColoringVertex& vertex = coloring_.vertex(drawn->vertex);
   ChordAnchors beyond;
-  for (const auto& [end, side] :
-       {std::pair{drawn->first, vertex.edges[0]}, std::pair{drawn->second, vertex.edges[1]}}) {
-    const ColoringVertex& neighbour = coloring_.vertex(end);
-    if (neighbour.side != kInterior) continue;  // a boundary vertex has no neighbour beyond
-    beyond.beyond[static_cast<std::size_t>(beyond.num_beyond++)] =
-        coloring_.vertex(coloring_.Other(OtherEdge(neighbour, side), end)).position;
-  }
+  for (const std::optional<Vec2>& anchor :
+       {BeyondEnd(drawn->first, vertex.edges[0]), BeyondEnd(drawn->second, vertex.edges[1])})
+    if (anchor) beyond.beyond[static_cast<std::size_t>(beyond.num_beyond++)] = *anchor;
   const auto uniform_around = [this](const Vec2& centre, double h) {
     return Vec2(centre + Vec2(rng_.Uniform(-h, h), rng_.Uniform(-h, h)));
   };

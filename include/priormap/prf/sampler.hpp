@@ -211,6 +211,9 @@ class PrfSampler {
   /// that undoes it see the same vertices beyond the ends, and so the same anchors. Empty when
   /// corner completion and neighbour births are both off.
   [[nodiscard]] ChordAnchors AnchorsOf(VertexId u, EdgeId u_side, VertexId w, EdgeId w_side) const;
+  /// The vertex beyond `end` along its edge other than `side`; nullopt when `end` lies on the
+  /// window's side.
+  [[nodiscard]] std::optional<Vec2> BeyondEnd(VertexId end, EdgeId side) const;
   /// The density of a vertex jump from `from` to `to` with the vertices beyond the neighbours
   /// `beyond` (the same before and after the jump, which keeps the graph's structure).
   [[nodiscard]] double VertexJumpDensity(const Vec2& from, const Vec2& to,
