@@ -450,6 +450,21 @@ void RunMappingCommand(MappingCliOptions o) {
     trace += "\n";
   }
   WriteTextFileAtomically(dir / "trace.csv", trace);
+  // Each trace point's colour per record (1 black), so that `prf rhat` can pool the chains of
+  // several runs for R̂, as this run pools its own.
+  std::string point_trace = "sample";
+  for (std::size_t c = 0; c < r.chains.size(); ++c)
+    for (std::size_t k = 0; k < r.trace_points.size(); ++k)
+      point_trace += fmt::format(",chain{}_point{}", c, k);
+  point_trace += "\n";
+  for (std::size_t i = 0; i < r.chains[0].log_posterior_trace.size(); ++i) {
+    point_trace += fmt::format("{}", (i + 1) * o.mapping.trace_every);
+    for (const prf::ChainSummary& chain : r.chains)
+      for (const std::vector<double>& colours : chain.point_traces)
+        point_trace += colours[i] == 1.0 ? ",1" : ",0";
+    point_trace += "\n";
+  }
+  WriteTextFileAtomically(dir / "point_traces.csv", point_trace);
 
   nlohmann::json summary;
   summary["log"] = std::filesystem::absolute(o.log).string();
@@ -471,6 +486,9 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["rhat"] = {{"log_posterior", r.rhat_log_posterior},
                      {"point_colours", r.rhat_point_colours},
                      {"points", r.trace_points.size()}};
+  summary["trace_points"] = nlohmann::json::array();
+  for (const Vec2& point : r.trace_points)
+    summary["trace_points"].push_back({point.x(), point.y()});
   if (several_chains) {
     // The area where the chains' P(black) differ by more than a half: where they hold
     // different maps, which R̂ only summarizes.
@@ -499,7 +517,8 @@ void RunMappingCommand(MappingCliOptions o) {
       summary["swap_rates"].push_back(prf::SwapRates(chain.swaps));
   }
   std::string outputs =
-      "summary.json, posterior.png, posterior.pgm, posterior.yaml, not_white.png, trace.csv";
+      "summary.json, posterior.png, posterior.pgm, posterior.yaml, not_white.png, trace.csv, "
+      "point_traces.csv";
   if (several_chains) {
     outputs += ", chains_disagree.png";
     for (std::size_t c = 0; c < r.chains.size(); ++c)
@@ -613,13 +632,14 @@ void AddPrfCommand(CLI::App& app) {
       "prf",
       "Polygonal random field map of a localized laser or sonar log (Paskin & Thrun): posterior "
       "chains, P(black), R-hat, --anneal for a MAP polygon map; or the subcommands prior-stats, "
-      "study");
+      "study, sonar-study, fit-sonar, rhat");
   cmd->require_subcommand(0, 1);
   AddMappingOptions(*cmd, o);
   AddPriorStats(*cmd);
   AddPrfStudyCommand(*cmd);
   AddPrfSonarStudyCommand(*cmd);
   AddPrfFitSonarCommand(*cmd);
+  AddPrfRhatCommand(*cmd);
   cmd->callback([o, cmd] {
     if (!cmd->get_subcommands().empty()) return;
     if (!o->resume.empty()) {

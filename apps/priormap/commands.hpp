@@ -18,6 +18,8 @@ void AddPrfStudyCommand(CLI::App& prf_cmd);
 void AddPrfSonarStudyCommand(CLI::App& prf_cmd);
 /// `prf fit-sonar`, registered on the prf command by AddPrfCommand.
 void AddPrfFitSonarCommand(CLI::App& prf_cmd);
+/// `prf rhat`, registered on the prf command by AddPrfCommand.
+void AddPrfRhatCommand(CLI::App& prf_cmd);
 void AddGridCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddVersionCommand(CLI::App& app);

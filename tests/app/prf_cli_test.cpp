@@ -1,12 +1,16 @@
 // End-to-end tests of `priormap prf` and `priormap grid`: the prior statistics as JSON; a
 // simulated log mapped by PRF chains (every output, reproducible by seed, R-hat and acceptance
 // in the summary) and by the occupancy grid; bad options reported without output.
+#include <limits>
 #include <string>
 #include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include <priormap/prf/pooled_rhat.hpp>
+#include <priormap/prf/rhat.hpp>
 
 #include "cli_fixture.hpp"
 #include "testing/temp_dir.hpp"
@@ -167,7 +171,8 @@ TEST_F(MappingCli, AStoppedRunResumesToTheUninterruptedResult) {
   r = Run({"prf", "--resume", Work("parts").string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("resumed 100000 steps"));
-  for (const char* file : {"posterior.pgm", "map.geojson", "map.pgm", "trace.csv"})
+  for (const char* file :
+       {"posterior.pgm", "map.geojson", "map.pgm", "trace.csv", "point_traces.csv"})
     EXPECT_EQ(testing::ReadAll(Work("parts") / file), testing::ReadAll(Work("whole") / file))
         << file;
   const json whole = json::parse(testing::ReadAll(Work("whole") / "summary.json"));
@@ -203,6 +208,80 @@ TEST_F(MappingCli, ResumeRefusesWhatWouldMakeAnotherRun) {
   const auto r = Run({"prf", "--resume", Work("run").string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("resumed 3000 steps"));
+}
+
+// The traces a run wrote, as `prf rhat` reads them.
+prf::RunTraces TracesOf(const std::filesystem::path& dir) {
+  const auto traces = prf::ParseLogPosteriorTrace(testing::ReadAll(dir / "trace.csv"), "trace");
+  EXPECT_TRUE(traces.ok()) << traces.error();
+  const auto with_points =
+      prf::ParsePointTraces(testing::ReadAll(dir / "point_traces.csv"), "points", traces.value());
+  EXPECT_TRUE(with_points.ok()) << with_points.error();
+  return with_points.value();
+}
+
+TEST_F(MappingCli, RhatPoolsTheChainsOfSeveralRuns) {
+  const auto run = [&](const std::string& seed, const std::string& p, const std::string& dir) {
+    const auto r = Run({"prf", "--log", "room.log", "--beam-step", "4", "--p", p, "--samples",
+                        "20000", "--burn-in", "1000", "--chains", "2", "--seed", seed,
+                        "--trace-every", "1000", "-o", dir});
+    ASSERT_EQ(r.status, 0) << r.err;
+  };
+  run("3", "0.5", "a");
+  run("5", "0.5", "b");
+  // R̂ is +inf when each half of each chain is constant but the halves differ ("inf").
+  const auto rhat = [](const json& value) {
+    return value.is_string() && value == "inf" ? std::numeric_limits<double>::infinity()
+                                               : value.get<double>();
+  };
+  // One run alone: its own R̂, from the files it wrote (the log-posteriors to 6 decimals).
+  auto r = Run({"prf", "rhat", "b"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json alone = json::parse(r.out);
+  const json summary = json::parse(testing::ReadAll(Work("b") / "summary.json"));
+  EXPECT_EQ(alone["chains"], 2);
+  EXPECT_EQ(alone["records"], 20);
+  EXPECT_NEAR(rhat(alone["rhat"]["log_posterior"]), summary["rhat"]["log_posterior"].get<double>(),
+              1e-6);
+  // Seed 5's chains are still settling (a short burn-in), so its colours' R̂ is finite and
+  // checks the colours point_traces.csv holds.
+  ASSERT_TRUE(summary["rhat"]["point_colours"].is_number());
+  EXPECT_DOUBLE_EQ(rhat(alone["rhat"]["point_colours"]),
+                   summary["rhat"]["point_colours"].get<double>());
+  EXPECT_EQ(alone["rhat"]["points"], summary["rhat"]["points"]);
+  EXPECT_EQ(summary["trace_points"].size(), summary["rhat"]["points"].get<std::size_t>());
+
+  // Two runs: split-R̂ over their four chains.
+  r = Run({"prf", "rhat", "a", "b"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json both = json::parse(r.out);
+  EXPECT_EQ(both["chains"], 4);
+  EXPECT_EQ(both["runs"][1]["chain_seeds"], json({5, 6}));
+  std::vector<std::vector<double>> lp;
+  double colours = 1.0;
+  const prf::RunTraces a = TracesOf(Work("a")), b = TracesOf(Work("b"));
+  for (const prf::RunTraces* t : {&a, &b})
+    lp.insert(lp.end(), t->log_posterior.begin(), t->log_posterior.end());
+  for (std::size_t k = 0; k < a.point_colours[0].size(); ++k) {
+    std::vector<std::vector<double>> point;
+    for (const prf::RunTraces* t : {&a, &b})
+      for (const auto& chain : t->point_colours) point.push_back(chain[k]);
+    colours = std::max(colours, prf::SplitRhat(point));
+  }
+  EXPECT_DOUBLE_EQ(rhat(both["rhat"]["log_posterior"]), prf::SplitRhat(lp));
+  EXPECT_EQ(rhat(both["rhat"]["point_colours"]), colours);
+
+  // What cannot be pooled.
+  EXPECT_THAT(RunFailing({"prf", "rhat", "a", "a"}).err,
+              HasSubstr("a: a chain draws from seed 3, as one of another run does"));
+  run("7", "1", "other_p");
+  EXPECT_THAT(RunFailing({"prf", "rhat", "a", "other_p"}).err,
+              HasSubstr("other_p maps another posterior than a"));
+  std::filesystem::copy(Work("b"), Work("broken"));
+  testing::WriteAll(Work("broken") / "trace.csv", "sample,chain0,chain1\n1000,1,x\n");
+  EXPECT_THAT(RunFailing({"prf", "rhat", "a", "broken"}).err,
+              HasSubstr("broken/trace.csv:2:8: expected a finite log-posterior, found 'x'"));
+  EXPECT_NE(RunFailing({"prf", "rhat", "missing"}).status, 0);
 }
 
 TEST_F(MappingCli, GridWritesTheMapAndASummary) {

@@ -1,0 +1,62 @@
+#pragma once
+/// R̂ over the chains of several runs of one posterior (`priormap prf rhat`). A run's own R̂
+/// compares its chains only; with two chains, two that happen to sit close pass it while other
+/// seeds' chains sit far away. Pooling runs made with other seeds (or on other machines) gives
+/// the diagnostic more chains, as Gelman et al. (BDA3, Sec. 11.4) advise.
+///
+/// A run's traces are read from its trace.csv (the log-posterior of each chain per record) and
+/// point_traces.csv (each trace point's colour, 1 black, per chain and record); problems are
+/// reported at file:line:col.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <priormap/core/diagnostic.hpp>
+
+namespace priormap::prf {
+
+/// What a run recorded for R̂, per chain and trace record.
+struct RunTraces {
+  std::vector<std::uint64_t> samples;              // the sample index of each record
+  std::vector<std::vector<double>> log_posterior;  // [chain][record]
+  /// [chain][point][record], 1 black and 0 white; empty when the run did not record them.
+  std::vector<std::vector<std::vector<double>>> point_colours;
+};
+
+/// Parses trace.csv ("sample,chain0,...,chainC-1"); `name` is its path, for messages.
+[[nodiscard]] Result<RunTraces> ParseLogPosteriorTrace(std::string_view text,
+                                                       const std::string& name);
+/// Parses point_traces.csv ("sample,chain0_point0,...") into `traces`, whose chains and samples
+/// (from trace.csv) it must match.
+[[nodiscard]] Result<RunTraces> ParsePointTraces(std::string_view text, const std::string& name,
+                                                 RunTraces traces);
+
+/// One run to pool: its traces and the seeds its chains draw from (chain c of a run with
+/// --seed s draws from s + c), so that a chain given twice is refused.
+struct PooledRun {
+  std::string name;
+  std::vector<std::uint64_t> chain_seeds;
+  RunTraces traces;
+};
+
+struct PooledRhat {
+  std::size_t chains = 0;
+  /// Records per chain that enter R̂: the shortest run's.
+  std::size_t records = 0;
+  double log_posterior = 0.0;
+  /// The largest over the trace points; none unless every run recorded the same points.
+  std::optional<double> point_colours;
+  std::size_t points = 0;
+  /// Each chain's mean log-posterior over the second half of its records, run after run.
+  std::vector<double> second_half_means;
+};
+
+/// R̂ over every chain of `runs`, or what makes them unfit to pool: fewer than two chains, a
+/// chain seed given twice, records at different samples, or fewer than four records.
+[[nodiscard]] std::variant<PooledRhat, std::string> PoolRhat(const std::vector<PooledRun>& runs);
+
+}  // namespace priormap::prf

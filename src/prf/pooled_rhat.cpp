@@ -1,0 +1,246 @@
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <fmt/format.h>
+
+#include <priormap/prf/pooled_rhat.hpp>
+#include <priormap/prf/rhat.hpp>
+
+namespace priormap::prf {
+namespace {
+
+struct Field {
+  std::string_view text;
+  int col = 1;  // 1-based
+};
+
+struct CsvLine {
+  int number = 0;  // 1-based
+  std::vector<Field> fields;
+};
+
+// The file's non-empty lines split at commas (a trailing \r is dropped).
+std::vector<CsvLine> SplitCsv(std::string_view text) {
+  std::vector<CsvLine> lines;
+  int number = 0;
+  while (!text.empty()) {
+    const std::size_t end = std::min(text.find('\n'), text.size());
+    std::string_view line = text.substr(0, end);
+    text.remove_prefix(std::min(end + 1, text.size()));
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.empty()) continue;
+    CsvLine csv{.number = number, .fields = {}};
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t comma = line.find(',', start);
+      const std::size_t stop = comma == std::string_view::npos ? line.size() : comma;
+      csv.fields.push_back({line.substr(start, stop - start), static_cast<int>(start) + 1});
+      if (comma == std::string_view::npos) break;
+      start = comma + 1;
+    }
+    lines.push_back(std::move(csv));
+  }
+  return lines;
+}
+
+Diagnostic At(const std::string& name, int line, int col, std::string message) {
+  return {.file = name, .line = line, .col = col, .message = std::move(message)};
+}
+
+std::optional<std::uint64_t> ParseCount(std::string_view text) {
+  std::uint64_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+std::optional<double> ParseFinite(std::string_view text) {
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+    return std::nullopt;
+  return value;
+}
+
+// Checks a header whose first column is "sample" and whose others are `expected(i)`.
+template <typename Name>
+std::optional<Diagnostic> CheckHeader(const std::string& name, const CsvLine& header,
+                                      Name&& expected) {
+  if (header.fields[0].text != "sample")
+    return At(name, header.number, 1,
+              fmt::format("expected the column 'sample', found {}",
+                          QuoteForMessage(header.fields[0].text)));
+  for (std::size_t i = 1; i < header.fields.size(); ++i) {
+    const std::string want = expected(i - 1);
+    if (header.fields[i].text != want)
+      return At(name, header.number, header.fields[i].col,
+                fmt::format("expected the column '{}', found {}", want,
+                            QuoteForMessage(header.fields[i].text)));
+  }
+  return std::nullopt;
+}
+
+// The mean of a trace's second half, as SplitRhat cuts it.
+double SecondHalfMean(const std::vector<double>& trace, std::size_t length) {
+  const std::size_t n = length / 2;
+  double sum = 0.0;
+  for (std::size_t i = length - n; i < length; ++i) sum += trace[i];
+  return sum / static_cast<double>(n);
+}
+
+}  // namespace
+
+Result<RunTraces> ParseLogPosteriorTrace(std::string_view text, const std::string& name) {
+  const std::vector<CsvLine> lines = SplitCsv(text);
+  if (lines.empty())
+    return At(name, 1, 1, "expected the header 'sample,chain0,...', found nothing");
+  const CsvLine& header = lines[0];
+  if (header.fields.size() < 2)
+    return At(name, header.number, 1, "expected the header 'sample,chain0,...' with a chain");
+  if (auto problem =
+          CheckHeader(name, header, [](std::size_t c) { return fmt::format("chain{}", c); }))
+    return *problem;
+  const std::size_t chains = header.fields.size() - 1;
+  RunTraces traces;
+  traces.log_posterior.assign(chains, {});
+  for (std::size_t l = 1; l < lines.size(); ++l) {
+    const CsvLine& line = lines[l];
+    if (line.fields.size() != chains + 1)
+      return At(name, line.number, 1,
+                fmt::format("expected {} values (sample and {} chains), found {}", chains + 1,
+                            chains, line.fields.size()));
+    const auto sample = ParseCount(line.fields[0].text);
+    if (!sample)
+      return At(
+          name, line.number, 1,
+          fmt::format("expected a sample count, found {}", QuoteForMessage(line.fields[0].text)));
+    if (!traces.samples.empty() && *sample <= traces.samples.back())
+      return At(name, line.number, 1,
+                fmt::format("expected a sample count above the last one ({}), found {}",
+                            traces.samples.back(), *sample));
+    traces.samples.push_back(*sample);
+    for (std::size_t c = 0; c < chains; ++c) {
+      const Field& field = line.fields[c + 1];
+      const auto value = ParseFinite(field.text);
+      if (!value)
+        return At(
+            name, line.number, field.col,
+            fmt::format("expected a finite log-posterior, found {}", QuoteForMessage(field.text)));
+      traces.log_posterior[c].push_back(*value);
+    }
+  }
+  return traces;
+}
+
+Result<RunTraces> ParsePointTraces(std::string_view text, const std::string& name,
+                                   RunTraces traces) {
+  const std::vector<CsvLine> lines = SplitCsv(text);
+  const std::size_t chains = traces.log_posterior.size();
+  if (lines.empty())
+    return At(name, 1, 1, "expected the header 'sample,chain0_point0,...', found nothing");
+  const CsvLine& header = lines[0];
+  const std::size_t columns = header.fields.size() - 1;
+  if (chains == 0 || columns % chains != 0)
+    return At(name, header.number, 1,
+              fmt::format("expected a column per chain and trace point for the {} chains of "
+                          "trace.csv, found {} columns",
+                          chains, columns));
+  const std::size_t points = columns / chains;
+  if (auto problem = CheckHeader(name, header, [&](std::size_t i) {
+        return fmt::format("chain{}_point{}", i / points, i % points);
+      }))
+    return *problem;
+  if (lines.size() - 1 != traces.samples.size())
+    return At(name, lines.back().number, 1,
+              fmt::format("expected {} records, as in trace.csv, found {}", traces.samples.size(),
+                          lines.size() - 1));
+  traces.point_colours.assign(chains, std::vector<std::vector<double>>(points));
+  for (std::size_t l = 1; l < lines.size(); ++l) {
+    const CsvLine& line = lines[l];
+    if (line.fields.size() != columns + 1)
+      return At(name, line.number, 1,
+                fmt::format("expected {} values, found {}", columns + 1, line.fields.size()));
+    const auto sample = ParseCount(line.fields[0].text);
+    if (!sample || *sample != traces.samples[l - 1])
+      return At(name, line.number, 1,
+                fmt::format("expected the sample {}, as in trace.csv, found {}",
+                            traces.samples[l - 1], QuoteForMessage(line.fields[0].text)));
+    for (std::size_t i = 0; i < columns; ++i) {
+      const Field& field = line.fields[i + 1];
+      if (field.text != "0" && field.text != "1")
+        return At(name, line.number, field.col,
+                  fmt::format("expected a colour, 0 (white) or 1 (black), found {}",
+                              QuoteForMessage(field.text)));
+      traces.point_colours[i / points][i % points].push_back(field.text == "1" ? 1.0 : 0.0);
+    }
+  }
+  return traces;
+}
+
+std::variant<PooledRhat, std::string> PoolRhat(const std::vector<PooledRun>& runs) {
+  PooledRhat pooled;
+  std::set<std::uint64_t> seeds;
+  std::size_t records = std::numeric_limits<std::size_t>::max();
+  for (const PooledRun& run : runs) {
+    const std::size_t chains = run.traces.log_posterior.size();
+    if (run.chain_seeds.size() != chains)
+      return fmt::format("{}: {} chain seeds for {} chains", run.name, run.chain_seeds.size(),
+                         chains);
+    for (const std::uint64_t seed : run.chain_seeds)
+      if (!seeds.insert(seed).second)
+        return fmt::format(
+            "{}: a chain draws from seed {}, as one of another run does (chain c of a run with "
+            "--seed s draws from s + c): with the same settings it is the same chain, with "
+            "others it is not independent of it; give one of the runs another --seed",
+            run.name, seed);
+    pooled.chains += chains;
+    records = std::min(records, run.traces.samples.size());
+  }
+  if (pooled.chains < 2) return "R-hat needs at least two chains";
+  if (records < 4)
+    return fmt::format("R-hat needs at least 4 trace records per chain; a run has {}", records);
+  // The records must be at the same samples, or the chains' halves cover different stretches.
+  const PooledRun& first = runs.front();
+  for (const PooledRun& run : runs)
+    for (std::size_t i = 0; i < records; ++i)
+      if (run.traces.samples[i] != first.traces.samples[i])
+        return fmt::format(
+            "{} records sample {} where {} records sample {}: pool runs with the same "
+            "--trace-every",
+            run.name, run.traces.samples[i], first.name, first.traces.samples[i]);
+  pooled.records = records;
+
+  std::vector<std::vector<double>> traces;
+  for (const PooledRun& run : runs)
+    for (const std::vector<double>& trace : run.traces.log_posterior) {
+      traces.emplace_back(trace.begin(), trace.begin() + static_cast<std::ptrdiff_t>(records));
+      pooled.second_half_means.push_back(SecondHalfMean(trace, records));
+    }
+  pooled.log_posterior = SplitRhat(traces);
+
+  const std::size_t points =
+      first.traces.point_colours.empty() ? 0 : first.traces.point_colours[0].size();
+  const bool same_points = std::all_of(runs.begin(), runs.end(), [&](const PooledRun& run) {
+    return !run.traces.point_colours.empty() && run.traces.point_colours[0].size() == points;
+  });
+  if (points > 0 && same_points) {
+    pooled.points = points;
+    double largest = 1.0;
+    for (std::size_t k = 0; k < points; ++k) {
+      traces.clear();
+      for (const PooledRun& run : runs)
+        for (const auto& chain : run.traces.point_colours)
+          traces.emplace_back(chain[k].begin(),
+                              chain[k].begin() + static_cast<std::ptrdiff_t>(records));
+      largest = std::max(largest, SplitRhat(traces));
+    }
+    pooled.point_colours = largest;
+  }
+  return pooled;
+}
+
+}  // namespace priormap::prf
