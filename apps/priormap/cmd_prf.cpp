@@ -374,7 +374,8 @@ void RunMappingCommand(MappingCliOptions o) {
   if (!resuming) {
     // A new run in this directory: what an earlier one left would be taken for this one's.
     std::filesystem::remove_all(dir / "checkpoints");
-    std::filesystem::remove(dir / "summary.json");
+    for (const char* file : {"summary.json", "trace.csv", "point_traces.csv"})
+      std::filesystem::remove(dir / file);
     WriteTextFileAtomically(dir / "run.json", RunJson(o).dump(2) + "\n");
   }
   fmt::print(stderr, "{} {} from {} sensor positions, R = {} m\n", data.readings,
@@ -446,7 +447,7 @@ void RunMappingCommand(MappingCliOptions o) {
   for (std::size_t i = 0; i < r.chains[0].log_posterior_trace.size(); ++i) {
     trace += fmt::format("{}", (i + 1) * o.mapping.trace_every);
     for (const prf::ChainSummary& chain : r.chains)
-      trace += fmt::format(",{:.6f}", chain.log_posterior_trace[i]);
+      trace += fmt::format(",{}", chain.log_posterior_trace[i]);  // reads back exactly
     trace += "\n";
   }
   WriteTextFileAtomically(dir / "trace.csv", trace);

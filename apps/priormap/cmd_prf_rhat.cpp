@@ -1,9 +1,11 @@
 // priormap prf rhat: R̂ over the chains of several `priormap prf` runs of one posterior (other
 // seeds, other machines), from their run.json, trace.csv and point_traces.csv.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -24,20 +26,6 @@ struct RhatCliOptions {
   std::vector<std::string> runs;
 };
 
-// What a run's posterior is made of in its run.json: runs that differ here sample different
-// posteriors, and R̂ across them means nothing. The sampler's settings (burn-in, moves,
-// delayed acceptance, ...) may differ.
-nlohmann::json TargetOf(const nlohmann::json& run) {
-  nlohmann::json target;
-  for (const char* key :
-       {"log", "range", "sensor", "beam_step", "max_range", "p", "sigma", "sonar_model"})
-    if (run.contains(key)) target[key] = run[key];
-  if (run.contains("posterior"))
-    for (const char* key : {"free_space", "orientation_deg", "orientation_weight"})
-      if (run["posterior"].contains(key)) target["posterior"][key] = run["posterior"][key];
-  return target;
-}
-
 nlohmann::json ReadJsonFile(const fs::path& path) {
   const std::string text = ValueOrThrow(ReadFileText(path));
   try {
@@ -46,6 +34,9 @@ nlohmann::json ReadJsonFile(const fs::path& path) {
     const TextPosition at = PositionOfOffset(text, e.byte == 0 ? 0 : e.byte - 1);
     throw UserError(fmt::format("{}:{}:{}: expected the JSON a `priormap prf` run writes ({})",
                                 path.string(), at.line, at.col, e.what()));
+  } catch (const nlohmann::json::exception& e) {
+    throw UserError(fmt::format("{}: expected the JSON a `priormap prf` run writes ({})",
+                                path.string(), e.what()));
   }
 }
 
@@ -66,63 +57,112 @@ nlohmann::ordered_json RhatJson(double rhat) {
   return std::isinf(rhat) ? nlohmann::ordered_json("inf") : nlohmann::ordered_json(rhat);
 }
 
+// What a run's posterior is made of: runs that differ in one of these sample different
+// posteriors, and R̂ across them means nothing. The sampler's settings (burn-in, moves, delayed
+// acceptance, ...) may differ. Files are compared by name, not path, so that runs made on other
+// machines pool; the data's size and window catch another log of the same name. Keys a run
+// from before an option existed lacks take the value that run used (as --resume reads them).
+std::vector<std::pair<std::string, nlohmann::json>> TargetOf(const nlohmann::json& run,
+                                                             const nlohmann::json& summary,
+                                                             const fs::path& summary_path) {
+  const auto file_name = [](const nlohmann::json& path) {
+    return path.is_string() ? fs::path(path.get<std::string>()).filename().string() : std::string();
+  };
+  const nlohmann::json posterior = run.value("posterior", nlohmann::json::object());
+  const double orientation_weight = posterior.value("orientation_weight", 0.0);
+  std::vector<std::pair<std::string, nlohmann::json>> target = {
+      {"log file name", file_name(run.value("log", nlohmann::json()))},
+      {"readings", Member<std::uint64_t>(summary, "beams", summary_path)},
+      {"sensor positions", Member<std::uint64_t>(summary, "sensor_positions", summary_path)},
+      {"window", Member<nlohmann::json>(summary, "window", summary_path)},
+      {"sensor", Member<std::string>(summary, "sensor", summary_path)},
+      {"range", run.value("range", nlohmann::json())},
+      {"beam_step", run.value("beam_step", nlohmann::json())},
+      {"max_range", run.value("max_range", nlohmann::json())},
+      {"p", run.value("p", nlohmann::json())},
+      {"sigma", run.value("sigma", nlohmann::json())},
+      {"sonar model file name", file_name(run.value("sonar_model", nlohmann::json("")))},
+      {"free_space", posterior.value("free_space", 0.0)},
+      {"orientation_weight", orientation_weight}};
+  // The orientation prior's angle matters only when it has a weight.
+  if (orientation_weight != 0.0)
+    target.emplace_back("orientation_deg", posterior.value("orientation_deg", 0.0));
+  return target;
+}
+
 struct LoadedRun {
   prf::PooledRun pooled;
-  nlohmann::json target;
-  nlohmann::json trace_points;  // null for runs that did not write them
-  bool has_point_traces = false;
+  std::vector<std::pair<std::string, nlohmann::json>> target;
+  nlohmann::json trace_points;  // null for runs made before summary.json listed them
 };
 
 LoadedRun LoadRun(const std::string& dir) {
   const fs::path root(dir);
   const fs::path run_path = root / "run.json";
+  const fs::path summary_path = root / "summary.json";
+  // A run writes summary.json last and then removes its checkpoints; before that, its trace
+  // files may still be those of an earlier run in the same directory.
+  if (!fs::exists(summary_path) || fs::exists(root / "checkpoints"))
+    throw UserError(fmt::format(
+        "{}: not a complete `priormap prf` run (expected its summary.json and no checkpoints; "
+        "a stopped run completes with `priormap prf --resume {}`)",
+        dir, dir));
   const nlohmann::json run = ReadJsonFile(run_path);
-  if (!run.contains("format") || run["format"] != "priormap prf run")
+  if (run.value("format", "") != "priormap prf run" || run.value("version", 0) != 2)
     throw UserError(
-        fmt::format("{}: expected a `priormap prf` run (\"format\": \"priormap prf "
-                    "run\")",
+        fmt::format("{}: expected a run file of this version (\"format\": \"priormap prf run\", "
+                    "\"version\": 2)",
                     run_path.string()));
+  const nlohmann::json summary = ReadJsonFile(summary_path);
   LoadedRun loaded;
   loaded.pooled.name = dir;
-  loaded.target = TargetOf(run);
-  const auto seed = Member<std::uint64_t>(run, "seed", run_path);
-  const auto chains = Member<std::size_t>(run, "chains", run_path);
-  for (std::size_t c = 0; c < chains; ++c) loaded.pooled.chain_seeds.push_back(seed + c);
+  loaded.target = TargetOf(run, summary, summary_path);
+  if (summary.contains("trace_points")) loaded.trace_points = summary["trace_points"];
 
   const fs::path trace_path = root / "trace.csv";
   prf::RunTraces traces = ValueOrThrow(
       prf::ParseLogPosteriorTrace(ValueOrThrow(ReadFileText(trace_path)), trace_path.string()));
-  if (traces.log_posterior.size() != chains)
+  const auto chains = Member<std::int64_t>(run, "chains", run_path);
+  if (chains < 1 || static_cast<std::size_t>(chains) != traces.log_posterior.size())
     throw UserError(fmt::format("{} has {} chains, {} says {}", trace_path.string(),
                                 traces.log_posterior.size(), run_path.string(), chains));
+  const auto seed = Member<std::uint64_t>(run, "seed", run_path);
+  for (std::int64_t c = 0; c < chains; ++c)
+    loaded.pooled.chain_seeds.push_back(seed + static_cast<std::uint64_t>(c));
   const fs::path point_path = root / "point_traces.csv";
-  if (fs::exists(point_path)) {
+  if (fs::exists(point_path))
     traces = ValueOrThrow(prf::ParsePointTraces(ValueOrThrow(ReadFileText(point_path)),
                                                 point_path.string(), std::move(traces)));
-    loaded.has_point_traces = true;
-  }
   loaded.pooled.traces = std::move(traces);
-  const fs::path summary_path = root / "summary.json";
-  if (fs::exists(summary_path)) {
-    const nlohmann::json summary = ReadJsonFile(summary_path);
-    if (summary.contains("trace_points")) loaded.trace_points = summary["trace_points"];
-  }
   return loaded;
 }
 
 void RunRhat(const RhatCliOptions& o) {
   std::vector<LoadedRun> runs;
   for (const std::string& dir : o.runs) runs.push_back(LoadRun(dir));
+  const LoadedRun& first = runs.front();
+  const LoadedRun* traced = nullptr;  // the first run whose summary lists its trace points
   for (const LoadedRun& run : runs) {
-    if (run.target != runs.front().target)
-      throw UserError(fmt::format(
-          "{} maps another posterior than {} (run.json differs in the log, the sensor, the "
-          "model or the priors): pool runs of one posterior only",
-          run.pooled.name, runs.front().pooled.name));
-    if (!run.trace_points.is_null() && !runs.front().trace_points.is_null() &&
-        run.trace_points != runs.front().trace_points)
+    for (const auto& [key, value] : run.target) {
+      const auto other = std::find_if(first.target.begin(), first.target.end(),
+                                      [&](const auto& item) { return item.first == key; });
+      const nlohmann::json first_value =
+          other == first.target.end() ? nlohmann::json() : other->second;
+      if (value != first_value)
+        throw UserError(
+            fmt::format("{} maps another posterior than {}: its {} is {}, not {} (pool runs of one "
+                        "posterior only)",
+                        run.pooled.name, first.pooled.name, key, value.dump(), first_value.dump()));
+    }
+    if (run.target.size() != first.target.size())
       throw UserError(
-          fmt::format("{} traced other points than {}", run.pooled.name, runs.front().pooled.name));
+          fmt::format("{} maps another posterior than {}: their orientation priors differ",
+                      run.pooled.name, first.pooled.name));
+    if (run.trace_points.is_null()) continue;
+    if (traced == nullptr) traced = &run;
+    if (run.trace_points != traced->trace_points)
+      throw UserError(
+          fmt::format("{} traced other points than {}", run.pooled.name, traced->pooled.name));
   }
   std::vector<prf::PooledRun> pooled_runs;
   for (const LoadedRun& run : runs) pooled_runs.push_back(run.pooled);
@@ -140,7 +180,8 @@ void RunRhat(const RhatCliOptions& o) {
   } else {
     out["rhat"]["point_colours"] = nullptr;
     out["rhat"]["why_no_point_colours"] =
-        "not every run wrote point_traces.csv with the same number of points";
+        "not every run wrote point_traces.csv (runs made before it existed pool their "
+        "log-posterior only)";
   }
   out["runs"] = nlohmann::ordered_json::array();
   std::size_t chain = 0;

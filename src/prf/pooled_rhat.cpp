@@ -18,7 +18,8 @@ struct Field {
 };
 
 struct CsvLine {
-  int number = 0;  // 1-based
+  int number = 0;   // 1-based
+  int end_col = 1;  // one past the last character, where a missing value is reported
   std::vector<Field> fields;
 };
 
@@ -33,7 +34,7 @@ std::vector<CsvLine> SplitCsv(std::string_view text) {
     ++number;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.empty()) continue;
-    CsvLine csv{.number = number, .fields = {}};
+    CsvLine csv{.number = number, .end_col = static_cast<int>(line.size()) + 1, .fields = {}};
     std::size_t start = 0;
     while (true) {
       const std::size_t comma = line.find(',', start);
@@ -49,6 +50,12 @@ std::vector<CsvLine> SplitCsv(std::string_view text) {
 
 Diagnostic At(const std::string& name, int line, int col, std::string message) {
   return {.file = name, .line = line, .col = col, .message = std::move(message)};
+}
+
+// Where a line with the wrong number of values goes wrong: at its first extra value, or at its
+// end when values are missing.
+int WrongCountCol(const CsvLine& line, std::size_t expected) {
+  return line.fields.size() > expected ? line.fields[expected].col : line.end_col;
 }
 
 std::optional<std::uint64_t> ParseCount(std::string_view text) {
@@ -110,9 +117,10 @@ Result<RunTraces> ParseLogPosteriorTrace(std::string_view text, const std::strin
   for (std::size_t l = 1; l < lines.size(); ++l) {
     const CsvLine& line = lines[l];
     if (line.fields.size() != chains + 1)
-      return At(name, line.number, 1,
-                fmt::format("expected {} values (sample and {} chains), found {}", chains + 1,
-                            chains, line.fields.size()));
+      return At(name, line.number, WrongCountCol(line, chains + 1),
+                fmt::format("expected {} values (the sample, then one per chain as in the "
+                            "header), found {}",
+                            chains + 1, line.fields.size()));
     const auto sample = ParseCount(line.fields[0].text);
     if (!sample)
       return At(
@@ -154,16 +162,22 @@ Result<RunTraces> ParsePointTraces(std::string_view text, const std::string& nam
         return fmt::format("chain{}_point{}", i / points, i % points);
       }))
     return *problem;
-  if (lines.size() - 1 != traces.samples.size())
-    return At(name, lines.back().number, 1,
+  if (lines.size() - 1 != traces.samples.size()) {
+    // At the first record too many, or at the end of the last one when some are missing.
+    const bool too_many = lines.size() - 1 > traces.samples.size();
+    const CsvLine& at = too_many ? lines[traces.samples.size() + 1] : lines.back();
+    return At(name, at.number, too_many ? 1 : at.end_col,
               fmt::format("expected {} records, as in trace.csv, found {}", traces.samples.size(),
                           lines.size() - 1));
+  }
   traces.point_colours.assign(chains, std::vector<std::vector<double>>(points));
   for (std::size_t l = 1; l < lines.size(); ++l) {
     const CsvLine& line = lines[l];
     if (line.fields.size() != columns + 1)
-      return At(name, line.number, 1,
-                fmt::format("expected {} values, found {}", columns + 1, line.fields.size()));
+      return At(name, line.number, WrongCountCol(line, columns + 1),
+                fmt::format("expected {} values (the sample, then one per column of the "
+                            "header), found {}",
+                            columns + 1, line.fields.size()));
     const auto sample = ParseCount(line.fields[0].text);
     if (!sample || *sample != traces.samples[l - 1])
       return At(name, line.number, 1,
@@ -200,9 +214,12 @@ std::variant<PooledRhat, std::string> PoolRhat(const std::vector<PooledRun>& run
     pooled.chains += chains;
     records = std::min(records, run.traces.samples.size());
   }
-  if (pooled.chains < 2) return "R-hat needs at least two chains";
-  if (records < 4)
-    return fmt::format("R-hat needs at least 4 trace records per chain; a run has {}", records);
+  // One chain is enough for split-R̂ (its halves), as a run's own R̂ has it.
+  if (pooled.chains == 0) return "R-hat needs at least one chain";
+  for (const PooledRun& run : runs)
+    if (run.traces.samples.size() < 4)
+      return fmt::format("{}: R-hat needs at least 4 trace records per chain; it has {}", run.name,
+                         run.traces.samples.size());
   // The records must be at the same samples, or the chains' halves cover different stretches.
   const PooledRun& first = runs.front();
   for (const PooledRun& run : runs)
@@ -222,24 +239,27 @@ std::variant<PooledRhat, std::string> PoolRhat(const std::vector<PooledRun>& run
     }
   pooled.log_posterior = SplitRhat(traces);
 
-  const std::size_t points =
-      first.traces.point_colours.empty() ? 0 : first.traces.point_colours[0].size();
-  const bool same_points = std::all_of(runs.begin(), runs.end(), [&](const PooledRun& run) {
-    return !run.traces.point_colours.empty() && run.traces.point_colours[0].size() == points;
+  // The colours, when every run recorded them (runs made before point_traces.csv did not).
+  const bool all_recorded = std::all_of(runs.begin(), runs.end(), [](const PooledRun& run) {
+    return !run.traces.point_colours.empty();
   });
-  if (points > 0 && same_points) {
-    pooled.points = points;
-    double largest = 1.0;
-    for (std::size_t k = 0; k < points; ++k) {
-      traces.clear();
-      for (const PooledRun& run : runs)
-        for (const auto& chain : run.traces.point_colours)
-          traces.emplace_back(chain[k].begin(),
-                              chain[k].begin() + static_cast<std::ptrdiff_t>(records));
-      largest = std::max(largest, SplitRhat(traces));
-    }
-    pooled.point_colours = largest;
+  if (!all_recorded) return pooled;
+  const std::size_t points = first.traces.point_colours[0].size();
+  for (const PooledRun& run : runs)
+    if (run.traces.point_colours[0].size() != points)
+      return fmt::format("{} traced {} points where {} traced {}", run.name,
+                         run.traces.point_colours[0].size(), first.name, points);
+  pooled.points = points;
+  double largest = 1.0;  // as a run's own R̂ has it when there are no points
+  for (std::size_t k = 0; k < points; ++k) {
+    traces.clear();
+    for (const PooledRun& run : runs)
+      for (const auto& chain : run.traces.point_colours)
+        traces.emplace_back(chain[k].begin(),
+                            chain[k].begin() + static_cast<std::ptrdiff_t>(records));
+    largest = std::max(largest, SplitRhat(traces));
   }
+  pooled.point_colours = largest;
   return pooled;
 }
 

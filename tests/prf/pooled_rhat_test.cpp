@@ -37,7 +37,10 @@ TEST(LogPosteriorTrace, ReportsWhereAndWhatWasExpected) {
   EXPECT_THAT(ParseLogPosteriorTrace("sample,chain0\n1000,nan\n", "t.csv").error(),
               HasSubstr("t.csv:2:6:"));
   EXPECT_THAT(ParseLogPosteriorTrace("sample,chain0\n1000,1,2\n", "t.csv").error(),
-              HasSubstr("t.csv:2:1: error: expected 2 values (sample and 1 chains), found 3"));
+              HasSubstr("t.csv:2:8: error: expected 2 values (the sample, then one per chain as "
+                        "in the header), found 3"));
+  EXPECT_THAT(ParseLogPosteriorTrace("sample,chain0,chain1\n1000,1\n", "t.csv").error(),
+              HasSubstr("t.csv:2:7: error: expected 3 values"));
   EXPECT_THAT(ParseLogPosteriorTrace("sample,chain0\n1000,1\n1000,2\n", "t.csv").error(),
               HasSubstr("t.csv:3:1: error: expected a sample count above the last one"));
   EXPECT_THAT(ParseLogPosteriorTrace("sample,chain0\n-5,1\n", "t.csv").error(),
@@ -66,7 +69,12 @@ TEST(PointTraces, MustMatchTheLogPosteriorTrace) {
   EXPECT_THAT(ParsePointTraces(header + "10,1,0\n30,1,0\n", "p.csv", TwoChainsTwoRecords()).error(),
               HasSubstr("p.csv:3:1: error: expected the sample 20, as in trace.csv, found '30'"));
   EXPECT_THAT(ParsePointTraces(header + "10,1,0\n", "p.csv", TwoChainsTwoRecords()).error(),
-              HasSubstr("expected 2 records, as in trace.csv, found 1"));
+              HasSubstr("p.csv:2:7: error: expected 2 records, as in trace.csv, found 1"));
+  EXPECT_THAT(
+      ParsePointTraces(header + "10,1,0\n20,1,0\n30,1,0\n", "p.csv", TwoChainsTwoRecords()).error(),
+      HasSubstr("p.csv:4:1: error: expected 2 records, as in trace.csv, found 3"));
+  EXPECT_THAT(ParsePointTraces(header + "10,1,0\n20,1\n", "p.csv", TwoChainsTwoRecords()).error(),
+              HasSubstr("p.csv:3:5: error: expected 3 values"));
   EXPECT_THAT(ParsePointTraces("sample,chain0_point0,chain0_point1,chain1_point0\n", "p.csv",
                                TwoChainsTwoRecords())
                   .error(),
@@ -139,6 +147,19 @@ TEST(PoolRhat, CatchesRunsThatAgreeWithinButNotAcross) {
   EXPECT_FALSE(std::get<PooledRhat>(pooled).point_colours.has_value());
 }
 
+TEST(PoolRhat, OneChainIsSplitInHalvesAndNoPointsGiveOne) {
+  // As a run's own R̂: one chain's halves, and 1 for the colours when there are no points.
+  PooledRun run = NormalRun("a", 1, 1, 0.0, 200);
+  run.traces.point_colours.assign(1, {});
+  const auto pooled = PoolRhat({run});
+  ASSERT_TRUE(std::holds_alternative<PooledRhat>(pooled)) << std::get<std::string>(pooled);
+  const PooledRhat& r = std::get<PooledRhat>(pooled);
+  EXPECT_DOUBLE_EQ(r.log_posterior, SplitRhat(run.traces.log_posterior));
+  ASSERT_TRUE(r.point_colours.has_value());
+  EXPECT_EQ(*r.point_colours, 1.0);
+  EXPECT_EQ(r.points, 0u);
+}
+
 TEST(PoolRhat, RefusesWhatCannotBePooled) {
   const auto problem = [](const std::vector<PooledRun>& runs) {
     const auto pooled = PoolRhat(runs);
@@ -148,8 +169,16 @@ TEST(PoolRhat, RefusesWhatCannotBePooled) {
   // Seed 2 is chain 1 of the first run and chain 0 of the second.
   EXPECT_THAT(problem({NormalRun("a", 1, 2, 0.0, 10), NormalRun("b", 2, 2, 0.0, 10)}),
               HasSubstr("b: a chain draws from seed 2, as one of another run does"));
-  EXPECT_THAT(problem({NormalRun("a", 1, 1, 0.0, 10)}), HasSubstr("at least two chains"));
-  EXPECT_THAT(problem({NormalRun("a", 1, 2, 0.0, 3)}), HasSubstr("at least 4 trace records"));
+  EXPECT_THAT(problem({}), HasSubstr("at least one chain"));
+  EXPECT_THAT(problem({NormalRun("a", 1, 2, 0.0, 10), NormalRun("b", 5, 2, 0.0, 3)}),
+              HasSubstr("b: R-hat needs at least 4 trace records per chain; it has 3"));
+  EXPECT_THAT(problem({NormalRun("a", 1, 2, 0.0, 10, 0.5), NormalRun("b", 5, 2, 0.0, 10, 0.5),
+                       [] {
+                         PooledRun more = NormalRun("c", 9, 2, 0.0, 10, 0.5);
+                         for (auto& chain : more.traces.point_colours) chain.push_back(chain[0]);
+                         return more;
+                       }()}),
+              HasSubstr("c traced 2 points where a traced 1"));
   PooledRun sparse = NormalRun("b", 5, 2, 0.0, 10);
   for (std::uint64_t& sample : sparse.traces.samples) sample *= 2;
   EXPECT_THAT(problem({NormalRun("a", 1, 2, 0.0, 10), sparse}),

@@ -48,15 +48,18 @@ struct PooledRhat {
   /// Records per chain that enter R̂: the shortest run's.
   std::size_t records = 0;
   double log_posterior = 0.0;
-  /// The largest over the trace points; none unless every run recorded the same points.
+  /// The largest over the trace points (1 with no points, as a run's own R̂ has it); none
+  /// unless every run recorded them.
   std::optional<double> point_colours;
   std::size_t points = 0;
-  /// Each chain's mean log-posterior over the second half of its records, run after run.
+  /// Each chain's mean log-posterior over the second half of the records that enter R̂ (the
+  /// shortest run's), run after run.
   std::vector<double> second_half_means;
 };
 
-/// R̂ over every chain of `runs`, or what makes them unfit to pool: fewer than two chains, a
-/// chain seed given twice, records at different samples, or fewer than four records.
+/// Split-R̂ over every chain of `runs`, each cut to the shortest run's records (one run alone
+/// gives its own R̂), or what makes them unfit to pool: no chain, a chain seed given twice,
+/// records at different samples, fewer than four records, or different numbers of trace points.
 [[nodiscard]] std::variant<PooledRhat, std::string> PoolRhat(const std::vector<PooledRun>& runs);
 
 }  // namespace priormap::prf
