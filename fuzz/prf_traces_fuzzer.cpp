@@ -1,14 +1,13 @@
 // libFuzzer harness for the trace files `priormap prf rhat` reads (trace.csv, then, after the
 // input's first NUL byte, point_traces.csv). Besides crashes and sanitizer reports it checks that
 // a rejected file gets diagnostics located inside its text, that accepted traces are consistent
-// (a value per chain and record, samples rising, colours 0 or 1), that writing them again and
-// reading them back gives the same values bit for bit, and that R̂ pools them without a crash.
+// (a value per chain and record, samples rising, colours 0 or 1), that writing them again
+// (FormatLogPosteriorTrace, FormatPointTraces) and reading them back gives the same values bit
+// for bit, and that R̂ pools them without a crash.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
-
-#include <fmt/format.h>
 
 #include <priormap/prf/pooled_rhat.hpp>
 
@@ -33,18 +32,6 @@ void CheckConsistent(const RunTraces& traces) {
     }
 }
 
-std::string FormatTrace(const RunTraces& traces) {
-  std::string text = "sample";
-  for (std::size_t c = 0; c < traces.log_posterior.size(); ++c) text += fmt::format(",chain{}", c);
-  text += "\n";
-  for (std::size_t i = 0; i < traces.samples.size(); ++i) {
-    text += fmt::format("{}", traces.samples[i]);
-    for (const auto& chain : traces.log_posterior) text += fmt::format(",{}", chain[i]);
-    text += "\n";
-  }
-  return text;
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -59,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   CheckConsistent(traces.value());
   Check(traces.value().point_colours.empty(), "trace.csv holds no colours");
 
-  const std::string written = FormatTrace(traces.value());
+  const std::string written = priormap::prf::FormatLogPosteriorTrace(traces.value());
   const auto again = priormap::prf::ParseLogPosteriorTrace(written, "again.csv");
   Check(again.ok(), "a written trace is read back", again.ok() ? written : again.error());
   Check(again.value().samples == traces.value().samples, "the round trip keeps the samples",
@@ -80,6 +67,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     run = std::move(with_points).value();
     CheckConsistent(run);
     Check(run.log_posterior == traces.value().log_posterior, "the colours keep the trace");
+    const std::string points_written = priormap::prf::FormatPointTraces(run);
+    const auto points_again =
+        priormap::prf::ParsePointTraces(points_written, "again.csv", traces.value());
+    Check(points_again.ok(), "written colours are read back",
+          points_again.ok() ? points_written : points_again.error());
+    Check(points_again.value().point_colours == run.point_colours,
+          "the round trip keeps every colour", points_written);
   }
   priormap::prf::PooledRun pooled{.name = "fuzz", .chain_seeds = {}, .traces = run};
   for (std::size_t c = 0; c < run.log_posterior.size(); ++c) pooled.chain_seeds.push_back(c);

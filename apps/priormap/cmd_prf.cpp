@@ -24,6 +24,7 @@
 #include <priormap/prf/mapping.hpp>
 #include <priormap/prf/moves.hpp>
 #include <priormap/prf/polygon_map.hpp>
+#include <priormap/prf/pooled_rhat.hpp>
 #include <priormap/prf/prior_stats.hpp>
 #include <priormap/prf/sonar_mapping.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
@@ -33,6 +34,7 @@
 #include "commands.hpp"
 #include "log_selection.hpp"
 #include "prf_posterior_options.hpp"
+#include "prf_run_file.hpp"
 #include "sensor_choice.hpp"
 
 namespace priormap::app {
@@ -157,51 +159,6 @@ void AddPriorStats(CLI::App& prf_cmd) {
   cmd->callback([o] { RunPriorStatsCommand(*o); });
 }
 
-struct MappingCliOptions {
-  std::string log;
-  std::string range = ":";
-  std::string out;
-  prf::LaserSelection selection;
-  prf::MappingOptions mapping;
-  bool anneal = false;
-  std::string sensor = "auto";  // --sensor: auto, laser or sonar
-  std::string sonar_model;      // --sonar-model FILE; empty: the defaults
-  PosteriorCliOptions posterior;
-  // How this session runs (not part of the run: not saved in run.json).
-  std::string resume;
-  double checkpoint_every_s = 5.0;
-  std::uint64_t stop_after_steps = 0;
-};
-
-// The options that define a run, saved as DIR/run.json so that --resume DIR repeats them.
-nlohmann::json RunJson(const MappingCliOptions& o) {
-  const prf::MappingOptions& m = o.mapping;
-  return {{"format", "priormap prf run"},
-          {"version", 2},
-          {"log", std::filesystem::absolute(o.log).string()},
-          {"sensor", o.sensor},
-          {"sonar_model",
-           o.sonar_model.empty() ? "" : std::filesystem::absolute(o.sonar_model).string()},
-          {"range", o.range},
-          {"beam_step", o.selection.beam_step},
-          {"max_range", o.selection.max_range},
-          {"p", m.sampler.p},
-          {"samples", m.samples},
-          {"burn_in", m.burn_in},
-          {"chains", m.chains},
-          {"seed", m.seed},
-          {"anneal", o.anneal},
-          {"anneal_steps", m.anneal_steps},
-          {"sigma", m.model.sigma},
-          {"cell_size", m.cell_size},
-          {"guided_births", m.sampler.weights[prf::MoveKind::kGuidedTriangle]},
-          {"guide_jitter", m.guide_jitter},
-          {"resolution", m.raster_resolution},
-          {"trace_every", m.trace_every},
-          {"check", m.sampler.check_invariants},
-          {"posterior", PosteriorOptionsJson(m)}};
-}
-
 // The run saved in DIR/run.json, with this session's settings from `session`.
 MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCliOptions& session) {
   const std::filesystem::path path = dir / "run.json";
@@ -210,39 +167,7 @@ MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCli
         fmt::format("--resume {}: no run.json there (not the output directory of a "
                     "priormap prf run)",
                     dir.string()));
-  const std::string text = ValueOrThrow(ReadFileText(path));
-  MappingCliOptions o = session;
-  try {
-    const nlohmann::json j = nlohmann::json::parse(text);
-    if (j.at("format") != "priormap prf run" || j.at("version") != 2)
-      throw UserError(fmt::format("{}: not a run file of this version", path.string()));
-    o.log = j.at("log").get<std::string>();
-    // Runs written before --sensor existed are laser runs.
-    o.sensor = j.contains("sensor") ? j.at("sensor").get<std::string>() : "laser";
-    o.sonar_model = j.contains("sonar_model") ? j.at("sonar_model").get<std::string>() : "";
-    o.range = j.at("range").get<std::string>();
-    o.selection.beam_step = j.at("beam_step").get<std::size_t>();
-    o.selection.max_range = j.at("max_range").get<double>();
-    prf::MappingOptions& m = o.mapping;
-    m.sampler.p = j.at("p").get<double>();
-    m.samples = j.at("samples").get<std::uint64_t>();
-    m.burn_in = j.at("burn_in").get<std::uint64_t>();
-    m.chains = j.at("chains").get<int>();
-    m.seed = j.at("seed").get<std::uint64_t>();
-    o.anneal = j.at("anneal").get<bool>();
-    m.anneal_steps = j.at("anneal_steps").get<std::uint64_t>();
-    m.model.sigma = j.at("sigma").get<double>();
-    m.cell_size = j.at("cell_size").get<double>();
-    m.sampler.weights[prf::MoveKind::kGuidedTriangle] = j.at("guided_births").get<double>();
-    m.guide_jitter = j.at("guide_jitter").get<double>();
-    m.raster_resolution = j.at("resolution").get<double>();
-    m.trace_every = j.at("trace_every").get<std::uint64_t>();
-    m.sampler.check_invariants = j.at("check").get<bool>();
-    // Runs written before these options existed ran the Arak process with a plain burn-in.
-    PosteriorOptionsFromJson(j.value("posterior", nlohmann::json::object()), &m);
-  } catch (const nlohmann::json::exception& e) {
-    throw UserError(fmt::format("{}: not a valid run file ({})", path.string(), e.what()));
-  }
+  MappingCliOptions o = ReadRunFile(path, session);
   if (std::filesystem::exists(dir / "summary.json") &&
       !std::filesystem::exists(dir / "checkpoints"))
     throw UserError(
@@ -441,31 +366,17 @@ void RunMappingCommand(MappingCliOptions o) {
       WriteTextFileAtomically(dir / chain_last(c),
                               prf::FacesToGeoJson(prf::ExtractFaces(*r.chains[c].last), r.window));
   }
-  std::string trace = "sample";
-  for (std::size_t c = 0; c < r.chains.size(); ++c) trace += fmt::format(",chain{}", c);
-  trace += "\n";
-  for (std::size_t i = 0; i < r.chains[0].log_posterior_trace.size(); ++i) {
-    trace += fmt::format("{}", (i + 1) * o.mapping.trace_every);
-    for (const prf::ChainSummary& chain : r.chains)
-      trace += fmt::format(",{}", chain.log_posterior_trace[i]);  // reads back exactly
-    trace += "\n";
+  // The traces behind R̂, with each trace point's colour, so that `prf rhat` can pool the
+  // chains of several runs as this run pools its own.
+  prf::RunTraces traces;
+  for (std::size_t i = 0; i < r.chains[0].log_posterior_trace.size(); ++i)
+    traces.samples.push_back((i + 1) * o.mapping.trace_every);
+  for (const prf::ChainSummary& chain : r.chains) {
+    traces.log_posterior.push_back(chain.log_posterior_trace);
+    traces.point_colours.push_back(chain.point_traces);
   }
-  WriteTextFileAtomically(dir / "trace.csv", trace);
-  // Each trace point's colour per record (1 black), so that `prf rhat` can pool the chains of
-  // several runs for R̂, as this run pools its own.
-  std::string point_trace = "sample";
-  for (std::size_t c = 0; c < r.chains.size(); ++c)
-    for (std::size_t k = 0; k < r.trace_points.size(); ++k)
-      point_trace += fmt::format(",chain{}_point{}", c, k);
-  point_trace += "\n";
-  for (std::size_t i = 0; i < r.chains[0].log_posterior_trace.size(); ++i) {
-    point_trace += fmt::format("{}", (i + 1) * o.mapping.trace_every);
-    for (const prf::ChainSummary& chain : r.chains)
-      for (const std::vector<double>& colours : chain.point_traces)
-        point_trace += colours[i] == 1.0 ? ",1" : ",0";
-    point_trace += "\n";
-  }
-  WriteTextFileAtomically(dir / "point_traces.csv", point_trace);
+  WriteTextFileAtomically(dir / "trace.csv", prf::FormatLogPosteriorTrace(traces));
+  WriteTextFileAtomically(dir / "point_traces.csv", prf::FormatPointTraces(traces));
 
   nlohmann::json summary;
   summary["log"] = std::filesystem::absolute(o.log).string();

@@ -1,6 +1,5 @@
 // priormap prf rhat: R̂ over the chains of several `priormap prf` runs of one posterior (other
 // seeds, other machines), from their run.json, trace.csv and point_traces.csv.
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -16,6 +15,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "prf_run_file.hpp"
 
 namespace priormap::app {
 namespace {
@@ -60,45 +60,40 @@ nlohmann::ordered_json RhatJson(double rhat) {
 // What a run's posterior is made of: runs that differ in one of these sample different
 // posteriors, and R̂ across them means nothing. The sampler's settings (burn-in, moves, delayed
 // acceptance, ...) may differ. Files are compared by name, not path, so that runs made on other
-// machines pool; the data's size and window catch another log of the same name. Keys a run
-// from before an option existed lacks take the value that run used (as --resume reads them).
-std::vector<std::pair<std::string, nlohmann::json>> TargetOf(const nlohmann::json& run,
-                                                             const nlohmann::json& summary,
-                                                             const fs::path& summary_path) {
-  const auto file_name = [](const nlohmann::json& path) {
-    return path.is_string() ? fs::path(path.get<std::string>()).filename().string() : std::string();
-  };
-  const nlohmann::json posterior = run.value("posterior", nlohmann::json::object());
-  const double orientation_weight = posterior.value("orientation_weight", 0.0);
-  std::vector<std::pair<std::string, nlohmann::json>> target = {
-      {"log file name", file_name(run.value("log", nlohmann::json()))},
-      {"readings", Member<std::uint64_t>(summary, "beams", summary_path)},
-      {"sensor positions", Member<std::uint64_t>(summary, "sensor_positions", summary_path)},
-      {"window", Member<nlohmann::json>(summary, "window", summary_path)},
-      {"sensor", Member<std::string>(summary, "sensor", summary_path)},
-      {"range", run.value("range", nlohmann::json())},
-      {"beam_step", run.value("beam_step", nlohmann::json())},
-      {"max_range", run.value("max_range", nlohmann::json())},
-      {"p", run.value("p", nlohmann::json())},
-      {"sigma", run.value("sigma", nlohmann::json())},
-      {"sonar model file name", file_name(run.value("sonar_model", nlohmann::json("")))},
-      {"free_space", posterior.value("free_space", 0.0)},
-      {"orientation_weight", orientation_weight}};
-  // The orientation prior's angle matters only when it has a weight.
-  if (orientation_weight != 0.0)
-    target.emplace_back("orientation_deg", posterior.value("orientation_deg", 0.0));
-  return target;
+// machines pool; the data's size and window catch another log of the same name.
+using Target = std::vector<std::pair<const char*, nlohmann::json>>;
+
+Target TargetOf(const MappingCliOptions& run, const nlohmann::json& summary,
+                const fs::path& summary_path) {
+  const auto file_name = [](const std::string& path) { return fs::path(path).filename().string(); };
+  const prf::SamplerOptions& sampler = run.mapping.sampler;
+  return {{"log file name", file_name(run.log)},
+          {"readings", Member<std::uint64_t>(summary, "beams", summary_path)},
+          {"sensor positions", Member<std::uint64_t>(summary, "sensor_positions", summary_path)},
+          {"window", Member<nlohmann::json>(summary, "window", summary_path)},
+          {"sensor", Member<std::string>(summary, "sensor", summary_path)},
+          {"range", run.range},
+          {"beam_step", run.selection.beam_step},
+          {"max_range", run.selection.max_range},
+          {"p", sampler.p},
+          {"sigma", run.mapping.model.sigma},
+          {"sonar model file name", file_name(run.sonar_model)},
+          {"free_space", sampler.free_space},
+          {"orientation_weight", sampler.orientation.weight},
+          // The orientation prior's angle matters only when it has a weight.
+          {"orientation angle (rad)", sampler.orientation.weight != 0.0
+                                          ? nlohmann::json(sampler.orientation.angle)
+                                          : nlohmann::json()}};
 }
 
 struct LoadedRun {
   prf::PooledRun pooled;
-  std::vector<std::pair<std::string, nlohmann::json>> target;
+  Target target;
   nlohmann::json trace_points;  // null for runs made before summary.json listed them
 };
 
 LoadedRun LoadRun(const std::string& dir) {
   const fs::path root(dir);
-  const fs::path run_path = root / "run.json";
   const fs::path summary_path = root / "summary.json";
   // A run writes summary.json last and then removes its checkpoints; before that, its trace
   // files may still be those of an earlier run in the same directory.
@@ -107,12 +102,8 @@ LoadedRun LoadRun(const std::string& dir) {
         "{}: not a complete `priormap prf` run (expected its summary.json and no checkpoints; "
         "a stopped run completes with `priormap prf --resume {}`)",
         dir, dir));
-  const nlohmann::json run = ReadJsonFile(run_path);
-  if (run.value("format", "") != "priormap prf run" || run.value("version", 0) != 2)
-    throw UserError(
-        fmt::format("{}: expected a run file of this version (\"format\": \"priormap prf run\", "
-                    "\"version\": 2)",
-                    run_path.string()));
+  const fs::path run_path = root / "run.json";
+  const MappingCliOptions run = ReadRunFile(run_path, MappingCliOptions{});
   const nlohmann::json summary = ReadJsonFile(summary_path);
   LoadedRun loaded;
   loaded.pooled.name = dir;
@@ -122,13 +113,12 @@ LoadedRun LoadRun(const std::string& dir) {
   const fs::path trace_path = root / "trace.csv";
   prf::RunTraces traces = ValueOrThrow(
       prf::ParseLogPosteriorTrace(ValueOrThrow(ReadFileText(trace_path)), trace_path.string()));
-  const auto chains = Member<std::int64_t>(run, "chains", run_path);
+  const int chains = run.mapping.chains;
   if (chains < 1 || static_cast<std::size_t>(chains) != traces.log_posterior.size())
     throw UserError(fmt::format("{} has {} chains, {} says {}", trace_path.string(),
                                 traces.log_posterior.size(), run_path.string(), chains));
-  const auto seed = Member<std::uint64_t>(run, "seed", run_path);
-  for (std::int64_t c = 0; c < chains; ++c)
-    loaded.pooled.chain_seeds.push_back(seed + static_cast<std::uint64_t>(c));
+  for (int c = 0; c < chains; ++c)
+    loaded.pooled.chain_seeds.push_back(run.mapping.seed + static_cast<std::uint64_t>(c));
   const fs::path point_path = root / "point_traces.csv";
   if (fs::exists(point_path))
     traces = ValueOrThrow(prf::ParsePointTraces(ValueOrThrow(ReadFileText(point_path)),
@@ -143,21 +133,15 @@ void RunRhat(const RhatCliOptions& o) {
   const LoadedRun& first = runs.front();
   const LoadedRun* traced = nullptr;  // the first run whose summary lists its trace points
   for (const LoadedRun& run : runs) {
-    for (const auto& [key, value] : run.target) {
-      const auto other = std::find_if(first.target.begin(), first.target.end(),
-                                      [&](const auto& item) { return item.first == key; });
-      const nlohmann::json first_value =
-          other == first.target.end() ? nlohmann::json() : other->second;
+    for (std::size_t k = 0; k < run.target.size(); ++k) {
+      const auto& [key, value] = run.target[k];
+      const nlohmann::json& first_value = first.target[k].second;
       if (value != first_value)
         throw UserError(
             fmt::format("{} maps another posterior than {}: its {} is {}, not {} (pool runs of one "
                         "posterior only)",
                         run.pooled.name, first.pooled.name, key, value.dump(), first_value.dump()));
     }
-    if (run.target.size() != first.target.size())
-      throw UserError(
-          fmt::format("{} maps another posterior than {}: their orientation priors differ",
-                      run.pooled.name, first.pooled.name));
     if (run.trace_points.is_null()) continue;
     if (traced == nullptr) traced = &run;
     if (run.trace_points != traced->trace_points)
@@ -165,7 +149,7 @@ void RunRhat(const RhatCliOptions& o) {
           fmt::format("{} traced other points than {}", run.pooled.name, traced->pooled.name));
   }
   std::vector<prf::PooledRun> pooled_runs;
-  for (const LoadedRun& run : runs) pooled_runs.push_back(run.pooled);
+  for (LoadedRun& run : runs) pooled_runs.push_back(std::move(run.pooled));
   const auto pooled = prf::PoolRhat(pooled_runs);
   if (const auto* problem = std::get_if<std::string>(&pooled)) throw UserError(*problem);
   const prf::PooledRhat& r = std::get<prf::PooledRhat>(pooled);
@@ -185,12 +169,12 @@ void RunRhat(const RhatCliOptions& o) {
   }
   out["runs"] = nlohmann::ordered_json::array();
   std::size_t chain = 0;
-  for (const LoadedRun& run : runs) {
+  for (const prf::PooledRun& run : pooled_runs) {
     nlohmann::ordered_json entry;
-    entry["run"] = run.pooled.name;
-    entry["chain_seeds"] = run.pooled.chain_seeds;
+    entry["run"] = run.name;
+    entry["chain_seeds"] = run.chain_seeds;
     entry["second_half_means"] = nlohmann::ordered_json::array();
-    for (std::size_t c = 0; c < run.pooled.traces.log_posterior.size(); ++c)
+    for (std::size_t c = 0; c < run.traces.log_posterior.size(); ++c)
       entry["second_half_means"].push_back(r.second_half_means[chain++]);
     out["runs"].push_back(entry);
   }

@@ -52,10 +52,15 @@ Diagnostic At(const std::string& name, int line, int col, std::string message) {
   return {.file = name, .line = line, .col = col, .message = std::move(message)};
 }
 
-// Where a line with the wrong number of values goes wrong: at its first extra value, or at its
-// end when values are missing.
-int WrongCountCol(const CsvLine& line, std::size_t expected) {
-  return line.fields.size() > expected ? line.fields[expected].col : line.end_col;
+// A data line must hold `expected` values: the sample, then `after_sample`. Reported at its
+// first extra value, or at its end when values are missing.
+std::optional<Diagnostic> CheckValueCount(const std::string& name, const CsvLine& line,
+                                          std::size_t expected, std::string_view after_sample) {
+  if (line.fields.size() == expected) return std::nullopt;
+  const int col = line.fields.size() > expected ? line.fields[expected].col : line.end_col;
+  return At(name, line.number, col,
+            fmt::format("expected {} values (the sample, then {}), found {}", expected,
+                        after_sample, line.fields.size()));
 }
 
 std::optional<std::uint64_t> ParseCount(std::string_view text) {
@@ -101,6 +106,34 @@ double SecondHalfMean(const std::vector<double>& trace, std::size_t length) {
 
 }  // namespace
 
+std::string FormatLogPosteriorTrace(const RunTraces& traces) {
+  std::string text = "sample";
+  for (std::size_t c = 0; c < traces.log_posterior.size(); ++c) text += fmt::format(",chain{}", c);
+  text += "\n";
+  for (std::size_t i = 0; i < traces.samples.size(); ++i) {
+    text += fmt::format("{}", traces.samples[i]);
+    for (const std::vector<double>& chain : traces.log_posterior)
+      text += fmt::format(",{}", chain[i]);
+    text += "\n";
+  }
+  return text;
+}
+
+std::string FormatPointTraces(const RunTraces& traces) {
+  std::string text = "sample";
+  for (std::size_t c = 0; c < traces.point_colours.size(); ++c)
+    for (std::size_t k = 0; k < traces.point_colours[c].size(); ++k)
+      text += fmt::format(",chain{}_point{}", c, k);
+  text += "\n";
+  for (std::size_t i = 0; i < traces.samples.size(); ++i) {
+    text += fmt::format("{}", traces.samples[i]);
+    for (const auto& chain : traces.point_colours)
+      for (const std::vector<double>& colours : chain) text += colours[i] == 1.0 ? ",1" : ",0";
+    text += "\n";
+  }
+  return text;
+}
+
 Result<RunTraces> ParseLogPosteriorTrace(std::string_view text, const std::string& name) {
   const std::vector<CsvLine> lines = SplitCsv(text);
   if (lines.empty())
@@ -116,11 +149,8 @@ Result<RunTraces> ParseLogPosteriorTrace(std::string_view text, const std::strin
   traces.log_posterior.assign(chains, {});
   for (std::size_t l = 1; l < lines.size(); ++l) {
     const CsvLine& line = lines[l];
-    if (line.fields.size() != chains + 1)
-      return At(name, line.number, WrongCountCol(line, chains + 1),
-                fmt::format("expected {} values (the sample, then one per chain as in the "
-                            "header), found {}",
-                            chains + 1, line.fields.size()));
+    if (auto problem = CheckValueCount(name, line, chains + 1, "one per chain as in the header"))
+      return *problem;
     const auto sample = ParseCount(line.fields[0].text);
     if (!sample)
       return At(
@@ -173,11 +203,8 @@ Result<RunTraces> ParsePointTraces(std::string_view text, const std::string& nam
   traces.point_colours.assign(chains, std::vector<std::vector<double>>(points));
   for (std::size_t l = 1; l < lines.size(); ++l) {
     const CsvLine& line = lines[l];
-    if (line.fields.size() != columns + 1)
-      return At(name, line.number, WrongCountCol(line, columns + 1),
-                fmt::format("expected {} values (the sample, then one per column of the "
-                            "header), found {}",
-                            columns + 1, line.fields.size()));
+    if (auto problem = CheckValueCount(name, line, columns + 1, "one per column of the header"))
+      return *problem;
     const auto sample = ParseCount(line.fields[0].text);
     if (!sample || *sample != traces.samples[l - 1])
       return At(name, line.number, 1,

@@ -27,6 +27,13 @@ struct RunTraces {
   std::vector<std::vector<std::vector<double>>> point_colours;
 };
 
+/// trace.csv: "sample,chain0,...,chainC-1", then a line per record, each log-posterior in the
+/// shortest form that reads back exactly.
+[[nodiscard]] std::string FormatLogPosteriorTrace(const RunTraces& traces);
+/// point_traces.csv: "sample,chain0_point0,...", then a line per record of 0 (white) and 1
+/// (black); `traces` must hold the colours.
+[[nodiscard]] std::string FormatPointTraces(const RunTraces& traces);
+
 /// Parses trace.csv ("sample,chain0,...,chainC-1"); `name` is its path, for messages.
 [[nodiscard]] Result<RunTraces> ParseLogPosteriorTrace(std::string_view text,
                                                        const std::string& name);
