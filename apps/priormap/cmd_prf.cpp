@@ -385,6 +385,8 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["sensor"] = data.sonar ? "sonar" : "laser";
   summary["beams"] = data.readings;  // sonar: readings (cones)
   summary["sensor_positions"] = data.sensors.size();
+  // Of the readings and the data model, not of the log's name: `prf rhat` pools by it.
+  summary["data_fingerprint"] = fmt::format("{:016x}", data.mapping.data_fingerprint);
   summary["p"] = o.mapping.sampler.p;
   summary["posterior"] = PosteriorOptionsJson(o.mapping);
   summary["seed"] = o.mapping.seed;

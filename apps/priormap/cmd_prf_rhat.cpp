@@ -1,5 +1,6 @@
 // priormap prf rhat: R̂ over the chains of several `priormap prf` runs of one posterior (other
 // seeds, other machines), from their run.json, trace.csv and point_traces.csv.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -51,46 +52,59 @@ T Member(const nlohmann::json& document, const char* key, const fs::path& path) 
   }
 }
 
-// R̂ is +inf when every half of every chain is constant but the halves differ; JSON has no
-// infinity, and null would read as "not computed".
+// R̂ is +inf when every half of every chain is constant but the halves differ, and NaN when
+// log-posteriors near ±1e308 overflow its sums; JSON has neither, and null would read as "not
+// computed".
 nlohmann::ordered_json RhatJson(double rhat) {
+  if (std::isnan(rhat)) return "nan";
   return std::isinf(rhat) ? nlohmann::ordered_json("inf") : nlohmann::ordered_json(rhat);
 }
 
 // What a run's posterior is made of: runs that differ in one of these sample different
 // posteriors, and R̂ across them means nothing. The sampler's settings (burn-in, moves, delayed
-// acceptance, ...) may differ. Files are compared by name, not path, so that runs made on other
-// machines pool; the data's size and window catch another log of the same name.
+// acceptance, ...) may differ. The data are compared by their fingerprint (the readings and the
+// data model), so that runs made elsewhere, of a log under another name, pool; runs made before
+// summary.json held it are compared by the log's and model's file names and the data's size.
 using Target = std::vector<std::pair<const char*, nlohmann::json>>;
-
-Target TargetOf(const MappingCliOptions& run, const nlohmann::json& summary,
-                const fs::path& summary_path) {
-  const auto file_name = [](const std::string& path) { return fs::path(path).filename().string(); };
-  const prf::SamplerOptions& sampler = run.mapping.sampler;
-  return {{"log file name", file_name(run.log)},
-          {"readings", Member<std::uint64_t>(summary, "beams", summary_path)},
-          {"sensor positions", Member<std::uint64_t>(summary, "sensor_positions", summary_path)},
-          {"window", Member<nlohmann::json>(summary, "window", summary_path)},
-          {"sensor", Member<std::string>(summary, "sensor", summary_path)},
-          {"range", run.range},
-          {"beam_step", run.selection.beam_step},
-          {"max_range", run.selection.max_range},
-          {"p", sampler.p},
-          {"sigma", run.mapping.model.sigma},
-          {"sonar model file name", file_name(run.sonar_model)},
-          {"free_space", sampler.free_space},
-          {"orientation_weight", sampler.orientation.weight},
-          // The orientation prior's angle matters only when it has a weight.
-          {"orientation angle (rad)", sampler.orientation.weight != 0.0
-                                          ? nlohmann::json(sampler.orientation.angle)
-                                          : nlohmann::json()}};
-}
 
 struct LoadedRun {
   prf::PooledRun pooled;
-  Target target;
+  MappingCliOptions options;
+  nlohmann::json summary;
+  fs::path summary_path;
   nlohmann::json trace_points;  // null for runs made before summary.json listed them
 };
+
+Target TargetOf(const LoadedRun& loaded, bool by_fingerprint) {
+  const auto file_name = [](const std::string& path) { return fs::path(path).filename().string(); };
+  const nlohmann::json& summary = loaded.summary;
+  const fs::path& at = loaded.summary_path;
+  const MappingCliOptions& run = loaded.options;
+  const prf::SamplerOptions& sampler = run.mapping.sampler;
+  Target data;
+  if (by_fingerprint)
+    data = {{"data fingerprint", Member<std::string>(summary, "data_fingerprint", at)}};
+  else
+    data = {{"log file name", file_name(run.log)},
+            {"sonar model file name", file_name(run.sonar_model)},
+            {"readings", Member<std::uint64_t>(summary, "beams", at)},
+            {"sensor positions", Member<std::uint64_t>(summary, "sensor_positions", at)}};
+  Target target = {{"window", Member<nlohmann::json>(summary, "window", at)},
+                   {"sensor", Member<std::string>(summary, "sensor", at)},
+                   {"range", run.range},
+                   {"beam_step", run.selection.beam_step},
+                   {"max_range", run.selection.max_range},
+                   {"p", sampler.p},
+                   {"sigma", run.mapping.model.sigma},
+                   {"free_space", sampler.free_space},
+                   {"orientation_weight", sampler.orientation.weight},
+                   // The orientation prior's angle matters only when it has a weight.
+                   {"orientation angle (rad)", sampler.orientation.weight != 0.0
+                                                   ? nlohmann::json(sampler.orientation.angle)
+                                                   : nlohmann::json()}};
+  target.insert(target.begin(), data.begin(), data.end());
+  return target;
+}
 
 LoadedRun LoadRun(const std::string& dir) {
   const fs::path root(dir);
@@ -103,22 +117,23 @@ LoadedRun LoadRun(const std::string& dir) {
         "a stopped run completes with `priormap prf --resume {}`)",
         dir, dir));
   const fs::path run_path = root / "run.json";
-  const MappingCliOptions run = ReadRunFile(run_path, MappingCliOptions{});
-  const nlohmann::json summary = ReadJsonFile(summary_path);
   LoadedRun loaded;
+  loaded.options = ReadRunFile(run_path, MappingCliOptions{});
+  loaded.summary = ReadJsonFile(summary_path);
+  loaded.summary_path = summary_path;
   loaded.pooled.name = dir;
-  loaded.target = TargetOf(run, summary, summary_path);
-  if (summary.contains("trace_points")) loaded.trace_points = summary["trace_points"];
+  if (loaded.summary.contains("trace_points")) loaded.trace_points = loaded.summary["trace_points"];
 
   const fs::path trace_path = root / "trace.csv";
   prf::RunTraces traces = ValueOrThrow(
       prf::ParseLogPosteriorTrace(ValueOrThrow(ReadFileText(trace_path)), trace_path.string()));
-  const int chains = run.mapping.chains;
+  const int chains = loaded.options.mapping.chains;
   if (chains < 1 || static_cast<std::size_t>(chains) != traces.log_posterior.size())
     throw UserError(fmt::format("{} has {} chains, {} says {}", trace_path.string(),
                                 traces.log_posterior.size(), run_path.string(), chains));
   for (int c = 0; c < chains; ++c)
-    loaded.pooled.chain_seeds.push_back(run.mapping.seed + static_cast<std::uint64_t>(c));
+    loaded.pooled.chain_seeds.push_back(loaded.options.mapping.seed +
+                                        static_cast<std::uint64_t>(c));
   const fs::path point_path = root / "point_traces.csv";
   if (fs::exists(point_path))
     traces = ValueOrThrow(prf::ParsePointTraces(ValueOrThrow(ReadFileText(point_path)),
@@ -130,12 +145,16 @@ LoadedRun LoadRun(const std::string& dir) {
 void RunRhat(const RhatCliOptions& o) {
   std::vector<LoadedRun> runs;
   for (const std::string& dir : o.runs) runs.push_back(LoadRun(dir));
+  const bool by_fingerprint = std::ranges::all_of(
+      runs, [](const LoadedRun& run) { return run.summary.contains("data_fingerprint"); });
   const LoadedRun& first = runs.front();
+  const Target first_target = TargetOf(first, by_fingerprint);
   const LoadedRun* traced = nullptr;  // the first run whose summary lists its trace points
   for (const LoadedRun& run : runs) {
-    for (std::size_t k = 0; k < run.target.size(); ++k) {
-      const auto& [key, value] = run.target[k];
-      const nlohmann::json& first_value = first.target[k].second;
+    const Target target = TargetOf(run, by_fingerprint);
+    for (std::size_t k = 0; k < target.size(); ++k) {
+      const auto& [key, value] = target[k];
+      const nlohmann::json& first_value = first_target[k].second;
       if (value != first_value)
         throw UserError(
             fmt::format("{} maps another posterior than {}: its {} is {}, not {} (pool runs of one "

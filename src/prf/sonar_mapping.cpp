@@ -57,7 +57,8 @@ MappingData SonarMappingData(std::shared_ptr<const SonarData> data, const SonarM
     }
   }
   // The options' part of the laser fingerprint, with no beams, is the options' hash.
-  d.fingerprint = Fnv1a64(std::to_string(SonarDataFingerprint(*data, model)) + ":" +
+  d.data_fingerprint = SonarDataFingerprint(*data, model);
+  d.fingerprint = Fnv1a64(std::to_string(d.data_fingerprint) + ":" +
                           std::to_string(RunFingerprint(LaserData{}, options)));
   d.make_data_term = [data, model] { return std::make_unique<SonarLikelihood>(data, model); };
   d.make_thinned_data_term = [data, model](int stride) {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -287,17 +288,31 @@ TEST_F(MappingCli, RhatPoolsTheChainsOfSeveralRuns) {
   ASSERT_EQ(stopped.status, 0) << stopped.err;
   EXPECT_THAT(RunFailing({"prf", "rhat", "a", "stopped"}).err,
               HasSubstr("stopped: not a complete `priormap prf` run"));
-  // Runs made elsewhere name their log by another path: its file name is what must agree.
+  // Runs made elsewhere name their log by another path, maybe by another name: the data's
+  // fingerprint is what must agree.
   std::filesystem::copy(Work("b"), Work("moved"));
   json moved = json::parse(testing::ReadAll(Work("moved") / "run.json"));
+  moved["log"] = "/somewhere/else/other.log";
+  testing::WriteAll(Work("moved") / "run.json", moved.dump(2));
+  r = Run({"prf", "rhat", "a", "moved"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  json moved_summary = json::parse(testing::ReadAll(Work("moved") / "summary.json"));
+  const std::string fingerprint = summary["data_fingerprint"].get<std::string>();
+  EXPECT_EQ(fingerprint.size(), 16u);
+  moved_summary["data_fingerprint"] = "0123456789abcdef";
+  testing::WriteAll(Work("moved") / "summary.json", moved_summary.dump(2));
+  EXPECT_THAT(RunFailing({"prf", "rhat", "a", "moved"}).err,
+              HasSubstr(fmt::format("its data fingerprint is \"0123456789abcdef\", not \"{}\"",
+                                    fingerprint)));
+  // Runs made before summary.json held the fingerprint are compared by the log's file name.
+  moved_summary.erase("data_fingerprint");
+  testing::WriteAll(Work("moved") / "summary.json", moved_summary.dump(2));
+  EXPECT_THAT(RunFailing({"prf", "rhat", "a", "moved"}).err,
+              HasSubstr("its log file name is \"other.log\", not \"room.log\""));
   moved["log"] = "/somewhere/else/room.log";
   testing::WriteAll(Work("moved") / "run.json", moved.dump(2));
   r = Run({"prf", "rhat", "a", "moved"});
   EXPECT_EQ(r.status, 0) << r.err;
-  moved["log"] = "/somewhere/else/other.log";
-  testing::WriteAll(Work("moved") / "run.json", moved.dump(2));
-  EXPECT_THAT(RunFailing({"prf", "rhat", "a", "moved"}).err,
-              HasSubstr("its log file name is \"other.log\", not \"room.log\""));
   std::filesystem::copy(Work("b"), Work("broken"));
   testing::WriteAll(Work("broken") / "trace.csv", "sample,chain0,chain1\n1000,1,x\n");
   EXPECT_THAT(RunFailing({"prf", "rhat", "a", "broken"}).err,

@@ -194,6 +194,10 @@ struct MappingData {
   std::vector<Vec2> guide_points;  // of the guided triangle births: where readings ended
   /// Identifies the run (data, data model and options): checkpoints of another are refused.
   std::uint64_t fingerprint = 0;
+  /// Identifies the likelihood alone (the readings, the sensors and the data model), not the
+  /// prior nor the sampler: runs of other seeds or sampler settings share it, runs of another
+  /// log or data model do not (`priormap prf rhat` pools runs by it).
+  std::uint64_t data_fingerprint = 0;
   /// A fresh data term, one per chain.
   std::function<std::unique_ptr<DataTerm>()> make_data_term;
   /// A fresh data term of the readings KeptByThinning(i, stride), with every sensor position (for
@@ -206,6 +210,9 @@ struct MappingData {
 
 /// The laser run's data: the window around the beams (options.margin), the trace and guide
 /// points from the beams that hit, the LaserLikelihood of options.model.
+/// Hash of the beams, the sensors and the laser model (MappingData::data_fingerprint).
+[[nodiscard]] std::uint64_t LaserDataFingerprint(const LaserData& data, const LaserModel& model);
+
 [[nodiscard]] MappingData LaserMappingData(std::shared_ptr<const LaserData> data,
                                            const MappingOptions& options);
 
