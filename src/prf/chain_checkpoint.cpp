@@ -22,6 +22,21 @@ void PutVec(BinaryWriter& out, const Vec2& v) {
   out.Put(v.y());
 }
 
+// The beams and sensors as both fingerprints hash them.
+void PutLaserData(BinaryWriter& out, const LaserData& data) {
+  out.Put(data.max_range);
+  out.Put<std::uint64_t>(data.sensors.size());
+  for (const Vec2& s : data.sensors) PutVec(out, s);
+  out.Put<std::uint64_t>(data.beams.size());
+  for (const LaserBeam& b : data.beams) {
+    PutVec(out, b.origin);
+    PutVec(out, b.direction);
+    out.Put(b.range);
+    out.Put<std::uint8_t>(b.max_reading ? 1 : 0);
+    out.Put<std::int32_t>(b.sensor);
+  }
+}
+
 std::string ReadWhole(const std::filesystem::path& path) {
   Result<std::string> bytes = ReadFileText(path);
   if (!bytes.ok()) throw BinaryFormatError(bytes.error());
@@ -47,19 +62,17 @@ void WriteSealed(const std::filesystem::path& path, std::string_view kind,
 
 }  // namespace
 
+std::uint64_t LaserDataFingerprint(const LaserData& data, const LaserModel& model) {
+  BinaryWriter out;
+  PutLaserData(out, data);
+  for (double v : {model.sigma, model.hit_weight, model.outlier_weight, model.max_weight})
+    out.Put(v);
+  return Fnv1a64(out.bytes());
+}
+
 std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& options) {
   BinaryWriter out;
-  out.Put(data.max_range);
-  out.Put<std::uint64_t>(data.sensors.size());
-  for (const Vec2& s : data.sensors) PutVec(out, s);
-  out.Put<std::uint64_t>(data.beams.size());
-  for (const LaserBeam& b : data.beams) {
-    PutVec(out, b.origin);
-    PutVec(out, b.direction);
-    out.Put(b.range);
-    out.Put<std::uint8_t>(b.max_reading ? 1 : 0);
-    out.Put<std::int32_t>(b.sensor);
-  }
+  PutLaserData(out, data);
   const SamplerOptions& s = options.sampler;
   out.Put(s.p);
   // The Arak process (no orientation prior) hashes as before this option existed.

@@ -104,24 +104,6 @@ BurnInStage BurnInStageAt(const MappingOptions& options, std::uint64_t step) {
   return {1, std::numeric_limits<std::uint64_t>::max()};
 }
 
-std::uint64_t LaserDataFingerprint(const LaserData& data, const LaserModel& model) {
-  BinaryWriter out;
-  out.Put(data.max_range);
-  out.Put<std::uint64_t>(data.sensors.size());
-  for (const Vec2& s : data.sensors)
-    for (double v : {s.x(), s.y()}) out.Put(v);
-  out.Put<std::uint64_t>(data.beams.size());
-  for (const LaserBeam& b : data.beams) {
-    for (double v : {b.origin.x(), b.origin.y(), b.direction.x(), b.direction.y(), b.range})
-      out.Put(v);
-    out.Put<std::uint8_t>(b.max_reading ? 1 : 0);
-    out.Put<std::int32_t>(b.sensor);
-  }
-  for (double v : {model.sigma, model.hit_weight, model.outlier_weight, model.max_weight})
-    out.Put(v);
-  return Fnv1a64(out.bytes());
-}
-
 MappingData LaserMappingData(std::shared_ptr<const LaserData> data, const MappingOptions& options) {
   MappingData d;
   d.window = WindowAround(*data, options.margin);

@@ -13,6 +13,7 @@
 
 #include <priormap/prf/estimates.hpp>
 #include <priormap/prf/laser_data.hpp>
+#include <priormap/prf/laser_model.hpp>
 #include <priormap/prf/replica_exchange.hpp>
 #include <priormap/prf/sampler.hpp>
 
@@ -24,6 +25,9 @@ struct ChainSummary;
 /// Hash of everything a chain's course depends on: the beams, the sensors and the options
 /// (not the chunk size nor the checkpoint settings, which do not change the result).
 [[nodiscard]] std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& options);
+
+/// Hash of the beams, the sensors and the laser model alone (MappingData::data_fingerprint).
+[[nodiscard]] std::uint64_t LaserDataFingerprint(const LaserData& data, const LaserModel& model);
 
 [[nodiscard]] std::filesystem::path ChainCheckpointPath(const std::filesystem::path& directory,
                                                         std::size_t chain);

@@ -210,9 +210,6 @@ struct MappingData {
 
 /// The laser run's data: the window around the beams (options.margin), the trace and guide
 /// points from the beams that hit, the LaserLikelihood of options.model.
-/// Hash of the beams, the sensors and the laser model (MappingData::data_fingerprint).
-[[nodiscard]] std::uint64_t LaserDataFingerprint(const LaserData& data, const LaserModel& model);
-
 [[nodiscard]] MappingData LaserMappingData(std::shared_ptr<const LaserData> data,
                                            const MappingOptions& options);
 
