@@ -227,8 +227,7 @@ std::optional<std::string> SonarLikelihood::Reset(const Coloring& coloring) {
   const std::size_t n = data_->readings.size();
   state_.assign(n, {});
   index_.Reset(grid.NumCells(), n);
-  reading_marks_ = VisitMarks();
-  reading_marks_.resize(n);
+  candidate_marks_.resize(n);
   total_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const ReadingResult result = Compute(coloring, i, nullptr, {});
@@ -287,7 +286,7 @@ bool SonarLikelihood::SensorFlips(const Edit& edit) const {
 void SonarLikelihood::CollectReadings(const Vec2& a, const Vec2& b) {
   WalkCells(cone_cells_->grid, a, b, [&](int cell, double, double) {
     index_.VisitCell(cell, [&](std::int32_t reading) {
-      if (reading_marks_.Mark(static_cast<std::size_t>(reading))) candidates_.push_back(reading);
+      candidate_marks_.Mark(static_cast<std::size_t>(reading));
     });
     return true;
   });
@@ -300,7 +299,6 @@ std::optional<FixedLogLik> SonarLikelihood::Evaluate(const Coloring& coloring, c
   pending_delta_ = 0;
   if (SensorFlips(edit)) return std::nullopt;
 
-  reading_marks_.NextRound();
   SmallVector<Segment, 4> added;
   for (std::size_t k = 0; k < edit.added_edges.size(); ++k)
     added.push_back(coloring.AddedSegment(edit, k));
@@ -309,6 +307,7 @@ std::optional<FixedLogLik> SonarLikelihood::Evaluate(const Coloring& coloring, c
     CollectReadings(s.a, s.b);
   }
   for (const Segment& s : added) CollectReadings(s.a, s.b);
+  candidate_marks_.Drain(&candidates_);
 
   for (const std::int32_t id : candidates_) {
     const auto i = static_cast<std::size_t>(id);

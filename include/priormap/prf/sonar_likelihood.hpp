@@ -24,6 +24,8 @@
 
 #include <priormap/prf/data_term.hpp>
 #include <priormap/prf/dynamic_cell_index.hpp>
+#include <priormap/prf/inline_vector.hpp>
+#include <priormap/prf/ordered_marks.hpp>
 #include <priormap/prf/sonar_data.hpp>
 #include <priormap/prf/sonar_model.hpp>
 #include <priormap/prf/sonar_multipath.hpp>
@@ -74,12 +76,14 @@ class SonarLikelihood final : public DataTerm {
     /// Both legs walk the same cells (ForEachLegCell): same start, direction and length.
     [[nodiscard]] static bool SameCells(const std::optional<Leg>& a, const std::optional<Leg>& b);
   };
+  // What a proposal's test of a listed reading reads (the edges it sees, its extent) comes first
+  // and inline: no second allocation to fetch for each of the hundreds of readings it tests.
   struct ReadingState {
+    InlineVector<EdgeId, 4> contacts;  // the edges it sees, sorted
     double extent = 0.0;
     FixedLogLik log_lik = 0;
     std::uint32_t cone_cells = 0;  // listed: the prefix of its cone's cells within its extent
     std::optional<Leg> leg;        // with the multipath model, when its axis meets a face
-    std::vector<EdgeId> contacts;  // the edges it sees, sorted
   };
   struct Change {
     std::int32_t reading;
@@ -134,7 +138,7 @@ class SonarLikelihood final : public DataTerm {
   FixedLogLik total_ = 0;
   // Scratch of Evaluate, read by Commit.
   std::vector<std::int32_t> candidates_;
-  VisitMarks reading_marks_;
+  OrderedMarks candidate_marks_;
   std::vector<Change> pending_;
   std::vector<std::int32_t> pending_contacts_;
   FixedLogLik pending_delta_ = 0;
