@@ -1,10 +1,9 @@
 #pragma once
-/// A vector that keeps up to N items inline and moves them all to the heap beyond that. The
-/// sonar term keeps one per reading for the edges it sees, usually one to three: inline, they
-/// share the reading's cache line, and a proposal's test of hundreds of readings ("does it see
-/// a removed edge?") reads no second line per reading.
+/// A vector that keeps up to N items inline and moves them all to the heap beyond that (unlike
+/// SmallVector, whose capacity is a hard limit). The sonar term keeps one per reading for the
+/// edges it sees, usually one to three: inline, a proposal's test of hundreds of readings ("does
+/// it see a removed edge?") fetches no second allocation per reading.
 
-#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>

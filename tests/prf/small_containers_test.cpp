@@ -1,5 +1,6 @@
-// The sonar term's scratch containers against the standard library's: OrderedMarks as a std::set
-// drained in order, InlineVector as a std::vector across its inline capacity.
+// The sonar term's small containers against the standard library's: OrderedMarks (its candidate
+// readings) as a std::set drained in order, InlineVector (the edges a reading sees) as a
+// std::vector across its inline capacity.
 #include <cstdint>
 #include <set>
 #include <vector>
