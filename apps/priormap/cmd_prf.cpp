@@ -2,11 +2,13 @@
 // localized laser log (posterior chains, estimates, R̂, optional annealed MAP map);
 // `prior-stats` samples the Arak prior with no data and compares the chain with the process's
 // closed forms.
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <tuple>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/binary_io.hpp>
@@ -205,6 +208,55 @@ class StopOnSignals {
   StopOnSignals& operator=(const StopOnSignals&) = delete;
 };
 
+constexpr double kConvergedRhat = 1.1;
+
+// A thinned stage's log posterior is of a fraction of the data, an order of magnitude below the
+// full data's; saying so keeps the jump at the stage's end from reading as a failure.
+std::string ThinnedNote(int data_stride) {
+  return data_stride > 1 ? fmt::format(" (on 1/{} of the readings)", data_stride) : "";
+}
+
+// The chains' latest log posteriors: up to four in chain order (the order of chainK.png), more
+// as the range of each stage's chains.
+std::string ChainsLogPosteriors(const std::vector<prf::ChainProgress>& chains) {
+  std::vector<prf::ChainProgress> reported;
+  std::ranges::copy_if(chains, std::back_inserter(reported),
+                       [](const prf::ChainProgress& chain) { return chain.reported; });
+  if (reported.empty()) return "";
+  // Chains wait for a free core: while some have not started, the list is not every chain's.
+  const std::string waiting =
+      reported.size() < chains.size()
+          ? fmt::format("; {} of {} chains started", reported.size(), chains.size())
+          : "";
+  const bool one_stage = std::ranges::all_of(reported, [&](const prf::ChainProgress& chain) {
+    return chain.data_stride == reported.front().data_stride;
+  });
+  std::vector<std::string> parts;
+  if (reported.size() <= 4) {
+    for (const prf::ChainProgress& chain : reported)
+      parts.push_back(fmt::format("{:.1f}{}", chain.log_posterior,
+                                  one_stage ? "" : ThinnedNote(chain.data_stride)));
+    return fmt::format("log posterior{} {}{}{}", reported.size() == 1 ? "" : "s",
+                       fmt::join(parts, ", "),
+                       one_stage ? ThinnedNote(reported.front().data_stride) : "", waiting);
+  }
+  std::vector<int> strides;
+  for (const prf::ChainProgress& chain : reported) strides.push_back(chain.data_stride);
+  std::ranges::sort(strides);
+  strides.erase(std::unique(strides.begin(), strides.end()), strides.end());
+  for (const int stride : strides) {
+    std::vector<double> values;
+    for (const prf::ChainProgress& chain : reported)
+      if (chain.data_stride == stride) values.push_back(chain.log_posterior);
+    parts.push_back(values.size() == 1
+                        ? fmt::format("{:.1f}{}", values.front(), ThinnedNote(stride))
+                        : fmt::format("{:.1f} to {:.1f} over {} chains{}", std::ranges::min(values),
+                                      std::ranges::max(values), values.size(),
+                                      ThinnedNote(stride)));
+  }
+  return fmt::format("log posteriors {}{}", fmt::join(parts, "; "), waiting);
+}
+
 // One status line: redrawn in place on a terminal, every 10 % elsewhere.
 class MappingStatus {
  public:
@@ -215,16 +267,13 @@ class MappingStatus {
     if (!terminal_ && percent / 10 == last_percent_ / 10 && p.steps_done != p.steps_total) return;
     if (percent == last_percent_ && p.steps_done != p.steps_total) return;
     last_percent_ = percent;
-    // A thinned stage's log posterior is of a fraction of the data, an order of magnitude below
-    // the full data's; saying so keeps the jump at the stage's end from reading as a failure.
-    const std::string data =
-        p.data_stride > 1 ? fmt::format(" (on 1/{} of the readings)", p.data_stride) : "";
     const std::string line =
-        fmt::format("{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, log posterior {:.1f}{}",
-                    percent, static_cast<double>(p.steps_done - p.steps_resumed) / p.seconds / 1e3,
-                    100.0 * prf::Total(p.counters).AcceptanceRate(), p.log_posterior, data);
+        fmt::format("{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, {}", percent,
+                    static_cast<double>(p.steps_done - p.steps_resumed) / p.seconds / 1e3,
+                    100.0 * prf::Total(p.counters).AcceptanceRate(), ChainsLogPosteriors(p.chains));
+    // Erased to the line's end: a line shorter than the last must not keep the last one's tail.
     if (terminal_)
-      fmt::print(stderr, "\r{}{}", line, p.steps_done == p.steps_total ? "\n" : "");
+      fmt::print(stderr, "\r{}\x1b[K{}", line, p.steps_done == p.steps_total ? "\n" : "");
     else
       fmt::print(stderr, "{}\n", line);
   }
@@ -463,6 +512,14 @@ void RunMappingCommand(MappingCliOptions o) {
       "proposals/s\n",
       o.out, outputs, r.rhat_log_posterior, r.rhat_point_colours,
       summary["proposals_per_second"].get<double>() / 1e3);
+  // Gelman and Rubin's threshold. Chains that have not mixed give estimates that depend on the
+  // seed, which the maps themselves do not show; inf and nan (constant traces) fail it too.
+  if (!(r.rhat_log_posterior < kConvergedRhat && r.rhat_point_colours < kConvergedRhat))
+    fmt::print(stderr,
+               "priormap: warning: the chains have not converged (R-hat not below {}): the "
+               "estimates depend on the seed; run longer (--burn-in, --samples), or pool the "
+               "chains of more runs with `priormap prf rhat`\n",
+               kConvergedRhat);
 }
 
 void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& o) {

@@ -252,7 +252,9 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   });
 
   const std::uint64_t end = options.burn_in + options.samples;
-  std::mutex progress_mutex;
+  std::mutex progress_mutex;  // guards the progress callback and the two vectors below
+  std::vector<ChainProgress> chain_progress(chains);
+  std::vector<MoveCounters> chain_counters(chains);
   std::uint64_t resumed = 0;
   for (std::size_t c = 0; c < chains; ++c) resumed += std::min(session_start[c], end);
   result.resumed_steps = resumed;
@@ -360,13 +362,18 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
       steps_done += target - s;
       if (progress) {
         std::lock_guard lock(progress_mutex);
+        chain_progress[c] = {
+            .reported = true, .log_posterior = chain().LogPosterior(), .data_stride = strides[c]};
+        chain_counters[c] = chain().counters();
+        MoveCounters counters{};
+        for (const MoveCounters& of_chain : chain_counters)
+          for (std::size_t t = 0; t < counters.size(); ++t) counters[t] += of_chain[t];
         progress({.steps_done = steps_done.load(),
                   .steps_total = steps_total,
                   .steps_resumed = resumed,
                   .seconds = Seconds(start),
-                  .log_posterior = chain().LogPosterior(),
-                  .data_stride = strides[c],
-                  .counters = chain().counters()});
+                  .chains = chain_progress,
+                  .counters = counters});
       }
       checkpoint(false);
     }

@@ -3,6 +3,7 @@
 // in the summary) and by the occupancy grid; bad options reported without output.
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -21,6 +22,7 @@ namespace {
 
 using nlohmann::json;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 class PrfCli : public priormap::testing::CliFixture {};
 
@@ -104,6 +106,10 @@ TEST_F(MappingCli, PrfWritesThePosteriorTheMapAndASummary) {
   EXPECT_GT(summary["proposals_per_second"].get<double>(), 0.0);
   EXPECT_GT(summary["wall_time_s"].get<double>(), 0.0);
   EXPECT_EQ(summary["log_posterior"].size(), 2u);
+  // The last progress line shows both chains' final log posteriors, in chain order.
+  EXPECT_THAT(r.err, HasSubstr(fmt::format("log posteriors {:.1f}, {:.1f}\n",
+                                           summary["log_posterior"][0].get<double>(),
+                                           summary["log_posterior"][1].get<double>())));
   // The log-posterior splits into the prior's part and the data's.
   for (std::size_t c = 0; c < 2; ++c)
     EXPECT_NEAR(summary["log_prior"][c].get<double>() + summary["log_likelihood"][c].get<double>(),
@@ -126,6 +132,32 @@ TEST_F(MappingCli, PrfWritesThePosteriorTheMapAndASummary) {
             testing::ReadAll(Work("run1") / "posterior.pgm"));
   EXPECT_EQ(testing::ReadAll(Work("run2") / "map.geojson"),
             testing::ReadAll(Work("run1") / "map.geojson"));
+}
+
+TEST_F(MappingCli, PrfWarnsWhenItsChainsHaveNotConverged) {
+  const auto run = [&](const std::vector<std::string>& extra, const std::string& dir) {
+    std::vector<std::string> args = {"prf", "--log",  "room.log", "--p", "0.5", "--chains",
+                                     "2",   "--seed", "3",        "-o",  dir};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = Run(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    const json rhat = json::parse(testing::ReadAll(Work(dir) / "summary.json"))["rhat"];
+    return std::pair{r.err, rhat};
+  };
+  // All the beams, a short burn-in: the chains are still apart.
+  const auto [short_err, short_rhat] =
+      run({"--beam-step", "4", "--burn-in", "1000", "--samples", "20000", "--trace-every", "1000"},
+          "short");
+  ASSERT_GT(short_rhat["log_posterior"].get<double>(), 1.1);
+  EXPECT_THAT(short_err, HasSubstr("priormap: warning: the chains have not converged"));
+  // Three scans, every 16th beam, three million samples: both R̂ far below 1.1, no warning.
+  const auto [long_err, long_rhat] =
+      run({"--range", "0:3", "--beam-step", "16", "--burn-in", "100000", "--samples", "3000000",
+           "--trace-every", "20000"},
+          "long");
+  ASSERT_LT(long_rhat["log_posterior"].get<double>(), 1.05);
+  ASSERT_LT(long_rhat["point_colours"].get<double>(), 1.05);
+  EXPECT_THAT(long_err, Not(HasSubstr("warning")));
 }
 
 TEST_F(MappingCli, AStoppedRunResumesToTheUninterruptedResult) {

@@ -154,14 +154,22 @@ struct ChainSummary {
   Eigen::MatrixXd black_fraction;
 };
 
+/// A chain as it stood at its latest progress report.
+struct ChainProgress {
+  bool reported = false;       // false until the chain's first report of the session
+  double log_posterior = 0.0;  // under its stage's data:
+  int data_stride = 1;         // 1/data_stride of the readings (KeptByThinning); 1: all of them
+};
+
+/// Every report shows all the chains, each at its own latest report: a line built from the
+/// reporting chain alone would jump between chains whose log-posteriors differ by their modes.
 struct MappingProgress {
   std::uint64_t steps_done = 0;  // over all chains, restored ones included
   std::uint64_t steps_total = 0;
   std::uint64_t steps_resumed = 0;  // of steps_done, restored from checkpoints
   double seconds = 0.0;
-  double log_posterior = 0.0;  // of the chain reporting, under its stage's data:
-  int data_stride = 1;         // 1/data_stride of the readings (KeptByThinning); 1: all of them
-  MoveCounters counters{};     // of the chain reporting
+  std::vector<ChainProgress> chains;  // one per chain, in chain order
+  MoveCounters counters{};            // summed over the chains' latest reports
 };
 
 struct MappingResult {

@@ -1,0 +1,62 @@
+// MappingProgress: every report shows every chain at its own latest report, so that a run's
+// status line follows all its chains instead of whichever reported last.
+#include <cstddef>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <priormap/prf/mapping.hpp>
+
+#include "mapping_testing.hpp"
+
+namespace priormap::prf {
+namespace {
+
+MappingOptions TwoChains() {
+  MappingOptions options;
+  options.sampler.p = 0.5;
+  options.burn_in = 3000;
+  options.samples = 3000;
+  options.chains = 2;
+  options.seed = 4;
+  options.trace_every = 500;
+  options.chunk = 500;
+  return options;
+}
+
+TEST(MappingProgress, EachReportHoldsEveryChainAtItsLatestReport) {
+  const MappingOptions options = TwoChains();
+  std::vector<MappingProgress> reports;
+  const MappingResult result = RunMapping(LaserMappingData(RoomData(), options), options,
+                                          [&](const MappingProgress& p) { reports.push_back(p); });
+  ASSERT_TRUE(result.complete);
+  ASSERT_EQ(result.chains.size(), 2u);
+  // One report per chunk of each chain.
+  ASSERT_EQ(reports.size(), 2 * (options.burn_in + options.samples) / options.chunk);
+  for (std::size_t k = 0; k < reports.size(); ++k) {
+    ASSERT_EQ(reports[k].chains.size(), 2u) << "report " << k;
+    if (k > 0) {
+      EXPECT_GT(reports[k].steps_done, reports[k - 1].steps_done);
+    }
+  }
+  // The first report comes from one chain, before the other has reported.
+  EXPECT_NE(reports.front().chains[0].reported, reports.front().chains[1].reported);
+  const MappingProgress& last = reports.back();
+  EXPECT_EQ(last.steps_done, last.steps_total);
+  MoveCounters summed{};
+  for (std::size_t c = 0; c < 2; ++c) {
+    ASSERT_TRUE(last.chains[c].reported) << "chain " << c;
+    EXPECT_EQ(last.chains[c].log_posterior, result.chains[c].log_posterior) << "chain " << c;
+    EXPECT_EQ(last.chains[c].data_stride, 1);
+    for (std::size_t t = 0; t < summed.size(); ++t) summed[t] += result.chains[c].counters[t];
+  }
+  // Chains from different seeds end apart: the report is not one chain's state twice.
+  EXPECT_NE(last.chains[0].log_posterior, last.chains[1].log_posterior);
+  for (std::size_t t = 0; t < summed.size(); ++t) {
+    EXPECT_EQ(last.counters[t].proposed, summed[t].proposed) << MoveTypeName(MoveType(t));
+    EXPECT_EQ(last.counters[t].accepted, summed[t].accepted) << MoveTypeName(MoveType(t));
+  }
+}
+
+}  // namespace
+}  // namespace priormap::prf
