@@ -4,11 +4,11 @@
 // closed forms.
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <iterator>
 #include <memory>
 #include <string>
 #include <tuple>
@@ -17,7 +17,6 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/binary_io.hpp>
@@ -33,6 +32,7 @@
 #include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/render/prf_figures.hpp>
 
+#include "chains_status.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "log_selection.hpp"
@@ -208,54 +208,8 @@ class StopOnSignals {
   StopOnSignals& operator=(const StopOnSignals&) = delete;
 };
 
+// The threshold of Gelman et al., Bayesian Data Analysis (3rd ed.), which rhat.hpp follows.
 constexpr double kConvergedRhat = 1.1;
-
-// A thinned stage's log posterior is of a fraction of the data, an order of magnitude below the
-// full data's; saying so keeps the jump at the stage's end from reading as a failure.
-std::string ThinnedNote(int data_stride) {
-  return data_stride > 1 ? fmt::format(" (on 1/{} of the readings)", data_stride) : "";
-}
-
-// The chains' latest log posteriors: up to four in chain order (the order of chainK.png), more
-// as the range of each stage's chains.
-std::string ChainsLogPosteriors(const std::vector<prf::ChainProgress>& chains) {
-  std::vector<prf::ChainProgress> reported;
-  std::ranges::copy_if(chains, std::back_inserter(reported),
-                       [](const prf::ChainProgress& chain) { return chain.reported; });
-  if (reported.empty()) return "";
-  // Chains wait for a free core: while some have not started, the list is not every chain's.
-  const std::string waiting =
-      reported.size() < chains.size()
-          ? fmt::format("; {} of {} chains started", reported.size(), chains.size())
-          : "";
-  const bool one_stage = std::ranges::all_of(reported, [&](const prf::ChainProgress& chain) {
-    return chain.data_stride == reported.front().data_stride;
-  });
-  std::vector<std::string> parts;
-  if (reported.size() <= 4) {
-    for (const prf::ChainProgress& chain : reported)
-      parts.push_back(fmt::format("{:.1f}{}", chain.log_posterior,
-                                  one_stage ? "" : ThinnedNote(chain.data_stride)));
-    return fmt::format("log posterior{} {}{}{}", reported.size() == 1 ? "" : "s",
-                       fmt::join(parts, ", "),
-                       one_stage ? ThinnedNote(reported.front().data_stride) : "", waiting);
-  }
-  std::vector<int> strides;
-  for (const prf::ChainProgress& chain : reported) strides.push_back(chain.data_stride);
-  std::ranges::sort(strides);
-  strides.erase(std::unique(strides.begin(), strides.end()), strides.end());
-  for (const int stride : strides) {
-    std::vector<double> values;
-    for (const prf::ChainProgress& chain : reported)
-      if (chain.data_stride == stride) values.push_back(chain.log_posterior);
-    parts.push_back(values.size() == 1
-                        ? fmt::format("{:.1f}{}", values.front(), ThinnedNote(stride))
-                        : fmt::format("{:.1f} to {:.1f} over {} chains{}", std::ranges::min(values),
-                                      std::ranges::max(values), values.size(),
-                                      ThinnedNote(stride)));
-  }
-  return fmt::format("log posteriors {}{}", fmt::join(parts, "; "), waiting);
-}
 
 // One status line: redrawn in place on a terminal, every 10 % elsewhere.
 class MappingStatus {
@@ -512,9 +466,13 @@ void RunMappingCommand(MappingCliOptions o) {
       "proposals/s\n",
       o.out, outputs, r.rhat_log_posterior, r.rhat_point_colours,
       summary["proposals_per_second"].get<double>() / 1e3);
-  // Gelman and Rubin's threshold. Chains that have not mixed give estimates that depend on the
-  // seed, which the maps themselves do not show; inf and nan (constant traces) fail it too.
-  if (!(r.rhat_log_posterior < kConvergedRhat && r.rhat_point_colours < kConvergedRhat))
+  // Chains that have not mixed give estimates that depend on the seed, which the maps
+  // themselves do not show. R̂ is NaN when there were too few records to compute it.
+  if (std::isnan(r.rhat_log_posterior))
+    fmt::print(stderr,
+               "priormap: warning: too few trace records for R-hat, so convergence is not "
+               "checked: --samples must be at least 4 times --trace-every\n");
+  else if (!(r.rhat_log_posterior < kConvergedRhat && r.rhat_point_colours < kConvergedRhat))
     fmt::print(stderr,
                "priormap: warning: the chains have not converged (R-hat not below {}): the "
                "estimates depend on the seed; run longer (--burn-in, --samples), or pool the "

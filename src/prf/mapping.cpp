@@ -255,6 +255,13 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   std::mutex progress_mutex;  // guards the progress callback and the two vectors below
   std::vector<ChainProgress> chain_progress(chains);
   std::vector<MoveCounters> chain_counters(chains);
+  // A chain restored at its end takes no step this session, so it would never report.
+  for (std::size_t c = 0; c < chains; ++c)
+    if (session_start[c] >= end) {
+      const PrfSampler& finished = ladders[c] ? ladders[c]->cold() : *samplers[c];
+      chain_progress[c] = {.reported = true, .log_posterior = finished.LogPosterior()};
+      chain_counters[c] = finished.counters();
+    }
   std::uint64_t resumed = 0;
   for (std::size_t c = 0; c < chains; ++c) resumed += std::min(session_start[c], end);
   result.resumed_steps = resumed;
@@ -359,9 +366,11 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
           summary.point_traces[k].push_back(
               chain().coloring().ColourAt(result.trace_points[k]) == Colour::kBlack ? 1.0 : 0.0);
       }
-      steps_done += target - s;
       if (progress) {
         std::lock_guard lock(progress_mutex);
+        // Counted under the lock: a count taken before another chain's report would reach that
+        // report with this chain's steps but not its state.
+        steps_done += target - s;
         chain_progress[c] = {
             .reported = true, .log_posterior = chain().LogPosterior(), .data_stride = strides[c]};
         chain_counters[c] = chain().counters();
@@ -374,6 +383,8 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                   .seconds = Seconds(start),
                   .chains = chain_progress,
                   .counters = counters});
+      } else {
+        steps_done += target - s;
       }
       checkpoint(false);
     }

@@ -144,7 +144,7 @@ TEST_F(MappingCli, PrfWarnsWhenItsChainsHaveNotConverged) {
     const json rhat = json::parse(testing::ReadAll(Work(dir) / "summary.json"))["rhat"];
     return std::pair{r.err, rhat};
   };
-  // All the beams, a short burn-in: the chains are still apart.
+  // All the scans, every 4th beam, a 1,000-step burn-in: the chains are still apart.
   const auto [short_err, short_rhat] =
       run({"--beam-step", "4", "--burn-in", "1000", "--samples", "20000", "--trace-every", "1000"},
           "short");

@@ -1,13 +1,16 @@
 // MappingProgress: every report shows every chain at its own latest report, so that a run's
 // status line follows all its chains instead of whichever reported last.
 #include <cstddef>
+#include <filesystem>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include <priormap/prf/chain_checkpoint.hpp>
 #include <priormap/prf/mapping.hpp>
 
 #include "mapping_testing.hpp"
+#include "testing/temp_dir.hpp"
 
 namespace priormap::prf {
 namespace {
@@ -55,7 +58,38 @@ TEST(MappingProgress, EachReportHoldsEveryChainAtItsLatestReport) {
   for (std::size_t t = 0; t < summed.size(); ++t) {
     EXPECT_EQ(last.counters[t].proposed, summed[t].proposed) << MoveTypeName(MoveType(t));
     EXPECT_EQ(last.counters[t].accepted, summed[t].accepted) << MoveTypeName(MoveType(t));
+    EXPECT_EQ(last.counters[t].invalid, summed[t].invalid) << MoveTypeName(MoveType(t));
+    EXPECT_EQ(last.counters[t].screened_out, summed[t].screened_out) << MoveTypeName(MoveType(t));
   }
+}
+
+TEST(MappingProgress, AChainRestoredAtItsEndIsReportedThoughItTakesNoStep) {
+  const MappingOptions options = TwoChains();
+  const MappingData data = LaserMappingData(RoomData(), options);
+  const testing::TempDir checkpoints;
+  const MappingSession first = {.checkpoint_directory = checkpoints.path(),
+                                .checkpoint_every_s = 1e9};
+  const MappingResult whole = RunMapping(data, options, {}, first);
+  ASSERT_TRUE(whole.complete);
+  // Chain 0 is restored at its end; chain 1, without its checkpoint, starts afresh.
+  ASSERT_TRUE(std::filesystem::remove(ChainCheckpointPath(checkpoints.path(), 1)));
+  MappingSession resumed = first;
+  resumed.resume = true;
+  std::vector<MappingProgress> reports;
+  const MappingResult result = RunMapping(
+      data, options, [&](const MappingProgress& p) { reports.push_back(p); }, resumed);
+  ASSERT_TRUE(result.complete);
+  // Only chain 1 steps, one report per chunk; each shows chain 0's end.
+  ASSERT_EQ(reports.size(), (options.burn_in + options.samples) / options.chunk);
+  for (const MappingProgress& p : reports) {
+    ASSERT_EQ(p.chains.size(), 2u);
+    ASSERT_TRUE(p.chains[0].reported);
+    EXPECT_EQ(p.chains[0].log_posterior, whole.chains[0].log_posterior);
+  }
+  EXPECT_EQ(reports.back().chains[1].log_posterior, whole.chains[1].log_posterior);
+  // The acceptance counts chain 0's moves too.
+  EXPECT_EQ(Total(reports.back().counters).proposed,
+            Total(whole.chains[0].counters).proposed + Total(whole.chains[1].counters).proposed);
 }
 
 }  // namespace
