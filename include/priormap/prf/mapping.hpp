@@ -156,7 +156,7 @@ struct ChainSummary {
 
 /// A chain as it stood at its latest progress report.
 struct ChainProgress {
-  bool reported = false;       // false until the chain's first report of the session
+  bool reported = false;  // false until the chain reports this session (or is restored finished)
   double log_posterior = 0.0;  // under its stage's data:
   int data_stride = 1;         // 1/data_stride of the readings (KeptByThinning); 1: all of them
 };
