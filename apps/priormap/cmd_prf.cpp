@@ -423,7 +423,7 @@ void RunMappingCommand(MappingCliOptions o) {
     summary["log_posterior"].push_back(chain.log_posterior);
     summary["log_prior"].push_back(chain.log_prior);
     summary["log_likelihood"].push_back(chain.log_likelihood);
-    for (std::size_t t = 0; t < total.size(); ++t) total[t] += chain.counters[t];
+    prf::AddCounters(&total, chain.counters);
   }
   summary["acceptance"] = AcceptanceJson(total);
   summary["edges"] = nlohmann::json::array();

@@ -375,8 +375,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
             .reported = true, .log_posterior = chain().LogPosterior(), .data_stride = strides[c]};
         chain_counters[c] = chain().counters();
         MoveCounters counters{};
-        for (const MoveCounters& of_chain : chain_counters)
-          for (std::size_t t = 0; t < counters.size(); ++t) counters[t] += of_chain[t];
+        for (const MoveCounters& of_chain : chain_counters) AddCounters(&counters, of_chain);
         progress({.steps_done = steps_done.load(),
                   .steps_total = steps_total,
                   .steps_resumed = resumed,

@@ -4,6 +4,7 @@
 /// docs/prf-moves.md derives each proposal density and Hastings ratio.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -77,6 +78,11 @@ struct MoveCounter {
   }
 };
 using MoveCounters = std::array<MoveCounter, kNumMoveTypes>;
+
+/// Adds `more`'s counts to `total`, move type by move type (several chains' counters together).
+inline void AddCounters(MoveCounters* total, const MoveCounters& more) {
+  for (std::size_t t = 0; t < total->size(); ++t) (*total)[t] += more[t];
+}
 
 /// The counts of all move types together.
 [[nodiscard]] inline MoveCounter Total(const MoveCounters& counters) {
