@@ -179,6 +179,18 @@ void LogOddsCells::TraceStepwise(const Line& line, const CellUpdate& along) {
   }
 }
 
+LogOddsCells CellsCovering(const Box2& extent, double resolution) {
+  if (extent.isEmpty()) throw std::invalid_argument("the grid's extent is empty");
+  const Vec2 size = extent.sizes() / resolution;
+  if (size.x() * size.y() > 4e9) throw std::invalid_argument("the grid would exceed 4e9 cells");
+  return {std::max(1, static_cast<int>(std::ceil(size.x()))),
+          std::max(1, static_cast<int>(std::ceil(size.y())))};
+}
+
+double LogOddsOf(std::int8_t cell, double scale) {
+  return cell == LogOddsCells::kUnobserved ? 0.0 : cell / scale;
+}
+
 OccupancyRaster RasterOf(const LogOddsCells& cells, const Vec2& origin, double resolution,
                          double scale) {
   OccupancyRaster raster;

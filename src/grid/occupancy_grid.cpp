@@ -60,14 +60,6 @@ const GridOptions& Validated(const GridOptions& options) {
   return options;
 }
 
-LogOddsCells CellsCovering(const Box2& extent, double resolution) {
-  if (extent.isEmpty()) throw std::invalid_argument("the grid's extent is empty");
-  const Vec2 size = extent.sizes() / resolution;
-  if (size.x() * size.y() > 4e9) throw std::invalid_argument("the grid would exceed 4e9 cells");
-  return {std::max(1, static_cast<int>(std::ceil(size.x()))),
-          std::max(1, static_cast<int>(std::ceil(size.y())))};
-}
-
 }  // namespace
 
 // ±limit spans the 8-bit range; an update is at least one step.
@@ -144,8 +136,7 @@ void OccupancyGrid::InsertBeam(const Vec2& origin, const Vec2& end, bool hit) {
 }
 
 double OccupancyGrid::LogOdds(int ix, int iy) const {
-  const std::int8_t cell = cells_.Get(ix, iy);
-  return cell == LogOddsCells::kUnobserved ? 0.0 : cell / scale_;
+  return LogOddsOf(cells_.Get(ix, iy), scale_);
 }
 
 OccupancyRaster OccupancyGrid::Raster() const {

@@ -26,14 +26,6 @@ const SonarGridOptions& Validated(const SonarGridOptions& o) {
   return o;
 }
 
-LogOddsCells CellsCovering(const Box2& extent, double resolution) {
-  if (extent.isEmpty()) throw std::invalid_argument("the grid's extent is empty");
-  const Vec2 size = extent.sizes() / resolution;
-  if (size.x() * size.y() > 4e9) throw std::invalid_argument("the grid would exceed 4e9 cells");
-  return {std::max(1, static_cast<int>(std::ceil(size.x()))),
-          std::max(1, static_cast<int>(std::ceil(size.y())))};
-}
-
 int Steps(double log_odds, double scale) {
   const int steps = static_cast<int>(std::lround(log_odds * scale));
   return log_odds > 0.0 ? std::clamp(steps, 1, kLimit) : std::clamp(steps, -kLimit, -1);
@@ -156,8 +148,7 @@ void SonarGrid::InsertCone(const Vec2& origin, double axis, double half_spread, 
 }
 
 double SonarGrid::LogOdds(int ix, int iy) const {
-  const std::int8_t cell = cells_.Get(ix, iy);
-  return cell == LogOddsCells::kUnobserved ? 0.0 : cell / scale_;
+  return LogOddsOf(cells_.Get(ix, iy), scale_);
 }
 
 OccupancyRaster SonarGrid::Raster() const {

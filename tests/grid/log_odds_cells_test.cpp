@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include <climits>
@@ -217,6 +218,24 @@ TEST(LogOddsCells, RasterOfGivesTheLogisticOfTheStates) {
   EXPECT_DOUBLE_EQ(raster.probability(0, 1), 1.0 / (1.0 + std::exp(40.0 * 4.0 / 127.0)));
   EXPECT_DOUBLE_EQ(raster.probability(1, 2), 0.5);
   EXPECT_TRUE(std::isnan(raster.probability(1, 0)));
+}
+
+TEST(LogOddsCells, CellsCoveringRoundEachSideUpToWholeCells) {
+  const LogOddsCells cells = CellsCovering(Box2(Vec2(-1.0, 2.0), Vec2(1.01, 2.5)), 0.1);
+  EXPECT_EQ(cells.width(), 21);  // 2.01 m: 20 cells and a sliver
+  EXPECT_EQ(cells.height(), 5);
+  const LogOddsCells line = CellsCovering(Box2(Vec2(0.0, 0.0), Vec2(3.0, 0.0)), 0.5);
+  EXPECT_EQ(line.width(), 6);
+  EXPECT_EQ(line.height(), 1);  // a flat extent still gets a row
+  EXPECT_THROW((void)CellsCovering(Box2(), 0.1), std::invalid_argument);
+  EXPECT_THROW((void)CellsCovering(Box2(Vec2(0.0, 0.0), Vec2(1e4, 1e4)), 0.1),
+               std::invalid_argument);  // 1e10 cells
+}
+
+TEST(LogOddsCells, LogOddsOfAnUnobservedCellIsEvenOdds) {
+  EXPECT_EQ(LogOddsOf(kUnobserved, 127.0 / 4.0), 0.0);
+  EXPECT_DOUBLE_EQ(LogOddsOf(127, 127.0 / 4.0), 4.0);
+  EXPECT_DOUBLE_EQ(LogOddsOf(-40, 127.0 / 4.0), -40.0 * 4.0 / 127.0);
 }
 
 }  // namespace

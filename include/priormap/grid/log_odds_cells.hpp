@@ -1,6 +1,6 @@
 #pragma once
 /// The storage and the update primitives of 8-bit log-odds occupancy grids, shared by their
-/// inverse sensor models (the laser's rays here; a sonar's arcs could use the same): cells are
+/// inverse sensor models (the laser's rays and the sonar's cones): cells are
 /// saturated fixed-point log-odds, updated through a table over the cell's 256 states, and kept
 /// in 8x8 tiles of 64 bytes (one cache line) so that a line in any direction touches few lines
 /// (a few per cent faster than rows on the real logs of docs/benchmarks.md).
@@ -82,6 +82,13 @@ class LogOddsCells {
   std::vector<std::uint32_t> row_offset_;     // per iy
   std::vector<std::int8_t> cells_;
 };
+
+/// The cells of `resolution` m that cover `extent` from its lower-left corner, at least one per
+/// side. Throws std::invalid_argument for an empty extent or more than 4e9 cells.
+[[nodiscard]] LogOddsCells CellsCovering(const Box2& extent, double resolution);
+
+/// A cell's log-odds: its fixed-point state over `scale`, 0 (even odds) where never observed.
+[[nodiscard]] double LogOddsOf(std::int8_t cell, double scale);
 
 /// P(occupied) = 1 / (1 + exp(-state / scale)) per cell, NaN where never observed, row 0 at the
 /// bottom; cell (0, 0)'s lower-left corner at `origin`, `resolution` m per cell.
