@@ -28,6 +28,7 @@
 #include <priormap/prf/polygon_map.hpp>
 #include <priormap/prf/pooled_rhat.hpp>
 #include <priormap/prf/prior_stats.hpp>
+#include <priormap/prf/rhat.hpp>
 #include <priormap/prf/sonar_mapping.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/render/prf_figures.hpp>
@@ -207,9 +208,6 @@ class StopOnSignals {
   StopOnSignals(const StopOnSignals&) = delete;
   StopOnSignals& operator=(const StopOnSignals&) = delete;
 };
-
-// The threshold of Gelman et al., Bayesian Data Analysis (3rd ed.), which rhat.hpp follows.
-constexpr double kConvergedRhat = 1.1;
 
 // One status line: redrawn in place on a terminal, every 10 % elsewhere.
 class MappingStatus {
@@ -472,12 +470,14 @@ void RunMappingCommand(MappingCliOptions o) {
     fmt::print(stderr,
                "priormap: warning: too few trace records for R-hat, so convergence is not "
                "checked: --samples must be at least 4 times --trace-every\n");
-  else if (!(r.rhat_log_posterior < kConvergedRhat && r.rhat_point_colours < kConvergedRhat))
+  else if (!(r.rhat_log_posterior < prf::kConvergedRhat &&
+             r.rhat_point_colours < prf::kConvergedRhat))
     fmt::print(stderr,
                "priormap: warning: the chains have not converged (R-hat not below {}): the "
                "estimates depend on the seed; run longer (--burn-in, --samples), or pool the "
-               "chains of more runs with `priormap prf rhat`\n",
-               kConvergedRhat);
+               "chains of more runs with `priormap prf rhat`, which also lists the trace points "
+               "where the chains disagree\n",
+               prf::kConvergedRhat);
 }
 
 void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& o) {

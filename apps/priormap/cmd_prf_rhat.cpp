@@ -13,6 +13,7 @@
 
 #include <priormap/core/file_io.hpp>
 #include <priormap/prf/pooled_rhat.hpp>
+#include <priormap/prf/rhat.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -142,6 +143,31 @@ LoadedRun LoadRun(const std::string& dir) {
   return loaded;
 }
 
+// The trace points whose R̂ is not below the threshold, worst first, with where they are and
+// how often each chain (run after run) held them black: where the chains' maps differ.
+nlohmann::ordered_json DisagreeingPoints(const prf::PooledRhat& r,
+                                         const nlohmann::json* trace_points) {
+  std::vector<const prf::PointRhat*> disagreeing;
+  for (const prf::PointRhat& point : r.point_rhats)
+    if (!(point.rhat < prf::kConvergedRhat)) disagreeing.push_back(&point);
+  // NaN (overflowed sums) counts as the worst.
+  const auto worse = [](const prf::PointRhat* a, const prf::PointRhat* b) {
+    return std::isnan(a->rhat) ? !std::isnan(b->rhat) : a->rhat > b->rhat;
+  };
+  std::ranges::stable_sort(disagreeing, worse);
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const prf::PointRhat* point : disagreeing) {
+    nlohmann::ordered_json entry;
+    entry["point"] = point->point;
+    if (trace_points != nullptr && point->point < trace_points->size())
+      entry["at"] = (*trace_points)[point->point];
+    entry["rhat"] = RhatJson(point->rhat);
+    entry["black"] = point->black;
+    out.push_back(std::move(entry));
+  }
+  return out;
+}
+
 void RunRhat(const RhatCliOptions& o) {
   std::vector<LoadedRun> runs;
   for (const std::string& dir : o.runs) runs.push_back(LoadRun(dir));
@@ -180,6 +206,7 @@ void RunRhat(const RhatCliOptions& o) {
   if (r.point_colours) {
     out["rhat"]["point_colours"] = RhatJson(*r.point_colours);
     out["rhat"]["points"] = r.points;
+    out["disagreeing_points"] = DisagreeingPoints(r, traced ? &traced->trace_points : nullptr);
   } else {
     out["rhat"]["point_colours"] = nullptr;
     out["rhat"]["why_no_point_colours"] =

@@ -2,6 +2,7 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <set>
 
 #include <fmt/format.h>
@@ -280,11 +281,18 @@ std::variant<PooledRhat, std::string> PoolRhat(const std::vector<PooledRun>& run
   double largest = 1.0;  // as a run's own R̂ has it when there are no points
   for (std::size_t k = 0; k < points; ++k) {
     traces.clear();
+    PointRhat point;
+    point.point = k;
     for (const PooledRun& run : runs)
-      for (const auto& chain : run.traces.point_colours)
+      for (const auto& chain : run.traces.point_colours) {
         traces.emplace_back(chain[k].begin(),
                             chain[k].begin() + static_cast<std::ptrdiff_t>(records));
-    largest = std::max(largest, SplitRhat(traces));
+        point.black.push_back(std::accumulate(traces.back().begin(), traces.back().end(), 0.0) /
+                              static_cast<double>(records));
+      }
+    point.rhat = SplitRhat(traces);
+    largest = std::max(largest, point.rhat);
+    pooled.point_rhats.push_back(std::move(point));
   }
   pooled.point_colours = largest;
   return pooled;

@@ -296,14 +296,33 @@ TEST_F(MappingCli, RhatPoolsTheChainsOfSeveralRuns) {
   const prf::RunTraces a = TracesOf(Work("a")), b = TracesOf(Work("b"));
   for (const prf::RunTraces* t : {&a, &b})
     lp.insert(lp.end(), t->log_posterior.begin(), t->log_posterior.end());
+  std::vector<std::pair<double, std::size_t>> disagreeing;  // (R̂, point), worst first
   for (std::size_t k = 0; k < a.point_colours[0].size(); ++k) {
     std::vector<std::vector<double>> point;
     for (const prf::RunTraces* t : {&a, &b})
       for (const auto& chain : t->point_colours) point.push_back(chain[k]);
     colours = std::max(colours, prf::SplitRhat(point));
+    if (!(prf::SplitRhat(point) < prf::kConvergedRhat))
+      disagreeing.emplace_back(prf::SplitRhat(point), k);
   }
   EXPECT_DOUBLE_EQ(rhat(both["rhat"]["log_posterior"]), prf::SplitRhat(lp));
   EXPECT_EQ(rhat(both["rhat"]["point_colours"]), colours);
+  // The points behind a colours' R̂ not below 1.1, worst first, where they are and how often
+  // each chain held them black.
+  std::ranges::stable_sort(disagreeing, std::greater{}, [](const auto& p) { return p.first; });
+  ASSERT_FALSE(disagreeing.empty());  // the colours' R̂ of seed 5 alone is above 1
+  ASSERT_EQ(both["disagreeing_points"].size(), disagreeing.size());
+  for (std::size_t i = 0; i < disagreeing.size(); ++i) {
+    const json& point = both["disagreeing_points"][i];
+    const std::size_t k = disagreeing[i].second;
+    EXPECT_EQ(point["point"], k);
+    EXPECT_EQ(point["at"], summary["trace_points"][k]);
+    EXPECT_EQ(rhat(point["rhat"]), disagreeing[i].first);
+    ASSERT_EQ(point["black"].size(), 4u);
+    double black = 0.0;
+    for (double c : b.point_colours[1][k]) black += c;
+    EXPECT_DOUBLE_EQ(point["black"][3].get<double>(), black / b.point_colours[1][k].size());
+  }
 
   // What cannot be pooled.
   EXPECT_THAT(RunFailing({"prf", "rhat", "a", "a"}).err,

@@ -131,6 +131,47 @@ TEST(PoolRhat, IsSplitRhatOverEveryChainOfEveryRun) {
   EXPECT_NEAR(r.second_half_means[4], mean, 1e-12);
 }
 
+TEST(PoolRhat, GivesEachPointsRhatAndEachChainsShareOfBlack) {
+  // Two runs of two chains that agree on point 0 (black half the time) and not on point 1
+  // (black in 20 % of one run's records, 90 % of the other's).
+  std::vector<PooledRun> runs = {NormalRun("a", 1, 2, 0.0, 400, 0.5),
+                                 NormalRun("b", 3, 2, 0.0, 400, 0.5)};
+  Rng rng(11);
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    for (auto& chain : runs[r].traces.point_colours) {
+      std::vector<double> colours;
+      for (std::size_t i = 0; i < 400; ++i)
+        colours.push_back(rng.Uniform() < (r == 0 ? 0.2 : 0.9) ? 1.0 : 0.0);
+      chain.push_back(colours);
+    }
+  const auto pooled = PoolRhat(runs);
+  ASSERT_TRUE(std::holds_alternative<PooledRhat>(pooled)) << std::get<std::string>(pooled);
+  const PooledRhat& r = std::get<PooledRhat>(pooled);
+  ASSERT_EQ(r.point_rhats.size(), 2u);
+  double largest = 1.0;
+  for (std::size_t k = 0; k < 2; ++k) {
+    const PointRhat& point = r.point_rhats[k];
+    EXPECT_EQ(point.point, k);
+    std::vector<std::vector<double>> traces;
+    ASSERT_EQ(point.black.size(), 4u);
+    std::size_t chain = 0;
+    for (const PooledRun& run : runs)
+      for (const auto& colours : run.traces.point_colours) {
+        traces.push_back(colours[k]);
+        double black = 0.0;
+        for (double c : colours[k]) black += c;
+        EXPECT_DOUBLE_EQ(point.black[chain++], black / 400.0);
+      }
+    EXPECT_DOUBLE_EQ(point.rhat, SplitRhat(traces));
+    largest = std::max(largest, point.rhat);
+  }
+  EXPECT_LT(r.point_rhats[0].rhat, kConvergedRhat);
+  EXPECT_GT(r.point_rhats[1].rhat, kConvergedRhat);
+  EXPECT_LT(r.point_rhats[1].black[1], 0.3);
+  EXPECT_GT(r.point_rhats[1].black[2], 0.8);
+  EXPECT_EQ(*r.point_colours, largest);
+}
+
 TEST(PoolRhat, CatchesRunsThatAgreeWithinButNotAcross) {
   // Each run's two chains sample N(0, 1) or N(3, 1): each run's own R̂ is near 1.
   const PooledRun low = NormalRun("low", 1, 2, 0.0, 1000);

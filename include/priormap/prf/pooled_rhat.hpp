@@ -50,6 +50,13 @@ struct PooledRun {
   RunTraces traces;
 };
 
+/// One trace point's R̂ over the pooled chains, and what each chain made of the point.
+struct PointRhat {
+  std::size_t point = 0;  // its index among the trace points
+  double rhat = 1.0;
+  std::vector<double> black;  // per chain: the share of its records in which the point is black
+};
+
 struct PooledRhat {
   std::size_t chains = 0;
   /// Records per chain that enter R̂: the shortest run's.
@@ -59,6 +66,9 @@ struct PooledRhat {
   /// unless every run recorded them.
   std::optional<double> point_colours;
   std::size_t points = 0;
+  /// Each trace point's R̂, in the points' order (none without point_colours), so that a
+  /// large R̂ can be traced to the places where the chains' maps differ.
+  std::vector<PointRhat> point_rhats;
   /// Each chain's mean log-posterior over the second half of the records that enter R̂ (the
   /// shortest run's), run after run.
   std::vector<double> second_half_means;

@@ -9,6 +9,10 @@
 
 namespace priormap::prf {
 
+/// Below this R̂ the chains are taken to agree: BDA3 (Sec. 11.4) runs chains until every
+/// estimand's R̂ is below 1.1.
+inline constexpr double kConvergedRhat = 1.1;
+
 /// Split-R̂ of equally long traces (the shortest length is used). 1 when every half is constant
 /// at the same value; +inf when halves are constant at different values. Precondition: at
 /// least one trace of length >= 4.
