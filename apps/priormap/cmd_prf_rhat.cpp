@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -150,11 +151,8 @@ nlohmann::ordered_json DisagreeingPoints(const prf::PooledRhat& r,
   std::vector<const prf::PointRhat*> disagreeing;
   for (const prf::PointRhat& point : r.point_rhats)
     if (!(point.rhat < prf::kConvergedRhat)) disagreeing.push_back(&point);
-  // NaN (overflowed sums) counts as the worst.
-  const auto worse = [](const prf::PointRhat* a, const prf::PointRhat* b) {
-    return std::isnan(a->rhat) ? !std::isnan(b->rhat) : a->rhat > b->rhat;
-  };
-  std::ranges::stable_sort(disagreeing, worse);
+  // Colours are read as 0 or 1 only, so a point's R̂ is finite or +inf, never NaN.
+  std::ranges::stable_sort(disagreeing, std::greater{}, &prf::PointRhat::rhat);
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const prf::PointRhat* point : disagreeing) {
     nlohmann::ordered_json entry;
