@@ -219,10 +219,24 @@ class MappingStatus {
     if (!terminal_ && percent / 10 == last_percent_ / 10 && p.steps_done != p.steps_total) return;
     if (percent == last_percent_ && p.steps_done != p.steps_total) return;
     last_percent_ = percent;
-    const std::string line =
-        fmt::format("{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, {}", percent,
-                    static_cast<double>(p.steps_done - p.steps_resumed) / p.seconds / 1e3,
-                    100.0 * prf::Total(p.counters).AcceptanceRate(), ChainsLogPosteriors(p.chains));
+    // The rates are those since the last line, not since the start: a stage on the full data
+    // costs several times a thinned one, and a running average would hide the change for long.
+    if (!started_) {
+      started_ = true;
+      last_steps_ = p.steps_resumed;
+    }
+    const prf::MoveCounter total = prf::Total(p.counters);
+    prf::MoveCounter interval;
+    interval.proposed = total.proposed - last_total_.proposed;
+    interval.accepted = total.accepted - last_total_.accepted;
+    const double seconds = p.seconds - last_seconds_;
+    const std::string line = fmt::format(
+        "{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, {}", percent,
+        seconds > 0.0 ? static_cast<double>(p.steps_done - last_steps_) / seconds / 1e3 : 0.0,
+        100.0 * interval.AcceptanceRate(), ChainsLogPosteriors(p.chains));
+    last_steps_ = p.steps_done;
+    last_seconds_ = p.seconds;
+    last_total_ = total;
     // Erased to the line's end: a line shorter than the last must not keep the last one's tail.
     if (terminal_)
       fmt::print(stderr, "\r{}\x1b[K{}", line, p.steps_done == p.steps_total ? "\n" : "");
@@ -233,6 +247,12 @@ class MappingStatus {
  private:
   bool terminal_;
   int last_percent_ = -1;
+  bool started_ = false;
+  std::uint64_t last_steps_ = 0;
+  double last_seconds_ = 0.0;
+  // A resumed run's counters hold the restored steps' too, so its first line's acceptance is
+  // over the whole run so far; later lines are exact.
+  prf::MoveCounter last_total_;
 };
 
 // The run's readings, laser beams or sonar cones (--sensor), as RunMapping takes them.
