@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/binary_io.hpp>
@@ -437,6 +438,14 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["log_posterior"] = nlohmann::json::array();
   summary["log_prior"] = nlohmann::json::array();
   summary["log_likelihood"] = nlohmann::json::array();
+  // Where each chain settled: R̂ says that the chains are apart, these say which one.
+  const bool rhat_defined = !std::isnan(r.rhat_log_posterior);
+  if (rhat_defined) {
+    summary["log_posterior_second_half_means"] = nlohmann::json::array();
+    for (const prf::ChainSummary& chain : r.chains)
+      summary["log_posterior_second_half_means"].push_back(
+          prf::SecondHalfMean(chain.log_posterior_trace));
+  }
   for (const prf::ChainSummary& chain : r.chains) {
     summary["log_posterior"].push_back(chain.log_posterior);
     summary["log_prior"].push_back(chain.log_prior);
@@ -486,18 +495,32 @@ void RunMappingCommand(MappingCliOptions o) {
       summary["proposals_per_second"].get<double>() / 1e3);
   // Chains that have not mixed give estimates that depend on the seed, which the maps
   // themselves do not show. R̂ is NaN when there were too few records to compute it.
-  if (std::isnan(r.rhat_log_posterior))
+  if (!rhat_defined) {
     fmt::print(stderr,
                "priormap: warning: too few trace records for R-hat, so convergence is not "
                "checked: --samples must be at least 4 times --trace-every\n");
-  else if (!(r.rhat_log_posterior < prf::kConvergedRhat &&
-             r.rhat_point_colours < prf::kConvergedRhat))
+  } else if (!(r.rhat_log_posterior < prf::kConvergedRhat &&
+               r.rhat_point_colours < prf::kConvergedRhat)) {
     fmt::print(stderr,
                "priormap: warning: the chains have not converged (R-hat not below {}): the "
                "estimates depend on the seed; run longer (--burn-in, --samples), or pool the "
                "chains of more runs with `priormap prf rhat`, which also lists the trace points "
                "where the chains disagree\n",
                prf::kConvergedRhat);
+    // A chain hundreds of nats below the others holds a poorer map: the pooled maps average
+    // it in, and its own figure shows what it lacks.
+    if (several_chains) {
+      std::vector<std::string> means;
+      for (std::size_t c = 0; c < r.chains.size(); ++c)
+        means.push_back(fmt::format("{:.1f} ({})",
+                                    summary["log_posterior_second_half_means"][c].get<double>(),
+                                    chain_figure(c)));
+      fmt::print(stderr,
+                 "priormap: the chains' mean log-posteriors over the second half of their "
+                 "samples: {}\n",
+                 fmt::join(means, ", "));
+    }
+  }
 }
 
 void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& o) {

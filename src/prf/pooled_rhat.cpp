@@ -4,6 +4,7 @@
 #include <limits>
 #include <numeric>
 #include <set>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -95,14 +96,6 @@ std::optional<Diagnostic> CheckHeader(const std::string& name, const CsvLine& he
                             QuoteForMessage(header.fields[i].text)));
   }
   return std::nullopt;
-}
-
-// The mean of a trace's second half, as SplitRhat cuts it.
-double SecondHalfMean(const std::vector<double>& trace, std::size_t length) {
-  const std::size_t n = length / 2;
-  double sum = 0.0;
-  for (std::size_t i = length - n; i < length; ++i) sum += trace[i];
-  return sum / static_cast<double>(n);
 }
 
 }  // namespace
@@ -263,7 +256,8 @@ std::variant<PooledRhat, std::string> PoolRhat(const std::vector<PooledRun>& run
   for (const PooledRun& run : runs)
     for (const std::vector<double>& trace : run.traces.log_posterior) {
       traces.emplace_back(trace.begin(), trace.begin() + static_cast<std::ptrdiff_t>(records));
-      pooled.second_half_means.push_back(SecondHalfMean(trace, records));
+      pooled.second_half_means.push_back(
+          SecondHalfMean(std::span<const double>(trace.data(), records)));
     }
   pooled.log_posterior = SplitRhat(traces);
 

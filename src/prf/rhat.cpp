@@ -43,4 +43,12 @@ double SplitRhat(std::span<const std::vector<double>> traces) {
   return std::sqrt(((nn - 1.0) / nn * within + between) / within);
 }
 
+double SecondHalfMean(std::span<const double> trace) {
+  PRIORMAP_CHECK(trace.size() >= 2, "a second half needs at least 2 values");
+  const std::size_t n = trace.size() / 2;
+  double sum = 0.0;
+  for (std::size_t i = trace.size() - n; i < trace.size(); ++i) sum += trace[i];
+  return sum / static_cast<double>(n);
+}
+
 }  // namespace priormap::prf

@@ -150,6 +150,22 @@ TEST_F(MappingCli, PrfWarnsWhenItsChainsHaveNotConverged) {
           "short");
   ASSERT_GT(short_rhat["log_posterior"].get<double>(), 1.1);
   EXPECT_THAT(short_err, HasSubstr("priormap: warning: the chains have not converged"));
+  // Which chain sits where: the second-half means, in summary.json and on stderr.
+  const json short_summary = json::parse(testing::ReadAll(Work("short") / "summary.json"));
+  const json& means = short_summary["log_posterior_second_half_means"];
+  ASSERT_EQ(means.size(), 2u);
+  const auto trace =
+      prf::ParseLogPosteriorTrace(testing::ReadAll(Work("short") / "trace.csv"), "trace.csv");
+  ASSERT_TRUE(trace.ok()) << trace.error();
+  for (std::size_t c = 0; c < 2; ++c) {
+    const std::vector<double>& records = trace.value().log_posterior[c];
+    double sum = 0.0;  // the last 10 of the 20 records (--samples 20000, --trace-every 1000)
+    ASSERT_EQ(records.size(), 20u);
+    for (std::size_t i = 10; i < 20; ++i) sum += records[i];
+    EXPECT_DOUBLE_EQ(means[c].get<double>(), sum / 10.0);
+  }
+  EXPECT_THAT(short_err, HasSubstr(fmt::format("{:.1f} (chain0.png), {:.1f} (chain1.png)",
+                                               means[0].get<double>(), means[1].get<double>())));
   // Three scans, every 16th beam, three million samples: both R̂ far below 1.1, no warning.
   const auto [long_err, long_rhat] =
       run({"--range", "0:3", "--beam-step", "16", "--burn-in", "100000", "--samples", "3000000",

@@ -19,6 +19,16 @@ TEST(SplitRhat, MatchesAHandComputation) {
   EXPECT_NEAR(SplitRhat(traces), std::sqrt((0.25 + 5.0 / 3.0) / 0.5), 1e-12);
 }
 
+TEST(SecondHalfMean, AveragesTheHalfThatSplitRhatKeeps) {
+  // Four values: the last two. Five: the last two as well, the middle one left out.
+  EXPECT_DOUBLE_EQ(SecondHalfMean(std::vector<double>{1, 2, 3, 5}), 4.0);
+  EXPECT_DOUBLE_EQ(SecondHalfMean(std::vector<double>{1, 2, 100, 3, 5}), 4.0);
+  // Equal second halves at different first halves leave only the first halves apart.
+  const std::vector<std::vector<double>> traces = {{0, 1, 7, 9}, {10, 11, 7, 9}};
+  EXPECT_DOUBLE_EQ(SecondHalfMean(traces[0]), SecondHalfMean(traces[1]));
+  EXPECT_GT(SplitRhat(traces), 1.5);
+}
+
 TEST(SplitRhat, IsNearOneForIndependentChainsOfOneDistribution) {
   Rng rng(3);
   std::vector<std::vector<double>> traces(4);

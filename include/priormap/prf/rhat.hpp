@@ -18,4 +18,9 @@ inline constexpr double kConvergedRhat = 1.1;
 /// least one trace of length >= 4.
 [[nodiscard]] double SplitRhat(std::span<const std::vector<double>> traces);
 
+/// The mean of the second half of a trace as SplitRhat cuts it (its last ⌊n/2⌋ values): where a
+/// chain settled, which tells the chain of a run that sits apart from the others. Precondition:
+/// at least 2 values.
+[[nodiscard]] double SecondHalfMean(std::span<const double> trace);
+
 }  // namespace priormap::prf
