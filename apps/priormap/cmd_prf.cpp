@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <unistd.h>
@@ -222,10 +223,7 @@ class MappingStatus {
     last_percent_ = percent;
     // The rates are those since the last line, not since the start: a stage on the full data
     // costs several times a thinned one, and a running average would hide the change for long.
-    if (!started_) {
-      started_ = true;
-      last_steps_ = p.steps_resumed;
-    }
+    if (!last_steps_) last_steps_ = p.steps_resumed;
     const prf::MoveCounter total = prf::Total(p.counters);
     prf::MoveCounter interval;
     interval.proposed = total.proposed - last_total_.proposed;
@@ -233,7 +231,7 @@ class MappingStatus {
     const double seconds = p.seconds - last_seconds_;
     const std::string line = fmt::format(
         "{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, {}", percent,
-        seconds > 0.0 ? static_cast<double>(p.steps_done - last_steps_) / seconds / 1e3 : 0.0,
+        seconds > 0.0 ? static_cast<double>(p.steps_done - *last_steps_) / seconds / 1e3 : 0.0,
         100.0 * interval.AcceptanceRate(), ChainsLogPosteriors(p.chains));
     last_steps_ = p.steps_done;
     last_seconds_ = p.seconds;
@@ -248,8 +246,7 @@ class MappingStatus {
  private:
   bool terminal_;
   int last_percent_ = -1;
-  bool started_ = false;
-  std::uint64_t last_steps_ = 0;
+  std::optional<std::uint64_t> last_steps_;  // unset until the first line: steps_resumed then
   double last_seconds_ = 0.0;
   // A resumed run's counters hold the restored steps' too, so its first line's acceptance is
   // over the whole run so far; later lines are exact.
@@ -440,11 +437,11 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["log_likelihood"] = nlohmann::json::array();
   // Where each chain settled: R̂ says that the chains are apart, these say which one.
   const bool rhat_defined = !std::isnan(r.rhat_log_posterior);
+  std::vector<double> second_half_means;
   if (rhat_defined) {
-    summary["log_posterior_second_half_means"] = nlohmann::json::array();
     for (const prf::ChainSummary& chain : r.chains)
-      summary["log_posterior_second_half_means"].push_back(
-          prf::SecondHalfMean(chain.log_posterior_trace));
+      second_half_means.push_back(prf::SecondHalfMean(chain.log_posterior_trace));
+    summary["log_posterior_second_half_means"] = second_half_means;
   }
   for (const prf::ChainSummary& chain : r.chains) {
     summary["log_posterior"].push_back(chain.log_posterior);
@@ -512,9 +509,7 @@ void RunMappingCommand(MappingCliOptions o) {
     if (several_chains) {
       std::vector<std::string> means;
       for (std::size_t c = 0; c < r.chains.size(); ++c)
-        means.push_back(fmt::format("{:.1f} ({})",
-                                    summary["log_posterior_second_half_means"][c].get<double>(),
-                                    chain_figure(c)));
+        means.push_back(fmt::format("{:.1f} ({})", second_half_means[c], chain_figure(c)));
       fmt::print(stderr,
                  "priormap: the chains' mean log-posteriors over the second half of their "
                  "samples: {}\n",

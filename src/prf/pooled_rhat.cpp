@@ -4,7 +4,6 @@
 #include <limits>
 #include <numeric>
 #include <set>
-#include <span>
 
 #include <fmt/format.h>
 
@@ -256,8 +255,7 @@ std::variant<PooledRhat, std::string> PoolRhat(const std::vector<PooledRun>& run
   for (const PooledRun& run : runs)
     for (const std::vector<double>& trace : run.traces.log_posterior) {
       traces.emplace_back(trace.begin(), trace.begin() + static_cast<std::ptrdiff_t>(records));
-      pooled.second_half_means.push_back(
-          SecondHalfMean(std::span<const double>(trace.data(), records)));
+      pooled.second_half_means.push_back(SecondHalfMean(traces.back()));
     }
   pooled.log_posterior = SplitRhat(traces);
 

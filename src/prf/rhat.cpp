@@ -1,11 +1,29 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include <priormap/core/check.hpp>
 #include <priormap/prf/rhat.hpp>
 
 namespace priormap::prf {
+namespace {
+
+// The first and the second ⌊length/2⌋ values of a trace; the second ends at the trace's end, so
+// an odd middle value is left out. SplitRhat and SecondHalfMean cut alike through this.
+std::array<std::span<const double>, 2> Halves(std::span<const double> trace, std::size_t length) {
+  const std::size_t n = length / 2;
+  return {trace.subspan(0, n), trace.subspan(length - n, n)};
+}
+
+double Mean(std::span<const double> values) {
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return sum / static_cast<double>(values.size());
+}
+
+}  // namespace
 
 double SplitRhat(std::span<const std::vector<double>> traces) {
   PRIORMAP_CHECK(!traces.empty(), "R-hat needs at least one trace");
@@ -15,23 +33,16 @@ double SplitRhat(std::span<const std::vector<double>> traces) {
   const std::size_t n = length / 2;
   std::vector<double> means, variances;
   for (const auto& trace : traces) {
-    for (std::size_t half = 0; half < 2; ++half) {
-      // The second half ends at the trace's end (an odd middle value is left out).
-      const std::size_t begin = half == 0 ? 0 : length - n;
-      double mean = 0.0;
-      for (std::size_t i = begin; i < begin + n; ++i) mean += trace[i];
-      mean /= static_cast<double>(n);
+    for (std::span<const double> half : Halves(trace, length)) {
+      const double mean = Mean(half);
       double variance = 0.0;
-      for (std::size_t i = begin; i < begin + n; ++i)
-        variance += (trace[i] - mean) * (trace[i] - mean);
+      for (double v : half) variance += (v - mean) * (v - mean);
       means.push_back(mean);
       variances.push_back(variance / static_cast<double>(n - 1));
     }
   }
   const auto m = static_cast<double>(means.size());
-  double grand = 0.0;
-  for (double mean : means) grand += mean;
-  grand /= m;
+  const double grand = Mean(means);
   double between = 0.0;  // B / n
   for (double mean : means) between += (mean - grand) * (mean - grand);
   between /= m - 1.0;
@@ -45,10 +56,7 @@ double SplitRhat(std::span<const std::vector<double>> traces) {
 
 double SecondHalfMean(std::span<const double> trace) {
   PRIORMAP_CHECK(trace.size() >= 2, "a second half needs at least 2 values");
-  const std::size_t n = trace.size() / 2;
-  double sum = 0.0;
-  for (std::size_t i = trace.size() - n; i < trace.size(); ++i) sum += trace[i];
-  return sum / static_cast<double>(n);
+  return Mean(Halves(trace, trace.size())[1]);
 }
 
 }  // namespace priormap::prf
