@@ -135,6 +135,13 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "--vertex-jump-reach (the other kinds weigh 0.5 to 3; 0: off)")
       ->check(NonNegativeValue())
       ->capture_default_str();
+  cmd.add_option("--vertex-pairs", m.sampler.weights[prf::MoveKind::kVertexPair],
+                 "Weight of the vertex pair births and deaths: two vertices born on an edge in the "
+                 "vertex births' rectangles, or two adjacent vertices removed at once, which cuts "
+                 "a bump or a two-vertex wedge off a wall along a new edge (the other kinds weigh "
+                 "0.5 to 3; 0: off)")
+      ->check(NonNegativeValue())
+      ->capture_default_str();
   cmd.add_option("--vertex-jump-reach", m.sampler.vertex_jump_reach,
                  "Half-width of the square around a vertex in which its far jumps are uniform, "
                  "m; a jump next to a neighbour's neighbour farther than this cannot be undone "
@@ -236,6 +243,7 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
     m->sampler.vertex_jump_reach = jump.value("reach", m->sampler.vertex_jump_reach);
     m->sampler.vertex_jump_jitter = jump.value("jitter", m->sampler.vertex_jump_jitter);
   }
+  m->sampler.weights[prf::MoveKind::kVertexPair] = j.value("vertex_pairs", 0.0);
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))

@@ -111,8 +111,8 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
     out.PutString("delayed acceptance");
     out.Put<std::int32_t>(s.screen_stride);
   }
-  // The weights of the kinds there were before vertex jumps, and the jumps' only when on, so
-  // that checkpoints of runs without them still resume.
+  // The weights of the kinds there were before vertex jumps, and the jumps' and pairs' only when
+  // on, so that checkpoints of runs without them still resume.
   for (int k = 0; k < kNumMoveKindsBeforeJumps; ++k)
     out.Put(s.weights.weight[static_cast<std::size_t>(k)]);
   if (s.weights[MoveKind::kVertexJump] > 0.0) {
@@ -120,6 +120,10 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
     out.Put(s.weights[MoveKind::kVertexJump]);
     out.Put(s.vertex_jump_reach);
     out.Put(s.vertex_jump_jitter);
+  }
+  if (s.weights[MoveKind::kVertexPair] > 0.0) {
+    out.PutString("vertex pairs");
+    out.Put(s.weights[MoveKind::kVertexPair]);
   }
   out.Put(s.birth_scale);
   out.PutVector(s.vertex_birth_widths);

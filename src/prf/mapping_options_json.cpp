@@ -28,7 +28,8 @@ nlohmann::json SamplingOptionsJson(const MappingOptions& m) {
       {"vertex_jump",
        {{"weight", m.sampler.weights[MoveKind::kVertexJump]},
         {"reach", m.sampler.vertex_jump_reach},
-        {"jitter", m.sampler.vertex_jump_jitter}}}};
+        {"jitter", m.sampler.vertex_jump_jitter}}},
+      {"vertex_pairs", m.sampler.weights[MoveKind::kVertexPair]}};
 }
 
 }  // namespace priormap::prf

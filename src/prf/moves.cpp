@@ -19,10 +19,13 @@ constexpr std::array<std::string_view, kNumMoveTypes> kTypeNames{"triangle_birth
                                                                  "guided_triangle_birth",
                                                                  "guided_triangle_death",
                                                                  "edge_shift",
-                                                                 "vertex_jump"};
+                                                                 "vertex_jump",
+                                                                 "vertex_pair_birth",
+                                                                 "vertex_pair_death"};
 constexpr std::array<std::string_view, kNumMoveKinds> kKindNames{
-    "triangle", "boundary_triangle", "corner", "vertex",          "interior_move", "boundary_move",
-    "recolor",  "local_recolor",     "slide",  "guided_triangle", "edge_shift",    "vertex_jump"};
+    "triangle",      "boundary_triangle", "corner",        "vertex", "interior_move",
+    "boundary_move", "recolor",           "local_recolor", "slide",  "guided_triangle",
+    "edge_shift",    "vertex_jump",       "vertex_pair"};
 
 }  // namespace
 

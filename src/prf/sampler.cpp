@@ -141,6 +141,8 @@ MoveType PrfSampler::ChooseType() {
       return MoveType::kEdgeShift;
     case MoveKind::kVertexJump:
       return MoveType::kVertexJump;
+    case MoveKind::kVertexPair:
+      return rng_.Bernoulli(0.5) ? MoveType::kVertexPairBirth : MoveType::kVertexPairDeath;
   }
   return MoveType::kInteriorMove;
 }
@@ -249,6 +251,10 @@ bool PrfSampler::Propose(MoveType type, Edit* edit, double* log_q) {
       return ProposeEdgeShift(edit);
     case MoveType::kVertexJump:
       return ProposeVertexJump(edit, log_q);
+    case MoveType::kVertexPairBirth:
+      return ProposeVertexPairBirth(edit, log_q);
+    case MoveType::kVertexPairDeath:
+      return ProposeVertexPairDeath(edit, log_q);
   }
   return false;
 }
@@ -290,21 +296,38 @@ double PrfSampler::BoundaryTriangleDensity(const Vec2& b1, int side1, const Vec2
   return 1.0 / (4.0 * w.Perimeter() * r * r * r);
 }
 
-double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v,
-                                      const ChordAnchors& anchors) const {
-  // The mixture, over the widths drawn uniformly, of the uniform densities on the rectangles
-  // along uw of half-width κ|uw|; mixed with the squares around the chord's anchors.
+double PrfSampler::RectangleDensity(const Vec2& u, const Vec2& w, const Vec2& v) const {
   const Vec2 along = w - u;
   const double length2 = along.squaredNorm();
   const double t = along.dot(v - u) / length2;
-  double rectangles = 0.0;
-  if (t >= 0.0 && t <= 1.0) {
-    const double length = std::sqrt(length2);
-    const double offset = std::abs(Cross(along, v - u)) / length;
-    for (double width : options_.vertex_birth_widths)
-      if (offset <= width * length) rectangles += 1.0 / (2.0 * width * length2);
-    rectangles /= static_cast<double>(options_.vertex_birth_widths.size());
-  }
+  if (t < 0.0 || t > 1.0) return 0.0;
+  const double length = std::sqrt(length2);
+  const double offset = std::abs(Cross(along, v - u)) / length;
+  double density = 0.0;
+  for (double width : options_.vertex_birth_widths)
+    if (offset <= width * length) density += 1.0 / (2.0 * width * length2);
+  return density / static_cast<double>(options_.vertex_birth_widths.size());
+}
+
+Vec2 PrfSampler::DrawInRectangle(const Vec2& u, const Vec2& w) {
+  const Vec2 along = w - u;
+  const double length = along.norm();
+  const double half_width = DrawOneOf(options_.vertex_birth_widths) * length;
+  return u + rng_.Uniform() * along +
+         rng_.Uniform(-half_width, half_width) * (Perp(along) / length);
+}
+
+double PrfSampler::VertexPairDensity(const Vec2& u, const Vec2& a, const Vec2& b,
+                                     const Vec2& w) const {
+  // Read from u, a is drawn first; read from w, b is. Either end with probability ½.
+  return 0.5 * (RectangleDensity(u, w, a) * RectangleDensity(a, w, b) +
+                RectangleDensity(w, u, b) * RectangleDensity(b, u, a));
+}
+
+double PrfSampler::VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v,
+                                      const ChordAnchors& anchors) const {
+  // The rectangles, mixed with the squares around the chord's anchors.
+  const double rectangles = RectangleDensity(u, w, v);
   const auto square = [&v](const Vec2& centre, double h) { return SquareDensity(v, centre, h); };
   double anchored = 0.0;
   double rectangles_share = 1.0;
@@ -563,11 +586,7 @@ bool PrfSampler::ProposeVertexBirth(Edit* edit, double* log_q) {
     const std::size_t k = anchors.num_beyond == 1 ? 0 : rng_.UniformIndex(2);
     v = in_square(anchors.beyond[k], options_.neighbour_birth_jitter);
   } else {
-    const Vec2 along = pw - pu;
-    const double length = along.norm();
-    const double half_width = DrawOneOf(options_.vertex_birth_widths) * length;
-    v = pu + rng_.Uniform() * along +
-        rng_.Uniform(-half_width, half_width) * (Perp(along) / length);
+    v = DrawInRectangle(pu, pw);
   }
   edit->removed_edges.push_back(e);
   edit->new_vertices.push_back({v, kInterior});
@@ -598,6 +617,64 @@ bool PrfSampler::ProposeVertexDeath(Edit* edit, double* log_q) {
   edit->added_edges.push_back({Old(u), Old(w)});
   for (const Vec2& x : {pu, vertex.position, pw}) edit->flipped_region.push_back(x);
   *log_q = std::log(reverse) + std::log(static_cast<double>(n_interior));
+  return true;
+}
+
+bool PrfSampler::ProposeVertexPairBirth(Edit* edit, double* log_q) {
+  const auto edges = coloring_.edge_ids();
+  if (edges.empty()) return false;
+  const EdgeId e = edges[rng_.UniformIndex(edges.size())];
+  const int from = rng_.Bernoulli(0.5) ? 1 : 0;
+  const VertexId u = coloring_.edge(e).vertices[static_cast<std::size_t>(from)];
+  const VertexId w = coloring_.edge(e).vertices[static_cast<std::size_t>(1 - from)];
+  const Vec2& pu = coloring_.vertex(u).position;
+  const Vec2& pw = coloring_.vertex(w).position;
+  const Vec2 v1 = DrawInRectangle(pu, pw);
+  if (v1 == pw) return false;
+  const Vec2 v2 = DrawInRectangle(v1, pw);
+  const double forward = VertexPairDensity(pu, v1, v2, pw) / static_cast<double>(edges.size());
+  if (forward == 0.0) return false;  // only at the rim of a rectangle, by rounding
+  edit->removed_edges.push_back(e);
+  edit->new_vertices.push_back({v1, kInterior});
+  edit->new_vertices.push_back({v2, kInterior});
+  edit->added_edges.push_back({Old(u), Fresh(0)});
+  edit->added_edges.push_back({Fresh(0), Fresh(1)});
+  edit->added_edges.push_back({Fresh(1), Old(w)});
+  for (const Vec2& x : {pu, v1, v2, pw}) edit->flipped_region.push_back(x);
+  // The death draws the pair with probability 1/n: either of its vertices, then the edge
+  // towards the other.
+  const double n_after = static_cast<double>(coloring_.interior_vertices().size() + 2);
+  *log_q = -std::log(n_after) - std::log(forward);
+  return true;
+}
+
+bool PrfSampler::ProposeVertexPairDeath(Edit* edit, double* log_q) {
+  const auto drawn = DrawInteriorVertex();
+  if (!drawn) return false;
+  const VertexId v1 = drawn->vertex;
+  const ColoringVertex& first = coloring_.vertex(v1);
+  const EdgeId middle = first.edges[rng_.Bernoulli(0.5) ? 1 : 0];
+  const VertexId v2 = coloring_.Other(middle, v1);
+  const ColoringVertex& second = coloring_.vertex(v2);
+  if (second.side != kInterior) return false;
+  const EdgeId u_edge = OtherEdge(first, middle);
+  const EdgeId w_edge = OtherEdge(second, middle);
+  const VertexId u = coloring_.Other(u_edge, v1);
+  const VertexId w = coloring_.Other(w_edge, v2);
+  if (u == w) return false;  // a triangle: its death is the triangle kinds'
+  const Vec2& pu = coloring_.vertex(u).position;
+  const Vec2& pw = coloring_.vertex(w).position;
+  const double edges_after = static_cast<double>(coloring_.edge_ids().size() - 2);
+  const double reverse = VertexPairDensity(pu, first.position, second.position, pw) / edges_after;
+  if (reverse == 0.0) return false;  // no pair birth on uw draws these two
+  edit->removed_edges.push_back(u_edge);
+  edit->removed_edges.push_back(middle);
+  edit->removed_edges.push_back(w_edge);
+  edit->removed_vertices.push_back(v1);
+  edit->removed_vertices.push_back(v2);
+  edit->added_edges.push_back({Old(u), Old(w)});
+  for (const Vec2& x : {pu, first.position, second.position, pw}) edit->flipped_region.push_back(x);
+  *log_q = std::log(reverse) + std::log(static_cast<double>(drawn->count));
   return true;
 }
 
@@ -849,10 +926,12 @@ bool PrfSampler::ProposeRecolor(Edit* edit, double* log_q, bool local) {
 
 namespace {
 
-// A chain without vertex jumps saves the counters of the types there were before them, so that
-// its checkpoints are those of the versions before them.
+// A chain without vertex pairs (and without vertex jumps) saves the counters of the types there
+// were before them, so that its checkpoints are those of the versions before them.
 std::size_t SavedMoveTypes(const SamplerOptions& options) {
-  return options.weights[MoveKind::kVertexJump] > 0.0 ? kNumMoveTypes : kNumMoveTypesBeforeJumps;
+  if (options.weights[MoveKind::kVertexPair] > 0.0) return kNumMoveTypes;
+  return options.weights[MoveKind::kVertexJump] > 0.0 ? kNumMoveTypesBeforePairs
+                                                      : kNumMoveTypesBeforeJumps;
 }
 
 }  // namespace

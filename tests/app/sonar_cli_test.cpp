@@ -238,6 +238,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                                         "1.5",
                                         "--vertex-jump-jitter",
                                         "0.06",
+                                        "--vertex-pairs",
+                                        "1.5",
                                         "--burn-in",
                                         "3000",
                                         "--samples",
@@ -271,8 +273,11 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   EXPECT_EQ(posterior["vertex_jump"]["weight"], 2.0);
   EXPECT_EQ(posterior["vertex_jump"]["reach"], 1.5);
   EXPECT_EQ(posterior["vertex_jump"]["jitter"], 0.06);
+  EXPECT_EQ(posterior["vertex_pairs"], 1.5);
   EXPECT_GT(Summary("prf")["acceptance"]["vertex_birth"]["accepted"].get<int>(), 0);
   EXPECT_GT(Summary("prf")["acceptance"]["vertex_jump"]["accepted"].get<int>(), 0);
+  EXPECT_GT(Summary("prf")["acceptance"]["vertex_pair_birth"]["accepted"].get<int>(), 0);
+  EXPECT_GT(Summary("prf")["acceptance"]["vertex_pair_death"]["accepted"].get<int>(), 0);
   EXPECT_EQ(Summary("prf")["swap_rates"][0].size(), 2u);  // one chain, two pairs of rungs
   // Stopped in the second thinned stage, replicas and all, and resumed: the same map.
   auto stopped = run;

@@ -87,21 +87,28 @@ TEST(BinaryIo, SealedDataRoundTripsAndDamageIsRefused) {
   EXPECT_THROW((void)short_in.GetVector<double>(), BinaryFormatError);
 }
 
+// With the default kinds, and with vertex jumps or vertex pairs on, whose counters a chain
+// saves only when they are on.
 TEST(Checkpoint, ASavedSamplerContinuesExactly) {
-  PrfSampler original(Coloring(kUnit, 1.0 / 8.0), PriorOptions(), 11);
-  original.Run(20000);
-  BinaryWriter out;
-  original.Save(out);
-  BinaryReader in(out.bytes(), "sampler");
-  const std::unique_ptr<PrfSampler> restored =
-      PrfSampler::Load(in, kUnit, 1.0 / 8.0, PriorOptions());
-  EXPECT_TRUE(in.AtEnd());
-  EXPECT_EQ(Saved(*restored), out.bytes());
-  ASSERT_GT(original.coloring().stats().edges, 10);
-  original.Run(20000);
-  restored->Run(20000);
-  EXPECT_EQ(Saved(*restored), Saved(original));
-  EXPECT_FALSE(restored->coloring().FindInvariantViolation());
+  for (const MoveKind extra : {MoveKind::kTriangle, MoveKind::kVertexJump, MoveKind::kVertexPair}) {
+    SamplerOptions options = PriorOptions();
+    options.weights[extra] = 1.0;
+    PrfSampler original(Coloring(kUnit, 1.0 / 8.0), options, 11);
+    original.Run(20000);
+    BinaryWriter out;
+    original.Save(out);
+    BinaryReader in(out.bytes(), "sampler");
+    const std::unique_ptr<PrfSampler> restored = PrfSampler::Load(in, kUnit, 1.0 / 8.0, options);
+    EXPECT_TRUE(in.AtEnd()) << MoveKindName(extra);
+    EXPECT_EQ(Saved(*restored), out.bytes()) << MoveKindName(extra);
+    ASSERT_GT(original.coloring().stats().edges, 10);
+    original.Run(20000);
+    restored->Run(20000);
+    EXPECT_EQ(Saved(*restored), Saved(original)) << MoveKindName(extra);
+    EXPECT_EQ(restored->counters()[static_cast<std::size_t>(MoveType::kVertexPairDeath)].proposed,
+              original.counters()[static_cast<std::size_t>(MoveType::kVertexPairDeath)].proposed);
+    EXPECT_FALSE(restored->coloring().FindInvariantViolation());
+  }
 }
 
 TEST(Checkpoint, AColoringOfAnotherWindowOrDamagedIsRefused) {

@@ -201,11 +201,18 @@ TEST(Coloring, EveryMoveReversesExactlyItsRegion) {
   options.guide = std::make_shared<const BirthGuide>(guide_points, options.birth_scale, 0.05);
   PrfSampler sampler(Coloring(kUnit, 0.125), options, 21);
   sampler.Run(3000);
-  Coloring coloring = sampler.coloring();
+  const Coloring warmed = sampler.coloring();
+  Coloring coloring = warmed;
   PrfSampler proposer(coloring, options, 22);
   Rng rng(6);
   std::array<int, kNumMoveTypes> applied{};
-  for (int round = 0; round < 6000; ++round) {
+  for (int round = 0; round < 400 * kNumMoveTypes; ++round) {
+    // Every edit that is valid is applied, with no acceptance test, so births that are valid more
+    // often than their deaths (vertex pairs) would crowd the state: start again from time to time.
+    if (round % (20 * kNumMoveTypes) == 0) {
+      coloring = warmed;
+      proposer = PrfSampler(coloring, options, 22 + static_cast<std::uint64_t>(round));
+    }
     const auto type = static_cast<MoveType>(round % kNumMoveTypes);
     Edit edit;
     EditEffect effect;

@@ -130,6 +130,9 @@ TEST(MoveRatios, BirthsAndDeathsCancel) {
         ExpectReversible(MoveType::kVertexBirth, MoveType::kVertexDeath, 2.0, seed, 0.05, 0.9));
     EXPECT_TRUE(ExpectReversible(MoveType::kGuidedTriangleBirth, MoveType::kGuidedTriangleDeath,
                                  1.0, seed));
+    // The undoing death may take the pair from either vertex: its density must sum both reads.
+    EXPECT_TRUE(
+        ExpectReversible(MoveType::kVertexPairBirth, MoveType::kVertexPairDeath, 2.0, seed));
   }
 }
 
@@ -237,7 +240,9 @@ TEST(MoveRatios, SlideKeepsTheEdgeDirection) {
 
 TEST(MoveCounters, AddUpOverAChain) {
   SamplerOptions options = Options(1.0);
-  options.weights[MoveKind::kVertexJump] = 1.0;  // off by default, on here so that it is counted
+  // Off by default, on here so that they are counted.
+  options.weights[MoveKind::kVertexJump] = 1.0;
+  options.weights[MoveKind::kVertexPair] = 1.0;
   options.vertex_jump_reach = 0.3;
   PrfSampler sampler(Coloring(kUnit, 0.125), options, 9);
   sampler.Run(20000);

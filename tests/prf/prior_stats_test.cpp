@@ -83,10 +83,11 @@ class WholeMoveSet : public ::testing::TestWithParam<double> {};
 
 TEST_P(WholeMoveSet, MatchesTheArakProcess) {
   const double p = GetParam();
-  PriorStatsOptions options = Chain(p, 11);
+  PriorStatsOptions options = Chain(p, 12);
   // Off by default; the whole set has them.
   options.sampler.weights[MoveKind::kEdgeShift] = 2.0;
   options.sampler.weights[MoveKind::kVertexJump] = 1.0;
+  options.sampler.weights[MoveKind::kVertexPair] = 1.0;
   const PriorStatsResult r = RunPriorStats(options);
   ExpectMatchesArak(r, "p = " + std::to_string(p));
   for (const MoveCounter& c : r.counters) EXPECT_GT(c.accepted, 0u);
@@ -137,6 +138,17 @@ std::vector<Subset> Subsets() {
                      {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kCorner,
                       MoveKind::kVertex, MoveKind::kBoundaryMove, MoveKind::kVertexJump},
                      MoveKind::kVertexJump});
+  // Vertex pairs against the base, narrow and of mixed widths: a pair's density must sum its two
+  // reads, and the second vertex's rectangle must follow the first.
+  subsets.push_back({"base_and_vertex_pair",
+                     {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kCorner,
+                      MoveKind::kVertex, MoveKind::kBoundaryMove, MoveKind::kVertexPair},
+                     MoveKind::kVertexPair});
+  subsets.push_back({"base_and_mixed_vertex_pair",
+                     {MoveKind::kTriangle, MoveKind::kBoundaryTriangle, MoveKind::kCorner,
+                      MoveKind::kVertex, MoveKind::kBoundaryMove, MoveKind::kVertexPair},
+                     MoveKind::kVertexPair,
+                     {0.25, 3.0}});
   // Vertex births four times as wide (--vertex-birth-widths 2), whose deaths straighten tall
   // bends, and a mixture of a narrow and a wide width: the density and the death's refusal
   // outside the widest rectangle must still pair up.

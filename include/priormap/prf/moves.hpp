@@ -24,10 +24,13 @@ enum class MoveKind : int {
   kGuidedTriangle,    // triangle birth/death with a data-guided birth (birth_guide.hpp)
   kEdgeShift,         // both ends of an edge between interior vertices moved by one step
   kVertexJump,        // an interior vertex moved next to a neighbour's other neighbour, or far
+  kVertexPair,        // two adjacent vertices born on an edge, or cut off along a new edge
 };
-inline constexpr int kNumMoveKinds = 12;
+inline constexpr int kNumMoveKinds = 13;
 /// The kinds there were before vertex jumps: what a checkpoint of a run without them holds.
 inline constexpr int kNumMoveKindsBeforeJumps = 11;
+/// The kinds there were before vertex pairs.
+inline constexpr int kNumMoveKindsBeforePairs = 12;
 
 enum class MoveType : int {
   kTriangleBirth,
@@ -47,10 +50,14 @@ enum class MoveType : int {
   kGuidedTriangleDeath,
   kEdgeShift,
   kVertexJump,
+  kVertexPairBirth,
+  kVertexPairDeath,
 };
-inline constexpr int kNumMoveTypes = 17;
+inline constexpr int kNumMoveTypes = 19;
 /// The types there were before vertex jumps: what a checkpoint of a run without them holds.
 inline constexpr int kNumMoveTypesBeforeJumps = 16;
+/// The types there were before vertex pairs.
+inline constexpr int kNumMoveTypesBeforePairs = 17;
 
 /// snake_case names, as in summary.json and on the command line ("triangle_birth", ...).
 [[nodiscard]] std::string_view MoveTypeName(MoveType type);
@@ -94,10 +101,11 @@ inline void AddCounters(MoveCounters* total, const MoveCounters& more) {
 /// Relative weight of each move kind; zero switches a kind off. Guided triangles need a guide
 /// (SamplerOptions::guide); without one their weight counts as zero.
 struct MoveWeights {
-  /// Edge shifts and vertex jumps are off by default: they are not among the paper's moves, and
-  /// chains with the default weights keep the course they had before the kinds existed.
-  std::array<double, kNumMoveKinds> weight{1.0, 1.0, 1.0, 2.0, 2.0, 1.0,
-                                           0.5, 1.0, 1.0, 3.0, 0.0, 0.0};
+  /// Edge shifts, vertex jumps and vertex pairs are off by default: they are not among the
+  /// paper's moves, and chains with the default weights keep the course they had before the kinds
+  /// existed.
+  std::array<double, kNumMoveKinds> weight{1.0, 1.0, 1.0, 2.0, 2.0, 1.0, 0.5,
+                                           1.0, 1.0, 3.0, 0.0, 0.0, 0.0};
 
   [[nodiscard]] double& operator[](MoveKind kind) { return weight[static_cast<int>(kind)]; }
   [[nodiscard]] double operator[](MoveKind kind) const { return weight[static_cast<int>(kind)]; }

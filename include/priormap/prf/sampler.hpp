@@ -192,6 +192,14 @@ class PrfSampler {
   /// An interior vertex moved next to the vertex beyond one of its neighbours, or anywhere
   /// within the reach (SamplerOptions::vertex_jump_reach); the graph keeps its structure.
   bool ProposeVertexJump(Edit* edit, double* log_q);
+  /// Vertex pairs (MoveKind::kVertexPair) use the vertex births' rectangles
+  /// (SamplerOptions::vertex_birth_widths) and nothing else: a pair born on edge uw, read from u
+  /// or from w with probability ½ each, puts v₁ in a rectangle along uw and then v₂ in one along
+  /// v₁w. Its death removes two adjacent interior vertices at once and joins their outer
+  /// neighbours: a bump or a two-vertex wedge on a wall cut off along a new edge, where single
+  /// deaths pass through a state with one vertex of it, which the data may refuse.
+  bool ProposeVertexPairBirth(Edit* edit, double* log_q);
+  bool ProposeVertexPairDeath(Edit* edit, double* log_q);
 
   /// Unordered proposal densities of the births, shared by births and their deaths.
   [[nodiscard]] double TriangleDensity(const Vec2& a, const Vec2& b, const Vec2& c) const;
@@ -203,6 +211,16 @@ class PrfSampler {
     std::array<Vec2, 2> beyond;  // the vertices beyond the ends (SamplerOptions::neighbour_birth)
     int num_beyond = 0;
   };
+  /// The density at v of the mixture, over the vertex birth widths κ, of the uniform laws on the
+  /// rectangles along uw of half-width κ|uw|.
+  [[nodiscard]] double RectangleDensity(const Vec2& u, const Vec2& w, const Vec2& v) const;
+  /// A point drawn from RectangleDensity(u, w, ·).
+  Vec2 DrawInRectangle(const Vec2& u, const Vec2& w);
+  /// The density of a vertex pair birth on the edge uw that makes the path u–a–b–w, given the
+  /// edge: the sum over the two ends it may be read from, so that the death, which takes the
+  /// pair from either vertex, weighs it alike.
+  [[nodiscard]] double VertexPairDensity(const Vec2& u, const Vec2& a, const Vec2& b,
+                                         const Vec2& w) const;
   /// The density of a vertex birth at v on the edge from u to w with these anchors.
   [[nodiscard]] double VertexBirthDensity(const Vec2& u, const Vec2& w, const Vec2& v,
                                           const ChordAnchors& anchors) const;
