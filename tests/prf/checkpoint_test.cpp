@@ -3,6 +3,8 @@
 #include <atomic>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -90,23 +92,25 @@ TEST(BinaryIo, SealedDataRoundTripsAndDamageIsRefused) {
 // With the default kinds, and with vertex jumps or vertex pairs on, whose counters a chain
 // saves only when they are on.
 TEST(Checkpoint, ASavedSamplerContinuesExactly) {
-  for (const MoveKind extra : {MoveKind::kTriangle, MoveKind::kVertexJump, MoveKind::kVertexPair}) {
+  std::vector<std::pair<std::string, SamplerOptions>> variants{{"default kinds", PriorOptions()}};
+  for (const MoveKind extra : {MoveKind::kVertexJump, MoveKind::kVertexPair}) {
     SamplerOptions options = PriorOptions();
     options.weights[extra] = 1.0;
+    variants.emplace_back(MoveKindName(extra), options);
+  }
+  for (const auto& [name, options] : variants) {
     PrfSampler original(Coloring(kUnit, 1.0 / 8.0), options, 11);
     original.Run(20000);
     BinaryWriter out;
     original.Save(out);
     BinaryReader in(out.bytes(), "sampler");
     const std::unique_ptr<PrfSampler> restored = PrfSampler::Load(in, kUnit, 1.0 / 8.0, options);
-    EXPECT_TRUE(in.AtEnd()) << MoveKindName(extra);
-    EXPECT_EQ(Saved(*restored), out.bytes()) << MoveKindName(extra);
+    EXPECT_TRUE(in.AtEnd()) << name;
+    EXPECT_EQ(Saved(*restored), out.bytes()) << name;
     ASSERT_GT(original.coloring().stats().edges, 10);
     original.Run(20000);
     restored->Run(20000);
-    EXPECT_EQ(Saved(*restored), Saved(original)) << MoveKindName(extra);
-    EXPECT_EQ(restored->counters()[static_cast<std::size_t>(MoveType::kVertexPairDeath)].proposed,
-              original.counters()[static_cast<std::size_t>(MoveType::kVertexPairDeath)].proposed);
+    EXPECT_EQ(Saved(*restored), Saved(original)) << name;
     EXPECT_FALSE(restored->coloring().FindInvariantViolation());
   }
 }

@@ -139,10 +139,9 @@ TEST(PriorPotentials, TheFreeSpacePriorMatchesTheReweightedArakProcess) {
   EXPECT_LE(Score(c[0].arak, {.mean = 0.5, .standard_error = 0.0}), kMaxStandardErrors);
 }
 
-// A chain with the free-space prior (β = 1) and the orientation prior along the axes, and the
-// move kinds of `options` (the Arak chain's otherwise), matches the reweighted process in its
-// black fraction and edge count, and is less black than the Arak process by several standard
-// errors.
+// A chain of `options` with the free-space prior (β = 1) and the orientation prior along the axes
+// added matches the reweighted Arak process in its black fraction and edge count, and is less
+// black than the Arak process by several standard errors.
 void ExpectBothPriorsMatchTheReweightedArakProcess(SamplerOptions options) {
   const OrientationPrior axes{.weight = 1.0, .angle = 0.0};
   const double beta = 1.0;
