@@ -28,6 +28,15 @@ double SquareDensity(const Vec2& v, const Vec2& centre, double h) {
   return ChebyshevDistance(v, centre) <= h ? 1.0 / (4.0 * h * h) : 0.0;
 }
 
+// Adds the path p–x–y–q through two new interior vertices x and y.
+void AddPathThroughNewPair(VertexId p, const Vec2& x, const Vec2& y, VertexId q, Edit* edit) {
+  edit->new_vertices.push_back({x, kInterior});
+  edit->new_vertices.push_back({y, kInterior});
+  edit->added_edges.push_back({Old(p), Fresh(0)});
+  edit->added_edges.push_back({Fresh(0), Fresh(1)});
+  edit->added_edges.push_back({Fresh(1), Old(q)});
+}
+
 // The edge of an interior vertex other than `e`.
 EdgeId OtherEdge(const ColoringVertex& vertex, EdgeId e) {
   return vertex.edges[0] == e ? vertex.edges[1] : vertex.edges[0];
@@ -270,6 +279,27 @@ std::optional<PrfSampler::DrawnVertex> PrfSampler::DrawInteriorVertex() {
   const ColoringVertex& vertex = coloring_.vertex(v);
   return DrawnVertex{v, coloring_.Other(vertex.edges[0], v), coloring_.Other(vertex.edges[1], v),
                      interior.size()};
+}
+
+std::optional<PrfSampler::InteriorPair> PrfSampler::DrawInteriorPair() {
+  const auto drawn = DrawInteriorVertex();
+  if (!drawn) return std::nullopt;
+  const bool along_second = rng_.Bernoulli(0.5);
+  const ColoringVertex& va = coloring_.vertex(drawn->vertex);
+  InteriorPair pair{.p = along_second ? drawn->first : drawn->second,
+                    .a = drawn->vertex,
+                    .b = along_second ? drawn->second : drawn->first,
+                    .q = kNoVertex,
+                    .pa = va.edges[along_second ? 0 : 1],
+                    .ab = va.edges[along_second ? 1 : 0],
+                    .bq = kNoEdge,
+                    .count = drawn->count};
+  const ColoringVertex& vb = coloring_.vertex(pair.b);
+  if (vb.side != kInterior) return std::nullopt;
+  pair.bq = OtherEdge(vb, pair.ab);
+  pair.q = coloring_.Other(pair.bq, pair.b);
+  if (pair.q == pair.p) return std::nullopt;
+  return pair;
 }
 
 // ---- proposal densities -------------------------------------------------------------------
@@ -635,11 +665,7 @@ bool PrfSampler::ProposeVertexPairBirth(Edit* edit, double* log_q) {
   const double forward = VertexPairDensity(pu, v1, v2, pw) / static_cast<double>(edges.size());
   if (forward == 0.0) return false;  // only at the rim of a rectangle, by rounding
   edit->removed_edges.push_back(e);
-  edit->new_vertices.push_back({v1, kInterior});
-  edit->new_vertices.push_back({v2, kInterior});
-  edit->added_edges.push_back({Old(u), Fresh(0)});
-  edit->added_edges.push_back({Fresh(0), Fresh(1)});
-  edit->added_edges.push_back({Fresh(1), Old(w)});
+  AddPathThroughNewPair(u, v1, v2, w, edit);
   for (const Vec2& x : {pu, v1, v2, pw}) edit->flipped_region.push_back(x);
   // The death draws the pair with probability 1/n: either of its vertices, then the edge
   // towards the other.
@@ -649,32 +675,21 @@ bool PrfSampler::ProposeVertexPairBirth(Edit* edit, double* log_q) {
 }
 
 bool PrfSampler::ProposeVertexPairDeath(Edit* edit, double* log_q) {
-  const auto drawn = DrawInteriorVertex();
-  if (!drawn) return false;
-  const VertexId v1 = drawn->vertex;
-  const ColoringVertex& first = coloring_.vertex(v1);
-  const EdgeId middle = first.edges[rng_.Bernoulli(0.5) ? 1 : 0];
-  const VertexId v2 = coloring_.Other(middle, v1);
-  const ColoringVertex& second = coloring_.vertex(v2);
-  if (second.side != kInterior) return false;
-  const EdgeId u_edge = OtherEdge(first, middle);
-  const EdgeId w_edge = OtherEdge(second, middle);
-  const VertexId u = coloring_.Other(u_edge, v1);
-  const VertexId w = coloring_.Other(w_edge, v2);
-  if (u == w) return false;  // a triangle: its death is the triangle kinds'
-  const Vec2& pu = coloring_.vertex(u).position;
-  const Vec2& pw = coloring_.vertex(w).position;
+  const auto pair = DrawInteriorPair();
+  if (!pair) return false;
+  const Vec2& pu = coloring_.vertex(pair->p).position;
+  const Vec2& pa = coloring_.vertex(pair->a).position;
+  const Vec2& pb = coloring_.vertex(pair->b).position;
+  const Vec2& pw = coloring_.vertex(pair->q).position;
   const double edges_after = static_cast<double>(coloring_.edge_ids().size() - 2);
-  const double reverse = VertexPairDensity(pu, first.position, second.position, pw) / edges_after;
+  const double reverse = VertexPairDensity(pu, pa, pb, pw) / edges_after;
   if (reverse == 0.0) return false;  // no pair birth on uw draws these two
-  edit->removed_edges.push_back(u_edge);
-  edit->removed_edges.push_back(middle);
-  edit->removed_edges.push_back(w_edge);
-  edit->removed_vertices.push_back(v1);
-  edit->removed_vertices.push_back(v2);
-  edit->added_edges.push_back({Old(u), Old(w)});
-  for (const Vec2& x : {pu, first.position, second.position, pw}) edit->flipped_region.push_back(x);
-  *log_q = std::log(reverse) + std::log(static_cast<double>(drawn->count));
+  for (EdgeId e : {pair->pa, pair->ab, pair->bq}) edit->removed_edges.push_back(e);
+  edit->removed_vertices.push_back(pair->a);
+  edit->removed_vertices.push_back(pair->b);
+  edit->added_edges.push_back({Old(pair->p), Old(pair->q)});
+  for (const Vec2& x : {pu, pa, pb, pw}) edit->flipped_region.push_back(x);
+  *log_q = std::log(reverse) + std::log(static_cast<double>(pair->count));
   return true;
 }
 
@@ -748,41 +763,25 @@ bool PrfSampler::ProposeVertexJump(Edit* edit, double* log_q) {
 }
 
 bool PrfSampler::ProposeEdgeShift(Edit* edit) {
-  // The pair {a, b} is drawn with probability 1/n_i (from either end, each with ½ for the edge),
-  // the shift from a symmetric density, and neither changes n_i: the move is its own reverse
-  // with ratio 1.
-  const auto drawn = DrawInteriorVertex();
-  if (!drawn) return false;
-  const VertexId a = drawn->vertex;
-  const bool along_second = rng_.Bernoulli(0.5);
-  const VertexId b = along_second ? drawn->second : drawn->first;
-  const VertexId p = along_second ? drawn->first : drawn->second;
-  const ColoringVertex& va = coloring_.vertex(a);
-  const ColoringVertex& vb = coloring_.vertex(b);
-  if (vb.side != kInterior) return false;
-  const EdgeId ab = va.edges[along_second ? 1 : 0];
-  const EdgeId bq = OtherEdge(vb, ab);
-  const VertexId q = coloring_.Other(bq, b);
-  // On a free triangle p, a, b the shift would move two of its three vertices; refused in both
-  // directions alike, since the shift keeps the graph's structure.
-  if (q == p) return false;
+  // The pair {a, b} is drawn with probability 1/n_i (DrawInteriorPair), the shift from a
+  // symmetric density, and neither changes n_i: the move is its own reverse with ratio 1. On a
+  // free triangle p, a, b the shift would move two of its three vertices; DrawInteriorPair
+  // refuses it in both directions alike, since the shift keeps the graph's structure.
+  const auto pair = DrawInteriorPair();
+  if (!pair) return false;
+  const Vec2& pa = coloring_.vertex(pair->a).position;
+  const Vec2& pb = coloring_.vertex(pair->b).position;
   const double step = DrawOneOf(options_.step_scales);
   const Vec2 shift(rng_.Uniform(-step, step), rng_.Uniform(-step, step));
-  const Vec2 new_a = va.position + shift;
-  const Vec2 new_b = vb.position + shift;
-  edit->removed_edges.push_back(va.edges[along_second ? 0 : 1]);
-  edit->removed_edges.push_back(ab);
-  edit->removed_edges.push_back(bq);
-  edit->removed_vertices.push_back(a);
-  edit->removed_vertices.push_back(b);
-  edit->new_vertices.push_back({new_a, kInterior});
-  edit->new_vertices.push_back({new_b, kInterior});
-  edit->added_edges.push_back({Old(p), Fresh(0)});
-  edit->added_edges.push_back({Fresh(0), Fresh(1)});
-  edit->added_edges.push_back({Fresh(1), Old(q)});
+  const Vec2 new_a = pa + shift;
+  const Vec2 new_b = pb + shift;
+  for (EdgeId e : {pair->pa, pair->ab, pair->bq}) edit->removed_edges.push_back(e);
+  edit->removed_vertices.push_back(pair->a);
+  edit->removed_vertices.push_back(pair->b);
+  AddPathThroughNewPair(pair->p, new_a, new_b, pair->q, edit);
   // The ring between the old path p, a, b, q and the new one.
-  for (const Vec2& x : {coloring_.vertex(p).position, va.position, vb.position,
-                        coloring_.vertex(q).position, new_b, new_a})
+  for (const Vec2& x : {coloring_.vertex(pair->p).position, pa, pb,
+                        coloring_.vertex(pair->q).position, new_b, new_a})
     edit->flipped_region.push_back(x);
   return true;
 }

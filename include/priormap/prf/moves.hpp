@@ -29,8 +29,6 @@ enum class MoveKind : int {
 inline constexpr int kNumMoveKinds = 13;
 /// The kinds there were before vertex jumps: what a checkpoint of a run without them holds.
 inline constexpr int kNumMoveKindsBeforeJumps = 11;
-/// The kinds there were before vertex pairs.
-inline constexpr int kNumMoveKindsBeforePairs = 12;
 
 enum class MoveType : int {
   kTriangleBirth,

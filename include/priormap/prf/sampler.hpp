@@ -164,6 +164,16 @@ class PrfSampler {
   std::optional<DrawnVertex> DrawInteriorVertex();
   /// The edit that moves the drawn vertex to `moved`, keeping its edges' ends.
   void MoveVertex(const DrawnVertex& drawn, const Vec2& moved, Edit* edit) const;
+  /// Two adjacent interior vertices a, b on the path p–a–b–q: a drawn uniformly among the
+  /// `count` interior vertices, then one of its edges (½), so that a pair comes with probability
+  /// 1/count from either of its vertices. nullopt when there is no interior vertex, b lies on
+  /// the window's side, or p = q (a triangle, which edge shifts and pair deaths both refuse).
+  struct InteriorPair {
+    VertexId p, a, b, q;
+    EdgeId pa, ab, bq;
+    std::size_t count;
+  };
+  std::optional<InteriorPair> DrawInteriorPair();
 
   MoveType ChooseType();
   bool ProposeTriangleBirth(Edit* edit, double* log_q);
