@@ -38,6 +38,19 @@ CLI::Validator NonNegativeValue() {
   return NumberCheck(true);
 }
 
+CLI::Validator StepCount() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::uint64_t value = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (error == std::errc() && end == text.data() + text.size() && value <= kMaxStepCount)
+          return {};
+        return fmt::format("'{}' is not a step count (expected a whole number from 0 to {})", text,
+                           kMaxStepCount);
+      },
+      "STEPS");
+}
+
 std::string DescribeDiagnostics(const std::vector<Diagnostic>& diagnostics) {
   std::string out;
   for (const Diagnostic& d : diagnostics) {

@@ -2,6 +2,7 @@
 // Shared pieces of the subcommands: user-facing errors, option parsing, output checks.
 
 #include <atomic>
+#include <cstdint>
 #include <filesystem>
 #include <mutex>
 #include <stdexcept>
@@ -39,6 +40,12 @@ T ValueOrThrow(Result<T> result) {
 /// its range up to DBL_MAX).
 [[nodiscard]] CLI::Validator PositiveValue();
 [[nodiscard]] CLI::Validator NonNegativeValue();
+
+/// Most steps a step-count option takes: sums of a few stay far from overflowing.
+inline constexpr std::uint64_t kMaxStepCount = std::uint64_t{1} << 40;
+/// A step count: a whole number in [0, kMaxStepCount]. CLI11 would read "-5" into an unsigned
+/// option as 2^64 - 5.
+[[nodiscard]] CLI::Validator StepCount();
 
 /// "x,y,theta" (theta in radians).
 [[nodiscard]] Se2 ParsePose(const std::string& text);

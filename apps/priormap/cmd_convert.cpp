@@ -35,9 +35,23 @@ Log ReadRoboNd(const ConvertOptions& o) {
   if (o.inputs.size() != 2)
     throw UserError(
         fmt::format("--from {} reads two files: measurement.txt poses.txt", kRoboNdSonar));
+  if (o.fov_deg || o.sigma)
+    throw UserError(fmt::format(
+        "{} is for laser formats: the RoboND rings' 20 deg cones and 1 % noise are fixed",
+        o.fov_deg ? "--fov" : "--sigma"));
   RoboNdSonarOptions options;
   if (o.min_range) options.min_range = *o.min_range;
-  if (o.max_range) options.no_echo_mm = *o.max_range * 1000.0;
+  if (o.max_range) {
+    // The sensor reports "no echo" as 5110 mm: a max range beyond it would make each of those
+    // readings a wall at 5.11 m. A shorter one is fine: the readings beyond it become max-range.
+    const double sensor_max_range = RoboNdSonarOptions{}.no_echo_mm / 1000.0;
+    if (*o.max_range > sensor_max_range)
+      throw UserError(
+          fmt::format("--max-range {} m: with --from {} it can be at most {} m, where the sensor's "
+                      "\"no echo\" readings lie",
+                      *o.max_range, kRoboNdSonar, sensor_max_range));
+    options.no_echo_mm = *o.max_range * 1000.0;
+  }
   Log log = ValueOrThrow(ReadRoboNdSonar(o.inputs[0], o.inputs[1], options));
   if (o.poses) log.pose_source = *PoseSourceFromString(*o.poses);
   return log;
@@ -152,8 +166,8 @@ void AddConvertCommand(CLI::App& app) {
       ->check(CLI::IsMember({"carmen", "json"}));
   cmd->add_option("--max-range", o->max_range,
                   "CARMEN: readings at or above this are max-range (default: detected); "
-                  "csm: the same (default: none); roboND-sonar: the no-echo range (default "
-                  "5.11 m)")
+                  "csm: the same (default: none); roboND-sonar: the same, at most the sensor's "
+                  "5.11 m, its no-echo reading (the default)")
       ->check(PositiveValue());
   cmd->add_option("--min-range", o->min_range,
                   "CARMEN, csm and roboND-sonar: readings below this are invalid (roboND "

@@ -42,6 +42,11 @@ void RunGridCommand(const GridCliOptions& o) {
   const double read_time = SecondsSince(read_start);
   const auto [first, end] = SelectedScans(ParseScanRange(o.range), log.scans.size());
   if (ResolveSensor(o.sensor, log, first, end) == Sensor::kSonar) {
+    if (o.grid.beam_step != 1)
+      throw UserError(
+          fmt::format("--beam-step {} is for laser scans: the sonar grid inserts every "
+                      "reading of each ring",
+                      o.grid.beam_step));
     grid::SonarGridOptions sonar;
     sonar.resolution = o.grid.resolution;
     if (o.max_range_given) sonar.max_range = o.grid.max_range;

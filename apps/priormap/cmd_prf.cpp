@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <regex>
 #include <string>
 #include <tuple>
 #include <unistd.h>
@@ -267,6 +268,18 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
   const std::size_t end = o.selection.end_scan.value_or(log.scans.size());
   d.sonar = ResolveSensor(o.sensor, log, o.selection.first_scan, end) == Sensor::kSonar;
   if (d.sonar) {
+    // Laser options a sonar run would drop without a word: refused, so that a run does what
+    // its run.json says.
+    if (o.selection.beam_step != 1)
+      throw UserError(
+          fmt::format("--beam-step {} is for laser scans: a sonar run uses every "
+                      "reading of each ring (thin the rings with --range)",
+                      o.selection.beam_step));
+    if (o.mapping.model.sigma != prf::LaserModel{}.sigma)
+      throw UserError(
+          fmt::format("--sigma {} is the laser beam model's noise: a sonar run takes "
+                      "its noise from the sonar model (--sonar-model)",
+                      o.mapping.model.sigma));
     auto selected = prf::SelectSonarReadings(log, {.first_scan = o.selection.first_scan,
                                                    .end_scan = o.selection.end_scan,
                                                    .max_range = o.selection.max_range});
@@ -298,6 +311,27 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
   return d;
 }
 
+// Each chain's rasters of the window hold this many cells at most (some 40 bytes each).
+constexpr double kMaxRasterCells = 1e8;
+
+// A new run in this directory: what an earlier one left (its checkpoints, or the figures of
+// chains or a MAP map this run will not make) would be taken for this one's. Only the names a
+// run writes are removed.
+void RemoveEarlierRunOutputs(const std::filesystem::path& dir) {
+  std::filesystem::remove_all(dir / "checkpoints");
+  for (const char* file :
+       {"summary.json", "trace.csv", "point_traces.csv", "posterior.png", "posterior.pgm",
+        "posterior.yaml", "not_white.png", "chains_disagree.png", "map.geojson", "map.svg",
+        "map.png", "map.pgm", "map.yaml"})
+    std::filesystem::remove(dir / file);
+  const std::regex chain_output(R"(chain[0-9]+(\.png|_last\.geojson))");
+  std::vector<std::filesystem::path> chain_files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.is_regular_file() && std::regex_match(entry.path().filename().string(), chain_output))
+      chain_files.push_back(entry.path());
+  for (const auto& file : chain_files) std::filesystem::remove(file);
+}
+
 void RunMappingCommand(MappingCliOptions o) {
   const bool resuming = !o.resume.empty();
   if (resuming)
@@ -311,15 +345,23 @@ void RunMappingCommand(MappingCliOptions o) {
   std::tie(o.selection.first_scan, o.selection.end_scan) =
       SelectedScans(ParseScanRange(o.range), log.scans.size());
   const SelectedData data = SelectData(log, o);
+  // Each chain keeps rasters of the window at this resolution: too fine a one would end in a
+  // bare bad_alloc after the run had started.
+  const prf::Window& window = data.mapping.window;
+  const double raster_cells = std::ceil(window.Width() / o.mapping.raster_resolution) *
+                              std::ceil(window.Height() / o.mapping.raster_resolution);
+  if (raster_cells > kMaxRasterCells)
+    throw UserError(fmt::format(
+        "--resolution {} m: the {:.1f} m x {:.1f} m window would make rasters of {:.3g} cells, "
+        "more than {:.0e}",
+        o.mapping.raster_resolution, window.Width(), window.Height(), raster_cells,
+        kMaxRasterCells));
   if (o.anneal && o.mapping.anneal_steps == 0) o.mapping.anneal_steps = o.mapping.samples;
   if (!o.anneal) o.mapping.anneal_steps = 0;
   EnsureDirectory(o.out);
   const std::filesystem::path dir(o.out);
   if (!resuming) {
-    // A new run in this directory: what an earlier one left would be taken for this one's.
-    std::filesystem::remove_all(dir / "checkpoints");
-    for (const char* file : {"summary.json", "trace.csv", "point_traces.csv"})
-      std::filesystem::remove(dir / file);
+    RemoveEarlierRunOutputs(dir);
     WriteTextFileAtomically(dir / "run.json", RunJson(o).dump(2) + "\n");
   }
   fmt::print(stderr, "{} {} from {} sensor positions, R = {} m\n", data.readings,
@@ -542,15 +584,19 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
       ->check(PositiveValue())
       ->capture_default_str();
   cmd.add_option("--samples", m.samples, "Steps recorded per chain after the burn-in")
+      ->check(StepCount())
       ->capture_default_str();
-  cmd.add_option("--burn-in", m.burn_in, "Steps per chain before recording")->capture_default_str();
+  cmd.add_option("--burn-in", m.burn_in, "Steps per chain before recording")
+      ->check(StepCount())
+      ->capture_default_str();
   cmd.add_option("--chains", m.chains, "Chains run in parallel")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   cmd.add_option("--seed", m.seed, "Random seed; the same seed gives the same result")
       ->capture_default_str();
   cmd.add_flag("--anneal", o->anneal, "Anneal the best chain to a MAP polygonal map");
-  cmd.add_option("--anneal-steps", m.anneal_steps, "Annealing steps (default: --samples)");
+  cmd.add_option("--anneal-steps", m.anneal_steps, "Annealing steps (default: --samples)")
+      ->check(StepCount());
   cmd.add_option("--sigma", m.model.sigma, "Range noise of the beam model, m")
       ->check(PositiveValue())
       ->capture_default_str();
@@ -588,6 +634,7 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
   cmd.add_option("--stop-after-steps", o->stop_after_steps,
                  "Stop each chain (and the annealing), checkpointed, after this many steps in this "
                  "session, to split a long run into sessions; 0: no limit")
+      ->check(StepCount())
       ->capture_default_str();
 }
 

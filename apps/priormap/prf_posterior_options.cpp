@@ -1,7 +1,9 @@
 #include "prf_posterior_options.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string_view>
 
@@ -82,6 +84,7 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
   cmd.add_option("--replica-steps", m.replica_steps,
                  "The replicas run for this many steps of the burn-in, then the chain goes on "
                  "alone (0: the whole burn-in)")
+      ->check(StepCount())
       ->capture_default_str();
   cmd.add_option("--replica-pick", cli.replica_pick,
                  "Which replica the chain goes on from at the ladder's end: the cold one, or the "
@@ -191,7 +194,8 @@ void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* 
     throw UserError(fmt::format("--replica-steps: {} steps, more than the burn-in's {}",
                                 m->replica_steps, m->burn_in));
   std::uint64_t steps = 0;
-  for (const prf::ThinnedBurnIn& stage : m->thinned_burn_in) steps += stage.steps;
+  for (const prf::ThinnedBurnIn& stage : m->thinned_burn_in)  // saturating: no wrap to pass
+    steps += std::min(stage.steps, std::numeric_limits<std::uint64_t>::max() - steps);
   if (steps > m->burn_in)
     throw UserError(fmt::format(
         "--thinned-burn-in: the stages take {} steps, more than the burn-in's {} (they are part "

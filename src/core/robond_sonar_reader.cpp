@@ -164,6 +164,12 @@ Result<Log> ParseRoboNdSonar(std::string_view measurements, const std::string& m
     return Diagnostic{"", 0, 0,
                       fmt::format("the RoboND ring has {} transducers; {} bearings given",
                                   kRingSize, options.bearings.size())};
+  // Checked here, not per ring: with no reading able to be valid, every scan would fail the
+  // log's own check, and only when the written log was read back.
+  if (!(options.min_range >= 0.0 && options.min_range < options.no_echo_mm / 1000.0))
+    return Diagnostic{"", 0, 0,
+                      fmt::format("need 0 <= min range < max range (got {} m and {} m)",
+                                  options.min_range, options.no_echo_mm / 1000.0)};
   try {
     return Parse(measurements, measurements_name, poses, poses_name, options);
   } catch (const ParseFailure& failure) {

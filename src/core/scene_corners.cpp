@@ -1,6 +1,17 @@
+#include <cmath>
+
 #include <priormap/core/scene_corners.hpp>
 
 namespace priormap {
+namespace {
+
+// Two walls leaving a vertex in opposite directions, to rounding.
+bool IsStraight(const Vec2& a, const Vec2& b) {
+  constexpr double kTolerance = 1e-9;
+  return std::abs(Cross(a, b)) < kTolerance && a.dot(b) < 0.0;
+}
+
+}  // namespace
 
 bool SceneCorner::IsConcaveFrom(const Vec2& viewpoint) const {
   if (IsFreeEnd()) return false;
@@ -34,7 +45,11 @@ std::vector<SceneCorner> SceneCorners(const Scene& scene) {
       c.surface = static_cast<int>(s);
       c.regions = {region0, region1};
       c.walls[0] = direction(at, towards0);
-      if (region1 >= 0) c.walls[1] = direction(at, towards1);
+      if (region1 >= 0) {
+        c.walls[1] = direction(at, towards1);
+        // A vertex in the middle of a straight wall is no reflector: no corner echo from it.
+        if (IsStraight(c.walls[0], c.walls[1])) return;
+      }
       corners.push_back(c);
     };
     const int segments = static_cast<int>(polyline->NumSegments());

@@ -204,13 +204,17 @@ Scan SimulateSonarRing(const SonarScene& scene, const SonarSensor& sensor, const
     if (!heard && u_multipath < sensor.multipath_probability)
       heard = MultipathEcho(scene.caster, cone);
 
+    // An echo that comes back after the sensor stops listening (a multipath leg, or a feature
+    // near the max range pushed past it by the noise) is not heard: a max-range reading, with
+    // no feature to credit.
+    const double heard_range =
+        heard ? heard->range + sensor.Sigma(heard->range) * noise : sensor.max_range;
     if (u_spurious < sensor.spurious_probability) {
       scan.ranges[i] = sensor.min_range + u_spurious_range * (sensor.max_range - sensor.min_range);
       sonar.true_echo[i] = SonarEcho::kSpurious;
       truth.outlier[i] = 1;
-    } else if (heard) {
-      scan.ranges[i] =
-          std::min(heard->range + sensor.Sigma(heard->range) * noise, sensor.max_range);
+    } else if (heard && heard_range < sensor.max_range) {
+      scan.ranges[i] = heard_range;
       scan.sigma[i] = sensor.Sigma(heard->range);
       sonar.true_echo[i] = heard->kind;
       sonar.true_feature[i] = heard->feature;

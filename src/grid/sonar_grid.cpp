@@ -43,7 +43,9 @@ std::optional<ConeToInsert> ToInsert(const Scan& ring, std::size_t i,
                                      const SonarGridOptions& options) {
   ConeToInsert cone{.origin = ring.pose.Transform(ring.sonar->Origin(i)),
                     .axis = ring.pose.theta() + ring.angles[i],
-                    .range = options.max_range,
+                    // A max-range reading says nothing lies within the sensor's range, and
+                    // nothing of what lies beyond it.
+                    .range = std::min(options.max_range, ring.max_range),
                     .hit = false};
   switch (ring.status[i]) {
     case BeamStatus::kInvalid:

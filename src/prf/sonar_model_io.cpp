@@ -34,8 +34,15 @@ SonarModel ReadModel(const JsonNode& root) {
     }
     model.*(known->member) = detail::FiniteNumber(node, fmt::format("\"{}\"", key));
   }
-  if (const std::string problem = model.Problem(); !problem.empty())
+  if (const std::string problem = model.Problem(); !problem.empty()) {
+    // A problem of one parameter (its message starts with its name) is reported at its value;
+    // one of several together (weights that must sum to 1), for the document as a whole.
+    for (const auto& item : root.value.items())
+      if (problem.starts_with(item.key() + " "))
+        detail::Fail(JsonNode{item.value(), root.pointer / item.key()},
+                     "not a usable sonar model: " + problem);
     detail::Fail(root, "not a usable sonar model: " + problem);
+  }
   return model;
 }
 

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/json_io.hpp>
+#include <priormap/core/log_io.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 
 #include "cli_fixture.hpp"
@@ -155,6 +156,30 @@ TEST_F(SonarCli, ReportsMalformedRoboNdFilesAtFileLineAndColumn) {
   EXPECT_EQ(RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "-o", "x.json"}).status, 1);
 }
 
+TEST_F(SonarCli, RefusesRoboNdRangeLimitsThatWouldTurnNoEchoIntoWalls) {
+  WriteText("m.txt", "1 2000 5110 3 4 5 6 7 8\n");
+  WriteText("p.txt", "1 0 0 0\n");
+  const auto beyond = RunFailing(
+      {"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json", "--max-range", "6"});
+  EXPECT_EQ(beyond.status, 1);
+  EXPECT_THAT(beyond.err, HasSubstr("at most 5.11 m"));
+  EXPECT_THAT(RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json",
+                          "--min-range", "6"})
+                  .err,
+              HasSubstr("need 0 <= min range < max range"));
+  EXPECT_FALSE(std::filesystem::exists(Work("x.json")));
+  // A shorter max range is the user's choice: the readings beyond it become max-range.
+  Run({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json", "--max-range",
+       "1.5"});
+  const Result<Log> read = ReadLog(Work("x.json"));
+  ASSERT_TRUE(read.ok()) << read.error();
+  const Log& log = read.value();
+  ASSERT_EQ(log.scans.size(), 1u);
+  EXPECT_EQ(log.scans[0].max_range, 1.5);
+  EXPECT_EQ(log.scans[0].status[0], BeamStatus::kMaxRange);
+  EXPECT_EQ(log.scans[0].status[1], BeamStatus::kMaxRange);
+}
+
 TEST_F(SonarCli, GridAndPrfMapASonarLogWhichTheyRecogniseByItself) {
   WriteSonarLog("sonar.json");
   const auto grid = Run({"grid", "--log", "sonar.json", "-o", "grid"});
@@ -187,6 +212,48 @@ TEST_F(SonarCli, GridAndPrfMapASonarLogWhichTheyRecogniseByItself) {
               HasSubstr("--sensor laser"));
   EXPECT_THAT(RunFailing({"prf", "--log", "sonar.json", "--sensor", "laser", "-o", "p"}).err,
               HasSubstr("--sensor laser"));
+}
+
+// Options a sonar run would otherwise drop or misread are refused before any work.
+TEST_F(SonarCli, RefusesLaserOptionsStepCountsAndRastersItCannotHonour) {
+  WriteSonarLog("sonar.json");
+  const std::vector<std::string> prf = {"prf", "--log", "sonar.json", "-o", "p"};
+  const auto refused = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = prf;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return RunFailing(args).err;
+  };
+  EXPECT_THAT(refused({"--beam-step", "4"}), HasSubstr("--beam-step 4 is for laser scans"));
+  EXPECT_THAT(refused({"--sigma", "0.2"}), HasSubstr("--sigma 0.2 is the laser beam model's"));
+  EXPECT_THAT(refused({"--resolution", "0.0001"}), HasSubstr("would make rasters of"));
+  for (const char* option : {"--samples", "--burn-in", "--anneal-steps", "--stop-after-steps"})
+    EXPECT_THAT(refused({option, "-5"}), HasSubstr("'-5' is not a step count")) << option;
+  EXPECT_THAT(refused({"--replica-steps", "2000000000000"}), HasSubstr("not a step count"));
+  EXPECT_FALSE(std::filesystem::exists(Work("p") / "run.json"));
+  EXPECT_THAT(RunFailing({"grid", "--log", "sonar.json", "--beam-step", "2", "-o", "g"}).err,
+              HasSubstr("--beam-step 2 is for laser scans"));
+}
+
+// A new run in a directory removes what an earlier run made that it will not make again.
+TEST_F(SonarCli, ANewRunLeavesNoOutputsOfAnEarlierOneInItsDirectory) {
+  WriteSonarLog("sonar.json");
+  const std::vector<std::string> common = {"prf",  "--log",     "sonar.json", "--samples",
+                                           "2000", "--burn-in", "1000",       "--trace-every",
+                                           "500",  "-o",        "run"};
+  auto first = common;
+  for (const char* arg : {"--chains", "3", "--anneal"}) first.push_back(arg);
+  ASSERT_EQ(Run(first).status, 0);
+  for (const char* file : {"chain2.png", "chain2_last.geojson", "map.png", "map.yaml"})
+    ASSERT_TRUE(std::filesystem::exists(Work("run") / file)) << file;
+  WriteText("run/notes.txt", "mine");
+  auto second = common;
+  for (const char* arg : {"--chains", "2"}) second.push_back(arg);
+  ASSERT_EQ(Run(second).status, 0);
+  for (const char* file : {"chain2.png", "chain2_last.geojson", "map.png", "map.geojson", "map.svg",
+                           "map.pgm", "map.yaml"})
+    EXPECT_FALSE(std::filesystem::exists(Work("run") / file)) << file;
+  EXPECT_TRUE(std::filesystem::exists(Work("run") / "chain1.png"));
+  EXPECT_EQ(testing::ReadAll(Work("run") / "notes.txt"), "mine");  // not a run's output
 }
 
 // `prf fit-sonar` writes a model file that `prf --sonar-model` reads, with the posterior options

@@ -20,6 +20,7 @@ namespace priormap {
 namespace {
 
 using ::testing::ElementsAre;
+using ::testing::HasSubstr;
 
 TEST(SonarJson, ASimulatedSonarLogRoundTripsWithItsFieldsAndTruth) {
   const Scene scene = *BuiltinScene("l-office");
@@ -150,6 +151,20 @@ TEST(RoboNdSonar, ReportsBadLinesAtFileLineAndColumn) {
   EXPECT_THAT(errors(good_z + "200 1 2 3 4 5 6 7 8\n", good_p),
               ElementsAre(DiagnosticAt("m.txt", 2, 1, "p.txt has 1")));
   EXPECT_THAT(errors("", good_p), ElementsAre(DiagnosticAt("m.txt", 1, 1, "no measurement")));
+}
+
+TEST(RoboNdSonar, RejectsRangeLimitsThatLeaveNoReadingValid) {
+  const std::string z = "100 1 2 3 4 5 6 7 8\n";
+  const std::string p = "100 0 0 0\n";
+  for (const auto& [min_range, no_echo_mm] : {std::pair{6.0, 5110.0}, std::pair{0.17, 100.0},
+                                              std::pair{0.2, 200.0}, std::pair{-0.1, 5110.0}}) {
+    RoboNdSonarOptions options;
+    options.min_range = min_range;
+    options.no_echo_mm = no_echo_mm;
+    const Result<Log> r = ParseRoboNdSonar(z, "m.txt", p, "p.txt", options);
+    ASSERT_FALSE(r.ok()) << min_range << " m, " << no_echo_mm << " mm";
+    EXPECT_THAT(r.error(), HasSubstr("need 0 <= min range < max range"));
+  }
 }
 
 TEST(RoboNdSonar, ReadsTheRealFiles) {

@@ -107,6 +107,61 @@ TEST(SonarSimulator, ACornerSeenFromInsideEchoesAtItsDistance) {
   EXPECT_NEAR(corner_echoes / static_cast<double>(rings), p, 4.0 * std::sqrt(p * (1 - p) / rings));
 }
 
+TEST(SonarSimulator, AVertexInTheMiddleOfAStraightWallIsNoCorner) {
+  // The wall of the first test, split in two where the axis meets it.
+  const SonarScene scene(WallsScene({Polyline{{Vec2(3, -2), Vec2(3, 0), Vec2(3, 2)}, false}}));
+  ASSERT_EQ(scene.corners.size(), 2u);  // its free ends
+  EXPECT_TRUE(scene.corners[0].IsFreeEnd() && scene.corners[1].IsFreeEnd());
+  SonarSensor sensor = OneTransducer();
+  Rng rng(4);
+  int echoes = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0, 0), rng);
+    const SonarEcho echo = ring.sonar->true_echo[0];
+    ASSERT_TRUE(echo == SonarEcho::kSurface || echo == SonarEcho::kNone);
+    if (echo == SonarEcho::kSurface) {
+      ++echoes;
+      EXPECT_NEAR(ring.truth->range[0], 3.0, 1e-12);  // at the foot of the axis, not the vertex
+    }
+  }
+  EXPECT_GT(echoes, 1900);  // each half echoes on its own: 1 - 0.05^2 of the rings
+}
+
+TEST(SonarSimulator, AnEchoPastTheMaxRangeIsAMaxRangeReadingWithNoFeature) {
+  // A wall 1 cm short of the max range, with 5 cm of noise: 42 % of its echoes arrive late.
+  const SonarScene scene(WallsScene({Polyline{{Vec2(4.99, -2), Vec2(4.99, 2)}, false}}));
+  SonarSensor sensor = OneTransducer();
+  Rng rng(5);
+  int on_time = 0;
+  const int rings = 4000;
+  for (int k = 0; k < rings; ++k) {
+    const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0, 0), rng);
+    const SonarEcho echo = ring.sonar->true_echo[0];
+    if (ring.status[0] == BeamStatus::kMaxRange) {
+      ASSERT_EQ(echo, SonarEcho::kNone);
+      EXPECT_EQ(ring.sonar->true_feature[0], -1);
+      EXPECT_TRUE(std::isnan(ring.truth->range[0]));
+      EXPECT_EQ(ring.truth->outlier[0], 0);
+    } else if (echo == SonarEcho::kSurface) {
+      EXPECT_LT(ring.ranges[0], sensor.max_range);
+      ++on_time;
+    }
+  }
+  const double sigma = sensor.Sigma(4.99);
+  const double p = sensor.surface_return * 0.5 * std::erfc(-(5.0 - 4.99) / sigma / std::sqrt(2.0));
+  EXPECT_NEAR(on_time / static_cast<double>(rings), p, 4.0 * std::sqrt(p * (1 - p) / rings));
+  // The oblique wall's multipath reading (4.5 m) with a 4 m sensor: never heard.
+  const SonarScene oblique(WallsScene({Polyline{{Vec2(1, -2), Vec2(5, 2)}, false},
+                                       Polyline{{Vec2(-5, 1.5), Vec2(5, 1.5)}, false}}));
+  sensor.multipath_probability = 1.0;
+  sensor.max_range = 4.0;
+  for (int k = 0; k < 50; ++k) {
+    const Scan ring = SimulateSonarRing(oblique, sensor, Se2(0, 0, 0), rng);
+    ASSERT_EQ(ring.sonar->true_echo[0], SonarEcho::kNone);
+    EXPECT_EQ(ring.status[0], BeamStatus::kMaxRange);
+  }
+}
+
 TEST(SonarSimulator, RingsCarryTheTransducersOffsetsAndSameSeedSameLog) {
   const Scene scene = *BuiltinScene("office");
   const SonarSensor sensor = *SonarSensor::Preset("pioneer16");

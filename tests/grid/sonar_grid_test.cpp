@@ -71,6 +71,25 @@ TEST(SonarGrid, AMaxReadingClearsItsConeAndNothingIsOccupied) {
   EXPECT_EQ(grid.Insert(laser), 0u);
 }
 
+TEST(SonarGrid, AMaxReadingClearsNoFurtherThanItsSensorReaches) {
+  SonarGrid grid(Box2(Vec2(-1, -3), Vec2(5, 3)), SonarGridOptions{});  // inserts up to 5 m
+  Scan ring;
+  ring.pose = Se2(0.01, 0.01, 0.0);
+  ring.angles = {0.0};
+  ring.ranges = {2.0};
+  ring.sigma = {0.01};
+  ring.max_range = 2.0;
+  ring.ClassifyAll();
+  ring.sonar.emplace();
+  ASSERT_EQ(grid.Insert(ring), 1u);
+  EXPECT_LT(LogOddsAt(grid, Vec2(1.9, 0.0)), 0.0);
+  EXPECT_FALSE(ObservedAt(grid, Vec2(2.2, 0.0)));
+  EXPECT_FALSE(ObservedAt(grid, Vec2(4.0, 0.0)));
+  Log log;
+  log.scans = {ring};  // its extent, 1 m of margin included, stops short of 5 m too
+  EXPECT_LT(SonarGrid::ExtentOf(log, 0, 1, SonarGridOptions{}).max().x(), 3.1);
+}
+
 TEST(SonarGrid, OnASimulatedRoomTheMiddleIsFreeAndTheWallsOftenOccupied) {
   const Scene scene = *BuiltinScene("square");  // walls at x, y = ±2
   const SonarSensor sensor = *SonarSensor::Preset("pioneer16");

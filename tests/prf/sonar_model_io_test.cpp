@@ -201,8 +201,14 @@ TEST(SonarModelIo, WeightsThatAreNotADistributionAreAnError) {
               ElementsAre(DiagnosticAt(1, 1, "not a usable sonar model")));
   EXPECT_THAT(Errors(Document({{"clear_uniform_weight", "0"}, {"clear_max_weight", "0.9"}})),
               ElementsAre(DiagnosticAt(1, 1, "clear outlier weights")));
-  EXPECT_THAT(Errors(Document({{"max_return", "1"}})),
-              ElementsAre(DiagnosticAt(1, 1, "max_return")));
+}
+
+TEST(SonarModelIo, AParameterOutOfItsRangeIsAnErrorAtItsValue) {
+  // "max_return" (10 characters): the value at column 17.
+  EXPECT_THAT(Errors(Document({{"face_bias", "1"}, {"max_return", "1"}})),
+              ElementsAre(DiagnosticAt(5, 17, "not a usable sonar model: max_return 1 is not")));
+  EXPECT_THAT(Errors(Document({{"exponential_rate", "-2"}})),
+              ElementsAre(DiagnosticAt(4, 23, "exponential_rate -2 is not positive")));
 }
 
 TEST(SonarModelIo, UnknownKeysWithPointerCharactersAreLocated) {

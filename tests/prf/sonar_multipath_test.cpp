@@ -206,7 +206,9 @@ TEST(SonarMultipath, EqualsTheSimulatorsMultipathReadingsInTheTrueMap) {
   }
   EXPECT_EQ(i, data->readings.size());
   EXPECT_GT(compared, 100);
-  EXPECT_GT(beyond, 10);
+  // A path past R is labelled multipath only where the noise brought its reading back within
+  // R (otherwise the reading is a max-range one, with no echo): a few at most.
+  EXPECT_LE(beyond, 5);
 }
 
 }  // namespace

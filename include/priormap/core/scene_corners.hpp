@@ -1,7 +1,7 @@
 #pragma once
 /// The corners of a scene's walls: the point features a sonar hears besides surfaces
-/// (docs/sonar.md). They are where two segments of a polyline meet and the free ends of open
-/// polylines (door frames, wall ends).
+/// (docs/sonar.md). They are where two segments of a polyline meet at an angle (not where a
+/// straight wall is split in two) and the free ends of open polylines (door frames, wall ends).
 
 #include <array>
 #include <vector>

@@ -20,7 +20,7 @@ struct SonarGridOptions {
   double log_odds_limit = 4.0;      // |log-odds| saturates here
   double arc_thickness = 0.1;       // α: the arc's depth, m
   /// Readings are inserted up to this range; max-range readings (and longer ones) clear
-  /// their cones up to it.
+  /// their cones up to it, or up to the ring's own max range where that is shorter.
   double max_range = 5.0;
   bool max_readings_clear = true;
   double margin = 1.0;  // m around the data, for the grid's extent
