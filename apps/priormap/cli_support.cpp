@@ -43,8 +43,11 @@ CLI::Validator StepCount() {
       [](std::string& text) -> std::string {
         std::uint64_t value = 0;
         const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-        if (error == std::errc() && end == text.data() + text.size() && value <= kMaxStepCount)
+        if (error == std::errc() && end == text.data() + text.size() && value <= kMaxStepCount) {
+          // Handed on in plain decimal: CLI11 itself would read "0100" as octal.
+          text = std::to_string(value);
           return {};
+        }
         return fmt::format("'{}' is not a step count (expected a whole number from 0 to {})", text,
                            kMaxStepCount);
       },

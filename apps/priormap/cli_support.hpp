@@ -43,8 +43,9 @@ T ValueOrThrow(Result<T> result) {
 
 /// Most steps a step-count option takes: sums of a few stay far from overflowing.
 inline constexpr std::uint64_t kMaxStepCount = std::uint64_t{1} << 40;
-/// A step count: a whole number in [0, kMaxStepCount]. CLI11 would read "-5" into an unsigned
-/// option as 2^64 - 5.
+/// A step count: a whole number in [0, kMaxStepCount], handed on in plain decimal. CLI11 would
+/// read "-5" into an unsigned option as 2^64 - 5, and "0100" as octal. Add it with transform(),
+/// not check(), which would not hand the decimal on.
 [[nodiscard]] CLI::Validator StepCount();
 
 /// "x,y,theta" (theta in radians).

@@ -153,6 +153,7 @@ void AddPriorStats(CLI::App& prf_cmd) {
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40))
       ->capture_default_str();
   cmd->add_option("--burn-in", o->stats.burn_in, "Sampler steps before the first record")
+      ->transform(StepCount())
       ->capture_default_str();
   cmd->add_option("--seed", o->stats.seed, "Random seed; the same seed gives the same result")
       ->capture_default_str();
@@ -318,18 +319,20 @@ constexpr double kMaxRasterCells = 1e8;
 // chains or a MAP map this run will not make) would be taken for this one's. Only the names a
 // run writes are removed.
 void RemoveEarlierRunOutputs(const std::filesystem::path& dir) {
-  std::filesystem::remove_all(dir / "checkpoints");
+  // Listed before anything is removed, and matched by name alone, so that no other entry (a
+  // looping link, say) is even looked at.
+  const std::regex chain_output(R"(chain(0|[1-9][0-9]*)(\.png|_last\.geojson))");
+  std::vector<std::filesystem::path> outputs;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (std::regex_match(entry.path().filename().string(), chain_output))
+      outputs.push_back(entry.path());
   for (const char* file :
        {"summary.json", "trace.csv", "point_traces.csv", "posterior.png", "posterior.pgm",
         "posterior.yaml", "not_white.png", "chains_disagree.png", "map.geojson", "map.svg",
         "map.png", "map.pgm", "map.yaml"})
-    std::filesystem::remove(dir / file);
-  const std::regex chain_output(R"(chain[0-9]+(\.png|_last\.geojson))");
-  std::vector<std::filesystem::path> chain_files;
-  for (const auto& entry : std::filesystem::directory_iterator(dir))
-    if (entry.is_regular_file() && std::regex_match(entry.path().filename().string(), chain_output))
-      chain_files.push_back(entry.path());
-  for (const auto& file : chain_files) std::filesystem::remove(file);
+    outputs.push_back(dir / file);
+  std::filesystem::remove_all(dir / "checkpoints");
+  for (const auto& file : outputs) std::filesystem::remove(file);
 }
 
 void RunMappingCommand(MappingCliOptions o) {
@@ -584,10 +587,10 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
       ->check(PositiveValue())
       ->capture_default_str();
   cmd.add_option("--samples", m.samples, "Steps recorded per chain after the burn-in")
-      ->check(StepCount())
+      ->transform(StepCount())
       ->capture_default_str();
   cmd.add_option("--burn-in", m.burn_in, "Steps per chain before recording")
-      ->check(StepCount())
+      ->transform(StepCount())
       ->capture_default_str();
   cmd.add_option("--chains", m.chains, "Chains run in parallel")
       ->check(CLI::Range(1, 256))
@@ -596,7 +599,7 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
       ->capture_default_str();
   cmd.add_flag("--anneal", o->anneal, "Anneal the best chain to a MAP polygonal map");
   cmd.add_option("--anneal-steps", m.anneal_steps, "Annealing steps (default: --samples)")
-      ->check(StepCount());
+      ->transform(StepCount());
   cmd.add_option("--sigma", m.model.sigma, "Range noise of the beam model, m")
       ->check(PositiveValue())
       ->capture_default_str();
@@ -634,7 +637,7 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
   cmd.add_option("--stop-after-steps", o->stop_after_steps,
                  "Stop each chain (and the annealing), checkpointed, after this many steps in this "
                  "session, to split a long run into sessions; 0: no limit")
-      ->check(StepCount())
+      ->transform(StepCount())
       ->capture_default_str();
 }
 

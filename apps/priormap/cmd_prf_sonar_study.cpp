@@ -126,10 +126,10 @@ void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
       ->capture_default_str();
   AddPosteriorOptions(*cmd, m, o->posterior);
   cmd->add_option("--samples", m.samples, "PRF steps recorded per chain after the burn-in")
-      ->check(StepCount())
+      ->transform(StepCount())
       ->capture_default_str();
   cmd->add_option("--burn-in", m.burn_in, "PRF steps per chain before recording")
-      ->check(StepCount())
+      ->transform(StepCount())
       ->capture_default_str();
   cmd->add_option("--chains", m.chains, "PRF chains per case")
       ->check(CLI::Range(1, 256))

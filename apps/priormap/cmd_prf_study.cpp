@@ -130,16 +130,16 @@ void AddPrfStudyCommand(CLI::App& prf_cmd) {
       ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--samples", m.samples, "PRF steps recorded per chain after the burn-in")
-      ->check(StepCount())
+      ->transform(StepCount())
       ->capture_default_str();
   cmd->add_option("--burn-in", m.burn_in, "PRF steps per chain before recording")
-      ->check(StepCount())
+      ->transform(StepCount())
       ->capture_default_str();
   cmd->add_option("--chains", m.chains, "PRF chains per case")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   cmd->add_option("--anneal-steps", m.anneal_steps, "Annealing steps to the MAP map (0: none)")
-      ->check(StepCount())
+      ->transform(StepCount())
       ->capture_default_str();
   cmd->add_option("--wall-tolerance", s.walls.tolerance,
                   "A seen true wall is recovered with a MAP edge this close, m")

@@ -84,7 +84,7 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
   cmd.add_option("--replica-steps", m.replica_steps,
                  "The replicas run for this many steps of the burn-in, then the chain goes on "
                  "alone (0: the whole burn-in)")
-      ->check(StepCount())
+      ->transform(StepCount())
       ->capture_default_str();
   cmd.add_option("--replica-pick", cli.replica_pick,
                  "Which replica the chain goes on from at the ladder's end: the cold one, or the "

@@ -22,7 +22,8 @@ std::optional<BeamToInsert> ToInsert(const Scan& scan, std::size_t i, const Grid
       return std::nullopt;
     case BeamStatus::kMaxRange:
       if (!options.max_readings_clear) return std::nullopt;
-      return BeamToInsert{.range = options.max_range, .hit = false};
+      // Nothing within the sensor's range, and nothing said of what lies beyond it.
+      return BeamToInsert{.range = std::min(options.max_range, scan.max_range), .hit = false};
     case BeamStatus::kValid:
       break;
   }

@@ -118,6 +118,9 @@ bool JointState::Update(const Linearization& m) {
   // W = P H^T L^-T; K = W L^-1; x += W (L^-1 nu); P -= W W^T.
   const Eigen::MatrixXd Wt = chol.matrixL().solve(PHt.transpose());
   const Eigen::VectorXd whitened = chol.matrixL().solve(m.innovation);
+  // LLT reports success on a matrix holding NaN: such an update is refused like any other
+  // that cannot be made, rather than written into the state.
+  if (!Wt.allFinite() || !whitened.allFinite()) return false;
   mean_.noalias() += Wt.transpose() * whitened;
   mean_[2] = WrapAngle(mean_[2]);
   covariance_.selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
@@ -150,6 +153,7 @@ std::optional<std::vector<double>> JointState::UpdateMixture(
     c.Wt = chol.matrixL().solve(PHt.transpose());
     const Eigen::VectorXd whitened = chol.matrixL().solve(m.innovation);
     c.step = c.Wt.transpose() * whitened;
+    if (!c.Wt.allFinite() || !c.step.allFinite()) return std::nullopt;  // as Update
     const double log_det = 2.0 * chol.matrixLLT().diagonal().array().log().sum();
     c.log_weight =
         weights[s] > 0.0

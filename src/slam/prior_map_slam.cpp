@@ -4,6 +4,8 @@
 #include <optional>
 #include <unordered_map>
 
+#include <fmt/format.h>
+
 #include <priormap/core/angles.hpp>
 #include <priormap/core/check.hpp>
 #include <priormap/core/segment.hpp>
@@ -109,6 +111,17 @@ struct PriorMapSlam::Impl {
     }
     state.PredictPose(next, F, Q);
     time = step.time;
+    RequireFinitePose("a motion step");
+  }
+
+  // A filter whose pose is no longer finite would write NaN maps and trajectories and still
+  // report success: it stops here, saying when.
+  void RequireFinitePose(const char* after) const {
+    if (state.pose().vector().allFinite() && state.pose_covariance().allFinite()) return;
+    throw SlamDiverged(fmt::format(
+        "the filter diverged after {} at t = {} s: its pose or pose covariance is no longer "
+        "finite (check the noise and vehicle settings)",
+        after, time));
   }
 
   // Nearest neighbour by Mahalanobis distance among the landmarks in range; each landmark
@@ -427,6 +440,7 @@ struct PriorMapSlam::Impl {
       if (r.correct) (*r.correct ? record.relations_correct : record.relations_incorrect)++;
       if (r.spurious_segment) ++record.relations_spurious;
     }
+    RequireFinitePose("an observation frame");
     result.frames.push_back(record);
     return record;
   }
@@ -493,8 +507,9 @@ SlamResult RunSlam(const SlamInput& input, const PriorMap* prior_map, const Slam
       }
       slam.Observe(input.frames[f++]);
     }
-    // Frames that came before this step's end (odometry increments cannot be split).
-    while (f < input.frames.size() && input.frames[f].time < rest.time - rest.dt - kTimeTolerance)
+    // Frames at or before this step's start come before it; those inside an odometry
+    // increment, which cannot be split, after it.
+    while (f < input.frames.size() && input.frames[f].time <= rest.time - rest.dt + kTimeTolerance)
       slam.Observe(input.frames[f++]);
     slam.Predict(rest);
     while (f < input.frames.size() && input.frames[f].time <= rest.time + kTimeTolerance)

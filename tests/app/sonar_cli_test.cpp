@@ -229,6 +229,9 @@ TEST_F(SonarCli, RefusesLaserOptionsStepCountsAndRastersItCannotHonour) {
   for (const char* option : {"--samples", "--burn-in", "--anneal-steps", "--stop-after-steps"})
     EXPECT_THAT(refused({option, "-5"}), HasSubstr("'-5' is not a step count")) << option;
   EXPECT_THAT(refused({"--replica-steps", "2000000000000"}), HasSubstr("not a step count"));
+  // Stages whose steps would wrap round to a small sum.
+  EXPECT_THAT(refused({"--thinned-burn-in", "1:18446744073709551615,1:2"}),
+              HasSubstr("more than the burn-in's"));
   EXPECT_FALSE(std::filesystem::exists(Work("p") / "run.json"));
   EXPECT_THAT(RunFailing({"grid", "--log", "sonar.json", "--beam-step", "2", "-o", "g"}).err,
               HasSubstr("--beam-step 2 is for laser scans"));
@@ -237,15 +240,19 @@ TEST_F(SonarCli, RefusesLaserOptionsStepCountsAndRastersItCannotHonour) {
 // A new run in a directory removes what an earlier run made that it will not make again.
 TEST_F(SonarCli, ANewRunLeavesNoOutputsOfAnEarlierOneInItsDirectory) {
   WriteSonarLog("sonar.json");
-  const std::vector<std::string> common = {"prf",  "--log",     "sonar.json", "--samples",
-                                           "2000", "--burn-in", "1000",       "--trace-every",
-                                           "500",  "-o",        "run"};
+  const std::vector<std::string> common = {"prf",   "--log",     "sonar.json", "--samples",
+                                           "02000", "--burn-in", "1000",       "--trace-every",
+                                           "500",   "-o",        "run"};
   auto first = common;
   for (const char* arg : {"--chains", "3", "--anneal"}) first.push_back(arg);
   ASSERT_EQ(Run(first).status, 0);
+  // A step count with a leading zero is decimal, as everywhere else (CLI11 alone reads octal).
+  EXPECT_EQ(Summary("run")["samples"], 2000);
   for (const char* file : {"chain2.png", "chain2_last.geojson", "map.png", "map.yaml"})
     ASSERT_TRUE(std::filesystem::exists(Work("run") / file)) << file;
   WriteText("run/notes.txt", "mine");
+  WriteText("run/chain007.png", "not a run's name");
+  std::filesystem::create_symlink("loop", Work("run") / "loop");  // a link to itself
   auto second = common;
   for (const char* arg : {"--chains", "2"}) second.push_back(arg);
   ASSERT_EQ(Run(second).status, 0);
@@ -254,6 +261,7 @@ TEST_F(SonarCli, ANewRunLeavesNoOutputsOfAnEarlierOneInItsDirectory) {
     EXPECT_FALSE(std::filesystem::exists(Work("run") / file)) << file;
   EXPECT_TRUE(std::filesystem::exists(Work("run") / "chain1.png"));
   EXPECT_EQ(testing::ReadAll(Work("run") / "notes.txt"), "mine");  // not a run's output
+  EXPECT_TRUE(std::filesystem::exists(Work("run") / "chain007.png"));
 }
 
 // `prf fit-sonar` writes a model file that `prf --sonar-model` reads, with the posterior options

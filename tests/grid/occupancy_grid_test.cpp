@@ -103,7 +103,7 @@ class ReferenceGrid {
       if (scan.status[i] == BeamStatus::kInvalid) continue;
       if (scan.status[i] == BeamStatus::kMaxRange) {
         if (!options_.max_readings_clear) continue;
-        range = options_.max_range;
+        range = std::min(options_.max_range, scan.max_range);
         hit = false;
       } else if (range > options_.max_range) {
         range = options_.max_range;
@@ -193,12 +193,13 @@ TEST(OccupancyGrid, RandomScansGiveTheReferenceRaster) {
       Scan scan;
       scan.pose = Se2(position(rng), position(rng), heading(rng));
       scan.angles = EvenlySpacedAngles(181, -M_PI / 2, M_PI / 2);
-      scan.max_range = 10.0;
+      // Sensors that reach beyond the insertion range and one that stops short of it.
+      scan.max_range = k % 2 == 0 ? 10.0 : 6.0;
       scan.min_range = 0.1;
       for (std::size_t i = 0; i < scan.angles.size(); ++i) {
         // Returns within and beyond the insertion range, max-range and unusable readings.
         const int kind = std::uniform_int_distribution<int>(0, 9)(rng);
-        scan.ranges.push_back(kind == 0   ? 10.0
+        scan.ranges.push_back(kind == 0   ? scan.max_range
                               : kind == 1 ? 0.05
                               : kind == 2 ? std::numeric_limits<double>::quiet_NaN()
                                           : range(rng));

@@ -1,7 +1,9 @@
 // The joint state's Kalman update against batch least squares, marginalisation, augmentation.
 #include <array>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <span>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -283,6 +285,25 @@ TEST(JointState, RejectsAnUpdateWhoseInnovationCovarianceIsNotPositiveDefinite) 
   m.R = Eigen::MatrixXd::Zero(1, 1);
   EXPECT_FALSE(state.Update(m));
   EXPECT_EQ(state.mean(), Eigen::Vector3d::Zero());
+}
+
+TEST(JointState, RejectsUpdatesThatWouldNotBeFinite) {
+  JointState state(Se2(), Mat3::Identity());
+  const JointState before = state;
+  Linearization m;
+  m.H.resize(1, 3);
+  m.H.insert(0, 0) = 1.0;
+  m.R = Eigen::MatrixXd::Identity(1, 1);
+  for (const double innovation : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    m.innovation = Eigen::VectorXd::Constant(1, innovation);
+    EXPECT_FALSE(state.Update(m)) << innovation;
+    EXPECT_FALSE(state.UpdateMixture(std::span(&m, 1), std::vector<double>{1.0}).has_value());
+  }
+  m.innovation = Eigen::VectorXd::Ones(1);
+  m.R(0, 0) = std::nan("");  // LLT reports success on it
+  EXPECT_FALSE(state.Update(m));
+  EXPECT_EQ(state.mean(), before.mean());
+  EXPECT_EQ(state.covariance(), before.covariance());
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 // The filter on small worlds whose answers are known, and on the urban study's data.
+#include <limits>
+
 #include <Eigen/Eigenvalues>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/angles.hpp>
@@ -249,6 +252,39 @@ TEST_F(UrbanRunTest, SlidingWindowDropsLandmarksUnseenForItsLength) {
   EXPECT_EQ(all.landmarks.size(), seen.size());
   EXPECT_LT(windowed.landmarks.size(), all.landmarks.size() / 4);
   EXPECT_GT(windowed.landmarks_created, seen.size());  // re-initialised when seen again
+}
+
+TEST(RunSlam, AFrameAtAnIncrementsStartIsObservedBeforeIt) {
+  SlamInput input;
+  input.initial_pose = Se2(0.0, 0.0, 0.0);
+  input.frames.push_back({0.0, {{0, 5.0, 0.0}}});  // a landmark 5 m ahead, seen at the start
+  input.frames.push_back({1.0, {}});
+  input.motion.push_back({1.0, 1.0, Se2(1.0, 0.0, 0.0)});  // then 1 m forward
+  SlamOptions options;
+  options.use_prior_map = false;
+  const SlamResult r = RunSlam(input, nullptr, options);
+  ASSERT_EQ(r.frames.size(), 2u);
+  EXPECT_NEAR(r.frames[0].time, 0.0, 1e-12);
+  EXPECT_NEAR(r.frames[0].estimate.x(), 0.0, 1e-12);
+  EXPECT_NEAR(r.frames[1].estimate.x(), 1.0, 1e-12);
+  ASSERT_EQ(r.landmarks.size(), 1u);
+  EXPECT_TRUE(r.landmarks[0].position.isApprox(Vec2(5.0, 0.0), 1e-12));
+}
+
+TEST(RunSlam, AFilterWhosePoseIsNoLongerFiniteStopsSayingWhen) {
+  SlamInput input;
+  input.frames.push_back({2.0, {{0, 5.0, 0.0}}});
+  input.motion.push_back({1.0, 1.0, Se2(1.0, 0.0, 0.0)});
+  input.motion.push_back({2.0, 1.0, Se2(1.0, 0.0, 0.0)});
+  input.motion_noise.increment_std = Vec3(std::numeric_limits<double>::infinity(), 0.05, 0.005);
+  SlamOptions options;
+  options.use_prior_map = false;
+  try {
+    (void)RunSlam(input, nullptr, options);
+    ADD_FAILURE() << "no SlamDiverged";
+  } catch (const SlamDiverged& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("after a motion step at t = 1 s"));
+  }
 }
 
 TEST(RunSlam, FramesInsideABicycleStepSplitIt) {

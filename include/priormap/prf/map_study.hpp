@@ -27,6 +27,9 @@
 
 namespace priormap::prf {
 
+/// The finest evaluation or truth raster the studies take, m.
+inline constexpr double kFinestStudyResolution = 0.005;
+
 struct MapStudyOptions {
   std::vector<Scene> scenes;         // each with a waypoint path (or a default pose)
   std::vector<RangeSensor> sensors;  // each scene is simulated with each sensor

@@ -80,7 +80,7 @@ class JointState {
   [[nodiscard]] Eigen::MatrixXd InnovationCovariance(const Linearization& m) const;
 
   /// The Kalman update with a linearised measurement. Returns false, changing nothing, when the
-  /// innovation covariance is not positive definite.
+  /// innovation covariance is not positive definite or the update would not be finite.
   bool Update(const Linearization& m);
 
   /// The update with a mixture likelihood sum_s w_s N(z_s; h_s(x), R_s), one linearised
@@ -88,7 +88,8 @@ class JointState {
   /// updates, weighted by w_s N(nu_s; 0, S_s), collapsed to its mean and covariance (moment
   /// matching: sum_s a_s (P_s + (x_s - x)(x_s - x)^T), positive semi-definite by construction).
   /// Returns the components' posterior weights a_s; nullopt, changing nothing, when an innovation
-  /// covariance is not positive definite or no weight is positive.
+  /// covariance is not positive definite, a component's update is not finite or no weight is
+  /// positive.
   std::optional<std::vector<double>> UpdateMixture(std::span<const Linearization> components,
                                                    std::span<const double> weights);
 

@@ -20,6 +20,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include <priormap/slam/association_hypotheses.hpp>
@@ -136,6 +137,12 @@ struct SegmentEstimate {
   int segment = -1;
   Vec2 a = Vec2::Zero(), b = Vec2::Zero();
   Mat4 covariance = Mat4::Zero();
+};
+
+/// Thrown by PriorMapSlam (and RunSlam) when the filter's pose stops being finite.
+class SlamDiverged : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 struct SlamResult {
