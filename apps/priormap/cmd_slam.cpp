@@ -1,11 +1,13 @@
 // priormap slam: EKF-SLAM with a prior map of building walls (Parsley & Julier). `simulate` runs
 // the paper's Monte Carlo study (Sec. VI) on a simulated city; `run` filters the user's files.
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <tbb/global_control.h>
@@ -112,6 +114,18 @@ void SaveFigure(const Drawing& drawing, const fs::path& stem) {
   }
 }
 
+// What SaveFigure wrote for `stem` in an earlier run, gone: a run without figures must not sit
+// beside another run's.
+void RemoveFigure(const fs::path& stem) {
+  for (const char* extension : {".png", ".svg"}) {
+    fs::path path = stem;
+    path += extension;
+    fs::remove(path);
+  }
+}
+
+constexpr std::array<const char*, 4> kStudyFigures = {"pose_error", "nees", "relations", "map"};
+
 std::string Number(double value) {
   return fmt::format("{}", value);
 }
@@ -152,9 +166,32 @@ void WriteStudyFigures(const slam::StudyResult& study, const slam::UrbanWorld& w
              directory / "map");
 }
 
-// Run 0's data in the files of `slam run`, its truth, and how to filter it.
+// The options of `slam run` that give the study's filter where it differs from the defaults
+// (" --window 2 --p-accept 0.9", say), so that the exported command filters as the study did.
+std::string NonDefaultFilterOptions(const slam::SlamOptions& s) {
+  const slam::SlamOptions d;
+  std::string out;
+  const auto number = [&](const char* option, double value, double default_value) {
+    if (value != default_value) out += fmt::format(" {} {}", option, Number(value));
+  };
+  number("--window", s.window_s, d.window_s);
+  number("--p-accept", s.priors.p_accept, d.priors.p_accept);
+  number("--p-line-real", s.priors.p_line_real, d.priors.p_line_real);
+  number("--p-point-on-line", s.priors.p_point_on_line, d.priors.p_point_on_line);
+  number("--null-density", s.priors.unrelated_density, d.priors.unrelated_density);
+  number("--wall-std", s.wall_std, d.wall_std);
+  number("--gate-chi2", s.gate_chi2, d.gate_chi2);
+  number("--max-cluster-pairs", s.max_cluster_pairs, d.max_cluster_pairs);
+  number("--recheck-chi2", s.recheck_chi2, d.recheck_chi2);
+  number("--recheck-frames", s.recheck_frames, d.recheck_frames);
+  if (s.building_relations) out += " --building-relations";
+  if (!s.first_estimates_jacobians) out += " --first-order-ekf";
+  return out;
+}
+
+// Run 0's data in the files of `slam run`, its truth, and how to filter it as the study did.
 void ExportInputs(const slam::UrbanWorld& world, const slam::UrbanRun& run,
-                  const fs::path& directory) {
+                  const slam::SlamOptions& filter, const fs::path& directory) {
   EnsureDirectory(directory);
   slam::WriteObservationsCsv(run.input.frames, directory / "observations.csv");
   slam::WriteOdometryCsv({run.input.start_time, run.input.motion}, directory / "odometry.csv");
@@ -191,10 +228,10 @@ void ExportInputs(const slam::UrbanWorld& world, const slam::UrbanRun& run,
           "  priormap slam run --observations observations.csv --odometry odometry.csv \\\n"
           "    --prior-map prior_map.geojson --initial-pose={},{},{} \\\n"
           "    --wheelbase {} --speed-std {} --steer-std {} --range-std {} --bearing-std {} \\\n"
-          "    -o slam_out\n",
+          "   {} -o slam_out\n",
           Number(start.x()), Number(start.y()), Number(start.theta()), Number(motion.wheelbase),
           Number(motion.speed_std), Number(RadToDeg(motion.steer_std)), Number(sensor.range_std),
-          Number(RadToDeg(sensor.bearing_std))));
+          Number(RadToDeg(sensor.bearing_std)), NonDefaultFilterOptions(filter)));
 }
 
 void PrintStudy(const slam::StudyResult& s) {
@@ -243,12 +280,17 @@ void Simulate(const SimulateOptions& o) {
   const fs::path out = o.out;
   EnsureDirectory(out);
   const std::vector<fs::path> written = slam::WriteStudyOutputs(result, study, out);
+  if (o.no_figures) {
+    for (const char* figure : kStudyFigures) RemoveFigure(out / "figures" / figure);
+    std::error_code not_empty;  // then it holds files of the user's, which stay
+    fs::remove(out / "figures", not_empty);
+  }
   if (!o.no_figures || o.export_inputs) {
     // The world and run 0 again (deterministic, cheap next to the filter runs).
     const slam::UrbanWorld world = slam::MakeUrbanWorld(study.scenario, study.seed);
     const slam::UrbanRun run = slam::SimulateUrbanRun(world, study.scenario, study.seed, 0);
     if (!o.no_figures) WriteStudyFigures(result, world, run, out / "figures");
-    if (o.export_inputs) ExportInputs(world, run, *o.export_inputs);
+    if (o.export_inputs) ExportInputs(world, run, study.slam, *o.export_inputs);
   }
   PrintStudy(result);
   fmt::print("wrote {} ({} and {} per-run tables{})\n", o.out, written.front().filename().string(),
@@ -413,6 +455,8 @@ void RunOnFiles(const RunOptions& o) {
                    {.title = fmt::format("{}: {}", o.observations,
                                          o.no_prior ? "without prior map" : "with prior map")}),
                out / "map");
+  } else {
+    RemoveFigure(out / "map");
   }
   PrintRun(result, seconds);
   fmt::print("wrote {} (summary.json, trajectory.csv, map.geojson, relations.csv{})\n", o.out,

@@ -110,6 +110,34 @@ void ExpectVariant(const json& v, const std::string& name) {
   }
 }
 
+// A study written over an earlier one leaves none of the earlier one's run tables or figures.
+TEST_F(SlamCli, SimulateOverAnEarlierStudyLeavesNoneOfItsOutputs) {
+  Ok({"slam", "simulate", "--runs", "3", "--seed", "1", "-o", "study"});
+  ASSERT_TRUE(fs::exists(Work("study/runs/with_prior_run_02.csv")));
+  ASSERT_TRUE(fs::exists(Work("study/figures/map.png")));
+  WriteAll(Work("study/runs/notes.txt"), "mine");
+  Ok({"slam", "simulate", "--runs", "1", "--seed", "1", "--no-figures", "-o", "study"});
+  std::set<std::string> tables;
+  for (const auto& entry : fs::directory_iterator(Work("study/runs")))
+    tables.insert(entry.path().filename().string());
+  EXPECT_EQ(tables, (std::set<std::string>{"with_prior_run_00.csv", "without_prior_run_00.csv",
+                                           "notes.txt"}));
+  EXPECT_FALSE(fs::exists(Work("study/figures")));
+}
+
+// The exported README's command filters with the study's options where they are not the
+// defaults, so that it gives the study's run 0.
+TEST_F(SlamCli, TheExportedCommandCarriesTheStudysFilterOptions) {
+  Ok({"slam", "simulate", "--runs", "1", "--no-figures", "-o", "a", "--export-inputs", "plain"});
+  EXPECT_THAT(ReadAll(Work("plain/README.txt")),
+              HasSubstr("--bearing-std 1.15 \\\n    -o slam_out"));
+  Ok({"slam", "simulate", "--runs", "1", "--no-figures", "-o", "b", "--window", "2", "--p-accept",
+      "0.9", "--building-relations", "--first-order-ekf", "--export-inputs", "tuned"});
+  EXPECT_THAT(ReadAll(Work("tuned/README.txt")),
+              HasSubstr("    --window 2 --p-accept 0.9 --building-relations --first-order-ekf -o "
+                        "slam_out\n"));
+}
+
 TEST_F(SlamCli, SimulateWritesTheStudyAndRunFiltersItsExportedInputs) {
   const RunResult r = Ok(
       {"slam", "simulate", "--runs", "2", "--seed", "3", "-o", "study", "--export-inputs", "in"});
@@ -180,6 +208,12 @@ TEST_F(SlamCli, SimulateWritesTheStudyAndRunFiltersItsExportedInputs) {
   EXPECT_GT(run_summary["landmarks_created"].get<int>(), 0);
   EXPECT_EQ(ReadJson("run/map.geojson")["type"], "FeatureCollection");
   EXPECT_TRUE(IsPng(ReadAll(Work("run/map.png"))));
+  // Again without figures, into the same directory: the first run's figure goes.
+  Ok({"slam", "run", "--observations", "in/observations.csv", "--odometry", "in/odometry.csv",
+      "--prior-map", "in/prior_map.geojson", "--initial-pose=" + start, "--no-figures", "-o",
+      "run"});
+  EXPECT_FALSE(fs::exists(Work("run/map.png")));
+  EXPECT_FALSE(fs::exists(Work("run/map.svg")));
 }
 
 TEST_F(SlamCli, TheSameSeedGivesTheSameNumbersWithAnyNumberOfThreads) {

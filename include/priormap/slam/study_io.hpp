@@ -39,8 +39,9 @@ namespace priormap::slam {
 /// needs them, so that the names sort).
 [[nodiscard]] std::string RunFileName(bool with_prior, int run, int runs);
 
-/// Writes summary.json, relations.csv and runs/*.csv into `directory` (created when missing).
-/// Returns the files written, summary first. Throws IoError.
+/// Writes summary.json, relations.csv and runs/*.csv into `directory` (created when missing),
+/// and removes the run tables of an earlier study there that this one does not write. Returns
+/// the files written, summary first. Throws IoError.
 std::vector<std::filesystem::path> WriteStudyOutputs(const StudyResult& study,
                                                      const StudyOptions& options,
                                                      const std::filesystem::path& directory);
