@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -38,20 +39,31 @@ CLI::Validator NonNegativeValue() {
   return NumberCheck(true);
 }
 
-CLI::Validator StepCount() {
+CLI::Validator WholeNumber(std::uint64_t max, const std::string& what) {
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [max, what](std::string& text) -> std::string {
         std::uint64_t value = 0;
         const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-        if (error == std::errc() && end == text.data() + text.size() && value <= kMaxStepCount) {
-          // Handed on in plain decimal: CLI11 itself would read "0100" as octal.
-          text = std::to_string(value);
+        if (error == std::errc() && end == text.data() + text.size() && value <= max) {
+          text = std::to_string(value);  // decimal, as CLI11 would not read "0100"
           return {};
         }
-        return fmt::format("'{}' is not a step count (expected a whole number from 0 to {})", text,
-                           kMaxStepCount);
+        return fmt::format("'{}' is not {} (expected a whole number from 0 to {})", text, what,
+                           max);
       },
-      "STEPS");
+      "");
+}
+
+CLI::Validator StepCount() {
+  return WholeNumber(kMaxStepCount, "a step count").description("STEPS");
+}
+
+CLI::Validator SeedValue() {
+  return WholeNumber(std::numeric_limits<std::uint64_t>::max(), "a seed");
+}
+
+CLI::Validator IndexValue() {
+  return WholeNumber(std::numeric_limits<std::uint64_t>::max(), "an index");
 }
 
 std::string DescribeDiagnostics(const std::vector<Diagnostic>& diagnostics) {

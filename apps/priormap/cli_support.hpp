@@ -41,12 +41,18 @@ T ValueOrThrow(Result<T> result) {
 [[nodiscard]] CLI::Validator PositiveValue();
 [[nodiscard]] CLI::Validator NonNegativeValue();
 
+/// A whole number in [0, max] for an unsigned option (`what` names it in the error: "a seed"),
+/// handed on in plain decimal. CLI11 alone would read "-5" into an unsigned option as 2^64 - 5,
+/// and "0100" as octal. Add it with transform(), not check(), which would not hand it on.
+[[nodiscard]] CLI::Validator WholeNumber(std::uint64_t max, const std::string& what);
+
 /// Most steps a step-count option takes: sums of a few stay far from overflowing.
 inline constexpr std::uint64_t kMaxStepCount = std::uint64_t{1} << 40;
-/// A step count: a whole number in [0, kMaxStepCount], handed on in plain decimal. CLI11 would
-/// read "-5" into an unsigned option as 2^64 - 5, and "0100" as octal. Add it with transform(),
-/// not check(), which would not hand the decimal on.
+/// WholeNumber(kMaxStepCount, "a step count").
 [[nodiscard]] CLI::Validator StepCount();
+/// WholeNumber over all of uint64: seeds, indices.
+[[nodiscard]] CLI::Validator SeedValue();
+[[nodiscard]] CLI::Validator IndexValue();
 
 /// "x,y,theta" (theta in radians).
 [[nodiscard]] Se2 ParsePose(const std::string& text);

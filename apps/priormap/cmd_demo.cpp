@@ -288,6 +288,7 @@ void AddDemoCommand(CLI::App& app) {
       "gallery, OUT/index.html");
   cmd->add_option("-o,--out", o->out, "Output directory")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same gallery")
+      ->transform(SeedValue())
       ->capture_default_str();
   cmd->add_option("--data", o->data,
                   "Directory of real logs (like ../shared/data, which is used when present)");

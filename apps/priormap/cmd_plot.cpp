@@ -108,7 +108,7 @@ void AddPlotCommand(CLI::App& app) {
          "map: points in the world; ranges: range per beam; residuals: measured - true range")
       ->check(CLI::IsMember({"map", "ranges", "residuals"}))
       ->capture_default_str();
-  cmd->add_option("--scan", o->scan, "Draw only this scan (0-based)");
+  cmd->add_option("--scan", o->scan, "Draw only this scan (0-based)")->transform(IndexValue());
   cmd->add_option("--scene", o->scene, "Overlay a scene (built-in name or scene JSON)");
   cmd->add_option("--stride", o->stride, "Log maps: draw every n-th scan")
       ->check(PositiveValue())

@@ -156,6 +156,7 @@ void AddPriorStats(CLI::App& prf_cmd) {
       ->transform(StepCount())
       ->capture_default_str();
   cmd->add_option("--seed", o->stats.seed, "Random seed; the same seed gives the same result")
+      ->transform(SeedValue())
       ->capture_default_str();
   cmd->add_option("--distances", o->distances,
                   "Distances d for P(same colour) and the crossings (absolute, < L; default "
@@ -596,6 +597,7 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   cmd.add_option("--seed", m.seed, "Random seed; the same seed gives the same result")
+      ->transform(SeedValue())
       ->capture_default_str();
   cmd.add_flag("--anneal", o->anneal, "Anneal the best chain to a MAP polygonal map");
   cmd.add_option("--anneal-steps", m.anneal_steps, "Annealing steps (default: --samples)")

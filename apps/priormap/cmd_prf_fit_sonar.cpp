@@ -124,7 +124,9 @@ void AddPrfFitSonarCommand(CLI::App& prf_cmd) {
   cmd->add_option("--rate", o->rate, "Rings per second")
       ->check(PositiveValue())
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "Seed of the simulated rings")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Seed of the simulated rings")
+      ->transform(SeedValue())
+      ->capture_default_str();
   cmd->add_option("--max-range", o->max_range, "R, m (default: the sensor's, or 5 with --log)")
       ->check(PositiveValue());
   cmd->add_option("--log", o->log, "A localized sonar log instead of simulated rings");

@@ -139,6 +139,7 @@ void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
       ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--seed", s.seed, "Random seed; the same seed gives the same result")
+      ->transform(SeedValue())
       ->capture_default_str();
   cmd->add_option("--sonar-model", o->sonar_model,
                   "Sonar model file (priormap.sonar_model JSON); default: the built-in parameters");

@@ -146,6 +146,7 @@ void AddPrfStudyCommand(CLI::App& prf_cmd) {
       ->check(NonNegativeValue())
       ->capture_default_str();
   cmd->add_option("--seed", s.seed, "Random seed; the same seed gives the same result")
+      ->transform(SeedValue())
       ->capture_default_str();
   cmd->add_option("-o,--out", o->out, "Output directory")->required();
   cmd->add_flag("!--no-figures", o->figures, "Skip the per-case PNG figures");

@@ -222,7 +222,9 @@ void AddPriorCommand(CLI::App& app) {
   check->add_flag(
       "--pose-independence", o->pose_independence,
       "Also test numerically that the prior does not depend on the map's pose (paper Def. 3)");
-  check->add_option("--seed", o->seed, "Seed of the random configurations")->capture_default_str();
+  check->add_option("--seed", o->seed, "Seed of the random configurations")
+      ->transform(SeedValue())
+      ->capture_default_str();
   check->callback([o] { Check(*o); });
 
   CLI::App* show = prior->add_subcommand(

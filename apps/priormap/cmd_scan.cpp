@@ -170,7 +170,8 @@ void AddScanCommand(CLI::App& app) {
                   "Directories searched for priors named by 'specializes:'");
   cmd->add_option("-i,--input,--log", o->input, "Scan or log: priormap JSON or CARMEN (.gz too)")
       ->required();
-  cmd->add_option("--index", o->index, "Which scan of the log (0-based; default 0)");
+  cmd->add_option("--index", o->index, "Which scan of the log (0-based; default 0)")
+      ->transform(IndexValue());
   cmd->add_flag("--all", o->all, "Every scan of the log, in parallel, as JSON Lines");
   cmd->add_option("-o,--out", o->out, "Output JSON (JSON Lines with --all)")->required();
   cmd->add_option("--beta", o->beta, "Prior probability that a reading fits the prior")
@@ -190,6 +191,7 @@ void AddScanCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-free-dimension", o->max_free_dimension,
                   "Above this dim(Free) no covariance matrix or eigenvariations (cost O(dim^3))")
+      ->transform(WholeNumber(100000, "a dimension"))
       ->capture_default_str();
   cmd->add_option("--png", o->png,
                   "One scan: a figure of the MAP scan, its normals, eigenvariations and "

@@ -178,6 +178,7 @@ void AddSimulateCommand(CLI::App& app) {
       ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same output")
+      ->transform(SeedValue())
       ->capture_default_str();
   cmd->add_option("-o,--out", o->out,
                   "Output file: .json (priormap JSON) or .log / .log.gz (CARMEN)");

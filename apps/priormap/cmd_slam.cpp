@@ -473,6 +473,7 @@ void AddSimulate(CLI::App& slam_cmd) {
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same results")
+      ->transform(SeedValue())
       ->capture_default_str();
   cmd->add_option("-o,--out", o->out, "Output directory (created)")->required();
   cmd->add_option("--threads", o->threads, "At most this many threads (default: all cores)")

@@ -202,6 +202,27 @@ TEST_F(Cli, SameSeedGivesIdenticalFilesAndAnotherSeedDiffers) {
   EXPECT_NE(a.ranges, c.ranges);
 }
 
+// Unsigned options refuse a sign (CLI11 alone would wrap -5 round to 2^64 - 5) and read a
+// leading zero as decimal (CLI11 alone: octal).
+TEST_F(Cli, UnsignedOptionsRefuseSignsAndReadLeadingZerosAsDecimal) {
+  EXPECT_THAT(Fails({"simulate", "--seed", "-5", "-o", "a.json"}).err,
+              HasSubstr("--seed: '-5' is not a seed"));
+  EXPECT_FALSE(fs::exists(Work("a.json")));
+  Ok({"simulate", "--seed", "010", "-o", "a.json"});
+  Ok({"simulate", "--seed", "10", "-o", "b.json"});
+  EXPECT_EQ(ReadAll(Work("a.json")), ReadAll(Work("b.json")));
+  EXPECT_THAT(
+      Fails({"scan", "--prior", "rectangular", "-i", "a.json", "-o", "m.json", "--index", "-1"})
+          .err,
+      HasSubstr("'-1' is not an index"));
+  EXPECT_THAT(Fails({"scan", "--prior", "rectangular", "-i", "a.json", "-o", "m.json",
+                     "--max-free-dimension", "-5"})
+                  .err,
+              HasSubstr("'-5' is not a dimension"));
+  EXPECT_THAT(Fails({"plot", "a.json", "-o", "p.png", "--scan", "-2"}).err,
+              HasSubstr("'-2' is not an index"));
+}
+
 TEST_F(Cli, SameSeedGivesIdenticalLogs) {
   Ok({"simulate", "--log", "--sensor", "lms200", "--seed", "3", "-o", "a.json"});
   Ok({"simulate", "--log", "--sensor", "lms200", "--seed", "3", "-o", "b.json"});
