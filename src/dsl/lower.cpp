@@ -170,6 +170,19 @@ class Lowerer {
     scope.values.emplace(definition.name, std::move(value));
   }
 
+  // Operations on constants are folded as the graph is built: one that folds to NaN or an
+  // infinity (log(-1), 1/0) would make a term that is never finite, which the engine could
+  // neither satisfy nor report where it came from.
+  Value Finite(const Expr& e, Value value) {
+    for (const NodeId id : value.entries) {
+      if (!graph_.IsConst(id) || std::isfinite(graph_.node(id).value)) continue;
+      Fail(e.loc,
+           fmt::format("this is {} whatever the unknowns: a constant must be a finite number",
+                       std::isnan(graph_.node(id).value) ? "not a number" : "infinite"));
+    }
+    return value;
+  }
+
   Value Lower(const Expr& e, const Scope& scope) {
     switch (e.kind) {
       case Expr::Kind::kNumber:
@@ -177,7 +190,8 @@ class Lowerer {
       case Expr::Kind::kName:
         return Name(e, scope);
       case Expr::Kind::kNegate:
-        return Map(Lower(*e.children[0], scope), [&](NodeId a) { return graph_.Neg(a); });
+        return Finite(e,
+                      Map(Lower(*e.children[0], scope), [&](NodeId a) { return graph_.Neg(a); }));
       case Expr::Kind::kTranspose:
         return Transpose(Lower(*e.children[0], scope));
       case Expr::Kind::kBinary: {
@@ -185,10 +199,10 @@ class Lowerer {
         // the one reported, with every compiler.
         const Value left = Lower(*e.children[0], scope);
         const Value right = Lower(*e.children[1], scope);
-        return Binary(e, left, right);
+        return Finite(e, Binary(e, left, right));
       }
       case Expr::Kind::kCall:
-        return Call(e, scope);
+        return Finite(e, Call(e, scope));
       case Expr::Kind::kMatrix:
         return Matrix(e, scope);
       case Expr::Kind::kCompare:

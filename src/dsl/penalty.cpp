@@ -96,6 +96,13 @@ PenaltyValue AccumulatePenalty(const CompiledBlock& block, const double* values,
     }
     if (term.disjunction >= 0 && term.branch != best_branch[term.disjunction]) continue;
     const double r = Residual(term, values[t]);
+    if (std::isnan(r) && term.disjunction < 0) {
+      // Outside the term's domain (sqrt or log of a negative number): infinitely violated, not
+      // (as std::max would have it) not violated at all; no NaN into the derivatives.
+      penalty.constraint = std::numeric_limits<double>::infinity();
+      penalty.max_residual = std::numeric_limits<double>::infinity();
+      continue;
+    }
     if (term.disjunction < 0) {
       penalty.constraint += r * r;
       penalty.max_residual = std::max(penalty.max_residual, std::abs(r));

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -314,7 +315,13 @@ std::vector<Component> BuildComponents(std::size_t n, std::span<const Constraint
                                r, row.first, row.coefficients.size(), n));
     double largest = 0.0;
     for (double c : row.coefficients) {
-      PRIORMAP_CHECK(std::isfinite(c), fmt::format("constraint row {} is not finite", r));
+      // The prior's own terms can leave their domain at the estimate (sqrt of a negative
+      // number): the user's prior, not this code, is at fault, and is told so.
+      if (!std::isfinite(c))
+        throw std::domain_error(fmt::format(
+            "constraint {} of the prior is not finite at the estimate: a term is outside its "
+            "domain there (the square root or logarithm of a negative number, say)",
+            r));
       largest = std::max(largest, std::abs(c));
     }
     if (largest == 0.0) continue;

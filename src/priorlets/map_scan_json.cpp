@@ -7,15 +7,17 @@
 namespace priormap::priorlets {
 namespace {
 
+// As everywhere in our JSON (docs/formats.md): null for NaN ("not available"), the strings
+// "inf" / "-inf" for infinities (an out-of-model beam keeps its infinite reading).
+nlohmann::json Number(double v) {
+  if (std::isnan(v)) return nullptr;
+  if (std::isinf(v)) return v > 0.0 ? "inf" : "-inf";
+  return v;
+}
+
 nlohmann::json Numbers(const std::vector<double>& values) {
   nlohmann::json array = nlohmann::json::array();
-  for (double v : values) {
-    if (std::isfinite(v)) {
-      array.push_back(v);
-    } else {
-      array.push_back(nullptr);
-    }
-  }
+  for (double v : values) array.push_back(Number(v));
   return array;
 }
 
@@ -70,8 +72,8 @@ std::string MapScanToJson(const MapScan& map, const MapScanJsonContext& context,
   j["scan_index"] = context.scan_index;
   j["prior"] = context.prior_name;
   j["feasible"] = map.feasible;
-  j["max_violation"] = map.max_violation;
-  j["objective"] = map.objective;
+  j["max_violation"] = Number(map.max_violation);
+  j["objective"] = Number(map.objective);
   j["rho"] = Numbers(map.rho);
   j["alpha"] = Numbers(map.alpha);
   j["initial_alpha"] = Numbers(map.initial_alpha);

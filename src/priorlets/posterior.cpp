@@ -265,6 +265,15 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
     out.note = "no in-model points";
     return finish();
   }
+  // The kernel's null threshold is 100 v (below): at v >= 0.01 it would reach the singular
+  // values' own scale, and a v that is not finite is a term outside its domain at the MAP.
+  if (!(100.0 * map.max_violation < 1.0)) {
+    out.note = fmt::format(
+        "the MAP estimate violates the prior by {} (at least 0.01): its degrees of freedom and "
+        "posterior are not defined there",
+        map.max_violation);
+    return finish();
+  }
 
   InnerProblem problem = MakeFinalProblem(scan, prior, map);
   Eigen::VectorXd x(static_cast<Eigen::Index>(2 * m));

@@ -898,6 +898,36 @@ TEST_F(Cli, ScanFigureErrorsNameTheProblem) {
               HasSubstr("directory missing does not exist"));
 }
 
+// A prior whose term leaves its domain at the data (the square root of a negative number) gives
+// an infeasible MAP scan, infinitely violated, without degrees of freedom: not an internal error.
+TEST_F(Cli, AScanUnderAPriorOutsideItsDomainIsInfeasible) {
+  Ok({"simulate", "--scene", "l-room", "--seed", "1", "-o", "s.json"});
+  WriteAll(Work("sqrt.prior"),
+           "name: Square-root walls\nspecializes: Polygonal prior\npriorlet same_region:\n"
+           "  sqrt(rho_1 - 100) == rho_2\n");
+  Ok({"scan", "--prior", "sqrt.prior", "-i", "s.json", "-o", "m.json"});
+  const nlohmann::json map = nlohmann::json::parse(ReadAll(Work("m.json")));
+  EXPECT_FALSE(map["feasible"].get<bool>());
+  EXPECT_EQ(map["max_violation"], "inf");
+  EXPECT_FALSE(map["posterior"]["computed"].get<bool>());
+  EXPECT_THAT(map["posterior"]["note"].get<std::string>(), HasSubstr("violates the prior by inf"));
+}
+
+// Infinite readings keep their value in the MAP scan, written as our JSON writes infinities.
+TEST_F(Cli, AScanKeepsInfiniteReadingsAsInf) {
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "-o", "s.json"});
+  nlohmann::json log = nlohmann::json::parse(ReadAll(Work("s.json")));
+  ASSERT_TRUE(log.contains("ranges"));
+  log["ranges"][0] = "inf";
+  log["ranges"][1] = "-inf";
+  WriteAll(Work("inf.json"), log.dump());
+  Ok({"scan", "--prior", "rectangular", "-i", "inf.json", "-o", "m.json"});
+  const nlohmann::json map = nlohmann::json::parse(ReadAll(Work("m.json")));
+  EXPECT_FALSE(map["inmodel"][0].get<bool>());
+  EXPECT_EQ(map["rho"][0], "inf");
+  EXPECT_EQ(map["rho"][1], "-inf");
+}
+
 TEST_F(Cli, ScanErrorsNameTheProblem) {
   Ok({"simulate", "--scene", "square", "--sensor", "lms200", "-o", "s.json"});
   EXPECT_THAT(

@@ -239,6 +239,11 @@ std::vector<MalformedCase> Cases() {
        "a comparison is not a value", kCompile},
       {"ComparisonInArithmetic", block + "  (rho_1 == rho_2) + 1 == 0\n", 4, 10,
        "a comparison is not a value", kCompile},
+      // Constants that fold to NaN or an infinity: a term never finite.
+      {"ConstantThatIsNotANumber", block + "  rho_1 == log(-1)\n", 4, 12,
+       "this is not a number whatever the unknowns: a constant must be a finite number", kCompile},
+      {"InfiniteConstant", block + "  rho_1 <= 2 * (1 / 0)\n", 4, 19,
+       "this is infinite whatever the unknowns", kCompile},
       {"DisjunctionAsAValue", block + "  model_likelihood (rho_1 == 0 || rho_2 == 0)\n", 4, 32,
        "'||' joins constraints; it cannot be used inside an expression", kCompile},
       {"ChainedComparison", block + "  0 <= rho_1 <= 1\n", 4, 14, "comparisons cannot be chained",

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -115,6 +116,23 @@ TEST(Penalty, DisjunctionTakesTheSmallestBranch) {
   EXPECT_EQ(active[0], 1);
   EXPECT_NEAR(p.constraint, 0.01, 1e-12);
   ExpectDerivativesMatch(block, x, phi);
+}
+
+// A term outside its domain (here a NaN put in its place) is infinitely violated: std::max alone
+// would have dropped it and called the point feasible. It adds no NaN to the derivatives.
+TEST(Penalty, ATermThatIsNotANumberIsInfinitelyViolated) {
+  const CompiledPrior prior = Load("Polygonal prior");
+  const CompiledBlock& block = *prior.block(BlockKind::kSameRegion);
+  const std::vector<double> x = {1.0, 2.0, 0.3, 0.5}, phi = {0.0, 0.2};
+  Evaluation e = Evaluate(block, x, phi);
+  e.values[0] = std::nan("");
+  std::vector<double> gradient(4, 0.0), hessian(16, 0.0);
+  const PenaltyValue p = AccumulatePenalty(block, e.values.data(), e.gradients.data(),
+                                           e.hessians.data(), {}, gradient.data(), hessian.data());
+  EXPECT_EQ(p.max_residual, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(p.constraint, std::numeric_limits<double>::infinity());
+  for (const double g : gradient) EXPECT_TRUE(std::isfinite(g));
+  for (const double h : hessian) EXPECT_TRUE(std::isfinite(h));
 }
 
 TEST(Penalty, InequalitiesCountOnlyWhenViolated) {
