@@ -30,10 +30,13 @@ dsl::CompiledPrior Load(const PriorOptions& o) {
 }
 
 void List(const PriorOptions& o) {
-  for (const dsl::PriorListing& p : MakePriorLibrary(o.prior_path).List()) {
+  const dsl::PriorLibrary library = MakePriorLibrary(o.prior_path);
+  for (const dsl::PriorListing& p : library.List()) {
     fmt::print("{:<42} {}\n", p.name, p.description);
     fmt::print("{:<42} {}\n", "", p.path);
   }
+  for (const Diagnostic& d : library.Unparsable())
+    fmt::print(stderr, "priormap: warning: not listed, {}: {}\n", d.Location(), d.message);
 }
 
 // "1 equality", "2 equalities".

@@ -47,8 +47,10 @@ std::string Description(std::string_view text) {
   return comment;
 }
 
-// The *.prior files of a directory that parse, sorted by file name.
-std::vector<std::pair<PriorFile, std::string>> PriorsIn(const fs::path& directory) {
+// The *.prior files of a directory that parse, sorted by file name; the first problem of each
+// that does not parse (or cannot be read) in `broken`, when given.
+std::vector<std::pair<PriorFile, std::string>> PriorsIn(const fs::path& directory,
+                                                        std::vector<Diagnostic>* broken = nullptr) {
   std::vector<fs::path> files;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(directory, ec)) {
@@ -59,11 +61,27 @@ std::vector<std::pair<PriorFile, std::string>> PriorsIn(const fs::path& director
   std::vector<std::pair<PriorFile, std::string>> priors;
   for (const fs::path& file : files) {
     Result<std::string> text = ReadFileText(file);
-    if (!text) continue;
+    if (!text) {
+      if (broken) broken->push_back(text.diagnostics().front());
+      continue;
+    }
     Result<PriorFile> parsed = ParsePrior(text.value(), file.string());
-    if (parsed) priors.emplace_back(std::move(parsed).value(), Description(text.value()));
+    if (parsed) {
+      priors.emplace_back(std::move(parsed).value(), Description(text.value()));
+    } else if (broken) {
+      broken->push_back(parsed.diagnostics().front());
+    }
   }
   return priors;
+}
+
+// The prior asked for may be in a file that does not parse: the files passed over, for an
+// error that could not find it.
+std::string SkippedFiles(const std::vector<Diagnostic>& broken) {
+  if (broken.empty()) return "";
+  std::string out = "; these prior files were passed over as they do not parse:";
+  for (const Diagnostic& d : broken) out += fmt::format("\n  {}: {}", d.Location(), d.message);
+  return out;
 }
 
 std::vector<std::pair<PriorFile, std::string>> Builtins() {
@@ -115,6 +133,12 @@ std::vector<PriorListing> PriorLibrary::List() const {
   return listing;
 }
 
+std::vector<Diagnostic> PriorLibrary::Unparsable() const {
+  std::vector<Diagnostic> broken;
+  for (const fs::path& directory : directories_) (void)PriorsIn(directory, &broken);
+  return broken;
+}
+
 Result<PriorFile> PriorLibrary::Find(const std::string& name, const fs::path& first_directory,
                                      const SourceLocation& requested_at) const {
   std::vector<fs::path> directories;
@@ -123,10 +147,11 @@ Result<PriorFile> PriorLibrary::Find(const std::string& name, const fs::path& fi
     directories.push_back(first_directory);
   for (const fs::path& d : directories_) directories.push_back(d);
   std::vector<std::string> searched;
+  std::vector<Diagnostic> broken;
   for (const fs::path& directory : directories) {
     searched.push_back(directory.string());
     std::vector<PriorFile> matches;
-    for (auto& [file, description] : PriorsIn(directory)) {
+    for (auto& [file, description] : PriorsIn(directory, &broken)) {
       if (NameOf(file) == name) matches.push_back(std::move(file));
     }
     if (matches.size() > 1) {
@@ -141,8 +166,8 @@ Result<PriorFile> PriorLibrary::Find(const std::string& name, const fs::path& fi
   }
   searched.push_back("the built-in library");
   return Diagnostic{requested_at.file_name(), requested_at.line, requested_at.col,
-                    fmt::format("unknown prior '{}' (searched {}; see 'priormap prior list')", name,
-                                fmt::join(searched, ", "))};
+                    fmt::format("unknown prior '{}' (searched {}; see 'priormap prior list'){}",
+                                name, fmt::join(searched, ", "), SkippedFiles(broken))};
 }
 
 Result<CompiledPrior> PriorLibrary::Compile(const PriorFile& file) const {
@@ -193,9 +218,9 @@ Result<CompiledPrior> PriorLibrary::Load(const std::string& file_or_name) const 
     for (const PriorListing& listing : List()) {
       if (fs::path(listing.path).stem() == file_or_name) return Load(listing.name);
     }
-    return Diagnostic{
-        "", 0, 0,
-        fmt::format("no prior file or prior named '{}' (see 'priormap prior list')", file_or_name)};
+    return Diagnostic{"", 0, 0,
+                      fmt::format("no prior file or prior named '{}' (see 'priormap prior list'){}",
+                                  file_or_name, SkippedFiles(Unparsable()))};
   }
   return Compile(found.value());
 }

@@ -259,6 +259,27 @@ TEST(PriorLibraryLoad, UnknownNameIsAnError) {
   EXPECT_THAT(prior.error(), HasSubstr("no prior file or prior named 'no such prior'"));
 }
 
+// A prior in a file that does not parse cannot be found by its name; the error says which files
+// were passed over and why, and the listing's Unparsable() names them too.
+TEST(PriorLibraryLoad, APriorThatDoesNotParseIsNamedWhenItsNameIsNotFound) {
+  TempDir dir;
+  WriteAll(dir / "walls.prior", "name: My walls\norder: 2\npriorlet same_region:\n  rho_1 == *\n");
+  WriteAll(dir / "kid.prior", "name: Kid\nspecializes: My walls\n");
+  const PriorLibrary library({dir.path()});
+  const std::string where = (dir / "walls.prior").string() + ":4:12";
+  const Result<CompiledPrior> by_name = library.Load("My walls");
+  ASSERT_FALSE(by_name.ok());
+  EXPECT_THAT(by_name.error(), HasSubstr("no prior file or prior named 'My walls'"));
+  EXPECT_THAT(by_name.error(), HasSubstr("passed over as they do not parse:\n  " + where));
+  const Result<CompiledPrior> kid = library.Load((dir / "kid.prior").string());
+  ASSERT_FALSE(kid.ok());
+  EXPECT_THAT(kid.error(), HasSubstr("unknown prior 'My walls'"));
+  EXPECT_THAT(kid.error(), HasSubstr(where));
+  const std::vector<Diagnostic> unparsable = library.Unparsable();
+  ASSERT_EQ(unparsable.size(), 1u);
+  EXPECT_EQ(unparsable[0].Location(), where);
+}
+
 TEST(PriorLibraryLoad, AmbiguousNameInALibraryDirectoryIsAnError) {
   TempDir dir;
   WriteAll(dir / "a.prior", Marked("Twice", 1));

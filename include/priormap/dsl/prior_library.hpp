@@ -39,6 +39,9 @@ class PriorLibrary {
   /// Every prior resolvable by name, directories first; a name shadowed by an earlier one is
   /// listed once.
   [[nodiscard]] std::vector<PriorListing> List() const;
+  /// The first problem of each *.prior file in the directories that does not parse (List and
+  /// name lookups pass over them).
+  [[nodiscard]] std::vector<Diagnostic> Unparsable() const;
 
   /// Compiles the prior in file `file_or_name` when such a file exists, else the prior of that
   /// name.
