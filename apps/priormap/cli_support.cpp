@@ -9,7 +9,9 @@
 
 #include <fmt/format.h>
 
+#include <priormap/core/file_io.hpp>
 #include <priormap/core/json_io.hpp>
+#include <priormap/core/log_io.hpp>
 #include <priormap/render/figure.hpp>
 
 namespace priormap::app {
@@ -37,6 +39,15 @@ CLI::Validator PositiveValue() {
 
 CLI::Validator NonNegativeValue() {
   return NumberCheck(true);
+}
+
+void RequireCarmenForMaxRange(const std::string& input, const std::optional<double>& max_range) {
+  if (!max_range) return;
+  const LogFormat format = SniffLogFormat(ValueOrThrow(ReadFileText(input)));
+  if (format != LogFormat::kCarmen)
+    throw UserError(fmt::format(
+        "--max-range is for CARMEN input: {} is {}, whose scans carry their own max range", input,
+        ToString(format)));
 }
 
 CLI::Validator WholeNumber(std::uint64_t max, const std::string& what) {
@@ -117,6 +128,21 @@ void RequireOutputDirectory(const std::filesystem::path& path, const std::string
   if (!std::filesystem::is_directory(directory, ec)) {
     throw UserError(fmt::format("{}: cannot write '{}': directory {} does not exist", option,
                                 path.string(), directory.string()));
+  }
+}
+
+void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::pair<std::string, std::filesystem::path>> seen;
+  for (const auto& [option, path] : files) {
+    if (path.empty()) continue;
+    std::error_code ec;  // a path that cannot be resolved is compared as given
+    std::filesystem::path resolved = std::filesystem::weakly_canonical(path, ec);
+    if (ec) resolved = std::filesystem::path(path).lexically_normal();
+    for (const auto& [earlier, earlier_path] : seen)
+      if (earlier_path == resolved)
+        throw UserError(fmt::format("{} and {} both name {}: one would overwrite the other",
+                                    earlier, option, path));
+    seen.emplace_back(option, std::move(resolved));
   }
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -54,6 +55,10 @@ inline constexpr std::uint64_t kMaxStepCount = std::uint64_t{1} << 40;
 [[nodiscard]] CLI::Validator SeedValue();
 [[nodiscard]] CLI::Validator IndexValue();
 
+/// Refuses `--max-range`, which only the CARMEN reader takes, for a log in another format (whose
+/// scans carry their own max range), rather than ignore it.
+void RequireCarmenForMaxRange(const std::string& input, const std::optional<double>& max_range);
+
 /// "x,y,theta" (theta in radians).
 [[nodiscard]] Se2 ParsePose(const std::string& text);
 
@@ -70,6 +75,10 @@ void RequireFigurePath(const std::filesystem::path& path, const std::string& opt
 /// Throws UserError when the directory `path` would be written to does not exist. For commands
 /// with several outputs, so that a typo in one output's directory fails before any is written.
 void RequireOutputDirectory(const std::filesystem::path& path, const std::string& option);
+
+/// Throws UserError when two of the (option, path) pairs name the same file (an output would
+/// overwrite the input or another output); empty paths are not given.
+void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& files);
 
 /// Creates `directory` (and parents) when missing; throws UserError when that fails.
 void EnsureDirectory(const std::filesystem::path& directory);

@@ -57,6 +57,26 @@ Log ReadRoboNd(const ConvertOptions& o) {
   return log;
 }
 
+// A JSON log carries its own ranges, limits and noise, and csm's laser_data its own field of
+// view: options that the reader of the input's format would drop are refused, not ignored.
+void RefuseOptionsTheFormatIgnores(const ConvertOptions& o, LogFormat from,
+                                   const std::string& input) {
+  std::vector<std::string> ignored;
+  if (from == LogFormat::kJson) {
+    if (o.max_range) ignored.emplace_back("--max-range");
+    if (o.min_range) ignored.emplace_back("--min-range");
+    if (o.sigma) ignored.emplace_back("--sigma");
+  }
+  if (from != LogFormat::kCarmen && o.fov_deg) ignored.emplace_back("--fov");
+  if (!ignored.empty())
+    throw UserError(fmt::format("{} {} for other formats: {} is {}, whose scans carry their own",
+                                fmt::join(ignored, ", "), ignored.size() == 1 ? "is" : "are", input,
+                                ToString(from)));
+  if (o.min_range && o.max_range && !(*o.min_range < *o.max_range))
+    throw UserError(
+        fmt::format("--min-range {} must be below --max-range {}", *o.min_range, *o.max_range));
+}
+
 void Run(const ConvertOptions& o) {
   const bool robond = o.from && *o.from == kRoboNdSonar;
   if (!robond && o.inputs.size() != 1)
@@ -78,6 +98,7 @@ void Run(const ConvertOptions& o) {
   } else {
     const std::string text = ValueOrThrow(ReadFileText(input));
     from = o.from ? *LogFormatFromString(*o.from) : SniffLogFormat(text);
+    RefuseOptionsTheFormatIgnores(o, *from, input);
     switch (*from) {
       case LogFormat::kJson:
         log = ValueOrThrow(ParseJsonLog(text, input));
@@ -175,6 +196,7 @@ void AddConvertCommand(CLI::App& app) {
       ->check(NonNegativeValue());
   cmd->add_option("--fov", o->fov_deg,
                   "CARMEN: field of view of FLASER/RLASER lines, degrees (default 180)")
+      ->check(PositiveValue())
       ->check(CLI::Range(0.0, 360.0));
   cmd->add_option("--sigma", o->sigma,
                   "CARMEN: range noise standard deviation given to every reading, m; csm: to "

@@ -79,6 +79,7 @@ void PlotRanges(const Log& log, const PlotOptions& o, bool residuals) {
 
 void Run(const PlotOptions& o) {
   RequireFigurePath(o.out, "--out");
+  RequireCarmenForMaxRange(o.input, o.max_range);
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
   const Log log = ValueOrThrow(ReadLog(o.input, std::nullopt, carmen));

@@ -75,6 +75,13 @@ void Run(const ScanOptions& o) {
     if (o.all) throw UserError("--lines writes one scan's segments, not --all (use --index)");
     RequireOutputDirectory(*o.lines, "--lines");
   }
+  RequireOutputDirectory(o.out, "--out");
+  RequireDistinctFiles({{"-i/--log", o.input},
+                        {"-o/--out", o.out},
+                        {"--lines", o.lines.value_or("")},
+                        {"--png", o.png.value_or("")},
+                        {"--svg", o.svg.value_or("")}});
+  RequireCarmenForMaxRange(o.input, o.max_range);
   const dsl::CompiledPrior prior = ValueOrThrow(MakePriorLibrary(o.prior_path).Load(o.prior));
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
@@ -155,6 +162,11 @@ void Run(const ScanOptions& o) {
   WriteTextFileAtomically(o.out, text);
   fmt::print("wrote {} ({}{})\n", o.out, Plural(lines.size(), "scan"),
              failures ? fmt::format(", {} failed", failures.load()) : std::string());
+  // The file holds every scan's record, the failed ones' errors too; the exit status says that
+  // not every scan was estimated.
+  if (failures > 0)
+    throw UserError(fmt::format("{} of {} failed; their records in {} say why", failures.load(),
+                                Plural(lines.size(), "scan"), o.out));
 }
 
 }  // namespace

@@ -67,6 +67,10 @@ std::optional<SonarSensor> MakeSonarSensor(const SimulateOptions& o) {
   return sensor;
 }
 
+// More scans than any log needs: a slower speed or a higher rate is a typo, and would exhaust
+// memory (or overflow the scan count) before writing anything.
+constexpr double kMaxLogScans = 1e7;
+
 void Run(const SimulateOptions& o) {
   // Every check before the first write, so that a failure leaves nothing behind.
   const Scene scene = LoadScene(o.scene);
@@ -87,6 +91,23 @@ void Run(const SimulateOptions& o) {
   const Se2 pose = o.pose ? ParsePose(*o.pose) : scene.default_pose.value_or(Se2());
   if (o.log && scene.waypoints.size() < 2) {
     throw UserError(fmt::format("--log: scene '{}' has no waypoints to follow", scene.name));
+  }
+  // Options for the other kind of output are refused, not ignored.
+  const SimulateOptions defaults;
+  if (o.log && o.pose)
+    throw UserError("--pose places a single scan; --log follows the scene's waypoints");
+  if (!o.log && (o.speed != defaults.speed || o.rate != defaults.rate))
+    throw UserError("--speed and --rate set the trajectory of --log; a single scan has none");
+  if (o.log) {
+    double path = 0.0;
+    for (std::size_t i = 0; i + 1 < scene.waypoints.size(); ++i)
+      path += (scene.waypoints[i + 1] - scene.waypoints[i]).norm();
+    const double scans = path / (o.speed / o.rate);
+    if (!(scans <= kMaxLogScans))
+      throw UserError(fmt::format(
+          "--speed {} m/s and --rate {} per s along the {:.1f} m path make {:.3g} scans, more than "
+          "{:.0e}",
+          o.speed, o.rate, path, scans, kMaxLogScans));
   }
   if (o.write_scene) {
     WriteJsonScene(scene, *o.write_scene);

@@ -936,6 +936,50 @@ TEST_F(Cli, ScanErrorsNameTheProblem) {
   EXPECT_THAT(Fails({"scan", "--prior", "no-such-prior", "-i", "s.json", "-o", "m.json"}).err,
               HasSubstr("no-such-prior"));
   EXPECT_FALSE(fs::exists(Work("m.json")));
+  // Outputs that would overwrite the input or each other, before any work.
+  EXPECT_THAT(Fails({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "./s.json"}).err,
+              HasSubstr("-i/--log and -o/--out both name ./s.json"));
+  EXPECT_THAT(
+      Fails({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "m.json", "--lines", "m.json"})
+          .err,
+      HasSubstr("-o/--out and --lines both name m.json"));
+  // An option the input's reader would ignore.
+  EXPECT_THAT(
+      Fails({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "m.json", "--max-range", "2"})
+          .err,
+      HasSubstr("--max-range is for CARMEN input: s.json is json"));
+  EXPECT_THAT(Fails({"plot", "s.json", "-o", "p.png", "--max-range", "2"}).err,
+              HasSubstr("--max-range is for CARMEN input"));
+  // --all checks where it writes before it estimates every scan.
+  EXPECT_THAT(
+      Fails({"scan", "--prior", "rectangular", "--log", "s.json", "--all", "-o", "no/m.jsonl"}).err,
+      HasSubstr("directory no does not exist"));
+  EXPECT_EQ(WorkFiles(), (std::set<std::string>{"s.json"}));
+}
+
+TEST_F(Cli, SimulateRefusesOptionsOfTheOtherKindOfOutputAndAbsurdLogs) {
+  EXPECT_THAT(Fails({"simulate", "--speed", "3", "-o", "s.json"}).err,
+              HasSubstr("--speed and --rate set the trajectory of --log"));
+  EXPECT_THAT(Fails({"simulate", "--log", "--pose", "1,1,0", "-o", "s.json"}).err,
+              HasSubstr("--pose places a single scan"));
+  EXPECT_THAT(Fails({"simulate", "--log", "--speed", "1e-300", "-o", "s.json"}).err,
+              HasSubstr("more than 1e+07"));
+  EXPECT_EQ(WorkFiles(), std::set<std::string>{});
+}
+
+TEST_F(Cli, ConvertRefusesOptionsTheInputsReaderWouldIgnore) {
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "-o", "s.json"});
+  for (const char* option : {"--max-range", "--min-range", "--sigma"})
+    EXPECT_THAT(Fails({"convert", "s.json", "-o", "c.json", option, "1"}).err,
+                HasSubstr(std::string(option) + " is for other formats: s.json is json"))
+        << option;
+  EXPECT_THAT(Fails({"convert", "s.json", "-o", "c.json", "--fov", "0"}).err,
+              HasSubstr("is not positive"));
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "-o", "s.log"});
+  EXPECT_THAT(
+      Fails({"convert", "s.log", "-o", "c.json", "--min-range", "5", "--max-range", "2"}).err,
+      HasSubstr("--min-range 5 must be below --max-range 2"));
+  EXPECT_FALSE(fs::exists(Work("c.json")));
 }
 
 }  // namespace
