@@ -435,9 +435,10 @@ class CarmenParser {
     log_.scans.push_back(std::move(scan));
   }
 
-  // Max range, per scan: the caller's; else the record's own (ROBOTLASER1 carries one); else
-  // the no-return sentinel detected among the scans without their own (FLASER/RLASER carry
-  // none); else none (+inf). Detection needs every reading, so statuses are set last.
+  // Max range, per scan: the record's own (ROBOTLASER1 carries one), else the no-return
+  // sentinel detected among the scans without their own (FLASER/RLASER carry none), else none
+  // (+inf); the caller's where it is shorter, or where there is none: a longer one would make
+  // the no-return readings walls. Detection needs every reading, so statuses are set last.
   void FinishScans() {
     // The scans' readings in place: a copy of them all is megabytes of fresh pages.
     std::vector<std::span<const double>> readings;
@@ -447,8 +448,8 @@ class CarmenParser {
     stats_.detected_max_range = DetectMaxRangeSentinel(readings);
     for (std::size_t k = 0; k < log_.scans.size(); ++k) {
       Scan& scan = log_.scans[k];
-      scan.max_range = options_.max_range.value_or(
-          own_max_ranges_[k].value_or(stats_.detected_max_range.value_or(kInf)));
+      const double sensor = own_max_ranges_[k].value_or(stats_.detected_max_range.value_or(kInf));
+      scan.max_range = std::min(options_.max_range.value_or(kInf), sensor);
       if (!(scan.max_range > scan.min_range)) scan.max_range = kInf;
       scan.ClassifyAll();
     }

@@ -401,7 +401,7 @@ TEST(Carmen, DetectedSentinelReadingsAreMaxRange) {
   }
 }
 
-TEST(Carmen, MaxRangeOptionOverridesDetection) {
+TEST(Carmen, AShorterMaxRangeOptionOverridesDetection) {
   CarmenReadOptions options;
   options.max_range = 20.0;
   CarmenReadStats stats;
@@ -411,6 +411,20 @@ TEST(Carmen, MaxRangeOptionOverridesDetection) {
     EXPECT_EQ(scan.max_range, 20.0);
     EXPECT_EQ(scan.status[2], BeamStatus::kMaxRange);  // 25 m
   }
+}
+
+// A longer one would make the no-return readings walls at 81.83 m: the sensor's stays.
+TEST(Carmen, ALongerMaxRangeOptionDoesNotMakeTheSentinelsReturns) {
+  CarmenReadOptions options;
+  options.max_range = 100.0;
+  const Log log = Parse(LogWithSentinel() + kRobotLaser, options);
+  for (const Scan& scan : log.scans) EXPECT_LE(scan.max_range, 81.33) << scan.channel;
+  EXPECT_EQ(log.scans.front().status[1], BeamStatus::kMaxRange);  // a sentinel
+  EXPECT_DOUBLE_EQ(log.scans.back().max_range, 20.0);            // ROBOTLASER1's own
+  // Where the sensor has none, the option is the max range.
+  const Log plain = Parse(Flaser({1, 100, 1000}), options);
+  EXPECT_EQ(plain.scans.at(0).max_range, 100.0);
+  EXPECT_EQ(plain.scans.at(0).status[2], BeamStatus::kMaxRange);
 }
 
 // A record's own max range is data; sentinel detection is a heuristic for records without one.

@@ -17,8 +17,9 @@
 namespace priormap {
 
 struct CarmenReadOptions {
-  /// Readings at or above this are max-range readings. When unset, it is detected from the log
-  /// (DetectMaxRangeSentinel), then taken from ROBOTLASER1's own field.
+  /// Readings at or above this are max-range readings: it shortens the sensor's max range
+  /// (ROBOTLASER1's own field, else the one detected from the log by DetectMaxRangeSentinel)
+  /// and is used where the sensor has none; it never lengthens it.
   std::optional<double> max_range;
   /// Readings below this are invalid.
   double min_range = 0.0;
