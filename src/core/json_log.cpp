@@ -374,7 +374,20 @@ Scan ReadScan(const JsonNode& node) {
     scan.carmen = ReadCarmenLaser(*carmen);
   if (const auto sonar = detail::OptionalMember(node, "sonar")) scan.sonar = ReadSonar(*sonar, n);
   if (const std::vector<std::string> problems = scan.Problems(); !problems.empty()) {
-    detail::Fail(node, "inconsistent scan: " + problems.front());
+    // At the member the problem is about, where the scan has it; at the scan otherwise.
+    const std::string& problem = problems.front();
+    const auto keys = [&]() -> std::vector<const char*> {
+      if (problem.starts_with("sigma")) return {"sigma"};
+      if (problem.starts_with("angles")) return {"angles", "angle_increment", "angle_min"};
+      if (problem.starts_with("need 0 <= min_range")) return {"max_range", "min_range"};
+      if (problem.starts_with("pose")) return {"pose"};
+      if (problem.starts_with("precision")) return {"precision"};
+      return {};
+    }();
+    for (const char* key : keys)
+      if (const auto member = detail::OptionalMember(node, key))
+        detail::Fail(*member, "inconsistent scan: " + problem);
+    detail::Fail(node, "inconsistent scan: " + problem);
   }
   return scan;
 }

@@ -420,7 +420,7 @@ TEST(Carmen, ALongerMaxRangeOptionDoesNotMakeTheSentinelsReturns) {
   const Log log = Parse(LogWithSentinel() + kRobotLaser, options);
   for (const Scan& scan : log.scans) EXPECT_LE(scan.max_range, 81.33) << scan.channel;
   EXPECT_EQ(log.scans.front().status[1], BeamStatus::kMaxRange);  // a sentinel
-  EXPECT_DOUBLE_EQ(log.scans.back().max_range, 20.0);            // ROBOTLASER1's own
+  EXPECT_DOUBLE_EQ(log.scans.back().max_range, 20.0);             // ROBOTLASER1's own
   // Where the sensor has none, the option is the max range.
   const Log plain = Parse(Flaser({1, 100, 1000}), options);
   EXPECT_EQ(plain.scans.at(0).max_range, 100.0);

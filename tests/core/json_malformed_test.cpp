@@ -210,13 +210,13 @@ TEST(JsonMalformed, NonFinitePoseIsReportedAtTheElement) {
                                        "\"inf\" (at /pose/1)")));
 }
 
-TEST(JsonMalformed, InconsistentScanIsReportedAtTheScan) {
+TEST(JsonMalformed, InconsistentScanIsReportedAtTheMemberItIsAbout) {
   EXPECT_THAT(LogErrors(ScanDocument("angles", "[0, 1, 0.5]")),
-              ElementsAre(DiagnosticAt(1, 1,
+              ElementsAre(DiagnosticAt(5, 13,
                                        "inconsistent scan: angles must increase (beam 1 "
                                        "to 2)")));
   EXPECT_THAT(LogErrors(ScanDocument("sigma", "[0.1, 0, 0.1]")),
-              ElementsAre(DiagnosticAt(1, 1,
+              ElementsAre(DiagnosticAt(7, 12,
                                        "inconsistent scan: sigma must be positive and "
                                        "finite")));
 }

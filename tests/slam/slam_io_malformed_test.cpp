@@ -403,6 +403,10 @@ TEST(GeoJsonMalformed, PositionsAreTwoOrThreeFiniteNumbers) {
   EXPECT_THAT(MapErrors(Map(R"({"type": "LineString", "coordinates": [[0, 0], [1, 2, "inf"]]})")),
               ElementsAre(At("map.geojson", 3, 67,
                              "expected z (a finite number), got the string \"inf\"")));
+  // Finite, but so large that the map's extent would overflow.
+  EXPECT_THAT(MapErrors(Map(R"({"type": "LineString", "coordinates": [[0, 0], [1e308, 2]]})")),
+              ElementsAre(At("map.geojson", 3, 61,
+                             "expected x in metres of a local frame, at most 1e+09")));
 }
 
 TEST(GeoJsonMalformed, ZeroLengthSegmentsAreLocatedAtTheRepeatedPosition) {
