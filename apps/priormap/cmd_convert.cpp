@@ -144,7 +144,16 @@ void Run(const ConvertOptions& o) {
              log.true_poses.size(), log.params.size());
   fmt::print("readings: {} valid, {} max-range, {} invalid\n", valid, max_range, invalid);
   if (from == LogFormat::kCarmen) {
-    if (o.max_range) {
+    // The reader shortens the sensor's max range with --max-range but never lengthens it.
+    double shortest = o.max_range.value_or(0.0);  // of the scans' max ranges, when given
+    if (o.max_range)
+      for (const Scan& scan : log.scans) shortest = std::min(shortest, scan.max_range);
+    if (o.max_range && shortest < *o.max_range) {
+      fmt::print(
+          "max range: {} m (--max-range {} m is beyond the sensor's: its no-return "
+          "readings stay max-range)\n",
+          shortest, *o.max_range);
+    } else if (o.max_range) {
       fmt::print("max range: {} m (given)\n", *o.max_range);
     } else if (stats.detected_max_range) {
       fmt::print("max range: {} m (detected from the log's no-return readings)\n",
@@ -186,9 +195,10 @@ void AddConvertCommand(CLI::App& app) {
   cmd->add_option("--to", o->to, "Output format (default: from the extension)")
       ->check(CLI::IsMember({"carmen", "json"}));
   cmd->add_option("--max-range", o->max_range,
-                  "CARMEN: readings at or above this are max-range (default: detected); "
-                  "csm: the same (default: none); roboND-sonar: the same, at most the sensor's "
-                  "5.11 m, its no-echo reading (the default)")
+                  "CARMEN: readings at or above this are max-range, where it is shorter than "
+                  "the sensor's (default: detected); csm: the same (default: none); "
+                  "roboND-sonar: the same, at most the sensor's 5.11 m, its no-echo reading "
+                  "(the default)")
       ->check(PositiveValue());
   cmd->add_option("--min-range", o->min_range,
                   "CARMEN, csm and roboND-sonar: readings below this are invalid (roboND "

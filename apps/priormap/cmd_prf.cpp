@@ -147,10 +147,12 @@ void AddPriorStats(CLI::App& prf_cmd) {
       ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--samples", o->stats.samples, "Recorded states")
-      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40))
+      ->transform(StepCount())
+      ->check(CLI::Range(std::uint64_t{1}, kMaxStepCount))
       ->capture_default_str();
   cmd->add_option("--thin", o->stats.thin, "Sampler steps between recorded states")
-      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40))
+      ->transform(StepCount())
+      ->check(CLI::Range(std::uint64_t{1}, kMaxStepCount))
       ->capture_default_str();
   cmd->add_option("--burn-in", o->stats.burn_in, "Sampler steps before the first record")
       ->transform(StepCount())
@@ -622,7 +624,8 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
       ->check(PositiveValue())
       ->capture_default_str();
   cmd.add_option("--trace-every", m.trace_every, "Steps between trace records (R-hat)")
-      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40))
+      ->transform(StepCount())
+      ->check(CLI::Range(std::uint64_t{1}, kMaxStepCount))
       ->capture_default_str();
   AddPosteriorOptions(cmd, m, o->posterior);
   cmd.add_flag("--check", m.sampler.check_invariants,

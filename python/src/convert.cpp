@@ -9,17 +9,29 @@
 namespace priormap::python {
 namespace {
 
+// Our JSON writes infinities as the strings "inf" and "-inf" (docs/formats.md).
+bool IsInfinity(const nlohmann::json& value) {
+  return value.is_string() && (value == "inf" || value == "-inf");
+}
+
+bool IsNumber(const nlohmann::json& value) {
+  return value.is_number() || IsInfinity(value);
+}
+
 // Numbers, with nulls (NaN in the array) for what has no value, like an outlier's deviation.
 bool AllNumbers(const nlohmann::json& array) {
   bool any_number = false;
   for (const auto& v : array) {
-    if (!v.is_number() && !v.is_null()) return false;
-    any_number = any_number || v.is_number();
+    if (!IsNumber(v) && !v.is_null()) return false;
+    any_number = any_number || IsNumber(v);
   }
   return any_number;
 }
 
 double NumberOrNan(const nlohmann::json& value) {
+  if (IsInfinity(value))
+    return value == "inf" ? std::numeric_limits<double>::infinity()
+                          : -std::numeric_limits<double>::infinity();
   return value.is_number() ? value.get<double>() : std::numeric_limits<double>::quiet_NaN();
 }
 
@@ -78,6 +90,7 @@ py::object JsonToPython(const nlohmann::json& value) {
       return l;
     }
     case nlohmann::json::value_t::string:
+      if (IsInfinity(value)) return py::float_(NumberOrNan(value));
       return py::str(value.get<std::string>());
     case nlohmann::json::value_t::boolean:
       return py::bool_(value.get<bool>());

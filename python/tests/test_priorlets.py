@@ -55,3 +55,15 @@ def test_nan_readings_are_invalid_and_bad_shapes_raise(rng):
         priormap.infer_scan(ranges, angles[:-1])
     with pytest.raises(ValueError):
         priormap.infer_scan(ranges, angles, prior="no-such-prior")
+
+
+def test_infinite_readings_come_back_as_infinite_floats(rng):
+    # The JSON behind the dict writes infinities as "inf"; the arrays hold them as floats.
+    angles = np.linspace(-1.0, 1.0, 101)
+    ranges = true_ranges((0.0, 0.0, 0.0), angles) + rng.normal(0.0, 0.01, 101)
+    ranges[[3, 70]] = [np.inf, -np.inf]
+    out = priormap.infer_scan(ranges, angles, prior="polygonal")
+    assert isinstance(out["rho"], np.ndarray) and out["rho"].dtype == np.float64
+    assert out["rho"][3] == np.inf and out["rho"][70] == -np.inf
+    assert not out["inmodel"][[3, 70]].any()
+    assert isinstance(out["max_violation"], float)

@@ -318,10 +318,11 @@ std::vector<Component> BuildComponents(std::size_t n, std::span<const Constraint
       // The prior's own terms can leave their domain at the estimate (sqrt of a negative
       // number): the user's prior, not this code, is at fault, and is told so.
       if (!std::isfinite(c))
-        throw std::domain_error(fmt::format(
-            "constraint {} of the prior is not finite at the estimate: a term is outside its "
-            "domain there (the square root or logarithm of a negative number, say)",
-            r));
+        throw std::domain_error(
+            fmt::format("constraint {} of the prior is not finite at the estimate: a term or its "
+                        "derivative is not finite there (the square root of a negative number, or "
+                        "sqrt(abs(x)) at x = 0, say)",
+                        r));
       largest = std::max(largest, std::abs(c));
     }
     if (largest == 0.0) continue;

@@ -928,6 +928,35 @@ TEST_F(Cli, AScanKeepsInfiniteReadingsAsInf) {
   EXPECT_EQ(map["rho"][1], "-inf");
 }
 
+// --all writes every scan's record, a failed scan's error too, and exits 1 when any failed.
+TEST_F(Cli, ScanAllExitsWithAnErrorWhenSomeScansFailedAfterWritingEveryRecord) {
+  Ok({"simulate", "--scene", "square", "--sensor", "lms200", "--log", "--seed", "3", "-o",
+      "run.json"});
+  // sqrt(abs(x)) has no derivative at x = 0, where the MAP puts the same region's normals.
+  WriteAll(Work("kink.prior"),
+           "name: Kinked walls\nspecializes: Polygonal prior\npriorlet same_region:\n"
+           "  sqrt(abs(alpha_1 - alpha_2)) == 0\n");
+  // Run, not Fails: a failing command here writes its output, by design.
+  const RunResult r =
+      Run({"scan", "--prior", "kink.prior", "--log", "run.json", "--all", "-o", "all.jsonl"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err, ContainsRegex("[0-9]+ of [0-9]+ scans failed; their records in all.jsonl"));
+  const std::string text = ReadAll(Work("all.jsonl"));
+  std::size_t records = 0, errors = 0;
+  for (std::size_t start = 0, end = text.find('\n'); end != std::string::npos;
+       start = end + 1, end = text.find('\n', start)) {
+    const nlohmann::json line = nlohmann::json::parse(text.substr(start, end - start));
+    ++records;
+    if (line.contains("error")) {
+      ++errors;
+      EXPECT_THAT(line["error"].get<std::string>(), HasSubstr("is not finite at the estimate"));
+    }
+  }
+  EXPECT_EQ(records, ReadLogFile("run.json").scans.size());
+  EXPECT_GT(errors, 0u);
+  EXPECT_LT(errors, records);
+}
+
 TEST_F(Cli, ScanErrorsNameTheProblem) {
   Ok({"simulate", "--scene", "square", "--sensor", "lms200", "-o", "s.json"});
   EXPECT_THAT(
@@ -973,6 +1002,8 @@ TEST_F(Cli, ConvertRefusesOptionsTheInputsReaderWouldIgnore) {
     EXPECT_THAT(Fails({"convert", "s.json", "-o", "c.json", option, "1"}).err,
                 HasSubstr(std::string(option) + " is for other formats: s.json is json"))
         << option;
+  EXPECT_THAT(Fails({"convert", "s.json", "-o", "c.json", "--fov", "90"}).err,
+              HasSubstr("--fov is for other formats"));
   EXPECT_THAT(Fails({"convert", "s.json", "-o", "c.json", "--fov", "0"}).err,
               HasSubstr("is not positive"));
   Ok({"simulate", "--scene", "square", "--sensor", "lms200", "-o", "s.log"});

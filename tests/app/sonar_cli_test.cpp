@@ -167,6 +167,12 @@ TEST_F(SonarCli, RefusesRoboNdRangeLimitsThatWouldTurnNoEchoIntoWalls) {
                           "--min-range", "6"})
                   .err,
               HasSubstr("need 0 <= min range < max range"));
+  for (const char* option : {"--fov", "--sigma"})
+    EXPECT_THAT(RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json",
+                            option, "10"})
+                    .err,
+                HasSubstr(std::string(option) + " is for laser formats"))
+        << option;
   EXPECT_FALSE(std::filesystem::exists(Work("x.json")));
   // A shorter max range is the user's choice: the readings beyond it become max-range.
   Run({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json", "--max-range",
