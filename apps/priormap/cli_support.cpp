@@ -9,9 +9,7 @@
 
 #include <fmt/format.h>
 
-#include <priormap/core/file_io.hpp>
 #include <priormap/core/json_io.hpp>
-#include <priormap/core/log_io.hpp>
 #include <priormap/render/figure.hpp>
 
 namespace priormap::app {
@@ -41,13 +39,12 @@ CLI::Validator NonNegativeValue() {
   return NumberCheck(true);
 }
 
-void RequireCarmenForMaxRange(const std::string& input, const std::optional<double>& max_range) {
-  if (!max_range) return;
-  const LogFormat format = SniffLogFormat(ValueOrThrow(ReadFileText(input)));
-  if (format != LogFormat::kCarmen)
+void RequireCarmenForMaxRange(const std::string& input, LogFormat read_as,
+                              const std::optional<double>& max_range) {
+  if (max_range && read_as != LogFormat::kCarmen)
     throw UserError(fmt::format(
         "--max-range is for CARMEN input: {} is {}, whose scans carry their own max range", input,
-        ToString(format)));
+        ToString(read_as)));
 }
 
 CLI::Validator WholeNumber(std::uint64_t max, const std::string& what) {

@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include <priormap/core/diagnostic.hpp>
+#include <priormap/core/log_io.hpp>
 #include <priormap/core/scene.hpp>
 #include <priormap/core/se2.hpp>
 #include <priormap/dsl/prior_library.hpp>
@@ -55,9 +56,10 @@ inline constexpr std::uint64_t kMaxStepCount = std::uint64_t{1} << 40;
 [[nodiscard]] CLI::Validator SeedValue();
 [[nodiscard]] CLI::Validator IndexValue();
 
-/// Refuses `--max-range`, which only the CARMEN reader takes, for a log in another format (whose
-/// scans carry their own max range), rather than ignore it.
-void RequireCarmenForMaxRange(const std::string& input, const std::optional<double>& max_range);
+/// Refuses `--max-range`, which only the CARMEN reader takes, for a log read as another format
+/// (whose scans carry their own max range), rather than ignore it.
+void RequireCarmenForMaxRange(const std::string& input, LogFormat read_as,
+                              const std::optional<double>& max_range);
 
 /// "x,y,theta" (theta in radians).
 [[nodiscard]] Se2 ParsePose(const std::string& text);

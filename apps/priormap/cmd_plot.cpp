@@ -79,10 +79,11 @@ void PlotRanges(const Log& log, const PlotOptions& o, bool residuals) {
 
 void Run(const PlotOptions& o) {
   RequireFigurePath(o.out, "--out");
-  RequireCarmenForMaxRange(o.input, o.max_range);
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
-  const Log log = ValueOrThrow(ReadLog(o.input, std::nullopt, carmen));
+  LogFormat read_as{};
+  const Log log = ValueOrThrow(ReadLog(o.input, std::nullopt, carmen, &read_as));
+  RequireCarmenForMaxRange(o.input, read_as, o.max_range);
   if (log.scans.empty()) throw UserError(fmt::format("{}: the log has no scans to plot", o.input));
   if (o.scan && *o.scan >= log.scans.size()) {
     throw UserError(

@@ -81,11 +81,12 @@ void Run(const ScanOptions& o) {
                         {"--lines", o.lines.value_or("")},
                         {"--png", o.png.value_or("")},
                         {"--svg", o.svg.value_or("")}});
-  RequireCarmenForMaxRange(o.input, o.max_range);
   const dsl::CompiledPrior prior = ValueOrThrow(MakePriorLibrary(o.prior_path).Load(o.prior));
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
-  const Log log = ValueOrThrow(ReadLog(o.input, std::nullopt, carmen));
+  LogFormat read_as{};
+  const Log log = ValueOrThrow(ReadLog(o.input, std::nullopt, carmen, &read_as));
+  RequireCarmenForMaxRange(o.input, read_as, o.max_range);
   if (log.scans.empty()) throw UserError(fmt::format("{}: the log has no scans", o.input));
   if (o.all && o.index) throw UserError("--all and --index exclude each other");
   const std::size_t index = o.index.value_or(0);

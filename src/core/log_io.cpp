@@ -43,11 +43,13 @@ LogFormat LogFormatFromPath(const std::filesystem::path& path) {
 }
 
 Result<Log> ReadLog(const std::filesystem::path& path, std::optional<LogFormat> format,
-                    const CarmenReadOptions& carmen_options) {
+                    const CarmenReadOptions& carmen_options, LogFormat* read_as) {
   const Result<detail::ByteBuffer> bytes = detail::ReadWholeFile(path);
   if (!bytes) return bytes.diagnostics();
   const std::string_view text = bytes.value().view();
-  switch (format.value_or(SniffLogFormat(text))) {
+  const LogFormat chosen = format.value_or(SniffLogFormat(text));
+  if (read_as) *read_as = chosen;
+  switch (chosen) {
     case LogFormat::kJson:
       return ParseJsonLog(text, path.string());
     case LogFormat::kCarmen:

@@ -36,6 +36,14 @@ OccupancyRaster BuildGrid(const LaserData& data, const Window& window,
 
 }  // namespace
 
+std::string StudyResolutionProblem(double resolution, double truth_resolution) {
+  // Finer than any range sensor resolves; finer still, the scenes' rasters would not fit.
+  if (resolution < kFinestStudyResolution || truth_resolution < kFinestStudyResolution)
+    return fmt::format("the resolutions must be at least {} m (got {} and {})",
+                       kFinestStudyResolution, resolution, truth_resolution);
+  return {};
+}
+
 std::string MapStudyOptions::Problem() const {
   if (scenes.empty() || sensors.empty()) return "at least one scene and one sensor";
   for (const Scene& scene : scenes) {
@@ -51,10 +59,8 @@ std::string MapStudyOptions::Problem() const {
   if (beam_step < 1) return "the beam step must be at least 1";
   if (!(max_range > 0.0 && resolution > 0.0 && band >= 0.0 && truth_resolution > 0.0))
     return "the max range and the resolutions must be positive and the band not negative";
-  // Finer than any range sensor resolves; finer still, the scenes' rasters would not fit.
-  if (resolution < kFinestStudyResolution || truth_resolution < kFinestStudyResolution)
-    return fmt::format("the resolutions must be at least {} m (got {} and {})",
-                       kFinestStudyResolution, resolution, truth_resolution);
+  if (std::string problem = StudyResolutionProblem(resolution, truth_resolution); !problem.empty())
+    return problem;
   if (!(walls.spacing > 0.0 && walls.tolerance >= 0.0))
     return "the wall spacing must be positive and the tolerance not negative";
   if (mapping.chains < 1) return "at least one chain";

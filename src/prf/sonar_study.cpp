@@ -104,10 +104,8 @@ std::string SonarStudyOptions::Problem() const {
   if (!(speed > 0.0 && rate > 0.0)) return "the speed and the ring rate must be positive";
   if (!(resolution > 0.0 && band >= 0.0 && truth_resolution > 0.0))
     return "the resolutions must be positive and the band not negative";
-  // Finer than any sonar resolves; finer still, the scenes' rasters would not fit in memory.
-  if (resolution < kFinestStudyResolution || truth_resolution < kFinestStudyResolution)
-    return fmt::format("the resolutions must be at least {} m (got {} and {})",
-                       kFinestStudyResolution, resolution, truth_resolution);
+  if (std::string problem = StudyResolutionProblem(resolution, truth_resolution); !problem.empty())
+    return problem;
   if (rays_per_cone < 2) return "at least two rays per cone";
   if (mapping.chains < 1) return "at least one chain";
   if (const std::string problem = model.Problem(); !problem.empty())

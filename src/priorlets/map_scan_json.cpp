@@ -4,15 +4,15 @@
 
 #include <priormap/priorlets/map_scan_json.hpp>
 
+#include "../core/json_document.hpp"
+
 namespace priormap::priorlets {
 namespace {
 
 // As everywhere in our JSON (docs/formats.md): null for NaN ("not available"), the strings
 // "inf" / "-inf" for infinities (an out-of-model beam keeps its infinite reading).
 nlohmann::json Number(double v) {
-  if (std::isnan(v)) return nullptr;
-  if (std::isinf(v)) return v > 0.0 ? "inf" : "-inf";
-  return v;
+  return nlohmann::json(detail::NumberToJson(v));
 }
 
 nlohmann::json Numbers(const std::vector<double>& values) {

@@ -24,10 +24,12 @@ enum class LogFormat : std::uint8_t { kCarmen, kJson, kCsm };
 [[nodiscard]] LogFormat LogFormatFromPath(const std::filesystem::path& path);
 
 /// Reads a log in any supported format (`format` forces one, else SniffLogFormat). CARMEN options
-/// apply to CARMEN only; CSM laser_data is read with the default CsmReadOptions.
+/// apply to CARMEN only; CSM laser_data is read with the default CsmReadOptions. `read_as`, when
+/// given, receives the format the file was read as.
 [[nodiscard]] Result<Log> ReadLog(const std::filesystem::path& path,
                                   std::optional<LogFormat> format = std::nullopt,
-                                  const CarmenReadOptions& carmen_options = {});
+                                  const CarmenReadOptions& carmen_options = {},
+                                  LogFormat* read_as = nullptr);
 
 /// Writes `log` in `format`, atomically. There is no CSM writer: kCsm throws IoError.
 void WriteLog(const Log& log, const std::filesystem::path& path, LogFormat format);

@@ -29,6 +29,8 @@ namespace priormap::prf {
 
 /// The finest evaluation or truth raster the studies take, m.
 inline constexpr double kFinestStudyResolution = 0.005;
+/// Empty when both resolutions are at least kFinestStudyResolution, else what is wrong.
+[[nodiscard]] std::string StudyResolutionProblem(double resolution, double truth_resolution);
 
 struct MapStudyOptions {
   std::vector<Scene> scenes;         // each with a waypoint path (or a default pose)
