@@ -145,6 +145,8 @@ void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>
 
 void EnsureDirectory(const std::filesystem::path& directory) {
   std::error_code ec;
+  if (std::filesystem::exists(directory, ec) && !std::filesystem::is_directory(directory, ec))
+    throw UserError(fmt::format("{} is a file, not a directory", directory.string()));
   std::filesystem::create_directories(directory, ec);
   if (ec)
     throw UserError(

@@ -55,9 +55,9 @@ void RunGridCommand(const GridCliOptions& o) {
   }
   const Box2 extent = grid::OccupancyGrid::ExtentOf(log, first, end, o.grid);
   if (extent.isEmpty()) throw UserError("the selected scans have no usable reading");
+  grid::OccupancyGrid map(extent, o.grid);  // first: a grid too large leaves no directory behind
   EnsureDirectory(o.out);
 
-  grid::OccupancyGrid map(extent, o.grid);
   const auto insert_start = std::chrono::steady_clock::now();
   std::size_t beams = 0;
   for (std::size_t k = first; k < end; ++k) beams += map.Insert(log.scans[k]);

@@ -26,6 +26,9 @@ struct PlotOptions {
   std::optional<double> max_range;
 };
 
+// Cairo draws in 24.8 fixed point: a world (or a range) this large cannot be drawn.
+constexpr double kLargestDrawable = 1e9;  // m
+
 void PlotMap(const Log& log, const PlotOptions& o) {
   std::optional<Scene> scene;
   if (o.scene) scene = LoadScene(*o.scene);
@@ -33,6 +36,13 @@ void PlotMap(const Log& log, const PlotOptions& o) {
   const std::size_t k = o.scan.value_or(0);
   Box2 bounds = one_scan ? render::ScanBounds(log.scans[k]) : render::LogBounds(log);
   if (scene) bounds.extend(scene->Bounds());
+  if (!(bounds.min().cwiseAbs().maxCoeff() <= kLargestDrawable &&
+        bounds.max().cwiseAbs().maxCoeff() <= kLargestDrawable)) {
+    throw UserError(
+        fmt::format("{}: poses or readings lie beyond {} m of the origin, too far "
+                    "to draw",
+                    o.input, kLargestDrawable));
+  }
   const std::string title =
       o.title.value_or(one_scan ? fmt::format("{}: scan {} of {}", o.input, k, log.scans.size())
                                 : fmt::format("{}: {}", o.input, Plural(log.scans.size(), "scan")));
@@ -64,6 +74,14 @@ void PlotRanges(const Log& log, const PlotOptions& o, bool residuals) {
       truth.y.push_back(scan.truth->range[i]);
     }
   }
+  for (const std::vector<double>* values : {&measured.y, &truth.y}) {
+    for (const double v : *values) {
+      if (std::isfinite(v) && std::abs(v) > kLargestDrawable) {
+        throw UserError(
+            fmt::format("{}: scan {} has a range of {} m, too large to draw", o.input, k, v));
+      }
+    }
+  }
   render::LinePlot plot({.width_px = o.width,
                          .title = o.title.value_or(fmt::format("{}: scan {}", o.input, k)),
                          .x_label = "beam angle (deg)",
@@ -71,14 +89,28 @@ void PlotRanges(const Log& log, const PlotOptions& o, bool residuals) {
   plot.Add(std::move(measured));
   if (!truth.x.empty()) plot.Add(std::move(truth));
   if (residuals && !scan.sigma.empty()) {
-    plot.AddHorizontalLine(3 * scan.sigma[0], render::palette::kGray, "±3σ");
-    plot.AddHorizontalLine(-3 * scan.sigma[0], render::palette::kGray);
+    // Each reading's own band: a sonar ring's noise grows with the range.
+    // A ring's transducers are not in the order of their bearings: marks, not a line.
+    const bool marks = scan.sonar.has_value();
+    render::Series upper{
+        .label = "±3σ", .color = render::palette::kGray, .width_px = 1.0, .markers = marks};
+    render::Series lower{.color = render::palette::kGray, .width_px = 1.0, .markers = marks};
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      const double band = scan.IsValid(i) ? 3 * scan.sigma[i] : std::nan("");
+      upper.x.push_back(RadToDeg(scan.angles[i]));
+      upper.y.push_back(band);
+      lower.x.push_back(RadToDeg(scan.angles[i]));
+      lower.y.push_back(-band);
+    }
+    plot.Add(std::move(upper));
+    plot.Add(std::move(lower));
   }
   plot.Save(o.out);
 }
 
 void Run(const PlotOptions& o) {
   RequireFigurePath(o.out, "--out");
+  RequireDistinctFiles({{"the input", o.input}, {"--out", o.out}});
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
   LogFormat read_as{};

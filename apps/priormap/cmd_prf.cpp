@@ -279,7 +279,7 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
           fmt::format("--beam-step {} is for laser scans: a sonar run uses every "
                       "reading of each ring (thin the rings with --range)",
                       o.selection.beam_step));
-    if (o.mapping.model.sigma != prf::LaserModel{}.sigma)
+    if (o.sigma_given || o.mapping.model.sigma != prf::LaserModel{}.sigma)
       throw UserError(
           fmt::format("--sigma {} is the laser beam model's noise: a sonar run takes "
                       "its noise from the sonar model (--sonar-model)",
@@ -344,6 +344,10 @@ void RunMappingCommand(MappingCliOptions o) {
     o = RunFromJson(o.resume, o);
   else
     ApplyPosteriorOptions(o.posterior, &o.mapping);
+  // Before the data are selected: the data's fingerprint, which a checkpoint must match, holds
+  // the options as run.json has them.
+  if (o.anneal && o.mapping.anneal_steps == 0) o.mapping.anneal_steps = o.mapping.samples;
+  if (!o.anneal) o.mapping.anneal_steps = 0;
   if (o.log.empty())
     throw UserError("--log is required (or a subcommand: prior-stats, study, sonar-study)");
   if (o.out.empty()) throw UserError("-o/--out is required");
@@ -362,8 +366,6 @@ void RunMappingCommand(MappingCliOptions o) {
         "more than {:.0e}",
         o.mapping.raster_resolution, window.Width(), window.Height(), raster_cells,
         kMaxRasterCells));
-  if (o.anneal && o.mapping.anneal_steps == 0) o.mapping.anneal_steps = o.mapping.samples;
-  if (!o.anneal) o.mapping.anneal_steps = 0;
   EnsureDirectory(o.out);
   const std::filesystem::path dir(o.out);
   if (!resuming) {
@@ -404,10 +406,8 @@ void RunMappingCommand(MappingCliOptions o) {
   }
 
   // The run's rasters share one grid.
-  const auto on_raster = [&](Eigen::MatrixXd values) {
-    return OccupancyRaster{.probability = std::move(values),
-                           .origin = r.raster.origin,
-                           .resolution = r.raster.cell.x()};
+  const auto on_raster = [&](const Eigen::MatrixXd& values) {
+    return prf::SquareCellRaster(values, r.raster);
   };
   const bool several_chains = r.chains.size() > 1;
   const OccupancyRaster posterior = on_raster(r.black_fraction);
@@ -519,9 +519,8 @@ void RunMappingCommand(MappingCliOptions o) {
     WriteTextFileAtomically(dir / "map.geojson", geojson);
     render::SaveFacesFigure(dir / "map.svg", faces, r.window, "PRF MAP map (annealed)");
     render::SaveFacesFigure(dir / "map.png", faces, r.window, "PRF MAP map (annealed)");
-    const OccupancyRaster map_raster{.probability = prf::ColourRaster(*r.map, r.raster),
-                                     .origin = r.raster.origin,
-                                     .resolution = r.raster.cell.x()};
+    const OccupancyRaster map_raster =
+        prf::SquareCellRaster(prf::ColourRaster(*r.map, r.raster), r.raster);
     WriteMapServerMap(dir / "map.yaml", map_raster);
     summary["map"] = {{"log_posterior", r.map_log_posterior},
                       {"edges", r.map->stats().edges},
@@ -664,6 +663,7 @@ void AddPrfCommand(CLI::App& app) {
   AddPrfRhatCommand(*cmd);
   cmd->callback([o, cmd] {
     if (!cmd->get_subcommands().empty()) return;
+    o->sigma_given = cmd->get_option("--sigma")->count() > 0;
     if (!o->resume.empty()) {
       // The run's own options come from DIR/run.json; another value would make another run.
       for (const CLI::Option* option : cmd->get_options()) {

@@ -52,8 +52,7 @@ void SaveCaseFigures(const std::filesystem::path& dir, const prf::SonarStudyCase
                                 sensors);
   const prf::CellGrid& raster = c.prf.raster;
   render::SaveProbabilityFigure(
-      dir / "posterior.png",
-      {.probability = c.prf.black_fraction, .origin = raster.origin, .resolution = raster.cell.x()},
+      dir / "posterior.png", prf::SquareCellRaster(c.prf.black_fraction, raster),
       fmt::format("{}: PRF posterior P(black), {}", name, readings), sensors);
   const std::vector<double> grid_p = prf::SampleAtCentres(c.grid_map, c.evaluation.grid);
   const std::vector<double> prf_p = prf::Flatten(c.prf.black_fraction, c.evaluation.grid);

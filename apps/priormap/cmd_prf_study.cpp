@@ -41,8 +41,7 @@ void SaveCaseFigures(const std::filesystem::path& dir, const prf::MapStudyCase& 
                                 fmt::format("{}: occupancy grid, {}", c.Name(), beams), sensors);
   const prf::CellGrid& raster = c.prf.raster;
   render::SaveProbabilityFigure(
-      dir / "posterior.png",
-      {.probability = c.prf.black_fraction, .origin = raster.origin, .resolution = raster.cell.x()},
+      dir / "posterior.png", prf::SquareCellRaster(c.prf.black_fraction, raster),
       fmt::format("{}: PRF posterior P(black), {}", c.Name(), beams), sensors);
   if (c.prf.map)
     render::SaveMapAndWallsFigure(dir / "map.png", prf::ExtractFaces(*c.prf.map), c.prf.window,

@@ -359,10 +359,18 @@ void CheckInputs(const RunOptions& o, const std::vector<slam::ObservationFrame>&
     throw UserError(fmt::format("{}: no observations (only a header)", o.observations));
   constexpr double kTolerance = 1e-9;
   const double begin = odometry.start_time, end = odometry.steps.back().time;
-  if (frames.front().time < begin - kTolerance || frames.back().time > end + kTolerance) {
+  // The frames are in time order, so the first one outside is the first or the last frame.
+  const slam::ObservationFrame* outside = nullptr;
+  if (frames.back().time > end + kTolerance) outside = &frames.back();
+  if (frames.front().time < begin - kTolerance) outside = &frames.front();
+  if (outside) {
+    const Diagnostic where{
+        .file = o.observations, .line = outside->line, .col = outside->col, .message = {}};
     throw UserError(fmt::format(
-        "{}: observations from t = {} to {} s, but the odometry in {} covers only {} to {} s",
-        o.observations, frames.front().time, frames.back().time, o.odometry, begin, end));
+        "{}: observations at t = {} s, but the odometry in {} covers only {} to {} s (the "
+        "observations span {} to {} s)",
+        where.Location(), outside->time, o.odometry, begin, end, frames.front().time,
+        frames.back().time));
   }
   if (o.association == "ids") {
     for (const slam::ObservationFrame& frame : frames) {

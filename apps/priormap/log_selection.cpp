@@ -36,7 +36,12 @@ ScanRange ParseScanRange(const std::string& text) {
 }
 
 std::pair<std::size_t, std::size_t> SelectedScans(const ScanRange& range, std::size_t scans) {
-  const std::size_t end = std::min(range.end.value_or(scans), scans);
+  if (scans == 0) throw UserError("the log has no scans");
+  // Scans past the log's end would silently be fewer than asked for.
+  if (range.end && *range.end > scans)
+    throw UserError(fmt::format("--range {}:{}: the log has only {} (scans 0 to {})", range.first,
+                                *range.end, Plural(scans, "scan"), scans - 1));
+  const std::size_t end = range.end.value_or(scans);
   if (range.first >= end)
     throw UserError(fmt::format("--range {}:{} selects no scan (the log has {})", range.first,
                                 range.end ? std::to_string(*range.end) : "", scans));

@@ -29,6 +29,7 @@ struct MappingCliOptions {
   std::string resume;
   double checkpoint_every_s = 5.0;
   std::uint64_t stop_after_steps = 0;
+  bool sigma_given = false;  // --sigma on the command line, even at its default value
 };
 
 /// The options that define a run, saved as DIR/run.json so that --resume DIR repeats them.

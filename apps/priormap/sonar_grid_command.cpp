@@ -19,8 +19,8 @@ void RunSonarGrid(const Log& log, const std::string& log_path, std::size_t first
                   double read_time_s) {
   const Box2 extent = grid::SonarGrid::ExtentOf(log, first, end, options);
   if (extent.isEmpty()) throw UserError("the selected rings have no usable reading");
+  grid::SonarGrid map(extent, options);  // first: a grid too large leaves no directory behind
   EnsureDirectory(out);
-  grid::SonarGrid map(extent, options);
   const auto start = std::chrono::steady_clock::now();
   std::size_t readings = 0;
   std::vector<Vec2> sensors;

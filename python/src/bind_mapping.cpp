@@ -1,8 +1,11 @@
 // priormap.occupancy_grid and priormap.prf_map: mapping from localized scans given as numpy
 // arrays (the log-odds grid and the polygonal random field posterior).
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include <fmt/format.h>
 
 #include <priormap/grid/occupancy_grid.hpp>
 #include <priormap/prf/laser_data.hpp>
@@ -31,9 +34,13 @@ py::dict OccupancyGridOf(const Doubles& poses, const Doubles& ranges, const Doub
   if (std::isfinite(max_range)) options.max_range = max_range;
   const Box2 extent = grid::OccupancyGrid::ExtentOf(log, 0, log.scans.size(), options);
   if (extent.isEmpty()) throw std::invalid_argument("the scans have no usable reading");
-  grid::OccupancyGrid map(extent, options);
-  for (const Scan& scan : log.scans) map.Insert(scan);
-  const OccupancyRaster raster = map.Raster();
+  grid::OccupancyGrid map(extent, options);  // ValueError for a grid too large for memory
+  OccupancyRaster raster;
+  {
+    const py::gil_scoped_release release;  // touches no Python object
+    for (const Scan& scan : log.scans) map.Insert(scan);
+    raster = map.Raster();
+  }
   return RasterDict(raster.probability, raster.origin, raster.resolution);
 }
 
@@ -44,6 +51,10 @@ py::dict PrfMap(const Doubles& poses, const Doubles& ranges, const Doubles& angl
   if (chains < 1) throw std::invalid_argument("chains must be at least 1");
   if (!(p > 0.0)) throw std::invalid_argument("p must be positive");
   if (beam_step < 1) throw std::invalid_argument("beam_step must be at least 1");
+  if (!(resolution > 0.0 && std::isfinite(resolution)))
+    throw std::invalid_argument(fmt::format("resolution must be positive, got {}", resolution));
+  // P(black) is a mean over the samples, and the annealing runs for as many steps.
+  if (samples == 0) throw std::invalid_argument("samples must be at least 1");
   const Log log = LogFromArrays(poses, ranges, angles, max_range, min_range, 0.01);
   prf::LaserSelection selection;
   selection.beam_step = beam_step;
@@ -60,17 +71,28 @@ py::dict PrfMap(const Doubles& poses, const Doubles& ranges, const Doubles& angl
   options.seed = seed;
   options.raster_resolution = resolution;
   options.anneal_steps = anneal ? samples : 0;
+  // Ctrl-C stops the chains at their next report; the run then raises KeyboardInterrupt.
+  std::atomic<bool> interrupted{false};
+  const auto on_progress = [&interrupted](const prf::MappingProgress&) {
+    const py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) interrupted = true;
+  };
   prf::MappingResult r;
   {
     const py::gil_scoped_release release;
-    r = prf::RunMapping(data, options, [](const prf::MappingProgress&) {});
+    prf::MappingSession session;
+    session.stop = &interrupted;
+    r = prf::RunMapping(data, options, on_progress, session);
   }
+  if (interrupted) throw py::error_already_set();
   py::dict out;
   out["black_fraction"] = MatrixToNumpy(r.black_fraction);
   out["white_fraction"] = MatrixToNumpy(r.white_fraction);
   out["chain_spread"] = MatrixToNumpy(r.chain_spread);
   out["origin"] = py::make_tuple(r.raster.origin.x(), r.raster.origin.y());
   out["resolution"] = r.raster.cell.x();
+  // The cells fit the window exactly, so they may be a little taller or wider than long.
+  out["cell_size"] = py::make_tuple(r.raster.cell.x(), r.raster.cell.y());
   out["window"] =
       py::make_tuple(r.window.min.x(), r.window.min.y(), r.window.max.x(), r.window.max.y());
   out["rhat_log_posterior"] = r.rhat_log_posterior;

@@ -4,6 +4,7 @@
 #include <limits>
 #include <memory>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -25,7 +26,10 @@ T ValueOrRaise(Result<T> result) {
   return std::move(result).value();
 }
 
-dsl::PriorLibrary Library(const std::vector<std::string>& prior_path) {
+// Paths from Python: str or any os.PathLike (pathlib.Path).
+using Paths = std::vector<std::filesystem::path>;
+
+dsl::PriorLibrary Library(const Paths& prior_path) {
   return dsl::PriorLibrary::WithEnvironment({prior_path.begin(), prior_path.end()});
 }
 
@@ -89,16 +93,23 @@ struct Prior {
   }
 };
 
-py::dict InferScan(const Doubles& ranges, const Doubles& angles, const std::string& prior_name,
-                   double sigma, double max_range, double min_range, double beta,
-                   int eigenvariations, const std::vector<std::string>& prior_path) {
+py::dict InferScan(const Doubles& ranges, const Doubles& angles,
+                   const std::filesystem::path& prior_name, double sigma, double max_range,
+                   double min_range, double beta, int eigenvariations, const Paths& prior_path) {
   if (ranges.ndim() != 1) throw std::invalid_argument("ranges must be one scan: shape (m,)");
+  if (ranges.shape(0) == 0) throw std::invalid_argument("ranges is empty: a scan needs readings");
+  // The bounds of `priormap scan --beta` and `--eigenvariations`.
+  if (!(beta >= 1e-6 && beta <= 0.999999))
+    throw std::invalid_argument(fmt::format("beta must be in [1e-6, 0.999999], got {}", beta));
+  if (eigenvariations < 0 || eigenvariations > 1000)
+    throw std::invalid_argument(
+        fmt::format("eigenvariations must be in [0, 1000], got {}", eigenvariations));
   py::array_t<double> poses({py::ssize_t{1}, py::ssize_t{3}});
   std::fill(poses.mutable_data(), poses.mutable_data() + 3, 0.0);
   py::array_t<double> ranges_2d({py::ssize_t{1}, ranges.shape(0)});
   std::copy(ranges.data(), ranges.data() + ranges.shape(0), ranges_2d.mutable_data());
   const Log log = LogFromArrays(poses, ranges_2d, angles, max_range, min_range, sigma);
-  const dsl::CompiledPrior prior = ValueOrRaise(Library(prior_path).Load(prior_name));
+  const dsl::CompiledPrior prior = ValueOrRaise(Library(prior_path).Load(prior_name.string()));
   priorlets::EngineOptions engine;
   engine.beta = beta;
   priorlets::PosteriorOptions posterior_options;
@@ -139,23 +150,23 @@ void BindPriorlets(py::module_& m) {
 
   m.def(
       "load_prior",
-      [](const std::string& name_or_file, const std::vector<std::string>& prior_path) {
+      [](const std::filesystem::path& name_or_file, const Paths& prior_path) {
         return Prior{std::make_shared<const dsl::CompiledPrior>(
-            ValueOrRaise(Library(prior_path).Load(name_or_file)))};
+            ValueOrRaise(Library(prior_path).Load(name_or_file.string())))};
       },
-      py::arg("name_or_file"), py::arg("prior_path") = std::vector<std::string>{},
+      py::arg("name_or_file"), py::arg("prior_path") = Paths{},
       "A prior of the library by name ('rectangular', 'Circular prior', ...) or a .prior file");
   m.def(
       "compile_prior",
-      [](const std::string& text, const std::vector<std::string>& prior_path) {
+      [](const std::string& text, const Paths& prior_path) {
         return Prior{std::make_shared<const dsl::CompiledPrior>(
             ValueOrRaise(Library(prior_path).CompileText(text, "<python>")))};
       },
-      py::arg("text"), py::arg("prior_path") = std::vector<std::string>{},
+      py::arg("text"), py::arg("prior_path") = Paths{},
       "Compiles prior-language source text; errors raise ValueError with line:col");
   m.def(
       "list_priors",
-      [](const std::vector<std::string>& prior_path) {
+      [](const Paths& prior_path) {
         py::list out;
         for (const dsl::PriorListing& p : Library(prior_path).List()) {
           py::dict d;
@@ -167,12 +178,11 @@ void BindPriorlets(py::module_& m) {
         }
         return out;
       },
-      py::arg("prior_path") = std::vector<std::string>{}, "The priors of the library");
+      py::arg("prior_path") = Paths{}, "The priors of the library");
   m.def("infer_scan", &InferScan, py::arg("ranges"), py::arg("angles"),
         py::arg("prior") = "polygonal", py::arg("sigma") = 0.01,
         py::arg("max_range") = std::numeric_limits<double>::infinity(), py::arg("min_range") = 0.0,
-        py::arg("beta") = 0.95, py::arg("eigenvariations") = 3,
-        py::arg("prior_path") = std::vector<std::string>{},
+        py::arg("beta") = 0.95, py::arg("eigenvariations") = 3, py::arg("prior_path") = Paths{},
         "MAP scan under a prior (priorlets): one scan's ranges and angles (numpy, radians) in; "
         "a dict out with numpy arrays 'rho' (corrected ranges), 'alpha' (normal angles), "
         "'inmodel' (False: outlier), 'posterior_std', the 'regions', 'surfaces', 'dof' and "

@@ -2,7 +2,10 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+#include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -18,14 +21,19 @@ bool IsNumber(const nlohmann::json& value) {
   return value.is_number() || IsInfinity(value);
 }
 
-// Numbers, with nulls (NaN in the array) for what has no value, like an outlier's deviation.
-bool AllNumbers(const nlohmann::json& array) {
-  bool any_number = false;
-  for (const auto& v : array) {
+// Numbers, with nulls (NaN in the array) for what has no value, like an outlier's deviation; an
+// array of nulls alone is numbers none of which has a value.
+bool AllNumbersOrNull(const nlohmann::json& array) {
+  for (const auto& v : array)
     if (!IsNumber(v) && !v.is_null()) return false;
-    any_number = any_number || IsNumber(v);
-  }
-  return any_number;
+  return !array.empty();
+}
+
+// Whole numbers only, as the writer writes indices (a double is always written with a point).
+bool AllIntegers(const nlohmann::json& array) {
+  for (const auto& v : array)
+    if (!v.is_number_integer()) return false;
+  return !array.empty();
 }
 
 double NumberOrNan(const nlohmann::json& value) {
@@ -41,56 +49,80 @@ bool AllBooleans(const nlohmann::json& array) {
   return !array.empty();
 }
 
-// A list of number lists of one length: a matrix.
-bool IsMatrix(const nlohmann::json& array) {
+// A list of lists of one length, each passing `row_test`: a matrix.
+template <typename RowTest>
+bool IsMatrix(const nlohmann::json& array, RowTest row_test) {
   if (array.empty() || !array.front().is_array()) return false;
   const std::size_t columns = array.front().size();
   for (const auto& row : array)
-    if (!row.is_array() || row.size() != columns || !AllNumbers(row)) return false;
+    if (!row.is_array() || row.size() != columns || !row_test(row)) return false;
   return columns > 0;
+}
+
+// Members that hold beam indices: int arrays even when empty (then of their usual shape), so that
+// they can index the scan's arrays.
+std::optional<std::vector<py::ssize_t>> EmptyIndexShape(std::string_view key) {
+  if (key == "regions" || key == "surfaces") return std::vector<py::ssize_t>{0, 2};
+  if (key == "inmodel_beams") return std::vector<py::ssize_t>{0};
+  return std::nullopt;
+}
+
+// Members that are text whatever they spell (a prior may be named "inf").
+bool IsTextMember(std::string_view key) {
+  return key == "format" || key == "input" || key == "prior" || key == "note" ||
+         key == "covariance" || key == "name";
+}
+
+template <typename T, typename Get>
+py::array_t<T> Vector(const nlohmann::json& array, Get get) {
+  py::array_t<T> a(static_cast<py::ssize_t>(array.size()));
+  auto out = a.template mutable_unchecked<1>();
+  for (std::size_t i = 0; i < array.size(); ++i) out(static_cast<py::ssize_t>(i)) = get(array[i]);
+  return a;
+}
+
+template <typename T, typename Get>
+py::array_t<T> Matrix(const nlohmann::json& array, Get get) {
+  const auto rows = static_cast<py::ssize_t>(array.size());
+  const auto columns = static_cast<py::ssize_t>(array.front().size());
+  py::array_t<T> a({rows, columns});
+  auto out = a.template mutable_unchecked<2>();
+  for (py::ssize_t r = 0; r < rows; ++r)
+    for (py::ssize_t c = 0; c < columns; ++c)
+      out(r, c) = get(array[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)]);
+  return a;
+}
+
+std::int64_t Integer(const nlohmann::json& v) {
+  return v.get<std::int64_t>();
 }
 
 }  // namespace
 
-py::object JsonToPython(const nlohmann::json& value) {
+py::object JsonToPython(const nlohmann::json& value, std::string_view key) {
   switch (value.type()) {
     case nlohmann::json::value_t::object: {
       py::dict d;
-      for (const auto& [key, item] : value.items()) d[py::str(key)] = JsonToPython(item);
+      for (const auto& [k, item] : value.items()) d[py::str(k)] = JsonToPython(item, k);
       return d;
     }
     case nlohmann::json::value_t::array: {
-      if (AllNumbers(value)) {
-        py::array_t<double> a(static_cast<py::ssize_t>(value.size()));
-        auto out = a.mutable_unchecked<1>();
-        for (std::size_t i = 0; i < value.size(); ++i)
-          out(static_cast<py::ssize_t>(i)) = NumberOrNan(value[i]);
-        return a;
+      if (value.empty()) {
+        if (const auto shape = EmptyIndexShape(key)) return py::array_t<std::int64_t>(*shape);
+        return py::list();
       }
-      if (AllBooleans(value)) {
-        py::array_t<bool> a(static_cast<py::ssize_t>(value.size()));
-        auto out = a.mutable_unchecked<1>();
-        for (std::size_t i = 0; i < value.size(); ++i)
-          out(static_cast<py::ssize_t>(i)) = value[i].get<bool>();
-        return a;
-      }
-      if (IsMatrix(value)) {
-        const auto rows = static_cast<py::ssize_t>(value.size());
-        const auto columns = static_cast<py::ssize_t>(value.front().size());
-        py::array_t<double> a({rows, columns});
-        auto out = a.mutable_unchecked<2>();
-        for (py::ssize_t r = 0; r < rows; ++r)
-          for (py::ssize_t c = 0; c < columns; ++c)
-            out(r, c) =
-                NumberOrNan(value[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)]);
-        return a;
-      }
+      if (AllIntegers(value)) return Vector<std::int64_t>(value, Integer);
+      if (AllNumbersOrNull(value)) return Vector<double>(value, NumberOrNan);
+      if (AllBooleans(value))
+        return Vector<bool>(value, [](const nlohmann::json& v) { return v.get<bool>(); });
+      if (IsMatrix(value, AllIntegers)) return Matrix<std::int64_t>(value, Integer);
+      if (IsMatrix(value, AllNumbersOrNull)) return Matrix<double>(value, NumberOrNan);
       py::list l;
       for (const auto& item : value) l.append(JsonToPython(item));
       return l;
     }
     case nlohmann::json::value_t::string:
-      if (IsInfinity(value)) return py::float_(NumberOrNan(value));
+      if (IsInfinity(value) && !IsTextMember(key)) return py::float_(NumberOrNan(value));
       return py::str(value.get<std::string>());
     case nlohmann::json::value_t::boolean:
       return py::bool_(value.get<bool>());

@@ -5,6 +5,7 @@
 #include <optional>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -17,9 +18,11 @@ namespace py = pybind11;
 /// A numpy array of float64 in C order (other dtypes and layouts are converted on the way in).
 using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-/// Objects become dicts, lists of numbers numpy float64 arrays (null entries NaN; of bools, bool
-/// arrays; of equal-length number lists, 2-D arrays), other lists Python lists, null None.
-py::object JsonToPython(const nlohmann::json& value);
+/// Objects become dicts; lists of whole numbers int64 arrays, lists of numbers (null entries NaN)
+/// float64 arrays, of bools bool arrays, of equal-length such lists 2-D arrays; other lists Python
+/// lists, null None. `key` is the member's name: the beam-index members ("regions", "surfaces",
+/// "inmodel_beams") are int arrays even when empty, and text members stay text.
+py::object JsonToPython(const nlohmann::json& value, std::string_view key = "");
 
 /// Localized scans from arrays: poses (n, 3) of x, y, theta; ranges (n, m); angles (m,) shared by
 /// every scan or (n, m). NaN readings are invalid, readings at or above max_range are max-range

@@ -11,8 +11,8 @@ from conftest import ROOM
 
 def cell_of(raster, x, y):
     ox, oy = raster["origin"]
-    r = raster["resolution"]
-    return int((y - oy) // r), int((x - ox) // r)  # row (from the bottom), column
+    w, h = raster.get("cell_size", (raster["resolution"], raster["resolution"]))
+    return int((y - oy) // h), int((x - ox) // w)  # row (from the bottom), column
 
 
 def test_grid_sees_the_walls_and_the_free_room(room_scans):
@@ -53,3 +53,27 @@ def test_bad_shapes_raise_value_errors(room_scans):
         priormap.occupancy_grid(poses[:, :2], ranges, angles, max_range=8.0)
     with pytest.raises(ValueError, match="ranges"):
         priormap.prf_map(poses, ranges[:3], angles, max_range=8.0)
+
+
+def test_prf_cells_span_the_window_and_bad_arguments_raise_value_errors(room_scans):
+    poses, ranges, angles, _ = room_scans
+    args = dict(max_range=8.0, samples=1000, burn_in=1000, chains=1, beam_step=8)
+    out = priormap.prf_map(poses, ranges, angles, resolution=0.7, **args)
+    x0, y0, x1, y1 = out["window"]
+    rows, columns = out["black_fraction"].shape
+    width, height = out["cell_size"]
+    assert width * columns == pytest.approx(x1 - x0)
+    assert height * rows == pytest.approx(y1 - y0)
+    for bad in (0.0, -0.1, float("nan")):
+        with pytest.raises(ValueError, match="resolution"):
+            priormap.prf_map(poses, ranges, angles, resolution=bad, **args)
+    with pytest.raises(ValueError, match="samples"):
+        priormap.prf_map(poses, ranges, angles, **{**args, "samples": 0})
+
+
+def test_a_grid_too_large_for_memory_is_a_value_error(room_scans):
+    poses, ranges, angles, _ = room_scans
+    far = poses.copy()
+    far[-1, 0] = 1e6  # a pose in millimetres among poses in metres
+    with pytest.raises(ValueError, match="cells"):
+        priormap.occupancy_grid(far, ranges, angles, max_range=8.0)

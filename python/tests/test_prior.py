@@ -42,3 +42,17 @@ def test_compile_prior_text_and_errors_with_line_and_column():
         priormap.compile_prior(text.replace("alpha_1 + pi", "alpha_1 +"))
     with pytest.raises(ValueError, match="no same_region block|no different_surface block"):
         priormap.load_prior("rectangular").terms("different_surface")
+
+
+def test_paths_may_be_pathlib_and_text_finds_its_parents_in_prior_path_not_the_cwd(
+        tmp_path, monkeypatch):
+    (tmp_path / "good.prior").write_text(
+        "name: Good\nspecializes: Polygonal prior\npriorlet same_region:\n"
+        "  alpha_2 == alpha_1\n")
+    assert priormap.load_prior(tmp_path / "good.prior").name == "Good"
+    assert "Good" in [p["name"] for p in priormap.list_priors(prior_path=[tmp_path])]
+    child = "name: G2\nspecializes: Good\n"
+    assert priormap.compile_prior(child, prior_path=[tmp_path]).name == "G2"
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match="unknown prior 'Good'"):
+        priormap.compile_prior(child)

@@ -67,3 +67,28 @@ def test_infinite_readings_come_back_as_infinite_floats(rng):
     assert out["rho"][3] == np.inf and out["rho"][70] == -np.inf
     assert not out["inmodel"][[3, 70]].any()
     assert isinstance(out["max_violation"], float)
+
+
+def test_index_members_are_int_arrays_and_an_open_space_scan_gives_nan_arrays():
+    pose = (0.3, -0.2, 0.4)
+    angles = np.linspace(-2.0, 2.0, 361)
+    out = priormap.infer_scan(true_ranges(pose, angles), angles, prior="rectangular")
+    assert out["regions"].dtype == np.int64 and out["regions"].shape[1] == 2
+    assert out["inmodel_beams"].dtype == np.int64
+    lo, hi = out["regions"][0]
+    assert len(out["rho"][lo:hi + 1]) == hi - lo + 1
+    # Every beam at max range: nothing fits the prior, and the arrays stay arrays.
+    empty = priormap.infer_scan(np.full(361, np.inf), angles, max_range=10.0)
+    assert isinstance(empty["alpha"], np.ndarray) and np.all(np.isnan(empty["alpha"]))
+    assert empty["regions"].shape == (0, 2) and empty["inmodel_beams"].shape == (0,)
+
+
+def test_out_of_range_arguments_raise_value_errors():
+    angles = np.linspace(-1.0, 1.0, 11)
+    ranges = np.full(11, 2.0)
+    with pytest.raises(ValueError, match="beta"):
+        priormap.infer_scan(ranges, angles, beta=1.0)
+    with pytest.raises(ValueError, match="eigenvariations"):
+        priormap.infer_scan(ranges, angles, eigenvariations=-1)
+    with pytest.raises(ValueError, match="empty"):
+        priormap.infer_scan(np.zeros(0), np.zeros(0))

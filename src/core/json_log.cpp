@@ -194,16 +194,21 @@ std::vector<double> ReadAngles(const JsonNode& object, std::size_t n) {
   return angles;
 }
 
-std::vector<BeamStatus> ReadStatus(const JsonNode& node, std::size_t n) {
+std::vector<BeamStatus> ReadStatus(const JsonNode& node, const std::vector<double>& ranges) {
+  const std::size_t n = ranges.size();
   if (detail::ArraySize(node, "\"status\"") != n)
     detail::Fail(node, fmt::format("expected {} entries in \"status\"", n));
   std::vector<BeamStatus> status(n);
   for (std::size_t i = 0; i < n; ++i) {
     const JsonNode e = detail::Element(node, i);
     const std::string s = detail::String(e, "a beam status");
-    if (s == "valid")
+    if (s == "valid") {
+      // A flag can make a reading unusable, not a NaN, an infinity or a range <= 0 usable.
+      if (!(std::isfinite(ranges[i]) && ranges[i] > 0.0))
+        detail::Fail(
+            e, fmt::format("reading {} is {}: \"valid\" needs a finite range > 0", i, ranges[i]));
       status[i] = BeamStatus::kValid;
-    else if (s == "max_range")
+    } else if (s == "max_range")
       status[i] = BeamStatus::kMaxRange;
     else if (s == "invalid")
       status[i] = BeamStatus::kInvalid;
@@ -350,7 +355,7 @@ Scan ReadScan(const JsonNode& node) {
     scan.sigma.assign(n, kDefaultSigma);
   }
   if (const auto status = detail::OptionalMember(node, "status")) {
-    scan.status = ReadStatus(*status, n);
+    scan.status = ReadStatus(*status, scan.ranges);
   } else {
     scan.ClassifyAll();
   }
@@ -382,6 +387,7 @@ Scan ReadScan(const JsonNode& node) {
       if (problem.starts_with("need 0 <= min_range")) return {"max_range", "min_range"};
       if (problem.starts_with("pose")) return {"pose"};
       if (problem.starts_with("precision")) return {"precision"};
+      if (problem.starts_with("status")) return {"status"};
       return {};
     }();
     for (const char* key : keys)

@@ -59,7 +59,8 @@ std::size_t Scan::NumValid() const {
 
 Vec2 Scan::PointInSensorFrame(std::size_t i) const {
   PRIORMAP_DCHECK(i < size(), "beam index out of range");
-  return ranges[i] * UnitVector(angles[i]);
+  const Vec2 origin = sonar ? sonar->Origin(i) : Vec2::Zero();
+  return origin + ranges[i] * UnitVector(angles[i]);
 }
 
 Vec2 Scan::PointInWorld(std::size_t i) const {
@@ -99,6 +100,13 @@ std::vector<std::string> Scan::Problems() const {
   }
   if (precision && precision->size() != n) {
     problems.push_back(fmt::format("precision is {0}x{0} for {1} readings", precision->size(), n));
+  }
+  for (std::size_t i = 0; i < std::min(n, status.size()); ++i) {
+    if (status[i] == BeamStatus::kValid && !(std::isfinite(ranges[i]) && ranges[i] > 0.0)) {
+      problems.push_back(
+          fmt::format("status of reading {} is valid, but its range is {}", i, ranges[i]));
+      break;
+    }
   }
   if (!pose.IsFinite()) problems.push_back("pose must be finite");
   if (!(min_range >= 0.0) || !(max_range > min_range)) {

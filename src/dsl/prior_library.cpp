@@ -185,7 +185,10 @@ Result<CompiledPrior> PriorLibrary::Compile(const PriorFile& file) const {
           fmt::format("inheritance cycle: '{}'", fmt::join(names, "' specializes '"))};
     }
     fs::path directory = fs::path(current.path).parent_path();
-    if (directory.empty()) directory = ".";  // a relative path without a directory: the current one
+    // A file named without a directory is in the current one; text compiled from memory
+    // ("<python>") has no directory of its own, and its parents come from the library alone.
+    std::error_code ec;
+    if (directory.empty() && fs::is_regular_file(current.path, ec)) directory = ".";
     Result<PriorFile> found = Find(
         parent->value, directory == kBuiltinDirectory ? fs::path() : directory, parent->value_loc);
     if (!found) return found.diagnostics();

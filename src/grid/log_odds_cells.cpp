@@ -179,10 +179,21 @@ void LogOddsCells::TraceStepwise(const Line& line, const CellUpdate& along) {
   }
 }
 
+double CellCount(const Box2& extent, double resolution) {
+  const Vec2 size = extent.sizes() / resolution;
+  return std::max(1.0, std::ceil(size.x())) * std::max(1.0, std::ceil(size.y()));
+}
+
 LogOddsCells CellsCovering(const Box2& extent, double resolution) {
   if (extent.isEmpty()) throw std::invalid_argument("the grid's extent is empty");
+  const double cells = CellCount(extent, resolution);
+  if (!(cells <= kMaxGridCells)) {
+    throw std::invalid_argument(fmt::format(
+        "a grid of {:.1f} m x {:.1f} m at {} m would have {:.3g} cells, more than {:.0e}: use a "
+        "coarser resolution, a shorter insertion range or fewer scans",
+        extent.sizes().x(), extent.sizes().y(), resolution, cells, kMaxGridCells));
+  }
   const Vec2 size = extent.sizes() / resolution;
-  if (size.x() * size.y() > 4e9) throw std::invalid_argument("the grid would exceed 4e9 cells");
   return {std::max(1, static_cast<int>(std::ceil(size.x()))),
           std::max(1, static_cast<int>(std::ceil(size.y())))};
 }

@@ -75,15 +75,21 @@ OccupancyGrid::OccupancyGrid(const Box2& extent, GridOptions options)
 Box2 OccupancyGrid::ExtentOf(const Log& log, std::size_t first, std::size_t end,
                              const GridOptions& options) {
   Box2 box;
+  bool any_beam = false;
   for (std::size_t k = first; k < std::min(end, log.scans.size()); ++k) {
     const Scan& scan = log.scans[k];
-    if (!scan.pose.IsFinite()) continue;
+    // A sonar ring's readings are cones, which the laser model would read as rays.
+    if (!scan.pose.IsFinite() || scan.sonar) continue;
     box.extend(scan.pose.translation());
-    for (std::size_t i = 0; i < scan.size(); i += std::max<std::size_t>(1, options.beam_step))
-      if (const auto beam = ToInsert(scan, i, options))
+    for (std::size_t i = 0; i < scan.size(); i += std::max<std::size_t>(1, options.beam_step)) {
+      if (const auto beam = ToInsert(scan, i, options)) {
         box.extend(scan.pose.Transform(beam->range * UnitVector(scan.angles[i])));
+        any_beam = true;
+      }
+    }
   }
-  if (box.isEmpty()) return box;
+  // Poses alone make no map: empty, as for a log without scans.
+  if (!any_beam) return {};
   const Vec2 grow = Vec2::Constant(options.margin);
   return {box.min() - grow, box.max() + grow};
 }
@@ -94,7 +100,7 @@ inline void OccupancyGrid::TraceBeam(int ix, int iy, double x1, double y1, bool 
 }
 
 std::size_t OccupancyGrid::Insert(const Scan& scan) {
-  if (!scan.pose.IsFinite()) return 0;
+  if (!scan.pose.IsFinite() || scan.sonar) return 0;
   // A log's scans share their beam angles: their unit vectors are computed once, and each
   // scan only rotates them.
   if (scan.angles != beam_angles_) {

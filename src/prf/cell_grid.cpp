@@ -18,4 +18,21 @@ CellGrid CellGrid::Covering(const Vec2& min, const Vec2& max, double cell_size) 
   return grid;
 }
 
+OccupancyRaster SquareCellRaster(const Eigen::MatrixXd& values, const CellGrid& grid) {
+  PRIORMAP_CHECK(values.rows() == grid.ny && values.cols() == grid.nx,
+                 "the values must be the grid's cells");
+  OccupancyRaster raster{.probability = values, .origin = grid.origin, .resolution = grid.cell.x()};
+  if (grid.cell.y() == grid.cell.x()) return raster;
+  const double height = grid.ny * grid.cell.y();
+  const auto rows = std::max<Eigen::Index>(1, std::lround(height / grid.cell.x()));
+  raster.probability.resize(rows, values.cols());
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    const double y = (static_cast<double>(r) + 0.5) * grid.cell.x();
+    const auto source =
+        std::min<Eigen::Index>(values.rows() - 1, static_cast<Eigen::Index>(y / grid.cell.y()));
+    raster.probability.row(r) = values.row(source);
+  }
+  return raster;
+}
+
 }  // namespace priormap::prf

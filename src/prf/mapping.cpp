@@ -142,7 +142,9 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   std::uint64_t thinned_steps = 0;
   for (const ThinnedBurnIn& stage : run_options.thinned_burn_in) {
     PRIORMAP_CHECK(stage.stride >= 1, "a thinned burn-in stride must be at least 1");
-    thinned_steps += stage.steps;
+    // Saturating, so that stages whose sum would wrap cannot pass as a short burn-in.
+    thinned_steps +=
+        std::min(stage.steps, std::numeric_limits<std::uint64_t>::max() - thinned_steps);
   }
   PRIORMAP_CHECK(thinned_steps <= run_options.burn_in,
                  "the thinned burn-in stages must fit in the burn-in");

@@ -33,6 +33,11 @@ Canvas::Canvas(double width, double height) : width_(width), height_(height) {
 void Canvas::Save(const std::filesystem::path& path,
                   const std::function<void(cairo_t*)>& overlay) const {
   const std::string extension = path.extension().string();
+  // A drawing call that failed (Cairo then ignores every later one) must not pass as a figure.
+  if (cairo_status(cr_.get()) != CAIRO_STATUS_SUCCESS) {
+    throw IoError(fmt::format("{}: cannot draw figure: {}", path.string(),
+                              cairo_status_to_string(cairo_status(cr_.get()))));
+  }
   cairo_surface_flush(recording_.get());
   WriteFileAtomically(path, [&](const std::filesystem::path& temporary) {
     const std::string file = temporary.string();
@@ -68,8 +73,48 @@ void SetColor(cairo_t* cr, const Color& color) {
   cairo_set_source_rgba(cr, color.r, color.g, color.b, color.a);
 }
 
-void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size, double align_x,
-              double align_y, bool bold) {
+std::string ValidUtf8(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto lead = static_cast<unsigned char>(text[i]);
+    // Sequence length and the range of its second byte (which rules out overlong forms,
+    // surrogates and code points above U+10FFFF).
+    std::size_t length = 0;
+    unsigned char low = 0x80, high = 0xBF;
+    if (lead < 0x80) {
+      length = 1;
+    } else if (lead >= 0xC2 && lead <= 0xDF) {
+      length = 2;
+    } else if (lead >= 0xE0 && lead <= 0xEF) {
+      length = 3;
+      if (lead == 0xE0) low = 0xA0;
+      if (lead == 0xED) high = 0x9F;
+    } else if (lead >= 0xF0 && lead <= 0xF4) {
+      length = 4;
+      if (lead == 0xF0) low = 0x90;
+      if (lead == 0xF4) high = 0x8F;
+    }
+    bool valid = length > 0 && i + length <= text.size();
+    for (std::size_t k = 1; valid && k < length; ++k) {
+      const auto byte = static_cast<unsigned char>(text[i + k]);
+      valid = k == 1 ? (byte >= low && byte <= high) : (byte >= 0x80 && byte <= 0xBF);
+    }
+    if (valid) {
+      out.append(text.substr(i, length));
+      i += length;
+    } else {
+      out.append("\xEF\xBF\xBD");  // U+FFFD
+      ++i;
+    }
+  }
+  return out;
+}
+
+void DrawText(cairo_t* cr, const std::string& raw_text, double x, double y, double size,
+              double align_x, double align_y, bool bold) {
+  const std::string text = ValidUtf8(raw_text);
   cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL,
                          bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, size);
@@ -98,7 +143,7 @@ void DrawLegend(cairo_t* cr, const std::vector<std::pair<std::string, Color>>& e
   double text_width = 0.0;
   for (const auto& entry : entries) {
     cairo_text_extents_t extents;
-    cairo_text_extents(cr, entry.first.c_str(), &extents);
+    cairo_text_extents(cr, ValidUtf8(entry.first).c_str(), &extents);
     text_width = std::max(text_width, extents.x_advance);
   }
   const double width = text_width + 44, height = LegendHeight(entries.size());
@@ -133,7 +178,7 @@ void DrawLegendRow(cairo_t* cr, const std::vector<std::pair<std::string, Color>>
   double total = 0.0;
   for (const auto& entry : entries) {
     cairo_text_extents_t extents;
-    cairo_text_extents(cr, entry.first.c_str(), &extents);
+    cairo_text_extents(cr, ValidUtf8(entry.first).c_str(), &extents);
     widths.push_back(kSwatch + kGap + extents.x_advance);
     total += widths.back() + (widths.size() > 1 ? kSpacing : 0.0);
   }

@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -42,6 +43,9 @@ class Canvas {
 };
 
 void SetColor(cairo_t* cr, const Color& color);
+/// `text` with each byte that is not part of a valid UTF-8 sequence replaced by U+FFFD: Cairo
+/// stops drawing altogether at invalid UTF-8, and titles hold file names of any bytes.
+[[nodiscard]] std::string ValidUtf8(std::string_view text);
 /// Text at (x, y): `align_x` 0 puts x at the left end, 0.5 at the centre, 1 at the right end;
 /// `align_y` 0 puts y at the top of capital letters, 0.5 at their middle, 1 on the baseline.
 void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size, double align_x,

@@ -1,20 +1,28 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <optional>
+#include <unordered_set>
 
 #include <Eigen/Eigenvalues>
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/segment.hpp>
 #include <priormap/render/figure.hpp>
 #include <priormap/render/ticks.hpp>
 
 #include "canvas.hpp"
+#include "raster_image.hpp"
 
 namespace priormap::render {
 namespace {
 
 constexpr double kAxisFont = 11.0;
 constexpr double kTitleFont = 14.0;
+// Device coordinates beyond this are far outside any figure, and near where Cairo's 24.8
+// fixed-point coordinates wrap.
+constexpr double kFarOutsidePx = 1e6;
 
 struct Margins {
   double left, right, top, bottom;
@@ -205,8 +213,16 @@ Vec2 Figure::ToDevice(const Vec2& world) const {
 void Figure::Points(std::span<const Vec2> points, const Color& color, double radius_px) {
   cairo_t* c = impl_->cr();
   detail::SetColor(c, color);
+  // Points closer than a quarter pixel look the same; a log of millions of points would otherwise
+  // keep one arc each in the recorded drawing (gigabytes).
+  std::unordered_set<std::uint64_t> drawn;
   for (const Vec2& p : points) {
     const Vec2 d = impl_->ToDevice(p);
+    if (!(d.cwiseAbs().maxCoeff() < kFarOutsidePx)) continue;  // also leaves out NaN
+    const auto quarter_pixel = [](double v) {
+      return static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::lround(4.0 * v)));
+    };
+    if (!drawn.insert(quarter_pixel(d.x()) << 32 | quarter_pixel(d.y())).second) continue;
     cairo_new_sub_path(c);
     cairo_arc(c, d.x(), d.y(), radius_px, 0.0, 2 * M_PI);
   }
@@ -214,8 +230,29 @@ void Figure::Points(std::span<const Vec2> points, const Color& color, double rad
 }
 
 void Figure::Line(const Vec2& a, const Vec2& b, const LineStyle& style) {
-  const Vec2 device[2] = {impl_->ToDevice(a), impl_->ToDevice(b)};
+  // Clipped first to the world and as much again on each side (what the margins could show):
+  // Cairo's fixed-point coordinates wrap far outside the figure, which turned a long ray round.
+  if (!a.allFinite() || !b.allFinite()) return;
+  const Box2 shown(impl_->world.min() - impl_->world.sizes(),
+                   impl_->world.max() + impl_->world.sizes());
+  const std::optional<Segment> clipped = ClipSegmentToBox({a, b}, shown);
+  if (!clipped) return;
+  const Vec2 device[2] = {impl_->ToDevice(clipped->a), impl_->ToDevice(clipped->b)};
   StrokePath(impl_->cr(), device, false, style);
+}
+
+void Figure::Arc(const Vec2& center, double radius, double from, double to,
+                 const LineStyle& style) {
+  cairo_t* c = impl_->cr();
+  const Vec2 d = impl_->ToDevice(center);
+  cairo_new_path(c);
+  // Device y points down, so a counter-clockwise world arc is a negative device one.
+  cairo_arc_negative(c, d.x(), d.y(), radius * impl_->scale, -from, -to);
+  detail::SetColor(c, style.color);
+  cairo_set_line_width(c, style.width_px);
+  cairo_set_dash(c, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
+  cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
+  cairo_stroke(c);
 }
 
 void Figure::Polyline(std::span<const Vec2> points, bool closed, const LineStyle& style) {
@@ -320,25 +357,9 @@ void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap
                      double vmin, double vmax, const std::string& label) {
   PRIORMAP_CHECK(values.rows() > 0 && values.cols() > 0, "empty heat map");
   PRIORMAP_CHECK(vmax > vmin, "heat map needs vmin < vmax");
-  const int cols = static_cast<int>(values.cols()), rows = static_cast<int>(values.rows());
-  std::unique_ptr<cairo_surface_t, void (*)(cairo_surface_t*)> image(
-      cairo_image_surface_create(CAIRO_FORMAT_ARGB32, cols, rows), cairo_surface_destroy);
-  const int stride = cairo_image_surface_get_stride(image.get());
-  unsigned char* data = cairo_image_surface_get_data(image.get());
-  for (int iy = 0; iy < rows; ++iy) {
-    auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(rows - 1 - iy) *
-                                                            stride);
-    for (int ix = 0; ix < cols; ++ix) {
-      const Color col = MapColor(colormap, (values(iy, ix) - vmin) / (vmax - vmin));
-      // ARGB32 is premultiplied alpha in native byte order.
-      const auto channel = [&](double v) {
-        return static_cast<std::uint32_t>(std::lround(v * col.a * 255.0));
-      };
-      row[ix] = (static_cast<std::uint32_t>(std::lround(col.a * 255.0)) << 24) |
-                (channel(col.r) << 16) | (channel(col.g) << 8) | channel(col.b);
-    }
-  }
-  cairo_surface_mark_dirty(image.get());
+  const detail::ImageSurface image = detail::ColormapImage(values, colormap, vmin, vmax, false);
+  const int cols = cairo_image_surface_get_width(image.get());
+  const int rows = cairo_image_surface_get_height(image.get());
   cairo_t* c = impl_->cr();
   const Vec2 top_left = impl_->ToDevice({extent.min().x(), extent.max().y()});
   const Vec2 bottom_right = impl_->ToDevice({extent.max().x(), extent.min().y()});

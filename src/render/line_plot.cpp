@@ -139,12 +139,17 @@ void LinePlot::Save(const std::filesystem::path& path) const {
           cairo_line_to(c, d.x(), d.y());
         } else {
           cairo_move_to(c, d.x(), d.y());
+          const bool isolated =
+              i + 1 == s.x.size() || !std::isfinite(s.x[i + 1]) || !std::isfinite(s.y[i + 1]);
+          // A point between gaps: a segment of no length, which the round cap draws as a dot.
+          if (isolated) cairo_line_to(c, d.x(), d.y());
         }
         pen_down = true;
       }
       cairo_set_line_width(c, s.width_px);
       cairo_set_dash(c, s.dash_px.data(), static_cast<int>(s.dash_px.size()), 0.0);
       cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
+      cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
       cairo_stroke(c);
     }
     if (!s.label.empty()) legend.emplace_back(s.label, color);

@@ -11,6 +11,7 @@
 #include <priormap/render/ticks.hpp>
 
 #include "canvas.hpp"
+#include "raster_image.hpp"
 
 namespace priormap::render::detail {
 namespace {
@@ -255,27 +256,10 @@ void Panel::Image(const Eigen::MatrixXd& values, Colormap colormap, double vmin,
                   double vmax) const {
   PRIORMAP_CHECK(values.rows() > 0 && values.cols() > 0 && vmin < vmax,
                  "an image needs cells and vmin < vmax");
-  const int cols = static_cast<int>(values.cols()), rows = static_cast<int>(values.rows());
-  std::unique_ptr<cairo_surface_t, void (*)(cairo_surface_t*)> image(
-      cairo_image_surface_create(CAIRO_FORMAT_ARGB32, cols, rows), cairo_surface_destroy);
-  const int stride = cairo_image_surface_get_stride(image.get());
-  unsigned char* data = cairo_image_surface_get_data(image.get());
-  for (int r = 0; r < rows; ++r) {
-    // Image rows run top to bottom; values' rows run along y.
-    const int device_row = options_.invert_y ? r : rows - 1 - r;
-    auto* row =
-        reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(device_row) * stride);
-    for (int col = 0; col < cols; ++col) {
-      const Color color = MapColor(colormap, (values(r, col) - vmin) / (vmax - vmin));
-      // ARGB32 is premultiplied alpha in native byte order.
-      const auto channel = [&](double v) {
-        return static_cast<std::uint32_t>(std::lround(v * color.a * 255.0));
-      };
-      row[col] = (static_cast<std::uint32_t>(std::lround(color.a * 255.0)) << 24) |
-                 (channel(color.r) << 16) | (channel(color.g) << 8) | channel(color.b);
-    }
-  }
-  cairo_surface_mark_dirty(image.get());
+  // Image rows run top to bottom; values' rows run along y.
+  const ImageSurface image = ColormapImage(values, colormap, vmin, vmax, options_.invert_y);
+  const int cols = cairo_image_surface_get_width(image.get());
+  const int rows = cairo_image_surface_get_height(image.get());
   cairo_save(cr_);
   Clip();
   cairo_translate(cr_, plot_.x, plot_.y);
@@ -312,7 +296,7 @@ void Panel::ColorBar(Colormap colormap, double vmin, double vmax, const std::str
     const std::string text = TickLabel(v, step);
     DrawText(c, text, x + width + 6, y, kAxisFont, 0.0, 0.5);
     cairo_text_extents_t extents;
-    cairo_text_extents(c, text.c_str(), &extents);
+    cairo_text_extents(c, ValidUtf8(text).c_str(), &extents);
     label_width = std::max(label_width, extents.x_advance);
   }
   cairo_translate(c, x + width + 6 + label_width + 14, top + height / 2);
@@ -332,7 +316,7 @@ void Panel::LegendRow(const std::vector<LegendEntry>& entries) const {
   std::vector<double> widths, row_widths(1, 0.0);
   for (std::size_t i = 0; i < entries.size(); ++i) {
     cairo_text_extents_t extents;
-    cairo_text_extents(c, entries[i].label.c_str(), &extents);
+    cairo_text_extents(c, ValidUtf8(entries[i].label).c_str(), &extents);
     widths.push_back(kSwatch + kGap + extents.x_advance);
     const double added = widths.back() + (rows.back().empty() ? 0.0 : kSpacing);
     if (!rows.back().empty() && row_widths.back() + added > 0.88 * cell_.width) {

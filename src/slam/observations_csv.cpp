@@ -128,7 +128,8 @@ std::vector<ObservationFrame> ReadFrames(const CsvTable& table) {
                              frame_line));
     }
     if (frames.empty() || time != frames.back().time) {
-      frames.push_back({time, {}});
+      frames.push_back(
+          {.time = time, .observations = {}, .line = row.line, .col = row.cells[columns.time].col});
       frame_id_lines.clear();
     }
     frame_line = row.line;

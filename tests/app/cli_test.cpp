@@ -534,6 +534,23 @@ TEST_F(Cli, OutputIntoAMissingDirectoryIsAnError) {
   EXPECT_THAT(Fails({"convert", "s.json", "-o", "nowhere/s.log"}).err, HasSubstr("nowhere"));
 }
 
+TEST_F(Cli, PlotRefusesToOverwriteItsInputAndWorldsTooLargeToDraw) {
+  Ok({"simulate", "-o", "s.json"});
+  const std::string scan = ReadAll(Work("s.json"));
+  fs::copy_file(Work("s.json"), Work("s.svg"));
+  EXPECT_THAT(Fails({"plot", "s.svg", "-o", "s.svg"}).err,
+              HasSubstr("one would overwrite the other"));
+  WriteAll(Work("far.json"),
+           R"({"format":"priormap.scan","version":1,"pose":[1e308,0,0],"max_range":1e308,)"
+           R"("angles":[-0.5,0.5],"ranges":[1e308,1]})");
+  EXPECT_THAT(Fails({"plot", "far.json", "-o", "far.png"}).err, HasSubstr("too far to draw"));
+  WriteAll(Work("long.json"), R"({"format":"priormap.scan","version":1,"pose":[0,0,0],)"
+                              R"("angles":[-0.5,0.5],"ranges":[1.79e308,1]})");
+  EXPECT_THAT(Fails({"plot", "long.json", "--kind", "ranges", "-o", "long.png"}).err,
+              HasSubstr("too large to draw"));
+  EXPECT_EQ(ReadAll(Work("s.json")), scan);
+}
+
 // A run that fails writes none of its outputs, even when the first one could have been written.
 TEST_F(Cli, FailedSimulateWritesNoOutputAtAll) {
   EXPECT_THAT(Fails({"simulate", "-o", "s.json", "--png", "nowhere/s.png"}).err,

@@ -176,6 +176,25 @@ TEST_F(MappingCli, PrfWarnsWhenItsChainsHaveNotConverged) {
   EXPECT_THAT(long_err, Not(HasSubstr("warning")));
 }
 
+// --anneal without --anneal-steps anneals for --samples steps: the resumed run must see the
+// same annealing length as the one that made the checkpoints.
+TEST_F(MappingCli, AStoppedRunWithTheDefaultAnnealingResumes) {
+  const std::vector<std::string> run = {
+      "prf",  "--log",     "room.log", "--beam-step", "4", "--p",    "0.5", "--samples",
+      "3000", "--burn-in", "3000",     "--chains",    "1", "--seed", "3",   "--anneal"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = run;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  ASSERT_EQ(Run(with({"-o", "whole"})).status, 0);
+  ASSERT_EQ(Run(with({"-o", "parts", "--stop-after-steps", "2000"})).status, 0);
+  const auto r = Run({"prf", "--resume", Work("parts").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(testing::ReadAll(Work("parts") / "map.geojson"),
+            testing::ReadAll(Work("whole") / "map.geojson"));
+}
+
 TEST_F(MappingCli, AStoppedRunResumesToTheUninterruptedResult) {
   const std::vector<std::string> run = {"prf",
                                         "--log",
@@ -397,11 +416,41 @@ TEST_F(MappingCli, GridWritesTheMapAndASummary) {
   EXPECT_GT(summary["beams_per_second"].get<double>(), 0.0);
 }
 
+// The laser grid maps laser scans only, refuses a log with nothing to map and a grid too large
+// for memory, and leaves no directory behind when it refuses.
+TEST_F(MappingCli, GridRefusesWhatItCannotMapBeforeWritingAnything) {
+  testing::WriteAll(
+      Work("mixed.json"),
+      R"({"format":"priormap.log","version":1,"records":[)"
+      R"({"type":"scan","pose":[0,0,0],"max_range":8,"angles":[0],"ranges":[1.0]},)"
+      R"({"type":"scan","channel":"SONAR","pose":[0,0,0],"min_range":0.17,"max_range":5,)"
+      R"("angles":[1.5707963267948966],"ranges":[2.0],"sonar":{"spread":0.5}}]})");
+  const auto laser = Run({"grid", "--log", "mixed.json", "--sensor", "laser", "-o", "mixed"});
+  ASSERT_EQ(laser.status, 0) << laser.err;
+  EXPECT_THAT(laser.out, HasSubstr(": 1 beams"));
+
+  testing::WriteAll(Work("unusable.json"),
+                    R"({"format":"priormap.log","version":1,"records":[)"
+                    R"({"type":"scan","pose":[0,0,0],"angles":[0,1],"ranges":[null,-1]}]})");
+  EXPECT_THAT(RunFailing({"grid", "--log", "unusable.json", "-o", "u"}).err,
+              HasSubstr("no usable reading"));
+  EXPECT_THAT(RunFailing({"grid", "--log", "room.log", "--resolution", "0.0005", "-o", "huge"}).err,
+              HasSubstr("more than 1e+08"));
+  EXPECT_FALSE(std::filesystem::exists(Work("u")));
+  EXPECT_FALSE(std::filesystem::exists(Work("huge")));
+  testing::WriteAll(Work("afile"), "");
+  EXPECT_THAT(RunFailing({"grid", "--log", "room.log", "-o", "afile"}).err,
+              HasSubstr("afile is a file, not a directory"));
+}
+
 TEST_F(MappingCli, ReportsBadSelections) {
   EXPECT_THAT(RunFailing({"prf", "--log", "room.log", "--range", "5:2", "-o", "x"}).err,
               HasSubstr("--range: '5:2' is empty"));
   EXPECT_THAT(RunFailing({"prf", "--log", "room.log", "--range", "9000:", "-o", "x"}).err,
               HasSubstr("selects no scan"));
+  EXPECT_THAT(RunFailing({"grid", "--log", "room.log", "--range", "0:9000", "-o", "x"}).err,
+              HasSubstr("--range 0:9000: the log has only"));
+  EXPECT_FALSE(std::filesystem::exists(Work("x")));
   EXPECT_THAT(RunFailing({"prf", "--range", "0:2", "-o", "x"}).err, HasSubstr("--log is required"));
   EXPECT_THAT(RunFailing({"grid", "--log", "missing.log", "-o", "x"}).err,
               HasSubstr("missing.log"));

@@ -319,7 +319,7 @@ TEST_F(SlamCli, InputsThatDoNotFitEachOtherOrTheOptionsAreErrors) {
   // Observations after the odometry ends.
   WriteAll(Work("late.csv"), "time,id,range,bearing\n0.5,0,5,0.1\n9,0,5,0.1\n");
   EXPECT_THAT(Fails(RunArgs("late.csv", "odometry.csv", "map.geojson")).err,
-              HasSubstr("covers only"));
+              ContainsRegex("late\\.csv:3:1: observations at t = 9 s, but .* covers only"));
   // Unknown ids need nearest-neighbour association.
   WriteAll(Work("anonymous.csv"), "time,range,bearing\n0.5,5,0.1\n");
   EXPECT_THAT(Fails(RunArgs("anonymous.csv", "odometry.csv", "map.geojson")).err,

@@ -231,6 +231,8 @@ TEST_F(SonarCli, RefusesLaserOptionsStepCountsAndRastersItCannotHonour) {
   };
   EXPECT_THAT(refused({"--beam-step", "4"}), HasSubstr("--beam-step 4 is for laser scans"));
   EXPECT_THAT(refused({"--sigma", "0.2"}), HasSubstr("--sigma 0.2 is the laser beam model's"));
+  // Given at its default value it would be dropped as silently.
+  EXPECT_THAT(refused({"--sigma", "0.05"}), HasSubstr("--sigma 0.05 is the laser beam model's"));
   EXPECT_THAT(refused({"--resolution", "0.0001"}), HasSubstr("would make rasters of"));
   for (const char* option : {"--samples", "--burn-in", "--anneal-steps", "--stop-after-steps"})
     EXPECT_THAT(refused({option, "-5"}), HasSubstr("'-5' is not a step count")) << option;

@@ -229,6 +229,17 @@ TEST(JsonMalformed, BadStatusStringIsReportedAtTheElement) {
                                        "or \"invalid\"), got \"broken\" (at /status/1)")));
 }
 
+// A flag cannot make a NaN or a negative range a measurement (the grids would map it).
+TEST(JsonMalformed, ValidStatusOnAnUnusableRangeIsReportedAtTheElement) {
+  EXPECT_THAT(
+      LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [1, null], "status": ["valid", "valid"]})"),
+      ElementsAre(DiagnosticAt(2, 62, "reading 1 is nan: \"valid\" needs a finite range > 0")));
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [-1, 2], "status": ["valid", "valid"]})"),
+              ElementsAre(DiagnosticAt(2, 51, "reading 0 is -1")));
+}
+
 TEST(JsonMalformed, StatusOfTheWrongSizeIsReportedAtTheArray) {
   EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
   "angles": [0, 1], "ranges": [1, 2], "status": ["valid"]})"),

@@ -194,6 +194,24 @@ TEST(SonarSimulator, RingsCarryTheTransducersOffsetsAndSameSeedSameLog) {
   EXPECT_GT(echoes, readings / 3);
 }
 
+// A surface echo's point (PointInWorld) lies on the wall that made it: the cone starts at its
+// transducer, not at the ring's centre.
+TEST(SonarSimulator, AnEchosPointLiesOnItsWallFromTheTransducersOrigin) {
+  const SonarScene scene(WallsScene({Polyline{{Vec2(3, -2), Vec2(3, 2)}, false}}));
+  SonarSensor sensor = OneTransducer();
+  sensor.offsets = {Vec2(0.2, 0.1)};
+  Rng rng(3);
+  int echoes = 0;
+  for (int k = 0; k < 50; ++k) {
+    const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0.5, 0), rng);
+    if (ring.sonar->true_echo[0] != SonarEcho::kSurface) continue;
+    ++echoes;
+    EXPECT_NEAR(ring.PointInWorld(0).x(), 3.0, 0.1);  // 1 % noise on 2.8 m: sigma 2.8 cm
+    EXPECT_NEAR(ring.PointInWorld(0).y(), 0.6, 1e-12);
+  }
+  EXPECT_GT(echoes, 30);
+}
+
 TEST(SonarSensor, ReportsBadParameters) {
   SonarSensor sensor = OneTransducer();
   std::string why;

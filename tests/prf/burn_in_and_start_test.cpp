@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <tuple>
@@ -330,6 +331,15 @@ MappingOptions ThinnedRun() {
   MappingOptions options = SmallRun(5, 30000, 10000);
   options.thinned_burn_in = {{.stride = 4, .steps = 10000}, {.stride = 2, .steps = 10000}};
   return options;
+}
+
+// Stages whose step counts sum past 2^64 must not wrap round to a sum that fits the burn-in.
+TEST(ThinnedMapping, StagesWhoseSumWouldWrapAreRefused) {
+  const MappingData data = LaserMappingData(RoomData(), ThinnedRun());
+  MappingOptions wrapping = ThinnedRun();
+  wrapping.thinned_burn_in = {{.stride = 4, .steps = std::numeric_limits<std::uint64_t>::max()},
+                              {.stride = 2, .steps = 2}};
+  EXPECT_THROW((void)RunMapping(data, wrapping, {}), ContractError);
 }
 
 // Sessions of 7000 steps stop inside each stage (7000, 14000, 21000, ...): the resumed chains

@@ -50,6 +50,27 @@ TEST(Window, CornersAreNoSideAndCoordinatesWrap) {
   EXPECT_EQ(kWindow.SideAt(-0.5), 3);
 }
 
+// map_server and the figures take square cells; a grid fitted to its window has cells a little
+// taller or wider than they are long, and its rows are resampled so that every raster row lies
+// where it says.
+TEST(SquareCellRaster, ResamplesRowsSoThatEachSquareCellHoldsTheValueAtItsCentre) {
+  const CellGrid grid = CellGrid::Covering({0, 0}, {4, 3}, 1.4);  // cells 4/3 x 3/3: 3 x 3
+  ASSERT_EQ(grid.nx, 3);
+  ASSERT_EQ(grid.ny, 3);
+  Eigen::MatrixXd values(3, 3);
+  for (int r = 0; r < 3; ++r) values.row(r).setConstant(r);
+  const OccupancyRaster raster = SquareCellRaster(values, grid);
+  EXPECT_DOUBLE_EQ(raster.resolution, 4.0 / 3.0);
+  ASSERT_EQ(raster.probability.rows(), 2);  // 3 m at 4/3 m: 2.25 rows
+  ASSERT_EQ(raster.probability.cols(), 3);
+  // Row centres at 2/3 m and 2 m lie in the grid's rows 0 and 2.
+  EXPECT_EQ(raster.probability(0, 1), 0.0);
+  EXPECT_EQ(raster.probability(1, 1), 2.0);
+  // Square cells are passed through.
+  const CellGrid square = CellGrid::Covering({0, 0}, {2, 2}, 1.0);
+  EXPECT_EQ(SquareCellRaster(Eigen::MatrixXd::Ones(2, 2), square).probability.rows(), 2);
+}
+
 TEST(WalkCells, VisitsExactlyTheCellsTheSegmentCrossesInOrder) {
   const CellGrid grid = CellGrid::Covering(kWindow.min, kWindow.max, 0.3);
   EXPECT_EQ(grid.nx, 14);

@@ -285,6 +285,24 @@ TEST(Figure, HeatMapNanCellsAreLeftWhite) {
       ColorNear(image.At(figure.ToDevice({0.5, 1.5})), ToRgba(MapColor(Colormap::kViridis, 0.5))));
 }
 
+// Cairo makes no image over 32767 pixels on a side: a raster that wide is shrunk by blocks, each
+// the mean of its cells.
+TEST(Figure, HeatMapWiderThanCairosImagesIsDrawnFromBlockMeans) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 40000, 20000), Plain());
+  Eigen::MatrixXd values = Eigen::MatrixXd::Zero(2, 40000);
+  values.rightCols(20000).setOnes();  // the east half black, the west half white
+  figure.HeatMap(values, World(0, 0, 40000, 20000), Colormap::kOccupancy, 0.0, 1.0);
+  figure.Save(dir / "wide.png");
+  const PngImage image(dir / "wide.png");
+  ASSERT_TRUE(image.ok());
+  const Rgba black{0, 0, 0, 255};
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({10000, 5000})), kWhite));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({30000, 5000})), black));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({10000, 15000})), kWhite));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({30000, 15000})), black));
+}
+
 TEST(Figure, HeatMapPreconditions) {
   Figure figure(World(0, 0, 1, 1));
   EXPECT_THROW(figure.HeatMap(Eigen::MatrixXd(0, 0), World(0, 0, 1, 1), Colormap::kViridis, 0, 1),
@@ -332,6 +350,21 @@ TEST(Figure, PointsAndLinesUseTheirColours) {
   EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2.0, 3.0})), kWhite));
 }
 
+// A ray a million times longer than the figure keeps its direction (Cairo's fixed-point device
+// coordinates would wrap its far end round).
+TEST(Figure, AVeryLongLineKeepsItsDirection) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 4, 4), Plain());
+  const Color magenta{1.0, 0.0, 1.0};
+  const Vec2 start(2.0, 1.0), direction(std::cos(0.3), std::sin(0.3));
+  figure.Line(start, start + 1e7 * direction, {magenta, 3.0, {}});
+  figure.Save(dir / "ray.png");
+  const PngImage image(dir / "ray.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice(start + 1.5 * direction)), ToRgba(magenta)));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({3.5, 0.5})), kWhite));
+}
+
 // --- Contracts ---------------------------------------------------------------------------------
 
 TEST(Figure, CovarianceEllipseWithANonPsdMatrixIsAContractError) {
@@ -367,6 +400,20 @@ TEST(Figure, EmptyOrNonFiniteWorldIsAContractError) {
   EXPECT_THROW(Figure{Box2()}, ContractError);
   EXPECT_THROW(Figure{World(0, 0, kNaN, 1)}, ContractError);
   EXPECT_THROW(Figure{World(0, 0, std::numeric_limits<double>::infinity(), 1)}, ContractError);
+}
+
+// Cairo stops drawing at a string that is not UTF-8; such bytes (a file name in the title) are
+// shown as U+FFFD and the rest of the figure is drawn.
+TEST(Figure, ATitleThatIsNotUtf8DoesNotBlankTheFigure) {
+  const TempDir dir;
+  FigureOptions options = Options(300, 300);
+  options.title = "caf\xe9 \xff\xfe.json";
+  Figure figure(World(0, 0, 4, 4), options);
+  figure.FilledPolygon(Polygon{{{1.0, 1.0}, {3.0, 1.0}, {3.0, 3.0}, {1.0, 3.0}}}, palette::kBlack);
+  figure.Save(dir / "title.png");
+  const PngImage image(dir / "title.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2, 2})), (Rgba{0, 0, 0, 255})));
 }
 
 // --- Scene drawing -----------------------------------------------------------------------------

@@ -113,7 +113,8 @@ struct Scan {
   [[nodiscard]] std::size_t size() const { return ranges.size(); }
   [[nodiscard]] bool IsValid(std::size_t i) const { return status[i] == BeamStatus::kValid; }
   [[nodiscard]] std::size_t NumValid() const;
-  /// Reading i as a point in the sensor frame (meaningful for valid readings).
+  /// Reading i as a point in the sensor frame (meaningful for valid readings): for a sonar
+  /// reading, the point on its cone's axis, from its transducer's origin.
   [[nodiscard]] Vec2 PointInSensorFrame(std::size_t i) const;
   /// Reading i as a point in the world frame.
   [[nodiscard]] Vec2 PointInWorld(std::size_t i) const;

@@ -33,12 +33,13 @@ class OccupancyGrid {
   OccupancyGrid(const Box2& extent, GridOptions options);
 
   /// The box holding every sensor and every beam end point (capped at the insertion range) of
-  /// scans [first, end) of the log, grown by options.margin.
+  /// the laser scans among scans [first, end) of the log, grown by options.margin; empty when
+  /// they have no beam to insert.
   [[nodiscard]] static Box2 ExtentOf(const Log& log, std::size_t first, std::size_t end,
                                      const GridOptions& options);
 
-  /// Inserts every usable beam of a scan (invalid readings are skipped). Returns the number of
-  /// beams inserted.
+  /// Inserts every usable beam of a laser scan (invalid readings are skipped; a sonar ring is
+  /// left out whole: SonarGrid maps those). Returns the number of beams inserted.
   std::size_t Insert(const Scan& scan);
   /// One beam from `origin` to `end`: the cells of Bresenham's line from the origin's cell to
   /// the end's (8-connected, one per step along the major axis) are free, the end's cell is

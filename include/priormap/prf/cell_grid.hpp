@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include <priormap/core/map_server.hpp>
 #include <priormap/core/types.hpp>
 
 namespace priormap::prf {
@@ -35,6 +36,11 @@ struct CellGrid {
     return index >= n - 1 ? n - 1 : static_cast<int>(std::floor(index));
   }
 };
+
+/// `values` over `grid`'s cells (row 0 at the bottom) as a raster of square cells of side
+/// grid.cell.x(), as map_server and the figures take it: where the grid's cells are not square
+/// (they fit the window exactly), the rows are resampled at the nearest cell.
+[[nodiscard]] OccupancyRaster SquareCellRaster(const Eigen::MatrixXd& values, const CellGrid& grid);
 
 /// Calls visit(cell) for each cell that the bounding box of `points` overlaps (clamped to the
 /// grid): the cells that can hold a point of the polygon they span.

@@ -51,6 +51,8 @@ class Figure {
   void FilledPolygon(const Polygon& polygon, const Color& fill,
                      const LineStyle& stroke = {{}, 0.0, {}});
   void CircleOutline(const Circle& circle, const LineStyle& style);
+  /// The arc of the circle about `center` from world angle `from` counter-clockwise to `to`.
+  void Arc(const Vec2& center, double radius, double from, double to, const LineStyle& style);
   void FilledCircle(const Circle& circle, const Color& fill);
   /// The ellipse {x : (x - mean)^T cov^-1 (x - mean) = n_sigma^2}. Precondition: cov SPD.
   void CovarianceEllipse(const Vec2& mean, const Mat2& covariance, double n_sigma,

@@ -24,7 +24,8 @@ void DrawScan(Figure& figure, const Scan& scan, const ScanStyle& style = {});
 /// All scans of a log as points (every `stride`-th scan) and the trajectory of scan poses.
 void DrawLog(Figure& figure, const Log& log, int stride = 1);
 
-/// World bounding box of a scan's valid readings and its pose.
+/// World bounding box of a scan's valid readings and its pose (and of its max-range rays when it
+/// has no valid reading).
 [[nodiscard]] Box2 ScanBounds(const Scan& scan);
 /// World bounding box of all valid readings and poses of a log.
 [[nodiscard]] Box2 LogBounds(const Log& log);

@@ -39,6 +39,8 @@ struct RangeBearing {
 struct ObservationFrame {
   double time = 0.0;
   std::vector<RangeBearing> observations;
+  int line = 0;  ///< where its time was read (1-based), for messages; 0 when not read from a file
+  int col = 0;
 };
 
 struct MotionNoise {

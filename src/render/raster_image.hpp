@@ -1,0 +1,28 @@
+#pragma once
+// A raster of values as a Cairo image in a colour map, at most kMaxImageSide pixels on a side:
+// Cairo refuses wider images, and a figure a few thousand points wide shows no more.
+
+#include <memory>
+
+#include <Eigen/Core>
+#include <cairo.h>
+
+#include <priormap/render/color.hpp>
+
+namespace priormap::render::detail {
+
+inline constexpr int kMaxImageSide = 4096;
+
+struct ImageDeleter {
+  void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
+};
+using ImageSurface = std::unique_ptr<cairo_surface_t, ImageDeleter>;
+
+/// `values` (row 0 at the bottom, or at the top with `first_row_on_top`) mapped through
+/// `colormap` over [vmin, vmax]; NaN is transparent. A raster wider or taller than kMaxImageSide
+/// is shrunk by a whole factor, each pixel the mean of the finite values of its block. Throws
+/// std::bad_alloc when Cairo cannot make the image.
+[[nodiscard]] ImageSurface ColormapImage(const Eigen::MatrixXd& values, Colormap colormap,
+                                         double vmin, double vmax, bool first_row_on_top);
+
+}  // namespace priormap::render::detail
