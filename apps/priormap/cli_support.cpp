@@ -143,6 +143,13 @@ void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>
   }
 }
 
+void RemoveFiles(const std::filesystem::path& directory, std::span<const char* const> names) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(directory, ec)) return;
+  for (const char* name : names) std::filesystem::remove(directory / name, ec);
+  if (std::filesystem::is_empty(directory, ec)) std::filesystem::remove(directory, ec);
+}
+
 void EnsureDirectory(const std::filesystem::path& directory) {
   std::error_code ec;
   if (std::filesystem::exists(directory, ec) && !std::filesystem::is_directory(directory, ec))

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -81,6 +82,10 @@ void RequireOutputDirectory(const std::filesystem::path& path, const std::string
 /// Throws UserError when two of the (option, path) pairs name the same file (an output would
 /// overwrite the input or another output); empty paths are not given.
 void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& files);
+
+/// Removes the files `names` from `directory` where they exist (an earlier run's outputs that
+/// this run does not write), by name only; a directory left empty is removed too.
+void RemoveFiles(const std::filesystem::path& directory, std::span<const char* const> names);
 
 /// Creates `directory` (and parents) when missing; throws UserError when that fails.
 void EnsureDirectory(const std::filesystem::path& directory);

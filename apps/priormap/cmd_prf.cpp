@@ -75,11 +75,18 @@ nlohmann::json AcceptanceJson(const prf::MoveCounters& counters) {
   return acceptance;
 }
 
+// A z-score as docs/formats.md writes numbers: infinite (an estimate with no spread that misses
+// its closed form) as "inf", which a check `z < 3` must not read as missing.
+nlohmann::json ScoreJson(double z) {
+  if (std::isfinite(z) || std::isnan(z)) return z;
+  return z > 0 ? "inf" : "-inf";
+}
+
 nlohmann::json EstimateJson(const prf::Estimate& e, double closed_form) {
   return {{"estimate", e.mean},
           {"se", e.standard_error},
           {"closed_form", closed_form},
-          {"z", prf::StandardScore(e, closed_form)}};
+          {"z", ScoreJson(prf::StandardScore(e, closed_form))}};
 }
 
 void RunPriorStatsCommand(PriorStatsCliOptions o) {
@@ -119,6 +126,7 @@ void RunPriorStatsCommand(PriorStatsCliOptions o) {
   out["mean_edges"] = r.edges.mean;
   out["mean_edges_se"] = r.edges.standard_error;
   out["expected_edges"] = r.expected_edges;
+  out["mean_edges_z"] = ScoreJson(prf::StandardScore(r.edges, r.expected_edges));
   out["black_fraction"] = EstimateJson(r.black_fraction, 0.5);
   out["same_colour"] = nlohmann::json::array();
   out["crossings"] = nlohmann::json::array();
@@ -350,6 +358,10 @@ void RunMappingCommand(MappingCliOptions o) {
   if (!o.anneal) o.mapping.anneal_steps = 0;
   if (o.log.empty())
     throw UserError("--log is required (or a subcommand: prior-stats, study, sonar-study)");
+  if (o.mapping.samples == 0)
+    throw UserError(
+        "--samples 0: P(black), R-hat and the annealing's start come from the "
+        "samples; at least 1");
   if (o.out.empty()) throw UserError("-o/--out is required");
   const Log log = ValueOrThrow(ReadLog(o.log));
   std::tie(o.selection.first_scan, o.selection.end_scan) =

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/log_io.hpp>
+#include <priormap/core/scene_truth.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 #include <priormap/prf/sonar_fit.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
@@ -62,11 +63,11 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
                                 fmt::join(SonarSensor::PresetNames(), ", ")));
   SonarSensor ring = *sensor;
   if (o.max_range) ring.max_range = *o.max_range;
+  if (std::string why; !ring.IsValid(&why)) throw UserError(fmt::format("--max-range: {}", why));
   for (const std::string& name : o.scenes) {
     const Scene scene = LoadScene(name);
-    if (scene.waypoints.size() < 2)
-      throw UserError(
-          fmt::format("scene '{}' has no waypoint path to drive the sonar along", name));
+    if (std::string problem = WaypointPathProblem(scene); !problem.empty())
+      throw UserError(problem);
     const Log log =
         SimulateSonarLog(scene, ring, TrajectoryFromWaypoints(scene.waypoints, o.speed, o.rate),
                          prf::SonarStudyCaseSeed(o.seed, scene.name, ring.name));
@@ -95,6 +96,8 @@ void RunFitSonarCommand(const FitSonarCliOptions& o) {
   about["clear_mixture"] = o.fit.fit_clear_mixture;
   about["concave_corners"] = o.fit.fit_concave_corners;
   about["multipath"] = o.fit.fit_multipath;
+  if (o.max_range) about["max_range"] = *o.max_range;
+  if (!o.start.empty()) about["start"] = std::filesystem::absolute(o.start).string();
   prf::WriteSonarModel(fit.model, o.out, &about);
   fmt::print(
       "{} readings: log-likelihood {:.1f} -> {:.1f} ({:.3f} -> {:.3f} per reading), "

@@ -1,5 +1,6 @@
 // priormap prf sonar-study: the PRF posterior against the sonar occupancy grid on simulated sonar
 // logs of scenes with rooms and doors (issue 7; docs/prf.md).
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <numbers>
@@ -32,6 +33,9 @@ struct SonarStudyCliOptions {
   bool figures = true;
   prf::SonarStudyOptions study;
 };
+
+constexpr std::array<const char*, 5> kCaseFigures = {"truth.png", "grid.png", "posterior.png",
+                                                     "grid-errors.png", "posterior-errors.png"};
 
 void SaveCaseFigures(const std::filesystem::path& dir, const prf::SonarStudyCase& c,
                      const std::string& sensor) {
@@ -82,12 +86,15 @@ void RunSonarStudyCommand(SonarStudyCliOptions o) {
   WriteTextFileAtomically(dir / "summary.json", prf::SonarStudySummaryJson(result, o.study));
   const std::string table = prf::SonarStudyMarkdownTable(result);
   WriteTextFileAtomically(dir / "table.md", table);
-  if (o.figures)
-    for (const prf::SonarStudyCase& c : result.cases)
-      SaveCaseFigures(dir / fmt::format("{}-{}", c.scene, o.study.sensor.name), c,
-                      o.study.sensor.name);
-  fmt::print("{}\nwrote {} (summary.json, table.md{}) in {:.0f} s\n", table, o.out,
-             o.figures ? ", <scene>-<sensor>/{truth,grid,posterior}.png" : "", result.wall_time_s);
+  for (const prf::SonarStudyCase& c : result.cases) {
+    const std::filesystem::path case_dir = dir / fmt::format("{}-{}", c.scene, o.study.sensor.name);
+    RemoveFiles(case_dir, kCaseFigures);  // an earlier run's, beside this run's numbers
+    if (o.figures) SaveCaseFigures(case_dir, c, o.study.sensor.name);
+  }
+  fmt::print(
+      "{}\nwrote {} (summary.json, table.md{}) in {:.0f} s\n", table, o.out,
+      o.figures ? ", <scene>-<sensor>/{truth,grid,posterior,grid-errors,posterior-errors}.png" : "",
+      result.wall_time_s);
 }
 
 }  // namespace

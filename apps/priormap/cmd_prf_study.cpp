@@ -1,5 +1,6 @@
 // priormap prf study: the PRF posterior and MAP map against the occupancy grid at equal data, on
 // simulated localized logs of scenes with known ground truth (docs/prf.md).
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -29,6 +30,9 @@ struct StudyCliOptions {
 };
 
 // The figures of one case in DIR/<scene>-<sensor>/.
+constexpr std::array<const char*, 4> kCaseFigures = {"truth.png", "grid.png", "posterior.png",
+                                                     "map.png"};
+
 void SaveCaseFigures(const std::filesystem::path& dir, const prf::MapStudyCase& c,
                      const Scene& scene) {
   EnsureDirectory(dir.string());
@@ -72,15 +76,19 @@ void RunStudyCommand(StudyCliOptions o) {
   WriteTextFileAtomically(dir / "summary.json", prf::MapStudySummaryJson(result, o.study));
   const std::string table = prf::MapStudyMarkdownTable(result);
   WriteTextFileAtomically(dir / "table.md", table);
-  if (o.figures) {
-    for (std::size_t i = 0; i < result.cases.size(); ++i) {
-      const prf::MapStudyCase& c = result.cases[i];
-      SaveCaseFigures(dir / fmt::format("{}-{}", c.scene, c.sensor), c,
-                      o.study.scenes[i / o.study.sensors.size()]);
-    }
+  bool maps = false;
+  for (std::size_t i = 0; i < result.cases.size(); ++i) {
+    const prf::MapStudyCase& c = result.cases[i];
+    const std::filesystem::path case_dir = dir / fmt::format("{}-{}", c.scene, c.sensor);
+    // An earlier run's figures of this case would stand beside this run's numbers.
+    RemoveFiles(case_dir, kCaseFigures);
+    if (o.figures) SaveCaseFigures(case_dir, c, o.study.scenes[i / o.study.sensors.size()]);
+    maps = maps || c.prf.map.has_value();
   }
   fmt::print("{}\nwrote {} (summary.json, table.md{}) in {:.0f} s\n", table, o.out,
-             o.figures ? ", <scene>-<sensor>/{truth,grid,posterior,map}.png" : "",
+             !o.figures ? ""
+             : maps     ? ", <scene>-<sensor>/{truth,grid,posterior,map}.png"
+                        : ", <scene>-<sensor>/{truth,grid,posterior}.png",
              result.wall_time_s);
 }
 

@@ -212,7 +212,6 @@ void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* 
 nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
   nlohmann::json j = prf::SamplingOptionsJson(m);
   j["orientation_deg"] = m.sampler.orientation.angle * 180.0 / std::numbers::pi;
-  j["replica_pick"] = m.replica_pick_best ? "best" : "cold";
   return j;
 }
 

@@ -2,6 +2,7 @@
 #include <array>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -207,6 +208,36 @@ double SceneTruth::DistanceToWall(const Vec2& p) const {
   for (const ScenePrimitive& wall : walls_)
     best = std::min(best, priormap::DistanceToWall(p, wall));
   return best;
+}
+
+std::string PointOnASurface(const Scene& scene, std::span<const Vec2> points) {
+  const std::vector<ScenePrimitive> walls = scene.Primitives();
+  for (const Vec2& p : points) {
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      if (DistanceToWall(p, walls[w]) == 0.0)
+        return fmt::format("the point ({}, {}) lies on surface {} of scene '{}'", p.x(), p.y(), w,
+                           scene.name);
+    }
+  }
+  return {};
+}
+
+std::string WaypointPathProblem(const Scene& scene) {
+  const std::vector<Vec2>& path = scene.waypoints;
+  if (std::adjacent_find(path.begin(), path.end(), std::not_equal_to<>()) == path.end())
+    return fmt::format("scene '{}' has no waypoint path (two distinct waypoints at least)",
+                       scene.name);
+  const std::vector<ScenePrimitive> walls = scene.Primitives();
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      if (SegmentTouchesWall(path[i], path[i + 1], walls[w]))
+        return fmt::format(
+            "scene '{}': the leg from waypoint {} ({}, {}) to waypoint {} ({}, {}) meets surface "
+            "{}: a robot cannot drive it",
+            scene.name, i, path[i].x(), path[i].y(), i + 1, path[i + 1].x(), path[i + 1].y(), w);
+    }
+  }
+  return {};
 }
 
 }  // namespace priormap

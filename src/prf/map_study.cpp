@@ -2,6 +2,7 @@
 #include <chrono>
 #include <iterator>
 #include <mutex>
+#include <span>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -9,6 +10,7 @@
 #include <priormap/core/binary_io.hpp>
 #include <priormap/core/check.hpp>
 #include <priormap/core/rng.hpp>
+#include <priormap/core/scene_truth.hpp>
 #include <priormap/core/simulate.hpp>
 #include <priormap/prf/map_study.hpp>
 #include <priormap/prf/polygon_map.hpp>
@@ -41,6 +43,10 @@ std::string StudyResolutionProblem(double resolution, double truth_resolution) {
   if (resolution < kFinestStudyResolution || truth_resolution < kFinestStudyResolution)
     return fmt::format("the resolutions must be at least {} m (got {} and {})",
                        kFinestStudyResolution, resolution, truth_resolution);
+  // Coarser, a room is a cell or two and the scores say nothing of the maps.
+  if (resolution > kCoarsestStudyResolution || truth_resolution > kCoarsestStudyResolution)
+    return fmt::format("the resolutions must be at most {} m (got {} and {})",
+                       kCoarsestStudyResolution, resolution, truth_resolution);
   return {};
 }
 
@@ -51,7 +57,17 @@ std::string MapStudyOptions::Problem() const {
       return fmt::format("scene '{}': {}", scene.name, problems.front());
     if (scene.waypoints.size() < 2 && (poses > 1 || !scene.default_pose))
       return fmt::format("scene '{}' has no waypoint path for {} poses", scene.name, poses);
+    if (poses > 1 || !scene.default_pose) {
+      if (std::string problem = WaypointPathProblem(scene); !problem.empty()) return problem;
+    } else if (const Vec2 pose = scene.default_pose->translation();
+               !PointOnASurface(scene, std::span(&pose, 1)).empty()) {
+      return fmt::format("scene '{}': its default pose lies on a surface", scene.name);
+    }
   }
+  if (const auto name = RepeatedName(scenes, [](const Scene& s) { return s.name; }))
+    return fmt::format("scene '{}' is given twice (each case runs once)", *name);
+  if (const auto name = RepeatedName(sensors, [](const RangeSensor& s) { return s.name; }))
+    return fmt::format("sensor '{}' is given twice (each case runs once)", *name);
   for (const RangeSensor& sensor : sensors)
     if (std::string why; !sensor.IsValid(&why))
       return fmt::format("sensor '{}': {}", sensor.name, why);
@@ -64,6 +80,7 @@ std::string MapStudyOptions::Problem() const {
   if (!(walls.spacing > 0.0 && walls.tolerance >= 0.0))
     return "the wall spacing must be positive and the tolerance not negative";
   if (mapping.chains < 1) return "at least one chain";
+  if (mapping.samples < 1) return "at least one sample per chain: P(black) is their mean";
   if (const std::string problem = mapping.model.Problem(); !problem.empty())
     return "laser model: " + problem;
   return {};

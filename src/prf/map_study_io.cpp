@@ -201,6 +201,7 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
   j["version"] = 1;
   j["options"] = {{"scenes", scenes},
                   {"sensor", options.sensor.name},
+                  {"max_range", options.sensor.max_range},
                   {"speed", options.speed},
                   {"rate", options.rate},
                   {"resolution", options.resolution},

@@ -13,6 +13,7 @@ nlohmann::json SamplingOptionsJson(const MappingOptions& m) {
       {"burn_in_replicas", m.burn_in_replicas},
       {"replica_temperature", m.replica_temperature},
       {"replica_steps", m.replica_steps},
+      {"replica_pick", m.replica_pick_best ? "best" : "cold"},
       {"thinned_burn_in", thinned},
       {"warm_burn_in",
        {{"temperature", m.warm_burn_in.temperature}, {"steps", m.warm_burn_in.steps}}},

@@ -69,7 +69,8 @@ class Parameterization {
     Weights(x[8], x[9], &m.uniform_weight, &m.exponential_weight, &m.max_weight);
     m.exponential_rate = std::exp(x[10]);
     std::size_t k = 11;
-    if (options_.fit_concave_corners) m.concave_corner_bias = x[k++];
+    // Left out, a component is the paper's (whatever the starting model holds).
+    m.concave_corner_bias = options_.fit_concave_corners ? x[k++] : 0.0;
     if (options_.fit_clear_mixture) {
       Weights(x[k], x[k + 1], &m.clear_uniform_weight, &m.clear_exponential_weight,
               &m.clear_max_weight);
@@ -82,6 +83,8 @@ class Parameterization {
     if (options_.fit_multipath) {
       m.multipath_weight = Logistic(x[k]);
       m.multipath_sigma_relative = std::exp(x[k + 1]);
+    } else {
+      m.multipath_weight = 0.0;
     }
     return m;
   }
@@ -200,6 +203,8 @@ std::variant<std::vector<SonarFitReading>, std::string> ViewsOfScene(
   for (const Scan& scan : log.scans)
     if (scan.sonar && scan.pose.translation().allFinite()) seeds.push_back(scan.pose.translation());
   for (const Vec2& sensor : data->sensors) seeds.push_back(sensor);
+  if (std::string problem = PointOnASurface(scene, seeds); !problem.empty())
+    return problem + ": the log was not recorded in this scene, or its poses are off";
   const SceneTruth truth(scene, seeds);
   auto coloring = SceneColoring(scene, truth, WindowAround(*data, margin), cell_size);
   if (auto* problem = std::get_if<std::string>(&coloring))

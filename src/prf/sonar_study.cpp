@@ -10,6 +10,7 @@
 #include <priormap/core/check.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/core/scene_ray_caster.hpp>
+#include <priormap/core/scene_truth.hpp>
 #include <priormap/core/simulate.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 #include <priormap/prf/point_buckets.hpp>
@@ -99,7 +100,10 @@ std::string SonarStudyOptions::Problem() const {
       return fmt::format("scene '{}': {}", scene.name, problems.front());
     if (scene.waypoints.size() < 2)
       return fmt::format("scene '{}' has no waypoint path to drive the sonar along", scene.name);
+    if (std::string problem = WaypointPathProblem(scene); !problem.empty()) return problem;
   }
+  if (const auto name = RepeatedName(scenes, [](const Scene& s) { return s.name; }))
+    return fmt::format("scene '{}' is given twice (each case runs once)", *name);
   if (std::string why; !sensor.IsValid(&why)) return "sonar: " + why;
   if (!(speed > 0.0 && rate > 0.0)) return "the speed and the ring rate must be positive";
   if (!(resolution > 0.0 && band >= 0.0 && truth_resolution > 0.0))
@@ -108,6 +112,7 @@ std::string SonarStudyOptions::Problem() const {
     return problem;
   if (rays_per_cone < 2) return "at least two rays per cone";
   if (mapping.chains < 1) return "at least one chain";
+  if (mapping.samples < 1) return "at least one sample per chain: P(black) is their mean";
   if (const std::string problem = model.Problem(); !problem.empty())
     return "sonar model: " + problem;
   return {};

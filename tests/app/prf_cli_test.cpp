@@ -53,6 +53,18 @@ TEST_F(PrfCli, PriorStatsPrintsEstimatesWithTheirClosedForms) {
   EXPECT_EQ(json::parse(again.out)["mean_edges"], out["mean_edges"]);
 }
 
+// A chain that never leaves its empty start has no spread: its z-scores are infinite, and JSON
+// has no infinity (nlohmann would write null, which a check `z < 3` could take for missing).
+TEST_F(PrfCli, PriorStatsWritesAnInfiniteZScoreAsInf) {
+  const auto r = Run({"prf", "prior-stats", "--samples", "100", "--burn-in", "0", "--moves",
+                      "recolor", "--distances", "0.3"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json out = json::parse(r.out);
+  EXPECT_EQ(out["same_colour"][0]["se"].get<double>(), 0.0);
+  EXPECT_EQ(out["same_colour"][0]["z"], "inf");
+  EXPECT_TRUE(out.contains("mean_edges_z"));
+}
+
 TEST_F(PrfCli, PriorStatsWithSomeMoveKindsOnly) {
   const auto r = Run(
       {"prf", "prior-stats", "--samples", "100", "--burn-in", "0", "--moves", "triangle,vertex"});

@@ -1,3 +1,4 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/angles.hpp>
@@ -120,6 +121,21 @@ TEST(SceneTruth, RefusesASeedOnAWall) {
   const std::vector<Vec2> seeds = {{2.0, 0.0}};
   EXPECT_THROW(SceneTruth(scene, seeds), ContractError);
   EXPECT_THROW(SceneTruth(scene, std::vector<Vec2>{}), ContractError);
+}
+
+// What SceneTruth and the simulator would refuse with an internal error, said up front.
+TEST(SceneChecks, PointsOnSurfacesAndWaypointPathsThroughWalls) {
+  Scene scene = Room(4, 4);
+  EXPECT_EQ(PointOnASurface(scene, std::vector<Vec2>{{0, 0}, {1.9, 1.9}}), "");
+  EXPECT_THAT(PointOnASurface(scene, std::vector<Vec2>{{0, 0}, {2.0, 0.5}}),
+              ::testing::HasSubstr("(2, 0.5) lies on surface 1"));
+  EXPECT_EQ(WaypointPathProblem(scene), "");
+  scene.waypoints = {{0, 0}, {0, 0}};
+  EXPECT_THAT(WaypointPathProblem(scene), ::testing::HasSubstr("no waypoint path"));
+  scene.waypoints = {{0, 0}, {1, 0}, {1, 3}};
+  EXPECT_THAT(WaypointPathProblem(scene),
+              ::testing::HasSubstr("the leg from waypoint 1 (1, 0) to waypoint 2 (1, 3) meets "
+                                   "surface 2"));
 }
 
 TEST(ObservedArea, VisibleBehindASurfaceOrUnseen) {

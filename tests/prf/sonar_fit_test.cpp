@@ -182,7 +182,11 @@ TEST(SonarFit, OptionsLeavingPartsOutKeepThePapersModel) {
   options.fit_concave_corners = false;
   options.fit_multipath = false;
   options.rounds = 1;
-  const SonarFitResult fit = FitSonarModel(readings, SonarModel{}, options);
+  // From a start that has both components (as a fitted model file given to --start).
+  SonarModel start;
+  start.concave_corner_bias = 2.9;
+  start.multipath_weight = 0.375;
+  const SonarFitResult fit = FitSonarModel(readings, start, options);
   EXPECT_EQ(fit.model.concave_corner_bias, 0.0);
   EXPECT_EQ(fit.model.multipath_weight, 0.0);
   EXPECT_EQ(fit.model.clear_uniform_weight, fit.model.uniform_weight);

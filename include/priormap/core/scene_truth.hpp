@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <priormap/core/scene.hpp>
@@ -72,5 +73,13 @@ class SceneTruth {
 
 /// Distance from `p` to the wall (a segment, or a circle's curve).
 [[nodiscard]] double DistanceToWall(const Vec2& p, const ScenePrimitive& wall);
+
+/// Empty when no point lies on a surface of the scene; else which point lies on which surface.
+/// SceneTruth takes only seeds off the surfaces.
+[[nodiscard]] std::string PointOnASurface(const Scene& scene, std::span<const Vec2> points);
+
+/// Empty when the scene's waypoints make a path a robot can drive: two distinct waypoints at
+/// least, and no leg that meets a surface; else what is wrong.
+[[nodiscard]] std::string WaypointPathProblem(const Scene& scene);
 
 }  // namespace priormap

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,10 +28,22 @@
 
 namespace priormap::prf {
 
-/// The finest evaluation or truth raster the studies take, m.
+/// The finest and the coarsest evaluation or truth raster the studies take, m.
 inline constexpr double kFinestStudyResolution = 0.005;
-/// Empty when both resolutions are at least kFinestStudyResolution, else what is wrong.
+inline constexpr double kCoarsestStudyResolution = 1.0;
+/// Empty when both resolutions are within [kFinestStudyResolution, kCoarsestStudyResolution],
+/// else what is wrong.
 [[nodiscard]] std::string StudyResolutionProblem(double resolution, double truth_resolution);
+
+/// The first name that two items share, if any (a study would run that case twice and count it
+/// twice in its totals).
+template <typename T, typename Name>
+[[nodiscard]] std::optional<std::string> RepeatedName(const std::vector<T>& items, Name name) {
+  for (std::size_t i = 0; i < items.size(); ++i)
+    for (std::size_t j = i + 1; j < items.size(); ++j)
+      if (name(items[i]) == name(items[j])) return name(items[i]);
+  return std::nullopt;
+}
 
 struct MapStudyOptions {
   std::vector<Scene> scenes;         // each with a waypoint path (or a default pose)

@@ -60,11 +60,11 @@ struct SonarFitOptions {
   /// Also fit the parameters of the second outlier mixture (for cones that see nothing); when
   /// false they stay equal to the first's, the paper's single mixture.
   bool fit_clear_mixture = true;
-  /// Also fit concave_corner_bias; when false it keeps the starting model's value (0 by
-  /// default: the paper's distance-only corners).
+  /// Also fit concave_corner_bias; when false it is 0, the paper's distance-only corners (even
+  /// when the starting model has another value).
   bool fit_concave_corners = true;
   /// Also fit the multipath component (multipath_weight, multipath_sigma_relative); when false
-  /// they keep the starting model's values (weight 0 by default: the paper's model).
+  /// its weight is 0, the paper's model (even when the starting model has another).
   bool fit_multipath = true;
 };
 
