@@ -66,6 +66,22 @@ class Steps {
   std::string seed_;
 };
 
+// The gallery's lines on a MAP scan (`map`, priormap scan's JSON) of a scan with `valid` valid
+// readings.
+std::vector<std::string> MapScanNumbers(const nlohmann::json& map, std::size_t valid) {
+  // Outliers among the valid readings (beams with no return are not in the model either).
+  const std::size_t in_model = map.at("inmodel_beams").size();
+  const auto& dof = map.at("dof");
+  return {fmt::format("{} readings, {} valid: {}, {}, {}", map.at("inmodel").size(), valid,
+                      Plural(map.at("regions").size(), "region"),
+                      Plural(map.at("surfaces").size(), "surface"),
+                      Plural(valid - in_model, "outlier")),
+          fmt::format("degrees of freedom: {} free = {} extrinsic + {} intrinsic",
+                      dof.at("free").get<int>(), dof.at("extrinsic").get<int>(),
+                      dof.at("intrinsic").get<int>()),
+          fmt::format("MAP solve {:.2f} s", map.at("stats").at("seconds").get<double>())};
+}
+
 GalleryEntry PriorletScan(Steps& s, const std::string& scene, const std::string& prior,
                           const std::string& outliers) {
   GalleryEntry e = Titled(fmt::format("{} scene, {} prior", scene, prior));
@@ -75,19 +91,8 @@ GalleryEntry PriorletScan(Steps& s, const std::string& scene, const std::string&
              s.seed(), "-o", scan});
   s.Run(&e, {"scan", "--prior", prior, "-i", scan, "-o", s.Path(stem + ".json"), "--png",
              s.Path(stem + ".png")});
-  const nlohmann::json map = ReadJson(s.Path(stem + ".json"));
-  // Outliers among the valid readings (beams with no return are not in the model either).
-  const std::size_t valid = ValueOrThrow(ReadLog(scan)).scans.front().NumValid();
-  const std::size_t in_model = map.at("inmodel_beams").size();
-  const auto& dof = map.at("dof");
-  e.numbers = {fmt::format("{} readings, {} valid: {}, {}, {}", map.at("inmodel").size(), valid,
-                           Plural(map.at("regions").size(), "region"),
-                           Plural(map.at("surfaces").size(), "surface"),
-                           Plural(valid - in_model, "outlier")),
-               fmt::format("degrees of freedom: {} free = {} extrinsic + {} intrinsic",
-                           dof.at("free").get<int>(), dof.at("extrinsic").get<int>(),
-                           dof.at("intrinsic").get<int>()),
-               fmt::format("MAP solve {:.2f} s", map.at("stats").at("seconds").get<double>())};
+  e.numbers = MapScanNumbers(ReadJson(s.Path(stem + ".json")),
+                             ValueOrThrow(ReadLog(scan)).scans.front().NumValid());
   e.figures = {{stem + ".png",
                 "(a) measured and corrected scan with regions, surface borders and outliers; "
                 "(b) normals; (c) intrinsic eigenvariations; (d) prior vs posterior range "
@@ -205,7 +210,8 @@ void Run(const DemoOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path dir = o.out;
   const std::optional<fs::path> data = RealDataDir(o);  // before any work: a typo fails at once
-  for (const char* sub : {"data", "priorlets", "real"}) EnsureDirectory(dir / sub);
+  if (o.out.empty()) throw UserError("-o/--out: an empty directory name");
+  for (const char* sub : {"data", "priorlets"}) EnsureDirectory(dir / sub);
   fs::remove(dir / "demo.log");
   Steps s(dir, o);
   // Chain lengths that keep the whole demo near a minute on two cores.
@@ -243,15 +249,21 @@ void Run(const DemoOptions& o) {
                 "range data, next to the log-odds occupancy grid built from the same readings.",
        .entries = {std::move(laser), std::move(sonar)}});
 
-  std::string data_note = "no real logs (none given with --data, ../shared/data absent)";
+  std::string data_note = o.no_real
+                              ? "no real logs (--no-real)"
+                              : "no real logs (none given with --data, ../shared/data absent)";
   if (data) {
     const fs::path intel = *data / "laser-corrected/intel-corrected.log.gz";
     if (fs::exists(intel)) {
       fmt::print("priormap demo: a real log ({})\n", intel.string());
       GalleryEntry scan = Titled("Intel lab, scan 100, polygonal prior");
+      EnsureDirectory(dir / "real");
       s.Run(&scan,
             {"scan", "--prior", "polygonal", "--log", intel.string(), "--index", "100", "-o",
              s.Path("real/intel-scan-100.json"), "--png", s.Path("real/intel-scan-100.png")});
+      const Log intel_log = ValueOrThrow(ReadLog(intel));
+      scan.numbers = MapScanNumbers(ReadJson(s.Path("real/intel-scan-100.json")),
+                                    intel_log.scans.at(100).NumValid());
       scan.figures = {
           {"real/intel-scan-100.png", "A real scan of the Intel lab under the polygonal prior"}};
       GalleryEntry prf = PrfOnLog(
@@ -270,10 +282,15 @@ void Run(const DemoOptions& o) {
 
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The options that change the numbers, so that a reader can make the same gallery.
+  std::string command = fmt::format("priormap demo --seed {}", o.seed);
+  if (o.quick) command += " --quick";
+  if (o.no_real) command += " --no-real";
+  if (o.data) command += " --data " + *o.data;
   WriteGallery(dir / "index.html", sections,
-               fmt::format("Made by priormap demo --seed {} in {:.0f} s; {}. The output of every "
-                           "command is in demo.log.",
-                           o.seed, seconds, data_note));
+               fmt::format("Made by {} in {:.0f} s; {}. The output of every command is in "
+                           "demo.log.",
+                           command, seconds, data_note));
   fmt::print("priormap demo: wrote {} in {:.1f} s ({}); every command's output is in {}\n",
              (dir / "index.html").string(), seconds, data_note, (dir / "demo.log").string());
 }

@@ -1,5 +1,6 @@
 // priormap simulate: scene + sensor -> a scan (or a localized log) with ground truth.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/json_io.hpp>
@@ -170,8 +171,8 @@ void AddSimulateCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "simulate", "Simulate a range scan (or a localized log) with ground truth");
   cmd->add_option("--scene", o->scene,
-                  "Built-in scene (square, rectangle, circle, two-circles, l-room, corridor) or a "
-                  "scene JSON file")
+                  fmt::format("Built-in scene ({}) or a scene JSON file",
+                              fmt::join(BuiltinSceneNames(), ", ")))
       ->capture_default_str();
   cmd->add_option("--sensor", o->sensor,
                   "Sensor preset: a laser (utm30, lms200) or a sonar ring (pioneer8, pioneer16, "

@@ -508,7 +508,8 @@ void AddRun(CLI::App& slam_cmd) {
   cmd->add_option("--odometry", o->odometry,
                   "Odometry CSV: time,speed,steer or time,dx,dy,dtheta[,sx,sy,stheta]")
       ->required();
-  cmd->add_option("--prior-map", o->prior_map, "Prior map: GeoJSON of wall segments (metres)");
+  cmd->add_option("--prior-map", o->prior_map,
+                  "Prior map: GeoJSON of wall segments (metres); required unless --no-prior");
   cmd->add_option("-o,--out", o->out, "Output directory (created)")->required();
   cmd->add_option("--prior-std", o->prior_std,
                   "Endpoint 1-sigma of the prior map where the GeoJSON gives none, m")

@@ -72,6 +72,7 @@ double InProcessRunner::Run(const std::vector<std::string>& args) {
   {
     const RedirectedOutput redirected(log_);
     fmt::print("\n$ {}\n", CommandLine(args));
+    std::fflush(stdout);  // before the command's stderr, which is not buffered
     try {
       app.parse(static_cast<int>(argv.size()), argv.data());
     } catch (const CLI::ParseError& e) {

@@ -422,14 +422,23 @@ TEST_F(Cli, DemoRunsEveryEngineIntoAGalleryAndSaysWhereItIs) {
   }
   EXPECT_EQ(images, 11);  // 2 priorlet scans, 4 SLAM plots, 3 laser and 2 sonar maps
   // The commands' own output went to the log, not to the terminal.
-  EXPECT_THAT(ReadAll(Work("gallery/demo.log")), HasSubstr("$ priormap prf --log"));
+  const std::string log = ReadAll(Work("gallery/demo.log"));
+  EXPECT_THAT(log, HasSubstr("$ priormap prf --log"));
+  // A command's stderr (the prf's count of beams) comes after its own heading, not the last one's.
+  EXPECT_LT(log.find("$ priormap prf --log gallery/data/l-room-lms200.json"),
+            log.find("sensor positions, R ="));
   EXPECT_THAT(r.out, Not(HasSubstr("R-hat")));
+  // The footer names what made the gallery, and why it has no real log.
+  EXPECT_THAT(index, HasSubstr("Made by priormap demo --seed 1 --quick --no-real"));
+  EXPECT_THAT(index, HasSubstr("no real logs (--no-real)"));
+  EXPECT_FALSE(fs::exists(Work("gallery/real")));
   for (const std::string& file : WorkFiles()) EXPECT_THAT(file, Not(HasSubstr(".tmp-")));
 }
 
 TEST_F(Cli, DemoRefusesAMissingDataDirectory) {
   const RunResult r = Fails({"demo", "--quick", "--data", "no-such-dir", "--out", "gallery"});
   EXPECT_THAT(r.err, HasSubstr("--data no-such-dir: no such directory"));
+  EXPECT_THAT(Fails({"demo", "--quick", "--out", ""}).err, HasSubstr("empty directory name"));
 }
 
 TEST_F(Cli, VersionPrintsTheVersionAndLibraries) {
