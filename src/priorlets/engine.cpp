@@ -296,10 +296,18 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
     // when not even the smallest one fits (next to a corner or jump the topology does not know
     // yet) the one-sided window that fits best, so that the normals do not smear across it.
     const std::size_t rs = region_start[j], re = region_end[j];
-    const std::size_t reach = std::min(j - rs, re - j);
     std::optional<LineFitter::Fit> fit;
-    for (std::size_t half = h; half <= std::min(reach, kMaxNormalHalfWindow * h); half *= 2) {
-      const std::optional<LineFitter::Fit> wider = line_fit(j - half, j + half);
+    // Near a region's ends a centred window shrinks to a few beams, a few millimetres apart at
+    // close range, which give no normal at all. Under a prior of straight walls only, the window
+    // is shifted inside the region instead: a chord's normal is then the wall's. (On a curved
+    // wall a shifted chord's normal is biased, and the centred window is kept.)
+    const bool shift = prior_.max_curvature() == 0.0;
+    for (std::size_t half = h; 2 * half <= std::min(re - rs, 2 * kMaxNormalHalfWindow * h);
+         half *= 2) {
+      const bool centred = j >= rs + half && j + half <= re;
+      if (!centred && !shift) break;
+      const std::size_t lo = std::clamp(j, rs + half, re - half) - half;
+      const std::optional<LineFitter::Fit> wider = line_fit(lo, lo + 2 * half);
       if (!wider || !wider->Consistent()) break;
       fit = wider;
     }
