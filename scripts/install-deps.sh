@@ -22,6 +22,8 @@ packages=(
   fonts-dejavu-core
   # tests and benchmarks; clang and its runtime for the libFuzzer harnesses
   libgtest-dev libgmock-dev libbenchmark-dev librapidcheck-dev clang libclang-rt-14-dev
+  # llvm-symbolizer, without which sanitizer and fuzzer reports show bare addresses
+  llvm-14
 )
 
 for option in "$@"; do
@@ -48,6 +50,7 @@ if [[ $(id -u) -ne 0 ]]; then
   sudo="sudo"
 fi
 echo "install-deps: installing ${missing[*]}" >&2
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+# Through env: sudo resets the environment, and apt would then be free to ask questions.
+$sudo env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+  "${missing[@]}" >/dev/null

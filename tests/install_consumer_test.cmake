@@ -20,4 +20,19 @@ foreach(file consumer-scan.json consumer-scan.png)
     message(FATAL_ERROR "the consumer did not write ${file}")
   endif()
 endforeach()
+# The installed Python package (when the module was built) imports from where it was put, and
+# that is where the system python3 looks under this prefix: lib/python3.X/dist-packages.
+file(GLOB python_packages "${WORK_DIR}/prefix/lib/python*/dist-packages/priormap")
+if(python_packages AND EXISTS /usr/bin/python3)
+  execute_process(COMMAND /usr/bin/python3 -c
+                          "import sys; print(f'python{sys.version_info[0]}.{sys.version_info[1]}')"
+                  OUTPUT_VARIABLE python_version OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if(NOT python_packages MATCHES "/lib/${python_version}/dist-packages/priormap")
+    message(FATAL_ERROR "the Python package went to ${python_packages}, where ${python_version} "
+                        "does not look")
+  endif()
+  get_filename_component(site "${python_packages}" DIRECTORY)
+  run(${CMAKE_COMMAND} -E env "PYTHONPATH=${site}" /usr/bin/python3 -c
+      "import priormap; assert priormap.list_priors()")
+endif()
 file(REMOVE_RECURSE "${WORK_DIR}")
