@@ -212,6 +212,9 @@ void Run(const DemoOptions& o) {
   const std::optional<fs::path> data = RealDataDir(o);  // before any work: a typo fails at once
   if (o.out.empty()) throw UserError("-o/--out: an empty directory name");
   for (const char* sub : {"data", "priorlets"}) EnsureDirectory(dir / sub);
+  // An earlier gallery's real log, which this one may not show: the demo's own directory.
+  std::error_code ignored;
+  fs::remove_all(dir / "real", ignored);
   fs::remove(dir / "demo.log");
   Steps s(dir, o);
   // Chain lengths that keep the whole demo near a minute on two cores.

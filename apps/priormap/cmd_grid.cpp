@@ -49,6 +49,7 @@ void RunGridCommand(const GridCliOptions& o) {
                       o.grid.beam_step));
     grid::SonarGridOptions sonar;
     sonar.resolution = o.grid.resolution;
+    sonar.max_cells = o.grid.max_cells;
     if (o.max_range_given) sonar.max_range = o.grid.max_range;
     RunSonarGrid(log, o.log, first, end, sonar, o.out, read_time);
     return;
@@ -114,6 +115,10 @@ void AddGridCommand(CLI::App& app) {
                   "Beams are inserted up to this range; max readings clear up to it, or up to "
                   "their sensor's range where that is shorter, m (sonar: 5 m unless given)")
       ->check(PositiveValue())
+      ->capture_default_str();
+  cmd->add_option("--max-cells", o->grid.max_cells,
+                  "The most cells the grid may have (about 17 bytes each at the peak)")
+      ->check(CLI::Range(1.0, 4e9))
       ->capture_default_str();
   cmd->callback([o, cmd] {
     o->max_range_given = cmd->count("--max-range") > 0;

@@ -75,8 +75,9 @@ nlohmann::json AcceptanceJson(const prf::MoveCounters& counters) {
   return acceptance;
 }
 
-// A z-score as docs/formats.md writes numbers: infinite (an estimate with no spread that misses
-// its closed form) as "inf", which a check `z < 3` must not read as missing.
+// A z-score or an R-hat as docs/formats.md writes numbers: infinite (an estimate with no spread
+// that misses its closed form, chains that disagree with no spread within) as "inf", which a
+// check `z < 3` must not read as missing; NaN (not computed) as null.
 nlohmann::json ScoreJson(double z) {
   if (std::isfinite(z) || std::isnan(z)) return z;
   return z > 0 ? "inf" : "-inf";
@@ -324,7 +325,6 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
 }
 
 // Each chain's rasters of the window hold this many cells at most (some 40 bytes each).
-constexpr double kMaxRasterCells = 1e8;
 
 // A new run in this directory: what an earlier one left (its checkpoints, or the figures of
 // chains or a MAP map this run will not make) would be taken for this one's. Only the names a
@@ -372,12 +372,12 @@ void RunMappingCommand(MappingCliOptions o) {
   const prf::Window& window = data.mapping.window;
   const double raster_cells = std::ceil(window.Width() / o.mapping.raster_resolution) *
                               std::ceil(window.Height() / o.mapping.raster_resolution);
-  if (raster_cells > kMaxRasterCells)
+  if (raster_cells > prf::kMaxRasterCells)
     throw UserError(fmt::format(
         "--resolution {} m: the {:.1f} m x {:.1f} m window would make rasters of {:.3g} cells, "
         "more than {:.0e}",
         o.mapping.raster_resolution, window.Width(), window.Height(), raster_cells,
-        kMaxRasterCells));
+        prf::kMaxRasterCells));
   EnsureDirectory(o.out);
   const std::filesystem::path dir(o.out);
   if (!resuming) {
@@ -476,8 +476,8 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["wall_time_s"] = r.wall_time_s;
   summary["proposals"] = r.proposals;
   summary["proposals_per_second"] = static_cast<double>(r.proposals) / r.sampling_time_s;
-  summary["rhat"] = {{"log_posterior", r.rhat_log_posterior},
-                     {"point_colours", r.rhat_point_colours},
+  summary["rhat"] = {{"log_posterior", ScoreJson(r.rhat_log_posterior)},
+                     {"point_colours", ScoreJson(r.rhat_point_colours)},
                      {"points", r.trace_points.size()}};
   summary["trace_points"] = nlohmann::json::array();
   for (const Vec2& point : r.trace_points)

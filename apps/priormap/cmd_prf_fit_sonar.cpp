@@ -52,9 +52,17 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
   if (!o.log.empty()) {
     if (o.scene.empty()) throw UserError("--log needs --scene: the map the log was recorded in");
     const Log log = ValueOrThrow(ReadLog(o.log));
-    add(log, LoadScene(o.scene), o.max_range.value_or(5.0));
+    const double max_range = o.max_range.value_or(5.0);
+    for (const Scan& scan : log.scans)
+      if (scan.sonar && !(max_range > scan.min_range))
+        throw UserError(
+            fmt::format("--max-range {} m: the log's rings hear nothing closer than "
+                        "{} m",
+                        max_range, scan.min_range));
+    add(log, LoadScene(o.scene), max_range);
     (*about)["log"] = std::filesystem::absolute(o.log).string();
     (*about)["scene"] = o.scene;
+    (*about)["max_range"] = max_range;
     return readings;
   }
   const auto sensor = SonarSensor::Preset(o.sensor);
@@ -75,6 +83,7 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
   }
   (*about)["scenes"] = o.scenes;
   (*about)["sensor"] = ring.name;
+  (*about)["max_range"] = ring.max_range;
   (*about)["speed"] = o.speed;
   (*about)["rate"] = o.rate;
   (*about)["seed"] = o.seed;
@@ -96,7 +105,6 @@ void RunFitSonarCommand(const FitSonarCliOptions& o) {
   about["clear_mixture"] = o.fit.fit_clear_mixture;
   about["concave_corners"] = o.fit.fit_concave_corners;
   about["multipath"] = o.fit.fit_multipath;
-  if (o.max_range) about["max_range"] = *o.max_range;
   if (!o.start.empty()) about["start"] = std::filesystem::absolute(o.start).string();
   prf::WriteSonarModel(fit.model, o.out, &about);
   fmt::print(

@@ -34,6 +34,7 @@ struct SonarStudyCliOptions {
   prf::SonarStudyOptions study;
 };
 
+// Every figure a case may have, which a new run removes first.
 constexpr std::array<const char*, 5> kCaseFigures = {"truth.png", "grid.png", "posterior.png",
                                                      "grid-errors.png", "posterior-errors.png"};
 

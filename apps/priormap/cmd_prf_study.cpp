@@ -29,10 +29,11 @@ struct StudyCliOptions {
   prf::MapStudyOptions study;
 };
 
-// The figures of one case in DIR/<scene>-<sensor>/.
+// Every figure a case may have, which a new run removes first.
 constexpr std::array<const char*, 4> kCaseFigures = {"truth.png", "grid.png", "posterior.png",
                                                      "map.png"};
 
+// The figures of one case in DIR/<scene>-<sensor>/.
 void SaveCaseFigures(const std::filesystem::path& dir, const prf::MapStudyCase& c,
                      const Scene& scene) {
   EnsureDirectory(dir.string());

@@ -115,6 +115,10 @@ void Run(const ScanOptions& o) {
     if (const std::vector<std::string> problems = scan.Problems(); !problems.empty()) {
       throw UserError(fmt::format("scan {}: {}", k, problems.front()));
     }
+    // A priorlet relates neighbouring beams of one scan from one origin; a ring's cones leave
+    // their transducers, a few bearings apart.
+    if (scan.sonar)
+      throw UserError(fmt::format("scan {} is a sonar ring: priorlets take laser scans", k));
     Estimate e;
     e.map = priorlets::EstimateMapScan(scan, prior, engine);
     e.posterior = priorlets::AnalysePosterior(scan, prior, e.map, posterior_options);

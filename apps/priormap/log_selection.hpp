@@ -16,8 +16,8 @@ struct ScanRange {
 /// "a:b", "a:" or ":b" (scan indices, b exclusive); throws UserError naming --range otherwise.
 [[nodiscard]] ScanRange ParseScanRange(const std::string& text);
 
-/// The scans [first, end) that `range` selects in a log of `scans` scans; throws UserError
-/// naming --range when that is none.
+/// The scans [first, end) that `range` selects in a log of `scans` scans; throws UserError when
+/// the log has none, and naming --range when the range selects none or ends past the log.
 [[nodiscard]] std::pair<std::size_t, std::size_t> SelectedScans(const ScanRange& range,
                                                                 std::size_t scans);
 

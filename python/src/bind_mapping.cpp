@@ -1,7 +1,9 @@
 // priormap.occupancy_grid and priormap.prf_map: mapping from localized scans given as numpy
 // arrays (the log-odds grid and the polygonal random field posterior).
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <stdexcept>
 
@@ -71,18 +73,33 @@ py::dict PrfMap(const Doubles& poses, const Doubles& ranges, const Doubles& angl
   options.seed = seed;
   options.raster_resolution = resolution;
   options.anneal_steps = anneal ? samples : 0;
-  // Ctrl-C stops the chains at their next report; the run then raises KeyboardInterrupt.
+  const prf::MappingData mapping = prf::LaserMappingData(data, options);
+  // As `priormap prf` checks it: each chain keeps rasters of the window at this resolution.
+  const double cells = std::ceil(mapping.window.Width() / resolution) *
+                       std::ceil(mapping.window.Height() / resolution);
+  if (!(cells <= prf::kMaxRasterCells))
+    throw std::invalid_argument(fmt::format(
+        "resolution {} m: the {:.1f} m x {:.1f} m window would make rasters of {:.3g} cells, "
+        "more than {:.0e}",
+        resolution, mapping.window.Width(), mapping.window.Height(), cells, prf::kMaxRasterCells));
+  // Ctrl-C: signals reach only the main thread, so the run goes on in another, and this one
+  // looks for them while it waits; the chains (and the annealing) stop at their next chunk.
   std::atomic<bool> interrupted{false};
-  const auto on_progress = [&interrupted](const prf::MappingProgress&) {
-    const py::gil_scoped_acquire acquire;
-    if (PyErr_CheckSignals() != 0) interrupted = true;
-  };
+  prf::MappingSession session;
+  session.stop = &interrupted;
   prf::MappingResult r;
   {
     const py::gil_scoped_release release;
-    prf::MappingSession session;
-    session.stop = &interrupted;
-    r = prf::RunMapping(data, options, on_progress, session);
+    auto run = std::async(std::launch::async, [&] {
+      return prf::RunMapping(
+          mapping, options, [](const prf::MappingProgress&) {}, session);
+    });
+    while (run.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
+      if (interrupted) continue;
+      const py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) interrupted = true;
+    }
+    r = run.get();
   }
   if (interrupted) throw py::error_already_set();
   py::dict out;

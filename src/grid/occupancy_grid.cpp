@@ -68,7 +68,7 @@ OccupancyGrid::OccupancyGrid(const Box2& extent, GridOptions options)
     : options_(Validated(options)),
       origin_(extent.min()),
       scale_(kLimit / options_.log_odds_limit),
-      cells_(CellsCovering(extent, options_.resolution)),
+      cells_(CellsCovering(extent, options_.resolution, options_.max_cells)),
       miss_(std::min(-1, static_cast<int>(std::lround(options_.log_odds_miss * scale_))), kLimit),
       hit_(std::max(1, static_cast<int>(std::lround(options_.log_odds_hit * scale_))), kLimit) {}
 

@@ -81,7 +81,7 @@ SonarGrid::SonarGrid(const Box2& extent, SonarGridOptions options)
     : options_(Validated(options)),
       origin_(extent.min()),
       scale_(kLimit / options_.log_odds_limit),
-      cells_(CellsCovering(extent, options_.resolution)),
+      cells_(CellsCovering(extent, options_.resolution, options_.max_cells)),
       occupied_(Steps(options_.log_odds_occupied, scale_), kLimit),
       free_(Steps(options_.log_odds_free, scale_), kLimit) {}
 

@@ -57,11 +57,17 @@ std::string MapStudyOptions::Problem() const {
       return fmt::format("scene '{}': {}", scene.name, problems.front());
     if (scene.waypoints.size() < 2 && (poses > 1 || !scene.default_pose))
       return fmt::format("scene '{}' has no waypoint path for {} poses", scene.name, poses);
-    if (poses > 1 || !scene.default_pose) {
+    // The poses come from the waypoints whenever there are two (and the truth is seeded by
+    // them): they must make a path, and the default pose lie off the walls.
+    if (scene.waypoints.size() >= 2) {
       if (std::string problem = WaypointPathProblem(scene); !problem.empty()) return problem;
-    } else if (const Vec2 pose = scene.default_pose->translation();
-               !PointOnASurface(scene, std::span(&pose, 1)).empty()) {
-      return fmt::format("scene '{}': its default pose lies on a surface", scene.name);
+    }
+    if (std::string problem = PointOnASurface(scene, scene.waypoints); !problem.empty())
+      return problem;
+    if (scene.default_pose) {
+      const Vec2 pose = scene.default_pose->translation();
+      if (std::string problem = PointOnASurface(scene, std::span(&pose, 1)); !problem.empty())
+        return problem + " (the default pose)";
     }
   }
   if (const auto name = RepeatedName(scenes, [](const Scene& s) { return s.name; }))

@@ -357,20 +357,11 @@ void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap
                      double vmin, double vmax, const std::string& label) {
   PRIORMAP_CHECK(values.rows() > 0 && values.cols() > 0, "empty heat map");
   PRIORMAP_CHECK(vmax > vmin, "heat map needs vmin < vmax");
-  const detail::ImageSurface image = detail::ColormapImage(values, colormap, vmin, vmax, false);
-  const int cols = cairo_image_surface_get_width(image.get());
-  const int rows = cairo_image_surface_get_height(image.get());
-  cairo_t* c = impl_->cr();
+  const detail::RasterImage image = detail::ColormapImage(values, colormap, vmin, vmax, false);
   const Vec2 top_left = impl_->ToDevice({extent.min().x(), extent.max().y()});
   const Vec2 bottom_right = impl_->ToDevice({extent.max().x(), extent.min().y()});
-  cairo_save(c);
-  cairo_translate(c, top_left.x(), top_left.y());
-  cairo_scale(c, (bottom_right.x() - top_left.x()) / cols,
-              (bottom_right.y() - top_left.y()) / rows);
-  cairo_set_source_surface(c, image.get(), 0.0, 0.0);
-  cairo_pattern_set_filter(cairo_get_source(c), CAIRO_FILTER_NEAREST);
-  cairo_paint(c);
-  cairo_restore(c);
+  detail::PaintRaster(impl_->cr(), image, top_left.x(), top_left.y(),
+                      bottom_right.x() - top_left.x(), bottom_right.y() - top_left.y());
   if (impl_->options.colorbar) impl_->DrawColorbar(colormap, vmin, vmax, label);
 }
 

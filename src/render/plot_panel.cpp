@@ -257,16 +257,10 @@ void Panel::Image(const Eigen::MatrixXd& values, Colormap colormap, double vmin,
   PRIORMAP_CHECK(values.rows() > 0 && values.cols() > 0 && vmin < vmax,
                  "an image needs cells and vmin < vmax");
   // Image rows run top to bottom; values' rows run along y.
-  const ImageSurface image = ColormapImage(values, colormap, vmin, vmax, options_.invert_y);
-  const int cols = cairo_image_surface_get_width(image.get());
-  const int rows = cairo_image_surface_get_height(image.get());
+  const RasterImage image = ColormapImage(values, colormap, vmin, vmax, options_.invert_y);
   cairo_save(cr_);
   Clip();
-  cairo_translate(cr_, plot_.x, plot_.y);
-  cairo_scale(cr_, plot_.width / cols, plot_.height / rows);
-  cairo_set_source_surface(cr_, image.get(), 0.0, 0.0);
-  cairo_pattern_set_filter(cairo_get_source(cr_), CAIRO_FILTER_NEAREST);
-  cairo_paint(cr_);
+  PaintRaster(cr_, image, plot_.x, plot_.y, plot_.width, plot_.height);
   cairo_restore(cr_);
 }
 

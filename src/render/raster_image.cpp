@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <new>
+#include <utility>
 
 namespace priormap::render::detail {
 namespace {
@@ -40,8 +41,8 @@ std::uint32_t Pixel(const Color& color) {
 
 }  // namespace
 
-ImageSurface ColormapImage(const Eigen::MatrixXd& values, Colormap colormap, double vmin,
-                           double vmax, bool first_row_on_top) {
+RasterImage ColormapImage(const Eigen::MatrixXd& values, Colormap colormap, double vmin,
+                          double vmax, bool first_row_on_top) {
   const Eigen::Index longest = std::max(values.rows(), values.cols());
   const Eigen::Index factor = (longest + kMaxImageSide - 1) / kMaxImageSide;
   const auto rows = static_cast<int>((values.rows() + factor - 1) / factor);
@@ -60,7 +61,33 @@ ImageSurface ColormapImage(const Eigen::MatrixXd& values, Colormap colormap, dou
     }
   }
   cairo_surface_mark_dirty(image.get());
-  return image;
+  return {.surface = std::move(image),
+          .factor = factor,
+          .rows = values.rows(),
+          .cols = values.cols(),
+          .first_row_on_top = first_row_on_top};
+}
+
+void PaintRaster(cairo_t* cr, const RasterImage& image, double x, double y, double width,
+                 double height) {
+  const double cell_width = width / static_cast<double>(image.cols);
+  const double cell_height = height / static_cast<double>(image.rows);
+  // Rows of cells the image's top pixels hold beyond the values: the last, partial block's, which
+  // is at the top when row 0 is at the bottom.
+  const auto image_rows =
+      static_cast<Eigen::Index>(cairo_image_surface_get_height(image.surface.get()));
+  const auto overhang = static_cast<double>(image_rows * image.factor - image.rows);
+  const double top = image.first_row_on_top ? y : y - overhang * cell_height;
+  cairo_save(cr);
+  cairo_rectangle(cr, x, y, width, height);
+  cairo_clip(cr);
+  cairo_translate(cr, x, top);
+  cairo_scale(cr, cell_width * static_cast<double>(image.factor),
+              cell_height * static_cast<double>(image.factor));
+  cairo_set_source_surface(cr, image.surface.get(), 0.0, 0.0);
+  cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+  cairo_paint(cr);
+  cairo_restore(cr);
 }
 
 }  // namespace priormap::render::detail

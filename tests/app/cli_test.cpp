@@ -218,6 +218,15 @@ TEST_F(Cli, SameSeedGivesIdenticalFilesAndAnotherSeedDiffers) {
   EXPECT_NE(a.ranges, c.ranges);
 }
 
+// Priorlets relate the beams of a laser scan; a sonar ring is refused, not fitted from the wrong
+// origins.
+TEST_F(Cli, ScanRefusesSonarRings) {
+  Ok({"simulate", "--scene", "square", "--sensor", "pioneer16", "-o", "ring.json"});
+  EXPECT_THAT(Fails({"scan", "--prior", "polygonal", "-i", "ring.json", "-o", "m.json"}).err,
+              HasSubstr("scan 0 is a sonar ring"));
+  EXPECT_FALSE(fs::exists(Work("m.json")));
+}
+
 // Unsigned options refuse a sign (CLI11 alone would wrap -5 round to 2^64 - 5) and read a
 // leading zero as decimal (CLI11 alone: octal).
 TEST_F(Cli, UnsignedOptionsRefuseSignsAndReadLeadingZerosAsDecimal) {

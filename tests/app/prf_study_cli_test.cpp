@@ -92,6 +92,16 @@ TEST_F(PrfStudyCli, RefusesDegenerateStudies) {
               HasSubstr("no waypoint path"));
   EXPECT_THAT(refused({"prf", "study", "--scenes", "through.json", "--poses", "2", "-o", "out"}),
               HasSubstr("meets surface 1"));
+  // One pose is the first waypoint's, and the truth is seeded by every waypoint.
+  EXPECT_THAT(refused({"prf", "study", "--scenes", "through.json", "--poses", "1", "-o", "out"}),
+              HasSubstr("meets surface 1"));
+  ASSERT_EQ(Run({"simulate", "--scene", "square", "--sensor", "pioneer16", "--log", "--rate", "1",
+                 "-o", "rings.json"})
+                .status,
+            0);
+  EXPECT_THAT(refused({"prf", "fit-sonar", "--log", "rings.json", "--scene", "square",
+                       "--max-range", "0.1", "-o", "m.json"}),
+              HasSubstr("hear nothing closer than"));
   EXPECT_THAT(refused({"prf", "fit-sonar", "--scenes", "through.json", "-o", "m.json"}),
               HasSubstr("meets surface 1"));
   EXPECT_THAT(refused({"prf", "fit-sonar", "--max-range", "0.01", "-o", "m.json"}),

@@ -303,6 +303,23 @@ TEST(Figure, HeatMapWiderThanCairosImagesIsDrawnFromBlockMeans) {
   EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({30000, 15000})), black));
 }
 
+// A shrunk raster whose last block is partial: its cells must still fall where they are, not be
+// stretched over the extent (which moved the east end by up to the factor's cells).
+TEST(Figure, AShrunkHeatMapKeepsItsCellsInPlace) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 8194, 100), Plain(8000));       // about one pixel a cell
+  Eigen::MatrixXd values = Eigen::MatrixXd::Zero(2, 8194);  // shrunk by 3: 2732 pixels
+  values.block(0, 8184, 2, 9).setOnes();  // three whole blocks of black, cells 8184 to 8192
+  figure.HeatMap(values, World(0, 0, 8194, 100), Colormap::kOccupancy, 0.0, 1.0);
+  figure.Save(dir / "shrunk.png");
+  const PngImage image(dir / "shrunk.png");
+  ASSERT_TRUE(image.ok());
+  const Rgba black{0, 0, 0, 255};
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({8182.5, 50})), kWhite));  // stretched: black
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({8187.5, 50})), black));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({4000, 50})), kWhite));
+}
+
 TEST(Figure, HeatMapPreconditions) {
   Figure figure(World(0, 0, 1, 1));
   EXPECT_THROW(figure.HeatMap(Eigen::MatrixXd(0, 0), World(0, 0, 1, 1), Colormap::kViridis, 0, 1),

@@ -83,16 +83,18 @@ class LogOddsCells {
   std::vector<std::int8_t> cells_;
 };
 
-/// The most cells a grid may have: a grid and its raster take about 17 bytes a cell at their
-/// peak, so this is some 1.7 GB (a 500 m square at 5 cm).
+/// The most cells a grid may have by default (GridOptions::max_cells): a grid and its raster
+/// take about 17 bytes a cell at their peak, so this is some 1.7 GB (a 500 m square at 5 cm).
 inline constexpr double kMaxGridCells = 1e8;
 
 /// How many cells of `resolution` m cover `extent` (at least one per side).
 [[nodiscard]] double CellCount(const Box2& extent, double resolution);
 
 /// The cells of `resolution` m that cover `extent` from its lower-left corner, at least one per
-/// side. Throws std::invalid_argument for an empty extent or more than kMaxGridCells cells.
-[[nodiscard]] LogOddsCells CellsCovering(const Box2& extent, double resolution);
+/// side. Throws std::invalid_argument for an empty extent or more than `max_cells` cells (at most
+/// 4e9, what the cells' 32-bit offsets address).
+[[nodiscard]] LogOddsCells CellsCovering(const Box2& extent, double resolution,
+                                         double max_cells = kMaxGridCells);
 
 /// A cell's log-odds: its fixed-point state over `scale`, 0 (even odds) where never observed.
 [[nodiscard]] double LogOddsOf(std::int8_t cell, double scale);

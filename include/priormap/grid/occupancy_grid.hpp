@@ -25,6 +25,8 @@ struct GridOptions {
   double margin = 1.0;  // m around the data, for the grid's extent
   /// Every k-th beam of each scan (the PRF's --beam-step, for comparisons at equal data).
   std::size_t beam_step = 1;
+  /// The grid may have at most this many cells (CellsCovering).
+  double max_cells = kMaxGridCells;
 };
 
 class OccupancyGrid {

@@ -24,6 +24,8 @@ struct SonarGridOptions {
   double max_range = 5.0;
   bool max_readings_clear = true;
   double margin = 1.0;  // m around the data, for the grid's extent
+  /// The grid may have at most this many cells (CellsCovering).
+  double max_cells = kMaxGridCells;
 };
 
 class SonarGrid {

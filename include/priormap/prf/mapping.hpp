@@ -216,6 +216,10 @@ struct MappingData {
   std::optional<Coloring> start;
 };
 
+/// The most cells the rasters of a run's window may have at its raster resolution (each chain
+/// keeps several: some 8 bytes a cell each); the CLI and the Python module refuse finer ones.
+inline constexpr double kMaxRasterCells = 1e8;
+
 /// The laser run's data: the window around the beams (options.margin), the trace and guide
 /// points from the beams that hit, the LaserLikelihood of options.model.
 [[nodiscard]] MappingData LaserMappingData(std::shared_ptr<const LaserData> data,
