@@ -20,14 +20,15 @@ foreach(file consumer-scan.json consumer-scan.png)
     message(FATAL_ERROR "the consumer did not write ${file}")
   endif()
 endforeach()
-# The installed Python package (when the module was built) imports from where it was put, and
-# that is where the system python3 looks under this prefix: lib/python3.X/dist-packages.
+# The installed Python package (when the module was built) imports from where it was put, which
+# is where the system python3 looks: lib/python3.X/dist-packages, or lib/python3/dist-packages
+# for the prefix /usr.
 file(GLOB python_packages "${WORK_DIR}/prefix/lib/python*/dist-packages/priormap")
 if(python_packages AND EXISTS /usr/bin/python3)
   execute_process(COMMAND /usr/bin/python3 -c
                           "import sys; print(f'python{sys.version_info[0]}.{sys.version_info[1]}')"
                   OUTPUT_VARIABLE python_version OUTPUT_STRIP_TRAILING_WHITESPACE)
-  if(NOT python_packages MATCHES "/lib/${python_version}/dist-packages/priormap")
+  if(NOT python_packages MATCHES "/lib/(${python_version}|python3)/dist-packages/priormap")
     message(FATAL_ERROR "the Python package went to ${python_packages}, where ${python_version} "
                         "does not look")
   endif()

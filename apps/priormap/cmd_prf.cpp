@@ -324,8 +324,6 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
   return d;
 }
 
-// Each chain's rasters of the window hold this many cells at most (some 40 bytes each).
-
 // A new run in this directory: what an earlier one left (its checkpoints, or the figures of
 // chains or a MAP map this run will not make) would be taken for this one's. Only the names a
 // run writes are removed.

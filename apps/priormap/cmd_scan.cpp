@@ -117,8 +117,7 @@ void Run(const ScanOptions& o) {
     }
     // A priorlet relates neighbouring beams of one scan from one origin; a ring's cones leave
     // their transducers, a few bearings apart.
-    if (scan.sonar)
-      throw UserError(fmt::format("scan {} is a sonar ring: priorlets take laser scans", k));
+    if (scan.sonar) throw UserError("a sonar ring: priorlets take laser scans");
     Estimate e;
     e.map = priorlets::EstimateMapScan(scan, prior, engine);
     e.posterior = priorlets::AnalysePosterior(scan, prior, e.map, posterior_options);

@@ -64,7 +64,7 @@ std::string MapStudyOptions::Problem() const {
     }
     if (std::string problem = PointOnASurface(scene, scene.waypoints); !problem.empty())
       return problem;
-    if (scene.default_pose) {
+    if (scene.default_pose && scene.waypoints.size() < 2) {  // else the poses are the path's
       const Vec2 pose = scene.default_pose->translation();
       if (std::string problem = PointOnASurface(scene, std::span(&pose, 1)); !problem.empty())
         return problem + " (the default pose)";

@@ -223,7 +223,7 @@ TEST_F(Cli, SameSeedGivesIdenticalFilesAndAnotherSeedDiffers) {
 TEST_F(Cli, ScanRefusesSonarRings) {
   Ok({"simulate", "--scene", "square", "--sensor", "pioneer16", "-o", "ring.json"});
   EXPECT_THAT(Fails({"scan", "--prior", "polygonal", "-i", "ring.json", "-o", "m.json"}).err,
-              HasSubstr("scan 0 is a sonar ring"));
+              HasSubstr("a sonar ring: priorlets take laser scans"));
   EXPECT_FALSE(fs::exists(Work("m.json")));
 }
 

@@ -217,7 +217,7 @@ struct MappingData {
 };
 
 /// The most cells the rasters of a run's window may have at its raster resolution (each chain
-/// keeps several: some 8 bytes a cell each); the CLI and the Python module refuse finer ones.
+/// keeps several, some 40 bytes a cell in all); the CLI and the Python module refuse finer ones.
 inline constexpr double kMaxRasterCells = 1e8;
 
 /// The laser run's data: the window around the beams (options.margin), the trace and guide
