@@ -69,6 +69,9 @@ def test_prf_cells_span_the_window_and_bad_arguments_raise_value_errors(room_sca
             priormap.prf_map(poses, ranges, angles, resolution=bad, **args)
     with pytest.raises(ValueError, match="samples"):
         priormap.prf_map(poses, ranges, angles, **{**args, "samples": 0})
+    # Rasters the CLI refuses too (each chain keeps several of the window).
+    with pytest.raises(ValueError, match="more than 1e\\+08"):
+        priormap.prf_map(poses, ranges, angles, resolution=1e-4, **args)
 
 
 def test_a_grid_too_large_for_memory_is_a_value_error(room_scans):
