@@ -143,6 +143,11 @@ void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>
   }
 }
 
+nlohmann::json NumberOrInfinityText(double value) {
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  return value;
+}
+
 void RemoveFiles(const std::filesystem::path& directory, std::span<const char* const> names) {
   std::error_code ec;
   if (!std::filesystem::is_directory(directory, ec)) return;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <priormap/core/diagnostic.hpp>
 #include <priormap/core/log_io.hpp>
@@ -82,6 +83,10 @@ void RequireOutputDirectory(const std::filesystem::path& path, const std::string
 /// Throws UserError when two of the (option, path) pairs name the same file (an output would
 /// overwrite the input or another output); empty paths are not given.
 void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& files);
+
+/// A number as docs/formats.md writes it: an infinity as "inf" or "-inf" (JSON has none, and
+/// null would read as "not computed", or a check `z < 3` take it for missing), NaN as null.
+[[nodiscard]] nlohmann::json NumberOrInfinityText(double value);
 
 /// Removes the files `names` from `directory` where they exist (an earlier run's outputs that
 /// this run does not write), by name only; a directory left empty is removed too.

@@ -144,17 +144,17 @@ void Run(const ConvertOptions& o) {
              log.true_poses.size(), log.params.size());
   fmt::print("readings: {} valid, {} max-range, {} invalid\n", valid, max_range, invalid);
   if (from == LogFormat::kCarmen) {
-    // The reader shortens the sensor's max range with --max-range but never lengthens it.
-    double shortest = o.max_range.value_or(0.0);  // of the scans' max ranges, when given
-    if (o.max_range)
-      for (const Scan& scan : log.scans) shortest = std::min(shortest, scan.max_range);
-    if (o.max_range && shortest < *o.max_range) {
-      fmt::print(
-          "max range: {} m (--max-range {} m is beyond the sensor's: its no-return "
-          "readings stay max-range)\n",
-          shortest, *o.max_range);
-    } else if (o.max_range) {
-      fmt::print("max range: {} m (given)\n", *o.max_range);
+    if (o.max_range) {
+      // The reader shortens the sensor's max range with --max-range but never lengthens it.
+      double applied = *o.max_range;
+      for (const Scan& scan : log.scans) applied = std::min(applied, scan.max_range);
+      if (applied < *o.max_range)
+        fmt::print(
+            "max range: {} m (--max-range {} m is beyond the sensor's: its no-return "
+            "readings stay max-range)\n",
+            applied, *o.max_range);
+      else
+        fmt::print("max range: {} m (given)\n", *o.max_range);
     } else if (stats.detected_max_range) {
       fmt::print("max range: {} m (detected from the log's no-return readings)\n",
                  *stats.detected_max_range);

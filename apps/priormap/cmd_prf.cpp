@@ -75,19 +75,11 @@ nlohmann::json AcceptanceJson(const prf::MoveCounters& counters) {
   return acceptance;
 }
 
-// A z-score or an R-hat as docs/formats.md writes numbers: infinite (an estimate with no spread
-// that misses its closed form, chains that disagree with no spread within) as "inf", which a
-// check `z < 3` must not read as missing; NaN (not computed) as null.
-nlohmann::json ScoreJson(double z) {
-  if (std::isfinite(z) || std::isnan(z)) return z;
-  return z > 0 ? "inf" : "-inf";
-}
-
 nlohmann::json EstimateJson(const prf::Estimate& e, double closed_form) {
   return {{"estimate", e.mean},
           {"se", e.standard_error},
           {"closed_form", closed_form},
-          {"z", ScoreJson(prf::StandardScore(e, closed_form))}};
+          {"z", NumberOrInfinityText(prf::StandardScore(e, closed_form))}};
 }
 
 void RunPriorStatsCommand(PriorStatsCliOptions o) {
@@ -127,7 +119,7 @@ void RunPriorStatsCommand(PriorStatsCliOptions o) {
   out["mean_edges"] = r.edges.mean;
   out["mean_edges_se"] = r.edges.standard_error;
   out["expected_edges"] = r.expected_edges;
-  out["mean_edges_z"] = ScoreJson(prf::StandardScore(r.edges, r.expected_edges));
+  out["mean_edges_z"] = NumberOrInfinityText(prf::StandardScore(r.edges, r.expected_edges));
   out["black_fraction"] = EstimateJson(r.black_fraction, 0.5);
   out["same_colour"] = nlohmann::json::array();
   out["crossings"] = nlohmann::json::array();
@@ -367,15 +359,10 @@ void RunMappingCommand(MappingCliOptions o) {
   const SelectedData data = SelectData(log, o);
   // Each chain keeps rasters of the window at this resolution: too fine a one would end in a
   // bare bad_alloc after the run had started.
-  const prf::Window& window = data.mapping.window;
-  const double raster_cells = std::ceil(window.Width() / o.mapping.raster_resolution) *
-                              std::ceil(window.Height() / o.mapping.raster_resolution);
-  if (raster_cells > prf::kMaxRasterCells)
-    throw UserError(fmt::format(
-        "--resolution {} m: the {:.1f} m x {:.1f} m window would make rasters of {:.3g} cells, "
-        "more than {:.0e}",
-        o.mapping.raster_resolution, window.Width(), window.Height(), raster_cells,
-        prf::kMaxRasterCells));
+  if (const std::string problem =
+          prf::RasterSizeProblem(data.mapping.window, o.mapping.raster_resolution);
+      !problem.empty())
+    throw UserError(fmt::format("--resolution {} m: {}", o.mapping.raster_resolution, problem));
   EnsureDirectory(o.out);
   const std::filesystem::path dir(o.out);
   if (!resuming) {
@@ -474,8 +461,8 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["wall_time_s"] = r.wall_time_s;
   summary["proposals"] = r.proposals;
   summary["proposals_per_second"] = static_cast<double>(r.proposals) / r.sampling_time_s;
-  summary["rhat"] = {{"log_posterior", ScoreJson(r.rhat_log_posterior)},
-                     {"point_colours", ScoreJson(r.rhat_point_colours)},
+  summary["rhat"] = {{"log_posterior", NumberOrInfinityText(r.rhat_log_posterior)},
+                     {"point_colours", NumberOrInfinityText(r.rhat_point_colours)},
                      {"points", r.trace_points.size()}};
   summary["trace_points"] = nlohmann::json::array();
   for (const Vec2& point : r.trace_points)

@@ -55,11 +55,10 @@ T Member(const nlohmann::json& document, const char* key, const fs::path& path) 
 }
 
 // R̂ is +inf when every half of every chain is constant but the halves differ, and NaN when
-// log-posteriors near ±1e308 overflow its sums; JSON has neither, and null would read as "not
-// computed".
+// log-posteriors near ±1e308 overflow its sums; neither is "not computed" (null).
 nlohmann::ordered_json RhatJson(double rhat) {
   if (std::isnan(rhat)) return "nan";
-  return std::isinf(rhat) ? nlohmann::ordered_json("inf") : nlohmann::ordered_json(rhat);
+  return nlohmann::ordered_json(NumberOrInfinityText(rhat));
 }
 
 // What a run's posterior is made of: runs that differ in one of these sample different

@@ -74,14 +74,9 @@ py::dict PrfMap(const Doubles& poses, const Doubles& ranges, const Doubles& angl
   options.raster_resolution = resolution;
   options.anneal_steps = anneal ? samples : 0;
   const prf::MappingData mapping = prf::LaserMappingData(data, options);
-  // As `priormap prf` checks it: each chain keeps rasters of the window at this resolution.
-  const double cells = std::ceil(mapping.window.Width() / resolution) *
-                       std::ceil(mapping.window.Height() / resolution);
-  if (!(cells <= prf::kMaxRasterCells))
-    throw std::invalid_argument(fmt::format(
-        "resolution {} m: the {:.1f} m x {:.1f} m window would make rasters of {:.3g} cells, "
-        "more than {:.0e}",
-        resolution, mapping.window.Width(), mapping.window.Height(), cells, prf::kMaxRasterCells));
+  if (const std::string problem = prf::RasterSizeProblem(mapping.window, resolution);
+      !problem.empty())
+    throw std::invalid_argument(fmt::format("resolution {} m: {}", resolution, problem));
   // Ctrl-C: signals reach only the main thread, so the run goes on in another, and this one
   // looks for them while it waits; the chains (and the annealing) stop at their next chunk.
   std::atomic<bool> interrupted{false};

@@ -59,8 +59,7 @@ std::size_t Scan::NumValid() const {
 
 Vec2 Scan::PointInSensorFrame(std::size_t i) const {
   PRIORMAP_DCHECK(i < size(), "beam index out of range");
-  const Vec2 origin = sonar ? sonar->Origin(i) : Vec2::Zero();
-  return origin + ranges[i] * UnitVector(angles[i]);
+  return ReadingOrigin(i) + ranges[i] * UnitVector(angles[i]);
 }
 
 Vec2 Scan::PointInWorld(std::size_t i) const {

@@ -179,24 +179,20 @@ void LogOddsCells::TraceStepwise(const Line& line, const CellUpdate& along) {
   }
 }
 
-double CellCount(const Box2& extent, double resolution) {
-  const Vec2 size = extent.sizes() / resolution;
-  return std::max(1.0, std::ceil(size.x())) * std::max(1.0, std::ceil(size.y()));
-}
-
 LogOddsCells CellsCovering(const Box2& extent, double resolution, double max_cells) {
   if (extent.isEmpty()) throw std::invalid_argument("the grid's extent is empty");
-  const double cells = CellCount(extent, resolution);
-  if (!(cells <= std::min(max_cells, 4e9))) {
+  const Vec2 size = extent.sizes() / resolution;
+  const double width = std::max(1.0, std::ceil(size.x()));
+  const double height = std::max(1.0, std::ceil(size.y()));
+  const double limit = std::min(max_cells, 4e9);
+  if (!(width * height <= limit)) {
     throw std::invalid_argument(fmt::format(
         "a grid of {:.1f} m x {:.1f} m at {} m would have {:.3g} cells, more than {:.3g} (about "
         "17 bytes a cell): use a coarser resolution, a shorter insertion range or fewer scans, or "
         "raise the limit (grid --max-cells)",
-        extent.sizes().x(), extent.sizes().y(), resolution, cells, std::min(max_cells, 4e9)));
+        extent.sizes().x(), extent.sizes().y(), resolution, width * height, limit));
   }
-  const Vec2 size = extent.sizes() / resolution;
-  return {std::max(1, static_cast<int>(std::ceil(size.x()))),
-          std::max(1, static_cast<int>(std::ceil(size.y())))};
+  return {static_cast<int>(width), static_cast<int>(height)};
 }
 
 double LogOddsOf(std::int8_t cell, double scale) {

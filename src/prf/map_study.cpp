@@ -58,16 +58,17 @@ std::string MapStudyOptions::Problem() const {
     if (scene.waypoints.size() < 2 && (poses > 1 || !scene.default_pose))
       return fmt::format("scene '{}' has no waypoint path for {} poses", scene.name, poses);
     // The poses come from the waypoints whenever there are two (and the truth is seeded by
-    // them): they must make a path, and the default pose lie off the walls.
+    // them): they must make a path; else the waypoint and the default pose lie off the walls.
     if (scene.waypoints.size() >= 2) {
       if (std::string problem = WaypointPathProblem(scene); !problem.empty()) return problem;
-    }
-    if (std::string problem = PointOnASurface(scene, scene.waypoints); !problem.empty())
-      return problem;
-    if (scene.default_pose && scene.waypoints.size() < 2) {  // else the poses are the path's
-      const Vec2 pose = scene.default_pose->translation();
-      if (std::string problem = PointOnASurface(scene, std::span(&pose, 1)); !problem.empty())
-        return problem + " (the default pose)";
+    } else {
+      if (std::string problem = PointOnASurface(scene, scene.waypoints); !problem.empty())
+        return problem;
+      if (scene.default_pose) {
+        const Vec2 pose = scene.default_pose->translation();
+        if (std::string problem = PointOnASurface(scene, std::span(&pose, 1)); !problem.empty())
+          return problem + " (the default pose)";
+      }
     }
   }
   if (const auto name = RepeatedName(scenes, [](const Scene& s) { return s.name; }))

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <string>
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <priormap/core/binary_io.hpp>
@@ -58,6 +60,16 @@ std::vector<Vec2> HitPoints(const LaserData& data, const Window& window) {
 }
 
 }  // namespace
+
+std::string RasterSizeProblem(const Window& window, double resolution) {
+  const double cells =
+      std::ceil(window.Width() / resolution) * std::ceil(window.Height() / resolution);
+  if (cells <= kMaxRasterCells) return {};
+  return fmt::format(
+      "the {:.1f} m x {:.1f} m window would make rasters of {:.3g} cells, more "
+      "than {:.0e}",
+      window.Width(), window.Height(), cells, kMaxRasterCells);
+}
 
 WarmStage WarmStageOf(const MappingOptions& options) {
   if (options.warm_burn_in.temperature == 1.0 || options.warm_burn_in.steps == 0) return {};

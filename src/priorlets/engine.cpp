@@ -277,6 +277,11 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
   const LineFitter line_fit(xy, weight);
   const auto h = static_cast<std::size_t>(std::max(1, options_.normal_half_window));
   const double alpha_bound = DegToRad(options_.alpha_bound_deg);
+  // Near a region's ends a centred window shrinks to a few beams, a few millimetres apart at
+  // close range, which give no normal at all. Under a prior of straight walls only, the window
+  // is shifted inside the region instead: a chord's normal is then the wall's. (On a curved
+  // wall a shifted chord's normal is biased, and the centred window is kept.)
+  const bool shift = prior_.max_curvature() == 0.0;
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t beam = topology.beams[j];
     ProblemPoint& pt = points[j];
@@ -297,11 +302,6 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
     // yet) the one-sided window that fits best, so that the normals do not smear across it.
     const std::size_t rs = region_start[j], re = region_end[j];
     std::optional<LineFitter::Fit> fit;
-    // Near a region's ends a centred window shrinks to a few beams, a few millimetres apart at
-    // close range, which give no normal at all. Under a prior of straight walls only, the window
-    // is shifted inside the region instead: a chord's normal is then the wall's. (On a curved
-    // wall a shifted chord's normal is biased, and the centred window is kept.)
-    const bool shift = prior_.max_curvature() == 0.0;
     for (std::size_t half = h; 2 * half <= std::min(re - rs, 2 * kMaxNormalHalfWindow * h);
          half *= 2) {
       const bool centred = j >= rs + half && j + half <= re;

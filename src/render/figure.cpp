@@ -28,15 +28,20 @@ struct Margins {
   double left, right, top, bottom;
 };
 
+// The stroke of `style`: its colour, width and dashes.
+void SetLineStyle(cairo_t* cr, const LineStyle& style) {
+  detail::SetColor(cr, style.color);
+  cairo_set_line_width(cr, style.width_px);
+  cairo_set_dash(cr, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
+}
+
 void StrokePath(cairo_t* cr, std::span<const Vec2> device, bool closed, const LineStyle& style) {
   if (device.empty() || style.width_px <= 0.0) return;
   cairo_new_path(cr);
   cairo_move_to(cr, device[0].x(), device[0].y());
   for (std::size_t i = 1; i < device.size(); ++i) cairo_line_to(cr, device[i].x(), device[i].y());
   if (closed) cairo_close_path(cr);
-  detail::SetColor(cr, style.color);
-  cairo_set_line_width(cr, style.width_px);
-  cairo_set_dash(cr, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
+  SetLineStyle(cr, style);
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
   cairo_stroke(cr);
@@ -248,9 +253,7 @@ void Figure::Arc(const Vec2& center, double radius, double from, double to,
   cairo_new_path(c);
   // Device y points down, so a counter-clockwise world arc is a negative device one.
   cairo_arc_negative(c, d.x(), d.y(), radius * impl_->scale, -from, -to);
-  detail::SetColor(c, style.color);
-  cairo_set_line_width(c, style.width_px);
-  cairo_set_dash(c, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
+  SetLineStyle(c, style);
   cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
   cairo_stroke(c);
 }
@@ -277,9 +280,7 @@ void Figure::CircleOutline(const Circle& circle, const LineStyle& style) {
   const Vec2 d = impl_->ToDevice(circle.center);
   cairo_new_path(c);
   cairo_arc(c, d.x(), d.y(), circle.radius * impl_->scale, 0.0, 2 * M_PI);
-  detail::SetColor(c, style.color);
-  cairo_set_line_width(c, style.width_px);
-  cairo_set_dash(c, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
+  SetLineStyle(c, style);
   cairo_stroke(c);
 }
 
@@ -319,9 +320,7 @@ void Figure::Ticks(std::span<const Vec2> points, std::span<const double> angles,
     cairo_line_to(c, d.x() + length_px * std::cos(angles[i]),
                   d.y() - length_px * std::sin(angles[i]));
   }
-  detail::SetColor(c, style.color);
-  cairo_set_line_width(c, style.width_px);
-  cairo_set_dash(c, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
+  SetLineStyle(c, style);
   cairo_stroke(c);
 }
 

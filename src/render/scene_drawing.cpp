@@ -1,5 +1,6 @@
 #include <cmath>
 
+#include <priormap/core/segment.hpp>
 #include <priormap/render/scene_drawing.hpp>
 
 namespace priormap::render {
@@ -7,6 +8,12 @@ namespace {
 
 const Color kWallColor{0.25, 0.25, 0.25};
 const Color kClutterColor = palette::kOrange;
+
+// Reading i's ray, in the world, from where it starts to the sensor's max range.
+Segment MaxRangeRay(const Scan& scan, std::size_t i) {
+  const Vec2 origin = scan.pose.Transform(scan.ReadingOrigin(i));
+  return {origin, origin + scan.max_range * UnitVector(scan.angles[i] + scan.pose.theta())};
+}
 
 }  // namespace
 
@@ -31,20 +38,18 @@ void DrawScan(Figure& figure, const Scan& scan, const ScanStyle& style) {
   std::vector<Vec2> valid, outliers, normal_points;
   std::vector<double> normal_angles;
   for (std::size_t i = 0; i < scan.size(); ++i) {
-    // A sonar reading leaves its own transducer; a laser beam the sensor's origin.
-    const Vec2 origin = scan.pose.Transform(scan.sonar ? scan.sonar->Origin(i) : Vec2::Zero());
     if (scan.status[i] == BeamStatus::kMaxRange && style.max_range_rays &&
         std::isfinite(scan.max_range)) {
-      const Vec2 end = origin + scan.max_range * UnitVector(scan.angles[i] + scan.pose.theta());
-      figure.Line(origin, end, {palette::kLightGray.WithAlpha(0.35), 0.5, {}});
+      const Segment ray = MaxRangeRay(scan, i);
+      figure.Line(ray.a, ray.b, {palette::kLightGray.WithAlpha(0.35), 0.5, {}});
     }
     if (!scan.IsValid(i)) continue;
     const Vec2 p = scan.PointInWorld(i);
     if (scan.sonar) {
       // The echo could have come from anywhere on the arc across its cone.
       const double axis = scan.angles[i] + scan.pose.theta(), half = scan.sonar->spread / 2;
-      figure.Arc(origin, scan.ranges[i], axis - half, axis + half,
-                 {style.valid.WithAlpha(0.4), 1.0, {}});
+      figure.Arc(scan.pose.Transform(scan.ReadingOrigin(i)), scan.ranges[i], axis - half,
+                 axis + half, {style.valid.WithAlpha(0.4), 1.0, {}});
     }
     const bool outlier = scan.truth && scan.truth->outlier[i] != 0;
     (outlier ? outliers : valid).push_back(p);
@@ -82,11 +87,8 @@ Box2 ScanBounds(const Scan& scan) {
   }
   // With no echo at all, the max-range rays are all there is to show.
   if (scan.NumValid() == 0 && std::isfinite(scan.max_range)) {
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      if (scan.status[i] != BeamStatus::kMaxRange) continue;
-      const Vec2 origin = scan.pose.Transform(scan.sonar ? scan.sonar->Origin(i) : Vec2::Zero());
-      box.extend(origin + scan.max_range * UnitVector(scan.angles[i] + scan.pose.theta()));
-    }
+    for (std::size_t i = 0; i < scan.size(); ++i)
+      if (scan.status[i] == BeamStatus::kMaxRange) box.extend(MaxRangeRay(scan, i).b);
   }
   return box;
 }

@@ -113,6 +113,11 @@ struct Scan {
   [[nodiscard]] std::size_t size() const { return ranges.size(); }
   [[nodiscard]] bool IsValid(std::size_t i) const { return status[i] == BeamStatus::kValid; }
   [[nodiscard]] std::size_t NumValid() const;
+  /// Where reading i starts, in the sensor frame: a sonar reading at its transducer, a laser
+  /// beam at the sensor's origin.
+  [[nodiscard]] Vec2 ReadingOrigin(std::size_t i) const {
+    return sonar ? sonar->Origin(i) : Vec2::Zero();
+  }
   /// Reading i as a point in the sensor frame (meaningful for valid readings): for a sonar
   /// reading, the point on its cone's axis, from its transducer's origin.
   [[nodiscard]] Vec2 PointInSensorFrame(std::size_t i) const;

@@ -87,9 +87,6 @@ class LogOddsCells {
 /// take about 17 bytes a cell at their peak, so this is some 1.7 GB (a 500 m square at 5 cm).
 inline constexpr double kMaxGridCells = 1e8;
 
-/// How many cells of `resolution` m cover `extent` (at least one per side).
-[[nodiscard]] double CellCount(const Box2& extent, double resolution);
-
 /// The cells of `resolution` m that cover `extent` from its lower-left corner, at least one per
 /// side. Throws std::invalid_argument for an empty extent or more than `max_cells` cells (at most
 /// 4e9, what the cells' 32-bit offsets address).

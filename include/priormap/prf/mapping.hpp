@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -219,6 +220,11 @@ struct MappingData {
 /// The most cells the rasters of a run's window may have at its raster resolution (each chain
 /// keeps several, some 40 bytes a cell in all); the CLI and the Python module refuse finer ones.
 inline constexpr double kMaxRasterCells = 1e8;
+
+/// Empty when the rasters of `window` at `resolution` m have at most kMaxRasterCells cells, else
+/// what is wrong ("the 4.0 m x 6.0 m window would make rasters of 2.4e+09 cells, more than
+/// 1e+08"): a resolution too fine would end in a bare bad_alloc once the chains had started.
+[[nodiscard]] std::string RasterSizeProblem(const Window& window, double resolution);
 
 /// The laser run's data: the window around the beams (options.margin), the trace and guide
 /// points from the beams that hit, the LaserLikelihood of options.model.
