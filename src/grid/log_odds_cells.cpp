@@ -185,7 +185,9 @@ LogOddsCells CellsCovering(const Box2& extent, double resolution, double max_cel
   const double width = std::max(1.0, std::ceil(size.x()));
   const double height = std::max(1.0, std::ceil(size.y()));
   const double limit = std::min(max_cells, 4e9);
-  if (!(width * height <= limit)) {
+  // Each side must also fit the cells' int coordinates: one row of 3e9 cells is under 4e9.
+  const double longest_side = static_cast<double>(std::numeric_limits<int>::max());
+  if (!(width * height <= limit) || width > longest_side || height > longest_side) {
     throw std::invalid_argument(fmt::format(
         "a grid of {:.1f} m x {:.1f} m at {} m would have {:.3g} cells, more than {:.3g} (about "
         "17 bytes a cell): use a coarser resolution, a shorter insertion range or fewer scans, or "

@@ -3,13 +3,14 @@
 // lines in and around random rasters, on lines long enough to leave the accumulator's exact
 // range, and on lines from far outside.
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <random>
 #include <stdexcept>
 #include <vector>
 
-#include <climits>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <priormap/grid/log_odds_cells.hpp>
@@ -230,6 +231,14 @@ TEST(LogOddsCells, CellsCoveringRoundEachSideUpToWholeCells) {
   EXPECT_THROW((void)CellsCovering(Box2(), 0.1), std::invalid_argument);
   EXPECT_THROW((void)CellsCovering(Box2(Vec2(0.0, 0.0), Vec2(1e4, 1e4)), 0.1),
                std::invalid_argument);  // 1e10 cells
+  // 3e9 cells in one row: under the 4e9 the offsets address, but wider than an int. Refused
+  // with the advice, not after casting the width to an int.
+  try {
+    (void)CellsCovering(Box2(Vec2(0.0, 0.0), Vec2(3e9, 0.0)), 1.0, 4e9);
+    ADD_FAILURE() << "a row of 3e9 cells was accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("3e+09 cells"));
+  }
 }
 
 TEST(LogOddsCells, LogOddsOfAnUnobservedCellIsEvenOdds) {
