@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <regex>
 #include <string>
 #include <tuple>
 #include <unistd.h>
@@ -322,11 +321,13 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
 void RemoveEarlierRunOutputs(const std::filesystem::path& dir) {
   // Listed before anything is removed, and matched by name alone, so that no other entry (a
   // looping link, say) is even looked at.
-  const std::regex chain_output(R"(chain(0|[1-9][0-9]*)(\.png|_last\.geojson))");
   std::vector<std::filesystem::path> outputs;
-  for (const auto& entry : std::filesystem::directory_iterator(dir))
-    if (std::regex_match(entry.path().filename().string(), chain_output))
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (IsNumberedName(name, "chain", ".png", false) ||
+        IsNumberedName(name, "chain", "_last.geojson", false))
       outputs.push_back(entry.path());
+  }
   for (const char* file :
        {"summary.json", "trace.csv", "point_traces.csv", "posterior.png", "posterior.pgm",
         "posterior.yaml", "not_white.png", "chains_disagree.png", "map.geojson", "map.svg",

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <atomic>
 #include <fstream>
 #include <unistd.h>
@@ -108,6 +109,17 @@ TextPosition PositionOfOffset(std::string_view text, std::size_t offset) {
     }
   }
   return position;
+}
+
+bool IsNumberedName(std::string_view name, std::string_view prefix, std::string_view suffix,
+                    bool zero_padded) {
+  if (name.size() <= prefix.size() + suffix.size() || !name.starts_with(prefix) ||
+      !name.ends_with(suffix))
+    return false;
+  const std::string_view number =
+      name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  if (!zero_padded && number.size() > 1 && number.front() == '0') return false;
+  return std::ranges::all_of(number, [](char c) { return c >= '0' && c <= '9'; });
 }
 
 }  // namespace priormap

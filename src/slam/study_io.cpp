@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <regex>
 #include <set>
 #include <system_error>
 
@@ -174,13 +173,15 @@ std::vector<std::filesystem::path> WriteStudyOutputs(const StudyResult& study,
   }
   // An earlier study with more runs (or another number of digits) left tables that summary.json
   // no longer counts; they go, matched by name alone.
-  const std::regex run_table(R"((with|without)_prior_run_[0-9]+\.csv)");
   const std::set<std::filesystem::path> kept(written.begin(), written.end());
   std::vector<std::filesystem::path> stale;
-  for (const auto& entry : std::filesystem::directory_iterator(runs_directory))
-    if (std::regex_match(entry.path().filename().string(), run_table) &&
+  for (const auto& entry : std::filesystem::directory_iterator(runs_directory)) {
+    const std::string name = entry.path().filename().string();
+    if ((IsNumberedName(name, "with_prior_run_", ".csv", true) ||
+         IsNumberedName(name, "without_prior_run_", ".csv", true)) &&
         !kept.contains(entry.path()))
       stale.push_back(entry.path());
+  }
   for (const auto& file : stale) std::filesystem::remove(file);
   return written;
 }

@@ -246,5 +246,18 @@ TEST(FileIo, PositionOfOffsetCountsCarriageReturnsAndBytesAsColumns) {
   EXPECT_EQ(PositionOfOffset("\xc3\xa9x", 2).col, 3);
 }
 
+TEST(FileIo, IsNumberedNameMatchesPrefixDigitsSuffixOnly) {
+  EXPECT_TRUE(IsNumberedName("chain0.png", "chain", ".png", false));
+  EXPECT_TRUE(IsNumberedName("chain12.png", "chain", ".png", false));
+  EXPECT_FALSE(IsNumberedName("chain012.png", "chain", ".png", false));
+  EXPECT_TRUE(IsNumberedName("run_007.csv", "run_", ".csv", true));
+  EXPECT_FALSE(IsNumberedName("chain.png", "chain", ".png", false));     // no number
+  EXPECT_FALSE(IsNumberedName("chain1a.png", "chain", ".png", false));   // not all digits
+  EXPECT_FALSE(IsNumberedName("chain1.png.bak", "chain", ".png", false));
+  EXPECT_FALSE(IsNumberedName("mychain1.png", "chain", ".png", false));
+  EXPECT_FALSE(IsNumberedName("chain-1.png", "chain", ".png", false));
+  EXPECT_FALSE(IsNumberedName("chainpng", "chain", "png", false));       // prefix and suffix only
+}
+
 }  // namespace
 }  // namespace priormap
