@@ -1,5 +1,6 @@
 #include <cmath>
 #include <set>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -234,6 +235,70 @@ TEST(SimulateLog, IsLocalizedReproducibleAndIndependentOfThreads) {
   for (std::size_t k = 0; k < log.scans.size(); ++k)
     EXPECT_EQ(log.scans[k].ranges, single_threaded.scans[k].ranges);
   EXPECT_NE(SimulateLog(scene, sensor, trajectory, 8).scans[3].ranges, log.scans[3].ranges);
+}
+
+// --- correlated noise: marginal variance and lag-2 autocorrelation ---------------------------
+
+constexpr double kCorrelation = 0.6;
+constexpr std::uint64_t kCorrelatedScans = 20;  // 20 x 1081 beams
+
+// The residuals (range - true range) of kCorrelatedScans scans with neighbour correlation 0.6,
+// one vector per scan (an AR(1) series each, started in its stationary distribution).
+std::vector<std::vector<double>> CorrelatedResiduals() {
+  RangeSensor sensor = Utm30();
+  sensor.correlation = kCorrelation;
+  std::vector<std::vector<double>> residuals;
+  for (std::uint64_t seed = 101; seed < 101 + kCorrelatedScans; ++seed) {
+    const Scan scan = Simulate("square", sensor, seed);
+    std::vector<double>& e = residuals.emplace_back();
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      EXPECT_TRUE(scan.IsValid(i)) << "beam " << i;  // no dropouts or outliers in utm30
+      e.push_back(scan.ranges[i] - scan.truth->range[i]);
+    }
+  }
+  return residuals;
+}
+
+// The innovations are scaled by sqrt(1 - c^2) so that correlating the noise leaves each beam's
+// variance at sigma^2. The estimate mean(e^2) (the mean is known to be 0) has variance
+// 2 sigma^4 (1 + 2 sum_k c^(2k)) / n = 2 sigma^4 (1 + c^2) / ((1 - c^2) n) for an AR(1) series;
+// the test allows 4 of those standard errors. Without the sqrt(1 - c^2) the variance would be
+// sigma^2 / (1 - c^2) = 1.56 sigma^2.
+TEST(SimulateScan, CorrelatedNoiseKeepsTheStatedMarginalVariance) {
+  const double sigma = Utm30().sigma, c = kCorrelation;
+  double sum_squares = 0.0;
+  std::size_t n = 0;
+  for (const std::vector<double>& e : CorrelatedResiduals()) {
+    for (double x : e) sum_squares += x * x;
+    n += e.size();
+  }
+  ASSERT_GT(n, 20000u);
+  const double variance = sum_squares / static_cast<double>(n);
+  const double standard_error =
+      sigma * sigma * std::sqrt(2 * (1 + c * c) / ((1 - c * c) * static_cast<double>(n)));
+  EXPECT_NEAR(variance, sigma * sigma, 4 * standard_error);
+}
+
+// Beams two apart have correlation c^2 = 0.36 (the AR(1) structure, not just the neighbour
+// correlation). Bartlett's formula for the lag-k autocorrelation estimate of an AR(1) series,
+// var(r_k) = ((1 + c^2)(1 - c^(2k)) / (1 - c^2) - 2k c^(2k)) / n, gives for k = 2
+// (1 + 2c^2 - 3c^4) / n = 1.33 / n: a little more than the (1 - c^4) / n = 0.87 / n of the
+// simpler rule of thumb, so the test uses Bartlett's (4 standard errors = 0.032 here). The
+// scans are independent series of 1081 beams each, so n counts the pairs within a scan only.
+TEST(SimulateScan, CorrelatedNoiseHasLagTwoAutocorrelationCSquared) {
+  const double c = kCorrelation;
+  double sum_lag2 = 0.0, sum_squares = 0.0;
+  std::size_t n = 0;
+  for (const std::vector<double>& e : CorrelatedResiduals()) {
+    for (std::size_t i = 0; i + 2 < e.size(); ++i) {
+      sum_lag2 += e[i] * e[i + 2];
+      sum_squares += e[i] * e[i];
+      ++n;
+    }
+  }
+  const double r2 = sum_lag2 / sum_squares;
+  const double c2 = c * c, c4 = c2 * c2;
+  EXPECT_NEAR(r2, c2, 4 * std::sqrt((1 + 2 * c2 - 3 * c4) / static_cast<double>(n)));
 }
 
 }  // namespace

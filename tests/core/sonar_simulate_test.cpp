@@ -1,9 +1,12 @@
 // The sonar simulator against hand-worked geometry: a wall across the cone echoes at its
 // perpendicular distance with 1 % noise; an oblique wall alone is a specular miss (max range or
-// multipath); a corner seen from inside echoes at its distance; presets and scenes are sound.
+// multipath); a corner seen from inside echoes at its distance; presets and scenes are sound;
+// spurious readings are as frequent as stated and uniform between the min and max range.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <set>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -124,7 +127,12 @@ TEST(SonarSimulator, AVertexInTheMiddleOfAStraightWallIsNoCorner) {
       EXPECT_NEAR(ring.truth->range[0], 3.0, 1e-12);  // at the foot of the axis, not the vertex
     }
   }
-  EXPECT_GT(echoes, 1900);  // each half echoes on its own: 1 - 0.05^2 of the rings
+  // Each half echoes on its own (probability surface_return at normal incidence, both at 3 m),
+  // so a ring echoes unless both halves are silent: 1 - 0.05^2 = 0.9975 of the rings. One echo
+  // chance per ring would give 0.95, over 40 binomial standard deviations (of 0.9975) away; the
+  // test allows 4 of them (about 9 rings).
+  const double p = 1.0 - std::pow(1.0 - sensor.surface_return, 2);
+  EXPECT_NEAR(echoes / 2000.0, p, 4.0 * std::sqrt(p * (1 - p) / 2000.0));
 }
 
 TEST(SonarSimulator, AnEchoPastTheMaxRangeIsAMaxRangeReadingWithNoFeature) {
@@ -261,6 +269,70 @@ TEST(BuiltinScenes, OfficesAreOneSimpleWallLoopWithThePathInsideClearOfWalls) {
     const auto corners = SceneCorners(*scene);
     EXPECT_EQ(corners.size(), walls.points.size());
   }
+}
+
+// --- spurious readings -------------------------------------------------------------------------
+
+struct SpuriousReadings {
+  std::vector<double> ranges;  // of the readings marked kSpurious
+};
+
+// `rings` rings of `sensor` (one transducer) facing a wall at 3 m.
+SpuriousReadings SimulateSpurious(const SonarSensor& sensor, int rings, std::uint64_t seed) {
+  const SonarScene scene(WallsScene({Polyline{{Vec2(3, -2), Vec2(3, 2)}, false}}));
+  Rng rng(seed);
+  SpuriousReadings out;
+  for (int k = 0; k < rings; ++k) {
+    const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0, 0), rng);
+    if (ring.sonar->true_echo[0] != SonarEcho::kSpurious) continue;
+    EXPECT_EQ(ring.truth->outlier[0], 1);
+    out.ranges.push_back(ring.ranges[0]);
+  }
+  return out;
+}
+
+SonarSensor WithSpurious(double p) {
+  SonarSensor sensor = OneTransducer();
+  sensor.spurious_probability = p;
+  return sensor;
+}
+
+// A reading is spurious with probability p whatever the transducer hears: the share of
+// kSpurious readings is binomial(N, p)/N, within 4 standard deviations sqrt(p(1 - p)/N).
+TEST(SonarSimulator, SpuriousReadingsAreAsFrequentAsStated) {
+  for (const double p : {0.01, 0.2}) {
+    const int rings = 20000;
+    const SpuriousReadings spurious = SimulateSpurious(WithSpurious(p), rings, 11);
+    const double share = static_cast<double>(spurious.ranges.size()) / rings;
+    EXPECT_NEAR(share, p, 4.0 * std::sqrt(p * (1 - p) / rings)) << "p = " << p;
+  }
+}
+
+// Spurious ranges are uniform on [min_range, max_range): all inside it, their mean within 4
+// standard errors (max - min)/sqrt(12 m) of the middle, and the counts in 10 equal bins pass
+// Pearson's chi-square test at the 0.999 quantile of chi-square with 9 degrees of freedom
+// (27.88), so a correct simulator fails it once in a thousand seeds.
+TEST(SonarSimulator, SpuriousRangesAreUniformBetweenMinAndMaxRange) {
+  const SonarSensor sensor = WithSpurious(0.5);
+  const SpuriousReadings spurious = SimulateSpurious(sensor, 20000, 12);
+  const double lo = sensor.min_range, hi = sensor.max_range;
+  const auto m = static_cast<double>(spurious.ranges.size());
+  ASSERT_GT(m, 9000.0);
+  constexpr int kBins = 10;
+  std::vector<int> counts(kBins, 0);
+  double sum = 0.0;
+  for (const double r : spurious.ranges) {
+    ASSERT_GE(r, lo);
+    ASSERT_LT(r, hi);
+    sum += r;
+    ++counts[static_cast<std::size_t>(
+        std::min(kBins - 1, static_cast<int>((r - lo) / (hi - lo) * kBins)))];
+  }
+  EXPECT_NEAR(sum / m, (lo + hi) / 2, 4.0 * (hi - lo) / std::sqrt(12.0 * m));
+  const double expected = m / kBins;
+  double chi_square = 0.0;
+  for (const int count : counts) chi_square += (count - expected) * (count - expected) / expected;
+  EXPECT_LT(chi_square, 27.88) << ::testing::PrintToString(counts);
 }
 
 }  // namespace

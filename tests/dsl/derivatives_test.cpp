@@ -496,5 +496,128 @@ TEST(PriorValues, ManhattanAndOctagonalConstrainTheAngleBetweenNeighbours) {
   EXPECT_NEAR(octagonal.values[0], std::sin(4 * 0.7), kExact);
 }
 
+// --- every operator's derivative rule ----------------------------------------------------------
+
+// The built-in priors never use exp, log, tan, asin, acos, atan, atan2, a power with an unknown
+// in the exponent, min or max, so their derivative rules (ExpressionGraph::MakeDerivative) are
+// checked here on a prior written for the purpose: one energy per operator, so that a wrong rule
+// shows up as the failure of its own term. The Hessians apply each rule twice (the derivative of
+// the derivative), so they check the rules once more on the rules' own output.
+constexpr const char* kEveryOperatorPrior =
+    "name: Every operator\n"
+    "order: 2\n"
+    "priorlet same_region:\n"
+    "  model_likelihood exp(0.3*rho_1 - rho_2)\n"
+    "  model_likelihood log(rho_1 + rho_2)\n"
+    "  model_likelihood tan(0.3*(alpha_2 - alpha_1))\n"
+    "  model_likelihood asin(0.4*sin(alpha_1))\n"
+    "  model_likelihood acos(0.4*cos(alpha_2))\n"
+    "  model_likelihood atan(rho_1 - rho_2)\n"
+    "  model_likelihood atan2(rho_2*sin(alpha_2), rho_1*cos(alpha_1))\n"
+    "  model_likelihood rho_1^rho_2\n"
+    "  model_likelihood rho_1^2.5\n"
+    "  model_likelihood min(rho_1, rho_2) + max(alpha_1, alpha_2)\n";
+
+// The same terms written with <cmath>, at x = (rho_1, rho_2, alpha_1, alpha_2).
+std::vector<double> EveryOperatorByHand(const Eigen::VectorXd& x) {
+  const double r1 = x[0], r2 = x[1], a1 = x[2], a2 = x[3];
+  return {std::exp(0.3 * r1 - r2),
+          std::log(r1 + r2),
+          std::tan(0.3 * (a2 - a1)),
+          std::asin(0.4 * std::sin(a1)),
+          std::acos(0.4 * std::cos(a2)),
+          std::atan(r1 - r2),
+          std::atan2(r2 * std::sin(a2), r1 * std::cos(a1)),
+          std::pow(r1, r2),
+          std::pow(r1, 2.5),
+          std::min(r1, r2) + std::max(a1, a2)};
+}
+
+CompiledPrior CompileEveryOperatorPrior() {
+  Result<CompiledPrior> prior = PriorLibrary().CompileText(kEveryOperatorPrior, "every.prior");
+  if (!prior) ADD_FAILURE() << prior.error();
+  return std::move(prior).value();
+}
+
+// Whether the central-difference stencil (step kStep = 1e-5) around p stays in one smooth piece
+// of every term, and away from the poles where finite differences lose their accuracy:
+//  - tan(0.3 d), d = alpha_2 - alpha_1 in (-2 pi, 2 pi), has poles at |0.3 d| = pi/2; keeping
+//    cos(0.3 d) >= 0.3 bounds tan' = 1/cos^2 by ~11;
+//  - atan2(y, x) jumps by 2 pi across x < 0, y = 0 and is singular at the origin; keep
+//    |(x, y)| >= 0.5 m and |y| >= 0.05 m where x < 0 (both 5,000 steps away);
+//  - min(rho_1, rho_2) and max(alpha_1, alpha_2) switch where their arguments are equal; keep
+//    them 1e-3 (100 steps) apart.
+// rho >= 0.5 m keeps log(rho_1 + rho_2) and rho_1^rho_2 smooth; asin and acos see |arg| <= 0.4.
+bool AwayFromEveryOperatorsKinks(const Point& p) {
+  const double r1 = p.x[0], r2 = p.x[1], a1 = p.x[2], a2 = p.x[3];
+  const double x = r1 * std::cos(a1), y = r2 * std::sin(a2);
+  return std::cos(0.3 * (a2 - a1)) >= 0.3 && std::hypot(x, y) >= 0.5 &&
+         (x > 0 || std::abs(y) >= 0.05) && std::abs(r1 - r2) > 1e-3 && std::abs(a1 - a2) > 1e-3;
+}
+
+TEST(OperatorDerivatives, TheOperatorPriorCompilesToOneTermPerOperatorWithTheLibmValues) {
+  const CompiledPrior prior = CompileEveryOperatorPrior();
+  const CompiledBlock* block = prior.block(BlockKind::kSameRegion);
+  ASSERT_NE(block, nullptr);
+  ASSERT_EQ(block->num_terms(), 10);
+  ASSERT_EQ(block->num_variables(), 4);
+  Evaluation evaluation(*block);
+  Rng rng(2024);
+  for (int n = 0; n < 100; ++n) {
+    Point p = RandomPoint(rng, 2);
+    while (!AwayFromEveryOperatorsKinks(p)) p = RandomPoint(rng, 2);
+    const Eigen::VectorXd values = evaluation.Values(p.x, p.phi);
+    const std::vector<double> expected = EveryOperatorByHand(p.x);
+    for (int t = 0; t < 10; ++t) {
+      // 1e-12 relative: the tapes and <cmath> may round differently (e.g. a * (1/b) for a/b).
+      EXPECT_NEAR(values[t], expected[static_cast<std::size_t>(t)],
+                  1e-12 * std::max(1.0, std::abs(expected[static_cast<std::size_t>(t)])))
+          << Describe(*block, t, p);
+    }
+  }
+}
+
+TEST(OperatorDerivatives, EveryOperatorsGradientAndHessianMatchCentralDifferences) {
+  const CompiledPrior prior = CompileEveryOperatorPrior();
+  const CompiledBlock* block = prior.block(BlockKind::kSameRegion);
+  ASSERT_NE(block, nullptr);
+  const int nt = block->num_terms(), nv = block->num_variables();
+  ASSERT_EQ(nt, 10);
+  Evaluation evaluation(*block);
+  Rng rng(4242);
+  int failures = 0, rejected = 0;
+  for (int n = 0; n < kPointsPerPrior && failures < 20; ++n) {
+    Point p = RandomPoint(rng, 2);
+    while (!AwayFromEveryOperatorsKinks(p)) {
+      ++rejected;
+      p = RandomPoint(rng, 2);
+    }
+    Eigen::VectorXd values, gradients, hessians;
+    evaluation.All(p.x, p.phi, values, gradients, hessians);
+    const Eigen::MatrixXd numeric_gradients = NumericJacobian(
+        [&](const Eigen::VectorXd& x) { return evaluation.Values(x, p.phi); }, p.x, kStep);
+    const Eigen::MatrixXd numeric_hessians = NumericJacobian(
+        [&](const Eigen::VectorXd& x) { return evaluation.Gradients(x, p.phi); }, p.x, kStep);
+    for (int t = 0; t < nt; ++t) {
+      const Eigen::MatrixXd gradient = gradients.segment(t * nv, nv).transpose();
+      const Eigen::MatrixXd hessian = Eigen::Map<const Eigen::MatrixXd>(
+          hessians.data() + static_cast<std::ptrdiff_t>(t) * nv * nv, nv, nv);
+      const bool finite = std::isfinite(values[t]) && gradient.allFinite() && hessian.allFinite();
+      const auto gradient_match = JacobiansMatch(gradient, numeric_gradients.row(t), kTolerance);
+      const auto hessian_match =
+          JacobiansMatch(hessian, numeric_hessians.middleRows(t * nv, nv), kTolerance);
+      const bool symmetric = hessian == hessian.transpose();
+      if (finite && gradient_match && hessian_match && symmetric) continue;
+      ++failures;
+      ADD_FAILURE() << Describe(*block, t, p) << "\nvalue " << values[t]
+                    << (symmetric ? "" : "\nHessian not symmetric")
+                    << "\ngradient: " << gradient_match.message()
+                    << "\nHessian: " << hessian_match.message();
+    }
+  }
+  // The guards leave most of the space in the test (tan's guard alone rejects ~10 %).
+  EXPECT_LT(rejected, kPointsPerPrior / 3);
+}
+
 }  // namespace
 }  // namespace priormap::dsl
