@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <priormap/core/json_io.hpp>
 #include <priormap/render/figure.hpp>
@@ -126,6 +127,32 @@ void RequireOutputDirectory(const std::filesystem::path& path, const std::string
     throw UserError(fmt::format("{}: cannot write '{}': directory {} does not exist", option,
                                 path.string(), directory.string()));
   }
+  if (std::filesystem::is_directory(path, ec))
+    throw UserError(fmt::format("{}: cannot write '{}': it is a directory", option, path.string()));
+}
+
+void WriteLogWarningOfLosses(const Log& log, const std::filesystem::path& path, LogFormat format) {
+  if (format == LogFormat::kCarmen) {
+    const std::vector<std::string> losses = CarmenLosses(log);
+    if (!losses.empty())
+      fmt::print(stderr,
+                 "priormap: warning: {}: CARMEN cannot hold {}; write priormap JSON (.json) to "
+                 "keep them\n",
+                 path.string(), fmt::join(losses, ", "));
+  }
+  WriteLog(log, path, format);
+}
+
+LogFormat OutputLogFormat(const std::optional<std::string>& format_name,
+                          const std::filesystem::path& path, const std::string& option) {
+  if (format_name) return LogFormatFromString(*format_name).value();
+  const std::optional<LogFormat> format = LogFormatFromPath(path);
+  if (!format)
+    throw UserError(fmt::format(
+        "{} {}: no log format has this extension; use .json or .json.gz (priormap JSON), or "
+        ".log or .log.gz (CARMEN), or name the format",
+        option, path.string()));
+  return *format;
 }
 
 void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& files) {

@@ -76,9 +76,21 @@ void RequireCarmenForMaxRange(const std::string& input, LogFormat read_as,
 /// Throws UserError unless `path` names a PNG, SVG or PDF file.
 void RequireFigurePath(const std::filesystem::path& path, const std::string& option);
 
-/// Throws UserError when the directory `path` would be written to does not exist. For commands
-/// with several outputs, so that a typo in one output's directory fails before any is written.
+/// Throws UserError when the directory `path` would be written to does not exist, or `path` is
+/// itself a directory. For commands with several outputs, so that a typo in one output fails
+/// before any is written.
 void RequireOutputDirectory(const std::filesystem::path& path, const std::string& option);
+
+/// Writes `log` to `path` in `format`; when that is CARMEN, first warns on stderr of what CARMEN
+/// cannot hold (CarmenLosses), so that nobody takes the file for the whole log.
+void WriteLogWarningOfLosses(const Log& log, const std::filesystem::path& path, LogFormat format);
+
+/// The format a log output is written in: `format_name` ("json" or "carmen", from --format or
+/// --to) when given, else the one LogFormatFromPath reads from the name; throws UserError naming
+/// `option` when the name implies none (out.png, say), rather than write CARMEN under it.
+[[nodiscard]] LogFormat OutputLogFormat(const std::optional<std::string>& format_name,
+                                        const std::filesystem::path& path,
+                                        const std::string& option);
 
 /// Throws UserError when two of the (option, path) pairs name the same file (an output would
 /// overwrite the input or another output); empty paths are not given.

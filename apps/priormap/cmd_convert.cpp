@@ -1,6 +1,9 @@
 // priormap convert: between CARMEN logs (plain or .gz) and priormap JSON; from CSM's laser_data
 // JSON and from the RoboND sonar files (a measurement file and a pose file) to either.
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,6 +58,35 @@ Log ReadRoboNd(const ConvertOptions& o) {
   Log log = ValueOrThrow(ReadRoboNdSonar(o.inputs[0], o.inputs[1], options));
   if (o.poses) log.pose_source = *PoseSourceFromString(*o.poses);
   return log;
+}
+
+// The scans' max ranges, each with its count where they differ, and where they come from: the
+// records' own (ROBOTLASER1), the no-return readings detected in the others, or --max-range,
+// which shortens the sensor's but never lengthens it.
+std::string CarmenMaxRangeSummary(const Log& log, const CarmenReadStats& stats,
+                                  const std::optional<double>& given) {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  std::map<double, std::size_t> scans_by_range;
+  for (const Scan& scan : log.scans) ++scans_by_range[scan.max_range];
+  if (scans_by_range.size() == 1 && scans_by_range.contains(kNone))
+    return "none detected; no reading is treated as max-range (use --max-range)";
+  std::string summary;
+  for (const auto& [range, scans] : scans_by_range) {
+    if (!summary.empty()) summary += ", ";
+    summary += std::isinf(range) ? std::string("none") : fmt::format("{} m", range);
+    if (scans_by_range.size() > 1) summary += fmt::format(" ({})", Plural(scans, "scan"));
+  }
+  std::string sources;
+  const auto add = [&](const std::string& source) {
+    sources += (sources.empty() ? "" : "; ") + source;
+  };
+  if (given) add(fmt::format("--max-range {} m where the sensor's is longer", *given));
+  if (stats.detected_max_range)
+    add(fmt::format("detected: {} m, from the FLASER lines' no-return readings",
+                    *stats.detected_max_range));
+  if (stats.records.contains("ROBOTLASER1")) add("the ROBOTLASER1 records' own");
+  if (scans_by_range.contains(kNone)) add("none: no reading of a scan without one is max-range");
+  return sources.empty() ? summary : fmt::format("{} ({})", summary, sources);
 }
 
 // A JSON log carries its own ranges, limits and noise, and csm's laser_data its own field of
@@ -118,7 +150,7 @@ void Run(const ConvertOptions& o) {
     if (from != LogFormat::kCarmen && o.poses) log.pose_source = carmen.pose_source;
   }
 
-  const LogFormat to = o.to ? *LogFormatFromString(*o.to) : LogFormatFromPath(o.out);
+  const LogFormat to = OutputLogFormat(o.to, o.out, "--out");
   const auto rings = std::count_if(log.scans.begin(), log.scans.end(),
                                    [](const Scan& scan) { return scan.sonar.has_value(); });
   // CARMEN's laser records have no cone: a ring written there would come back as a laser scan.
@@ -127,7 +159,7 @@ void Run(const ConvertOptions& o) {
         fmt::format("{} holds {} sonar rings, which CARMEN cannot carry; write "
                     "priormap JSON (.json or .json.gz)",
                     input, rings));
-  WriteLog(log, o.out, to);
+  WriteLogWarningOfLosses(log, o.out, to);
 
   std::size_t valid = 0, max_range = 0, invalid = 0;
   for (const Scan& scan : log.scans) {
@@ -144,24 +176,7 @@ void Run(const ConvertOptions& o) {
              log.true_poses.size(), log.params.size());
   fmt::print("readings: {} valid, {} max-range, {} invalid\n", valid, max_range, invalid);
   if (from == LogFormat::kCarmen) {
-    if (o.max_range) {
-      // The reader shortens the sensor's max range with --max-range but never lengthens it.
-      double applied = *o.max_range;
-      for (const Scan& scan : log.scans) applied = std::min(applied, scan.max_range);
-      if (applied < *o.max_range)
-        fmt::print(
-            "max range: {} m (--max-range {} m is beyond the sensor's: its no-return "
-            "readings stay max-range)\n",
-            applied, *o.max_range);
-      else
-        fmt::print("max range: {} m (given)\n", *o.max_range);
-    } else if (stats.detected_max_range) {
-      fmt::print("max range: {} m (detected from the log's no-return readings)\n",
-                 *stats.detected_max_range);
-    } else {
-      fmt::print(
-          "max range: none detected; no reading is treated as max-range (use --max-range)\n");
-    }
+    fmt::print("max range: {}\n", CarmenMaxRangeSummary(log, stats, o.max_range));
     std::vector<std::string> skipped;
     for (const auto& [type, count] : stats.records) {
       if (type != "FLASER" && type != "RLASER" && type != "ROBOTLASER1" && type != "ODOM" &&
@@ -188,7 +203,8 @@ void AddConvertCommand(CLI::App& app) {
       ->required()
       ->expected(1, 2);
   cmd->add_option("-o,--out", o->out,
-                  "Output file: .json / .json.gz (JSON) or anything else (CARMEN); .gz compresses")
+                  "Output file: .json / .json.gz (JSON) or .log / .log.gz (CARMEN; also .clf, "
+                  ".carmen, .txt); .gz compresses")
       ->required();
   cmd->add_option("--from", o->from, "Input format (default: from the content)")
       ->check(CLI::IsMember({"carmen", "json", "csm", kRoboNdSonar}));
@@ -206,8 +222,7 @@ void AddConvertCommand(CLI::App& app) {
       ->check(NonNegativeValue());
   cmd->add_option("--fov", o->fov_deg,
                   "CARMEN: field of view of FLASER/RLASER lines, degrees (default 180)")
-      ->check(PositiveValue())
-      ->check(CLI::Range(0.0, 360.0));
+      ->check(CLI::Range(0.01, 360.0));
   cmd->add_option("--sigma", o->sigma,
                   "CARMEN: range noise standard deviation given to every reading, m; csm: to "
                   "readings without their own readings_sigma")

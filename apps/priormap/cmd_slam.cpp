@@ -95,7 +95,10 @@ void RequireOutputDirectoryPath(const fs::path& directory, const std::string& op
   std::error_code ec;
   if (fs::exists(path, ec) && !fs::is_directory(path, ec))
     throw UserError(fmt::format("{}: '{}' is a file, not a directory", option, directory.string()));
-  RequireOutputDirectory(path, option);
+  const fs::path parent = path.parent_path().empty() ? "." : path.parent_path();
+  if (!fs::is_directory(parent, ec))
+    throw UserError(fmt::format("{}: cannot make '{}': directory {} does not exist", option,
+                                directory.string(), parent.string()));
 }
 
 std::optional<tbb::global_control> LimitThreads(const std::optional<int>& threads) {

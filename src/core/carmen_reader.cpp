@@ -213,7 +213,8 @@ class CarmenParser {
   Result<Log> Parse(std::string_view text) {
     Reserve(text);
     int line_number = 0;
-    std::size_t start = 0;
+    // A UTF-8 byte order mark (some Windows editors write one) is not part of the first record.
+    std::size_t start = text.starts_with(kUtf8ByteOrderMark) ? kUtf8ByteOrderMark.size() : 0;
     while (start < text.size() && !TooManyErrors()) {
       std::size_t end = text.find('\n', start);
       if (end == std::string_view::npos) end = text.size();
@@ -229,7 +230,7 @@ class CarmenParser {
                         "no CARMEN records found: expected lines starting with FLASER, RLASER, "
                         "ROBOTLASER1, ODOM, TRUEPOS or PARAM"};
     }
-    FinishScans();
+    if (std::optional<Diagnostic> problem = FinishScans()) return *problem;
     return std::move(log_);
   }
 
@@ -439,7 +440,7 @@ class CarmenParser {
   // sentinel detected among the scans without their own (FLASER/RLASER carry none), else none
   // (+inf); the caller's where it is shorter, or where there is none: a longer one would make
   // the no-return readings walls. Detection needs every reading, so statuses are set last.
-  void FinishScans() {
+  std::optional<Diagnostic> FinishScans() {
     // The scans' readings in place: a copy of them all is megabytes of fresh pages.
     std::vector<std::span<const double>> readings;
     readings.reserve(log_.scans.size());
@@ -450,10 +451,22 @@ class CarmenParser {
       Scan& scan = log_.scans[k];
       const double sensor = own_max_ranges_[k].value_or(stats_.detected_max_range.value_or(kInf));
       scan.max_range = std::min(options_.max_range.value_or(kInf), sensor);
-      if (!(scan.max_range > scan.min_range)) scan.max_range = kInf;
+      if (!(scan.max_range > scan.min_range)) {
+        // A minimum range the caller chose at or beyond the sensor's reach leaves no reading
+        // that could be valid; else (a record's max range of 0) the scan has no known reach.
+        if (options_.min_range > 0.0)
+          return Diagnostic{
+              name_, 0, 0,
+              fmt::format("the minimum range {} m is not below the max range {} m of scan {} "
+                          "(its record's, the detected or the given one): no reading could be "
+                          "valid",
+                          options_.min_range, scan.max_range, k)};
+        scan.max_range = kInf;
+      }
       scan.ClassifyAll();
     }
     log_.pose_source = options_.pose_source;
+    return std::nullopt;
   }
 
   const std::string& name_;

@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -173,7 +175,46 @@ void AppendScan(std::string& out, const Scan& scan, std::size_t index) {
   out += '\n';
 }
 
+std::string Counted(std::size_t n, std::string_view what, std::string_view unit,
+                    std::string_view note = "") {
+  return fmt::format("{} of {} {}{}{}", what, n, unit, n == 1 ? "" : "s", note);
+}
+
 }  // namespace
+
+std::vector<std::string> CarmenLosses(const Log& log) {
+  const CarmenReadOptions read_back;
+  std::size_t other_sigma = 0, precision = 0, truth = 0, odometry = 0, min_range = 0, flagged = 0;
+  for (const Scan& scan : log.scans) {
+    if (std::ranges::any_of(scan.sigma, [&](double s) { return s != read_back.sigma; }))
+      ++other_sigma;
+    if (scan.precision) ++precision;
+    if (scan.truth) ++truth;
+    const bool old_style = (scan.channel == "FLASER" || scan.channel == "RLASER") &&
+                           scan.odom_pose.has_value() && HasFlaserAngles(scan);
+    // ODOM records, where the log has them, carry the odometry that ROBOTLASER1 lines cannot.
+    if (scan.odom_pose && !old_style && log.odometry.empty()) ++odometry;
+    if (scan.min_range != read_back.min_range) ++min_range;
+    for (std::size_t i = 0; i < scan.size(); ++i)
+      if (scan.status[i] == BeamStatus::kInvalid &&
+          ClassifyReading(scan.ranges[i], read_back.min_range, scan.max_range) ==
+              BeamStatus::kValid)
+        ++flagged;
+  }
+  std::vector<std::string> losses;
+  if (other_sigma > 0)
+    losses.push_back(Counted(other_sigma, "the range noise", "scan",
+                             fmt::format(" (read back as sigma {} m)", read_back.sigma)));
+  if (precision > 0) losses.push_back(Counted(precision, "the correlated noise", "scan"));
+  if (truth > 0) losses.push_back(Counted(truth, "the ground truth", "scan"));
+  if (odometry > 0)
+    losses.push_back(
+        Counted(odometry, "the odometry pose", "scan", " (ROBOTLASER1 has no field for it)"));
+  if (min_range > 0) losses.push_back(Counted(min_range, "the minimum range", "scan"));
+  if (flagged > 0)
+    losses.push_back(Counted(flagged, "the invalid flag", "reading", " (read back as valid)"));
+  return losses;
+}
 
 std::string FormatCarmenLog(const Log& log) {
   std::string out = "# written by priormap; record formats as in docs/formats.md\n";

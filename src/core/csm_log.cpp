@@ -309,6 +309,7 @@ Result<Log> ParseCsmLog(std::string_view text, const std::string& name,
     return Diagnostic{
         "", 0, 0,
         fmt::format("CSM reading: sigma must be positive and finite, got {}", options.sigma)};
+  if (text.starts_with(kUtf8ByteOrderMark)) text.remove_prefix(kUtf8ByteOrderMark.size());
   return Parse(text, name, options);
 }
 

@@ -52,9 +52,16 @@ Result<std::string> ReadFileText(const fs::path& path) {
   return text;
 }
 
-void WriteFileAtomically(const fs::path& path, const std::function<void(const fs::path&)>& write) {
-  const fs::path directory = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+void WriteFileAtomically(const fs::path& named, const std::function<void(const fs::path&)>& write) {
   std::error_code ec;
+  // A link is written through, to the file it names: renaming over the link itself would
+  // replace it by a plain file and leave its target stale.
+  fs::path path = named;
+  if (fs::is_symlink(named, ec)) {
+    path = fs::weakly_canonical(named, ec);
+    if (ec) throw IoError(fmt::format("{}: cannot write: {}", named.string(), ec.message()));
+  }
+  const fs::path directory = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   if (!fs::is_directory(directory, ec)) {
     if (fs::exists(directory, ec)) {
       throw IoError(fmt::format("{}: cannot write: {} is not a directory", path.string(),
@@ -66,6 +73,9 @@ void WriteFileAtomically(const fs::path& path, const std::function<void(const fs
   const fs::path temporary = TemporarySibling(path);
   try {
     write(temporary);
+    // A file replaced keeps its permissions (a private log stays private).
+    const fs::file_status existing = fs::status(path, ec);
+    if (!ec && fs::is_regular_file(existing)) fs::permissions(temporary, existing.permissions());
     fs::rename(temporary, path);
   } catch (const fs::filesystem_error& e) {
     fs::remove(temporary, ec);

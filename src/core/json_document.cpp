@@ -349,8 +349,15 @@ double FiniteNumber(const JsonNode& node, std::string_view what) {
   return v;
 }
 
+constexpr auto kLargestInteger =
+    static_cast<unsigned long long>(std::numeric_limits<long long>::max());
+
 long long Integer(const JsonNode& node, std::string_view what) {
   const Json& v = node.value;
+  // An unsigned integer beyond long long's range would wrap round to a negative one.
+  if (v.is_number_unsigned() && v.get<unsigned long long>() > kLargestInteger)
+    Fail(node,
+         fmt::format("expected {} (an integer), got {}, which is too large", what, Describe(v)));
   if (v.is_number_integer()) return v.get<long long>();
   if (v.is_number_float()) {
     const double d = v.get<double>();
@@ -394,9 +401,10 @@ std::vector<long long> Integers(const JsonNode& node, std::string_view what) {
   std::vector<long long> out(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Json& v = node.value[i];
-    out[i] = v.is_number_integer()
-                 ? v.get<long long>()
-                 : Integer(Element(node, i), fmt::format("an element of {}", what));
+    const bool fits = v.is_number_integer() &&
+                      (!v.is_number_unsigned() || v.get<unsigned long long>() <= kLargestInteger);
+    out[i] = fits ? v.get<long long>()
+                  : Integer(Element(node, i), fmt::format("an element of {}", what));
   }
   return out;
 }

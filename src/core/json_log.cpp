@@ -194,7 +194,8 @@ std::vector<double> ReadAngles(const JsonNode& object, std::size_t n) {
   return angles;
 }
 
-std::vector<BeamStatus> ReadStatus(const JsonNode& node, const std::vector<double>& ranges) {
+std::vector<BeamStatus> ReadStatus(const JsonNode& node, const std::vector<double>& ranges,
+                                   double min_range, double max_range) {
   const std::size_t n = ranges.size();
   if (detail::ArraySize(node, "\"status\"") != n)
     detail::Fail(node, fmt::format("expected {} entries in \"status\"", n));
@@ -203,10 +204,15 @@ std::vector<BeamStatus> ReadStatus(const JsonNode& node, const std::vector<doubl
     const JsonNode e = detail::Element(node, i);
     const std::string s = detail::String(e, "a beam status");
     if (s == "valid") {
-      // A flag can make a reading unusable, not a NaN, an infinity or a range <= 0 usable.
+      // A flag can make a reading unusable, not a NaN, an infinity, a range <= 0 or one outside
+      // [min_range, max_range) usable.
       if (!(std::isfinite(ranges[i]) && ranges[i] > 0.0))
         detail::Fail(
             e, fmt::format("reading {} is {}: \"valid\" needs a finite range > 0", i, ranges[i]));
+      if (ClassifyReading(ranges[i], min_range, max_range) != BeamStatus::kValid)
+        detail::Fail(e, fmt::format("reading {} is {} m: \"valid\" needs a range in [min_range, "
+                                    "max_range) = [{}, {}) m",
+                                    i, ranges[i], min_range, max_range));
       status[i] = BeamStatus::kValid;
     } else if (s == "max_range")
       status[i] = BeamStatus::kMaxRange;
@@ -240,6 +246,12 @@ SymmetricBandedMatrix ReadPrecision(const JsonNode& node, std::size_t n) {
     values[k] = detail::Numbers(row, "a precision band");
     if (values[k].size() != n)
       detail::Fail(row, fmt::format("expected {} values in each precision band", n));
+    // Band k's last k entries lie outside the matrix and are not read.
+    for (std::size_t j = 0; j + k < n; ++j)
+      if (!std::isfinite(values[k][j]))
+        detail::Fail(
+            detail::Element(row, j),
+            fmt::format("expected a finite number in precision band {}, got {}", k, values[k][j]));
   }
   SymmetricBandedMatrix w(n, static_cast<std::size_t>(bandwidth));
   for (std::size_t k = 0; k < values.size(); ++k) {
@@ -355,7 +367,7 @@ Scan ReadScan(const JsonNode& node) {
     scan.sigma.assign(n, kDefaultSigma);
   }
   if (const auto status = detail::OptionalMember(node, "status")) {
-    scan.status = ReadStatus(*status, scan.ranges);
+    scan.status = ReadStatus(*status, scan.ranges, scan.min_range, scan.max_range);
   } else {
     scan.ClassifyAll();
   }

@@ -1,4 +1,6 @@
 #include <algorithm>
+#include <cctype>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -29,6 +31,7 @@ std::optional<LogFormat> LogFormatFromString(std::string_view name) {
 }
 
 LogFormat SniffLogFormat(std::string_view text) {
+  if (text.starts_with(kUtf8ByteOrderMark)) text.remove_prefix(kUtf8ByteOrderMark.size());
   const auto first = std::find_if(text.begin(), text.end(), [](char c) {
     return c != ' ' && c != '\n' && c != '\r' && c != '\t';
   });
@@ -36,10 +39,18 @@ LogFormat SniffLogFormat(std::string_view text) {
   return LooksLikeCsmLog(text) ? LogFormat::kCsm : LogFormat::kJson;
 }
 
-LogFormat LogFormatFromPath(const std::filesystem::path& path) {
+std::optional<LogFormat> LogFormatFromPath(const std::filesystem::path& path) {
+  const auto lower = [](std::string text) {
+    std::ranges::transform(text, text.begin(), [](unsigned char c) { return std::tolower(c); });
+    return text;
+  };
   std::filesystem::path p = path;
-  if (p.extension() == ".gz") p = p.stem();
-  return p.extension() == ".json" ? LogFormat::kJson : LogFormat::kCarmen;
+  if (lower(p.extension().string()) == ".gz") p = p.stem();
+  const std::string extension = lower(p.extension().string());
+  if (extension == ".json") return LogFormat::kJson;
+  if (extension == ".log" || extension == ".clf" || extension == ".carmen" || extension == ".txt")
+    return LogFormat::kCarmen;
+  return std::nullopt;
 }
 
 Result<Log> ReadLog(const std::filesystem::path& path, std::optional<LogFormat> format,

@@ -31,7 +31,11 @@ bool RangeSensor::IsValid(std::string* why) const {
 }
 
 std::vector<double> RangeSensor::BeamAngles() const {
-  return EvenlySpacedAngles(static_cast<std::size_t>(num_beams), -fov / 2, fov / 2);
+  const auto n = static_cast<std::size_t>(num_beams);
+  if (n == 1) return {0.0};
+  // A full circle's two ends are one direction: n beams split it into n equal steps.
+  if (fov >= kTwoPi) return EvenlySpacedAngles(n, -kPi, kPi - kTwoPi / static_cast<double>(n));
+  return EvenlySpacedAngles(n, -fov / 2, fov / 2);
 }
 
 std::optional<RangeSensor> RangeSensor::Preset(std::string_view name) {

@@ -137,7 +137,9 @@ Log Parse(std::string_view measurements, const std::string& measurements_name,
       if (mm < 0.0)
         Fail(measurements_name, z_lines[k].number, z.col(1 + i),
              fmt::format("expected a range in mm >= 0, got {}", mm));
-      const double range = mm >= options.no_echo_mm ? max_range : mm / 1000.0;
+      // As read, like the laser readers: ClassifyAll makes those at or beyond the max range
+      // max-range readings.
+      const double range = mm / 1000.0;
       scan.ranges.push_back(range);
       scan.sigma.push_back(std::max(options.sigma_min, options.sigma_relative * range));
     }

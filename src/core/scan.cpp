@@ -99,11 +99,18 @@ std::vector<std::string> Scan::Problems() const {
   }
   if (precision && precision->size() != n) {
     problems.push_back(fmt::format("precision is {0}x{0} for {1} readings", precision->size(), n));
+  } else if (precision && n > 0 && !BandedCholesky::Factor(*precision)) {
+    // An information matrix is positive definite (and finite): anything else is no noise model,
+    // and would make NaN objectives downstream.
+    problems.push_back("precision is not a finite positive definite matrix");
   }
   for (std::size_t i = 0; i < std::min(n, status.size()); ++i) {
-    if (status[i] == BeamStatus::kValid && !(std::isfinite(ranges[i]) && ranges[i] > 0.0)) {
-      problems.push_back(
-          fmt::format("status of reading {} is valid, but its range is {}", i, ranges[i]));
+    if (status[i] == BeamStatus::kValid &&
+        ClassifyReading(ranges[i], min_range, max_range) != BeamStatus::kValid) {
+      problems.push_back(fmt::format(
+          "status of reading {} is valid, but its range is {} (valid needs a finite range > 0, "
+          "at least min_range {} and below max_range {})",
+          i, ranges[i], min_range, max_range));
       break;
     }
   }

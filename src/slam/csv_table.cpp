@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <priormap/core/file_io.hpp>
+
 namespace priormap::slam::detail {
 namespace {
 
@@ -87,8 +89,7 @@ std::string JoinTexts(const std::vector<CsvCell>& cells) {
 }  // namespace
 
 CsvTable CsvTable::Parse(std::string_view text, std::string name) {
-  constexpr std::string_view kByteOrderMark = "\xef\xbb\xbf";
-  if (text.starts_with(kByteOrderMark)) text.remove_prefix(kByteOrderMark.size());
+  if (text.starts_with(kUtf8ByteOrderMark)) text.remove_prefix(kUtf8ByteOrderMark.size());
 
   std::optional<CsvRow> header;
   std::vector<CsvRow> rows;

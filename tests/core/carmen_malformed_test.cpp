@@ -50,6 +50,26 @@ TEST(CarmenMalformed, ValidRobotLaserBaselineParses) {
   EXPECT_TRUE(ParseCarmenLog(kRobotLaser + "\n", kName).ok());
 }
 
+// A --min-range at or beyond the max range would leave no reading valid; before, the max range
+// was dropped instead, and every no-return reading became a wall.
+TEST(CarmenMalformed, AMinimumRangeNotBelowTheMaxRangeIsRefused) {
+  CarmenReadOptions options;
+  options.min_range = 85.0;
+  EXPECT_THAT(ParseErrors(kRobotLaser + "\n", options),
+              ElementsAre(DiagnosticAt(kName, 0, 0,
+                                       "the minimum range 85 m is not below the max "
+                                       "range 80 m of scan 0")));
+  options.min_range = 0.5;
+  EXPECT_TRUE(ParseCarmenLog(kRobotLaser + "\n", kName, options).ok());
+}
+
+TEST(CarmenMalformed, AByteOrderMarkIsSkippedNotTakenForARecord) {
+  const Result<Log> log =
+      ParseCarmenLog("\xef\xbb\xbf" + kRobotLaser + "\n" + kRobotLaser + "\n", kName);
+  ASSERT_TRUE(log.ok()) << log.error();
+  EXPECT_EQ(log.value().scans.size(), 2U);
+}
+
 TEST(CarmenMalformed, NonNumericCountReportsTheCountColumn) {
   ExpectLineError("FLASER x 1 2 3 0 0 0 0 0 0", 8,
                   "expected the number of readings (a non-negative integer), got 'x'");

@@ -13,6 +13,7 @@
 #include <priormap/core/angles.hpp>
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/log_io.hpp>
 
 #include "testing/log_equality.hpp"
 #include "testing/temp_dir.hpp"
@@ -238,6 +239,46 @@ TEST(Carmen, SigmaAndMinRangeComeFromTheOptions) {
 }
 
 // ---- beam angles ----
+
+TEST(Carmen, NothingIsLostFromALogReadFromCarmen) {
+  const Result<Log> log = ParseCarmenLog(
+      "FLASER 3 1 nan 81.83 0 0 0 0 0 0\nODOM 1 2 0.5 0 0 0\n"
+      "ROBOTLASER1 0 -1.5 3 0.01 80 0.01 0 3 1 2 3 0 0 0 0 0 0 0 0 0 0 0 0\n",
+      "in.log");
+  ASSERT_TRUE(log.ok()) << log.error();
+  EXPECT_THAT(CarmenLosses(log.value()), ::testing::IsEmpty());
+}
+
+TEST(Carmen, WhatCarmenCannotHoldIsNamedWithItsCount) {
+  Log log =
+      ParseCarmenLog("FLASER 3 1 2 3 0 0 0 0 0 0\nFLASER 3 1 2 3 0 0 0 0 0 0\n", "in.log").value();
+  for (Scan& scan : log.scans) scan.truth.emplace();
+  log.scans[0].sigma.assign(3, 0.05);
+  log.scans[0].precision = SymmetricBandedMatrix::Ar1Precision(log.scans[0].sigma, 0.5);
+  log.scans[1].min_range = 0.5;
+  log.scans[1].status[1] = BeamStatus::kInvalid;  // 2 m: reads back valid
+  log.scans[1].angles = {-1.0, 0.0, 1.0};         // not FLASER's: a ROBOTLASER1 line
+  log.scans[1].odom_pose = Se2(1, 2, 0);
+  EXPECT_THAT(CarmenLosses(log),
+              ElementsAre("the range noise of 1 scan (read back as sigma 0.01 m)",
+                          "the correlated noise of 1 scan", "the ground truth of 2 scans",
+                          "the odometry pose of 1 scan (ROBOTLASER1 has no field for it)",
+                          "the minimum range of 1 scan",
+                          "the invalid flag of 1 reading (read back "
+                          "as valid)"));
+  // ODOM records carry the odometry that ROBOTLASER1 lines cannot.
+  log.odometry.push_back({});
+  EXPECT_THAT(CarmenLosses(log), ::testing::Not(::testing::Contains(HasSubstr("odometry"))));
+}
+
+TEST(Carmen, TheLogFormatOfAFileNameIgnoresCaseAndGzipAndKnowsNoOthers) {
+  EXPECT_EQ(LogFormatFromPath("a.json"), LogFormat::kJson);
+  EXPECT_EQ(LogFormatFromPath("a.JSON.gz"), LogFormat::kJson);
+  EXPECT_EQ(LogFormatFromPath("dir.x/a.log.gz"), LogFormat::kCarmen);
+  EXPECT_EQ(LogFormatFromPath("a.clf"), LogFormat::kCarmen);
+  EXPECT_EQ(LogFormatFromPath("a.png"), std::nullopt);
+  EXPECT_EQ(LogFormatFromPath("a"), std::nullopt);
+}
 
 TEST(Carmen, FlaserAnglesOf180Or360BeamsStepFovOverN) {
   for (const std::size_t n : {180U, 360U}) {

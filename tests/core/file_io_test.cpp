@@ -246,17 +246,37 @@ TEST(FileIo, PositionOfOffsetCountsCarriageReturnsAndBytesAsColumns) {
   EXPECT_EQ(PositionOfOffset("\xc3\xa9x", 2).col, 3);
 }
 
+TEST(FileIo, WritingThroughASymbolicLinkReplacesItsTargetAndKeepsTheLink) {
+  const testing::TempDir dir;
+  WriteTextFileAtomically(dir / "target.txt", "old");
+  std::filesystem::create_symlink("target.txt", dir / "link.txt");
+  WriteTextFileAtomically(dir / "link.txt", "new");
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "link.txt"));
+  EXPECT_EQ(ReadFileText(dir / "target.txt").value(), "new");
+}
+
+TEST(FileIo, AReplacedFileKeepsItsPermissions) {
+  namespace fs = std::filesystem;
+  const testing::TempDir dir;
+  WriteTextFileAtomically(dir / "private.txt", "old");
+  fs::permissions(dir / "private.txt", fs::perms::owner_read | fs::perms::owner_write);
+  WriteTextFileAtomically(dir / "private.txt", "new");
+  EXPECT_EQ(fs::status(dir / "private.txt").permissions(),
+            fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_EQ(ReadFileText(dir / "private.txt").value(), "new");
+}
+
 TEST(FileIo, IsNumberedNameMatchesPrefixDigitsSuffixOnly) {
   EXPECT_TRUE(IsNumberedName("chain0.png", "chain", ".png", false));
   EXPECT_TRUE(IsNumberedName("chain12.png", "chain", ".png", false));
   EXPECT_FALSE(IsNumberedName("chain012.png", "chain", ".png", false));
   EXPECT_TRUE(IsNumberedName("run_007.csv", "run_", ".csv", true));
-  EXPECT_FALSE(IsNumberedName("chain.png", "chain", ".png", false));     // no number
-  EXPECT_FALSE(IsNumberedName("chain1a.png", "chain", ".png", false));   // not all digits
+  EXPECT_FALSE(IsNumberedName("chain.png", "chain", ".png", false));    // no number
+  EXPECT_FALSE(IsNumberedName("chain1a.png", "chain", ".png", false));  // not all digits
   EXPECT_FALSE(IsNumberedName("chain1.png.bak", "chain", ".png", false));
   EXPECT_FALSE(IsNumberedName("mychain1.png", "chain", ".png", false));
   EXPECT_FALSE(IsNumberedName("chain-1.png", "chain", ".png", false));
-  EXPECT_FALSE(IsNumberedName("chainpng", "chain", "png", false));       // prefix and suffix only
+  EXPECT_FALSE(IsNumberedName("chainpng", "chain", "png", false));  // prefix and suffix only
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <rapidcheck/gtest.h>
 
 #include <priormap/core/json_io.hpp>
+#include <priormap/core/log_io.hpp>
 #include <priormap/core/scene.hpp>
 
 #include "testing/diagnostic_matchers.hpp"
@@ -238,6 +239,44 @@ TEST(JsonMalformed, ValidStatusOnAnUnusableRangeIsReportedAtTheElement) {
   EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
   "angles": [0, 1], "ranges": [-1, 2], "status": ["valid", "valid"]})"),
               ElementsAre(DiagnosticAt(2, 51, "reading 0 is -1")));
+}
+
+// Nor a reading beyond the max range (a no-return) or below the min range a wall.
+TEST(JsonMalformed, ValidStatusOutsideTheRangeLimitsIsReportedAtTheElement) {
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [1, 50], "max_range": 30, "status": ["valid", "valid"]})"),
+              ElementsAre(DiagnosticAt(2, 77,
+                                       "reading 1 is 50 m: \"valid\" needs a range in "
+                                       "[min_range, max_range) = [0, 30) m")));
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [0.05, 2], "min_range": 0.1, "status": ["valid", "valid"]})"),
+              ElementsAre(DiagnosticAt(2, 71, "reading 0 is 0.05 m")));
+}
+
+TEST(JsonMalformed, PrecisionThatIsNotFiniteOrNotPositiveDefiniteIsRefused) {
+  const std::string head = R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [1, 2], "precision": )";
+  EXPECT_THAT(LogErrors(head + R"({"bandwidth": 1, "bands": [[1, 1], [null, 0]]}})"),
+              ElementsAre(DiagnosticAt(2, 88, "expected a finite number in precision band 1")));
+  // Eigenvalues 5 and -4.
+  EXPECT_THAT(LogErrors(head + R"({"bandwidth": 1, "bands": [[1, 1], [5, 0]]}})"),
+              ElementsAre(DiagnosticAt(2, 52, "precision is not a finite positive definite")));
+  // Band 1's last entry lies outside the matrix: it is not read, so null is fine there.
+  EXPECT_TRUE(
+      ParseJsonLog(head + R"({"bandwidth": 1, "bands": [[2, 2], [1, null]]}})", kName).ok());
+}
+
+TEST(JsonMalformed, AnIntegerBeyondSixtyFourSignedBitsIsRefusedNotWrapped) {
+  EXPECT_THAT(LogErrors(R"({"format": "priormap.scan", "version": 1, "pose": [0, 0, 0],
+  "angles": [0, 1], "ranges": [1, 2], "true_range": [1, 2], "true_alpha": [0, 0],
+  "true_surface": [18446744073709551615, 0], "true_region": [0, 0]})"),
+              ElementsAre(DiagnosticAt(3, 20, "18446744073709551615, which is too large")));
+}
+
+TEST(JsonMalformed, AByteOrderMarkIsSkipped) {
+  const std::string text = "\xef\xbb\xbf" + ScanDocument();
+  EXPECT_EQ(SniffLogFormat(text), LogFormat::kJson);
+  EXPECT_TRUE(ParseJsonLog(text, kName).ok());
 }
 
 TEST(JsonMalformed, StatusOfTheWrongSizeIsReportedAtTheArray) {

@@ -17,6 +17,21 @@ Scan Simulate(const std::string& scene_name, const RangeSensor& sensor, std::uin
   return SimulateScan(SceneRayCaster(scene), sensor, *scene.default_pose, rng);
 }
 
+TEST(RangeSensor, AFullCircleSweepsEachDirectionOnceAndASingleBeamLooksAhead) {
+  RangeSensor sensor = *RangeSensor::Preset("utm30");
+  sensor.fov = kTwoPi;
+  sensor.num_beams = 8;
+  const std::vector<double> angles = sensor.BeamAngles();
+  ASSERT_EQ(angles.size(), 8U);
+  for (std::size_t i = 0; i < angles.size(); ++i)
+    EXPECT_NEAR(angles[i], -kPi + static_cast<double>(i) * kPi / 4, 1e-12) << i;
+  sensor.num_beams = 1;
+  EXPECT_EQ(sensor.BeamAngles(), std::vector<double>{0.0});
+  sensor.fov = DegToRad(270.0);
+  sensor.num_beams = 3;
+  EXPECT_NEAR(sensor.BeamAngles().back(), DegToRad(135.0), 1e-12);
+}
+
 RangeSensor Utm30() {
   return *RangeSensor::Preset("utm30");
 }

@@ -125,6 +125,22 @@ TEST(RoboNdSonar, ConvertsMillimetresTenthsOfDegreesAndTheNoEchoCode) {
   EXPECT_NEAR(second.pose.theta(), DegToRad(355.6 - 360.0), 1e-12);
 }
 
+// A shorter max range makes longer readings max-range readings; their ranges stay as read, as
+// the laser readers keep theirs.
+TEST(RoboNdSonar, ReadingsBeyondAShorterMaxRangeKeepTheirRanges) {
+  RoboNdSonarOptions options;
+  options.no_echo_mm = 450.0;
+  const Result<Log> read = ParseRoboNdSonar("1000 100 200 300 400 500 600 700 9000\n", "m.txt",
+                                            "1000 0 0 0\n", "p.txt", options);
+  ASSERT_TRUE(read.ok()) << read.error();
+  const Scan& scan = read.value().scans.at(0);
+  EXPECT_EQ(scan.max_range, 0.45);
+  EXPECT_EQ(scan.ranges[4], 0.5);
+  EXPECT_EQ(scan.ranges[7], 9.0);
+  EXPECT_EQ(scan.status[4], BeamStatus::kMaxRange);
+  EXPECT_EQ(scan.status[3], BeamStatus::kValid);
+}
+
 TEST(RoboNdSonar, ReportsBadLinesAtFileLineAndColumn) {
   const std::string good_z = "100 1 2 3 4 5 6 7 8\n";
   const std::string good_p = "100 0 0 0\n";

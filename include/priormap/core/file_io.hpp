@@ -23,13 +23,17 @@ class IoError : public std::runtime_error {
 
 /// Calls `write(temporary_path)`, which must create that file, then renames it to `path`, so
 /// readers never see a half-written file and a failure leaves any previous `path` untouched.
-/// The temporary file lives next to `path`. Throws IoError; exceptions from `write` propagate
-/// after the temporary file is removed.
+/// The temporary file lives next to `path`. A `path` that is a symbolic link is written through
+/// to the file it names, and a file replaced keeps its permissions. Throws IoError; exceptions
+/// from `write` propagate after the temporary file is removed.
 void WriteFileAtomically(const std::filesystem::path& path,
                          const std::function<void(const std::filesystem::path&)>& write);
 
 /// WriteFileAtomically with `content` as the file's bytes; gzip-compressed when `path` ends in .gz.
 void WriteTextFileAtomically(const std::filesystem::path& path, std::string_view content);
+
+/// The UTF-8 byte order mark some editors put at the start of a text file; readers skip it.
+inline constexpr std::string_view kUtf8ByteOrderMark = "\xef\xbb\xbf";
 
 /// 1-based line and column of byte `offset` in `text`.
 struct TextPosition {

@@ -20,8 +20,10 @@ enum class LogFormat : std::uint8_t { kCarmen, kJson, kCsm };
 /// The format of a file's content: when its first non-blank byte is '{', CSM laser_data if that
 /// object has "nrays" and "readings" members (LooksLikeCsmLog), else priormap JSON; else CARMEN.
 [[nodiscard]] LogFormat SniffLogFormat(std::string_view text);
-/// The format implied by a file name: .json / .json.gz are JSON, everything else CARMEN.
-[[nodiscard]] LogFormat LogFormatFromPath(const std::filesystem::path& path);
+/// The format implied by a file name, in any letter case and with or without .gz: .json is JSON;
+/// .log, .clf, .carmen and .txt are CARMEN; anything else (a figure's name, say) is nullopt, so
+/// that a mistyped output name is not silently written as CARMEN.
+[[nodiscard]] std::optional<LogFormat> LogFormatFromPath(const std::filesystem::path& path);
 
 /// Reads a log in any supported format (`format` forces one, else SniffLogFormat). CARMEN options
 /// apply to CARMEN only; CSM laser_data is read with the default CsmReadOptions. `read_as`, when

@@ -27,7 +27,9 @@ struct RangeSensor {
 
   /// False with the reason in `why` when a parameter is out of range.
   [[nodiscard]] bool IsValid(std::string* why) const;
-  /// The beam angles phi_i, relative to the sensor x axis.
+  /// The beam angles phi_i, relative to the sensor x axis: evenly spaced from -fov/2 to fov/2;
+  /// a single beam on the axis; a full circle (fov = 2 pi) in n equal steps from -pi, so that no
+  /// direction is swept twice.
   [[nodiscard]] std::vector<double> BeamAngles() const;
 
   /// utm30: Hokuyo UTM-30LX, 1081 beams over 270 deg, sigma 1 cm, 0.1-30 m.
