@@ -2,6 +2,8 @@
 //   example_01_simulate_scan [scene] [out.png]
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <string>
 
 #include <priormap/core/simulate.hpp>
 #include <priormap/render/scene_drawing.hpp>
@@ -12,7 +14,9 @@ int main(int argc, char** argv) {
 
   const std::optional<priormap::Scene> scene = priormap::BuiltinScene(scene_name);
   if (!scene) {
-    std::fprintf(stderr, "unknown scene %s\n", scene_name.c_str());
+    std::string known;
+    for (const std::string& name : priormap::BuiltinSceneNames()) known += " " + name;
+    std::fprintf(stderr, "unknown scene %s (built-in:%s)\n", scene_name.c_str(), known.c_str());
     return 1;
   }
   const priormap::RangeSensor sensor = *priormap::RangeSensor::Preset("utm30");

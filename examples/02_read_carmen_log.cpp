@@ -1,6 +1,7 @@
 // Read a CARMEN log (plain or .gz), report what is in it, and save it as priormap JSON.
 //   example_02_read_carmen_log ../shared/data/laser-corrected/intel-corrected.log.gz intel.json
 #include <cstdio>
+#include <string>
 
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/json_io.hpp>
@@ -22,10 +23,13 @@ int main(int argc, char** argv) {
     valid += scan.NumValid();
     beams += scan.size();
   }
-  std::printf("%zu scans, %zu readings of which %zu valid; max range %s\n",
+  // Readings at or beyond the detected threshold (a little below the sensor's "no return"
+  // value, e.g. 81.33 m for 81.83 m) are max-range readings, not walls.
+  std::printf("%zu scans, %zu readings of which %zu valid; max-range threshold %s\n",
               log.value().scans.size(), beams, valid,
-              stats.detected_max_range ? std::to_string(*stats.detected_max_range).c_str()
-                                       : "not detected");
+              stats.detected_max_range
+                  ? (std::to_string(*stats.detected_max_range) + " m (detected)").c_str()
+                  : "none detected");
   if (argc > 2) {
     priormap::WriteJsonLog(log.value(), argv[2]);
     std::printf("wrote %s\n", argv[2]);

@@ -1,4 +1,7 @@
 // Infix printing of expression-graph nodes with the fewest parentheses that keep the meaning.
+#include <algorithm>
+#include <unordered_map>
+
 #include <fmt/format.h>
 
 #include <priormap/core/angles.hpp>
@@ -127,10 +130,34 @@ class Printer {
   const std::function<std::string(bool, int)>& name_;
 };
 
+// How long a node's text would be with every shared subexpression written out in full, at least
+// (names and numbers count one character), saturating: definitions used twice per line double the
+// text at each line, so a chain of 30 is some 1e9 characters for a graph of 100 nodes.
+std::size_t WrittenOutLength(const ExpressionGraph& graph, NodeId id,
+                             std::unordered_map<NodeId, std::size_t>& memo) {
+  constexpr std::size_t kSaturated = std::size_t{1} << 60;
+  if (const auto it = memo.find(id); it != memo.end()) return it->second;
+  const Node& n = graph.node(id);
+  std::size_t length = 1;
+  for (const NodeId child : {n.a, n.b, n.c, n.d})
+    if (child >= 0) length = std::min(kSaturated, length + WrittenOutLength(graph, child, memo));
+  memo.emplace(id, length);
+  return length;
+}
+
+// Beyond this, a term is described rather than printed: its text would take gigabytes and hours.
+constexpr std::size_t kMaxPrintedLength = 100000;
+
 }  // namespace
 
 std::string ExpressionGraph::Print(
     NodeId id, const std::function<std::string(bool is_param, int index)>& name) const {
+  std::unordered_map<NodeId, std::size_t> memo;
+  if (const std::size_t length = WrittenOutLength(*this, id, memo); length > kMaxPrintedLength)
+    return fmt::format(
+        "<not printed: written out in full, with its shared subexpressions repeated, it would "
+        "take over {:.1e} characters>",
+        static_cast<double>(length));
   return Printer(*this, name).Print(id).first;
 }
 

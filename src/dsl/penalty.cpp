@@ -8,8 +8,10 @@
 namespace priormap::dsl {
 namespace {
 
-// The residual a term contributes to its squared penalty: f, or max(0, g).
+// The residual a term contributes to its squared penalty: f, or max(0, g); NaN outside the
+// term's domain, which std::max(0, NaN) would have made 0 (satisfied).
 double Residual(const Term& term, double value) {
+  if (std::isnan(value)) return value;
   return term.kind == TermKind::kInequality ? std::max(0.0, value) : value;
 }
 

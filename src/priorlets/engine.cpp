@@ -773,6 +773,7 @@ MapScan EstimateMapScan(const Scan& scan, const dsl::CompiledPrior& prior,
                         const EngineOptions& options) {
   PRIORMAP_CHECK(prior.order() >= 1, "a prior of order >= 1");
   PRIORMAP_CHECK(options.beta > 0.0 && options.beta < 1.0, "beta in (0, 1)");
+  PRIORMAP_CHECK(!scan.sonar, "a laser scan: a sonar ring's readings are cones, not rays");
   Engine engine(scan, prior, options);
   return engine.Run();
 }

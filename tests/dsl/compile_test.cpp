@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -523,6 +524,24 @@ TEST(BlockEvaluatorCache, EvaluatorsOfOneBlockAreIndependent) {
   const Outputs a = EvaluateWith(first, block, x, phi_a);
   EvaluateWith(second, block, x, phi_b);
   EXPECT_EQ(EvaluateWith(first, block, x, phi_a), a);
+}
+
+// Definitions used twice per line double the written-out text at each line: 30 lines would
+// print some 1e15 characters (prior show ran out of memory). The graph shares them; the text
+// describes the term instead.
+TEST(Compile, ATermTooLongToWriteOutIsDescribedNotPrinted) {
+  std::string text = "name: Chain\norder: 2\nx0 = alpha_1 + alpha_2\n";
+  for (int i = 1; i <= 30; ++i) text += fmt::format("x{0} = x{1} * x{1} + sin(x{1})\n", i, i - 1);
+  text += "priorlet same_region:\n  x30 == 0\n";
+  const CompiledPrior prior = Compile(text);
+  EXPECT_THAT(SameRegion(prior).TermExpression(0), ::testing::StartsWith("<not printed: "));
+  EXPECT_THAT(SameRegion(prior).DerivativeExpression(0, 2), HasSubstr("characters>"));
+  // A short chain is still printed in full.
+  const CompiledPrior short_chain = Compile(
+      "name: Short\norder: 2\nx0 = alpha_1 + alpha_2\nx1 = x0 * x0 + sin(x0)\n"
+      "priorlet same_region:\n  x1 == 0\n");
+  EXPECT_EQ(SameRegion(short_chain).TermExpression(0),
+            "(alpha_1 + alpha_2)^2 + sin(alpha_1 + alpha_2)");
 }
 
 }  // namespace

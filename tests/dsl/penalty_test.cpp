@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -131,6 +132,26 @@ TEST(Penalty, ATermThatIsNotANumberIsInfinitelyViolated) {
                                            e.hessians.data(), {}, gradient.data(), hessian.data());
   EXPECT_EQ(p.max_residual, std::numeric_limits<double>::infinity());
   EXPECT_EQ(p.constraint, std::numeric_limits<double>::infinity());
+  for (const double g : gradient) EXPECT_TRUE(std::isfinite(g));
+  for (const double h : hessian) EXPECT_TRUE(std::isfinite(h));
+}
+
+// The same for an inequality, where max(0, NaN) is 0: sqrt(rho_1 - 100) <= 0 at rho_1 = 1 was
+// taken as satisfied.
+TEST(Penalty, AnInequalityThatIsNotANumberIsInfinitelyViolated) {
+  const CompiledPrior prior = Load("Rectangular prior (relaxed)");
+  const CompiledBlock& block = *prior.block(BlockKind::kDifferentRegion);
+  const auto inequality = std::ranges::find_if(
+      block.terms(), [](const Term& term) { return term.kind == TermKind::kInequality; });
+  ASSERT_NE(inequality, block.terms().end());
+  const std::vector<double> x = {1.0, 1.0, 0.0, kPi / 2}, phi = {0.0, 0.1};
+  Evaluation e = Evaluate(block, x, phi);
+  e.values[static_cast<std::size_t>(inequality - block.terms().begin())] = std::nan("");
+  std::vector<double> gradient(4, 0.0), hessian(16, 0.0);
+  const PenaltyValue p = AccumulatePenalty(block, e.values.data(), e.gradients.data(),
+                                           e.hessians.data(), {}, gradient.data(), hessian.data());
+  EXPECT_EQ(p.constraint, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(p.max_residual, std::numeric_limits<double>::infinity());
   for (const double g : gradient) EXPECT_TRUE(std::isfinite(g));
   for (const double h : hessian) EXPECT_TRUE(std::isfinite(h));
 }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <priormap/core/angles.hpp>
+#include <priormap/core/check.hpp>
 #include <priormap/core/range_sensor.hpp>
 #include <priormap/core/scene.hpp>
 #include <priormap/dsl/prior_library.hpp>
@@ -86,6 +87,13 @@ TEST(Engine, SquareRoomWithRectangularPriorFindsTheWallsAndTheirNormals) {
     }
     EXPECT_LT(corrected, 0.1 * measured);
   }
+}
+
+// The engine's rays start at one origin; a ring's readings are cones from offset transducers.
+TEST(Engine, ASonarRingIsAContractViolation) {
+  Scan ring = Simulate("square", "lms200", Se2(), 1);
+  ring.sonar.emplace();
+  EXPECT_THROW((void)EstimateMapScan(ring, Prior("Polygonal prior")), ContractError);
 }
 
 TEST(Engine, TopologyDescribesRegionsAndSurfacesConsistently) {

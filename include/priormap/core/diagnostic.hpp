@@ -50,7 +50,8 @@ class Result {
     Checked();
     return *value_;
   }
-  [[nodiscard]] T&& value() && {
+  /// By value from a temporary, so that `const T& v = Read(...).value();` does not dangle.
+  [[nodiscard]] T value() && {
     Checked();
     return std::move(*value_);
   }

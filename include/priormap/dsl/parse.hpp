@@ -1,6 +1,6 @@
 #pragma once
 /// Parsing priorlet files into syntax trees. Only syntax is checked here; names, shapes and
-/// inheritance are checked when a prior is compiled (compile.hpp).
+/// inheritance are checked when a prior is compiled (PriorLibrary::Compile, prior_library.hpp).
 
 #include <filesystem>
 #include <string>

@@ -6,8 +6,8 @@
 ///   - with weight w_outlier, uniform on [0, R),
 ///   - with weight w_max, a max reading whatever the map (glass, black surfaces).
 /// The observation space is [0, R) plus the max-reading atom; the density integrates to one over
-/// it for every d (tests/prf/laser_model_test.cpp). The sensor standing in black has likelihood
-/// zero; that is the data term's business, not the beam model's.
+/// it for every d (tests/prf/laser_likelihood_test.cpp). The sensor standing in black has
+/// likelihood zero; that is the data term's business, not the beam model's.
 
 #include <string>
 

@@ -101,7 +101,8 @@ struct MapScan {
 };
 
 /// Runs Algorithms 1 and 2 of the paper on the valid readings of `scan`.
-/// Preconditions: scan.Problems() is empty; the prior has order >= 1.
+/// Preconditions: scan.Problems() is empty; the scan is a laser's (rays from one origin, not
+/// a sonar ring's cones); the prior has order >= 1; options.beta is in (0, 1).
 [[nodiscard]] MapScan EstimateMapScan(const Scan& scan, const dsl::CompiledPrior& prior,
                                       const EngineOptions& options = {});
 
