@@ -12,6 +12,8 @@
 #include <priormap/slam/joint_state.hpp>
 #include <priormap/slam/pseudo_observation.hpp>
 
+#include "testing/numeric_diff.hpp"
+
 namespace priormap::slam {
 namespace {
 
@@ -43,6 +45,38 @@ Eigen::MatrixXd BlockDiagonal(const Eigen::MatrixXd& full) {
   d.block<2, 2>(3, 3) = full.block<2, 2>(3, 3);
   d.block<4, 4>(5, 5) = full.block<4, 4>(5, 5);
   return d;
+}
+
+// A state of a pose, landmarks 0 and 1 and segments 5 and 6 from one vector (19 values in that
+// order), for differentiating a measurement by the whole state.
+JointState StateOfTwoLandmarksAndTwoSegments(const Eigen::VectorXd& mean) {
+  JointState state(Se2::FromVector(mean.head<3>()), Mat3::Identity());
+  state.AddLandmark(0, mean.segment<2>(3), Mat23::Zero(), Mat2::Identity(), Mat2::Identity());
+  state.AddLandmark(1, mean.segment<2>(5), Mat23::Zero(), Mat2::Identity(), Mat2::Identity());
+  state.AddSegment(5, mean.segment<2>(7), mean.segment<2>(9), Mat4::Identity());
+  state.AddSegment(6, mean.segment<2>(11), mean.segment<2>(13), Mat4::Identity());
+  return state;
+}
+
+// The point-on-segment rows, placed in the state vector, against finite differences of the
+// signed distances over the whole state: a Jacobian at the wrong offset, or an endpoint's in the
+// other's place, fails here (the linear-case test below builds its h from the same matrix).
+TEST(JointState, PointOnSegmentRowsAreTheDerivativesOfTheDistancesByTheWholeState) {
+  Eigen::VectorXd mean(15);
+  mean << 0.5, -0.2, 0.3,    // pose
+      3.0, 0.7, -1.0, 4.2,   // landmarks 0 and 1
+      0.0, 0.2, 10.0, -0.4,  // segment 5
+      -2.0, 3.0, 1.0, 5.5;   // segment 6
+  const std::array<std::pair<int, int>, 3> relations = {{{1, 5}, {0, 6}, {0, 5}}};
+  const Linearization m =
+      PointOnSegmentObservation(StateOfTwoLandmarksAndTwoSegments(mean), relations, 0.05);
+  ASSERT_EQ(m.H.cols(), 15);
+  const auto distances = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+    return -PointOnSegmentObservation(StateOfTwoLandmarksAndTwoSegments(x), relations, 0.05)
+                .innovation;
+  };
+  EXPECT_TRUE(testing::JacobiansMatch(Eigen::MatrixXd(m.H),
+                                      testing::NumericJacobian(distances, mean), 1e-7));
 }
 
 TEST(JointState, LinearUpdateEqualsBatchLeastSquares) {
