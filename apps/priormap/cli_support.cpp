@@ -144,14 +144,15 @@ void WriteLogWarningOfLosses(const Log& log, const std::filesystem::path& path, 
 }
 
 LogFormat OutputLogFormat(const std::optional<std::string>& format_name,
-                          const std::filesystem::path& path, const std::string& option) {
+                          const std::filesystem::path& path, const std::string& option,
+                          const std::string& format_option) {
   if (format_name) return LogFormatFromString(*format_name).value();
   const std::optional<LogFormat> format = LogFormatFromPath(path);
   if (!format)
     throw UserError(fmt::format(
         "{} {}: no log format has this extension; use .json or .json.gz (priormap JSON), or "
-        ".log or .log.gz (CARMEN), or name the format",
-        option, path.string()));
+        ".log or .log.gz (CARMEN), or name the format ({} json or {} carmen)",
+        option, path.string(), format_option, format_option));
   return *format;
 }
 

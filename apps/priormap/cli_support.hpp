@@ -87,10 +87,12 @@ void WriteLogWarningOfLosses(const Log& log, const std::filesystem::path& path, 
 
 /// The format a log output is written in: `format_name` ("json" or "carmen", from --format or
 /// --to) when given, else the one LogFormatFromPath reads from the name; throws UserError naming
-/// `option` when the name implies none (out.png, say), rather than write CARMEN under it.
+/// `option` and `format_option` when the name implies none (out.png, say), rather than write
+/// CARMEN under it.
 [[nodiscard]] LogFormat OutputLogFormat(const std::optional<std::string>& format_name,
                                         const std::filesystem::path& path,
-                                        const std::string& option);
+                                        const std::string& option,
+                                        const std::string& format_option);
 
 /// Throws UserError when two of the (option, path) pairs name the same file (an output would
 /// overwrite the input or another output); empty paths are not given.

@@ -80,7 +80,11 @@ std::string CarmenMaxRangeSummary(const Log& log, const CarmenReadStats& stats,
   const auto add = [&](const std::string& source) {
     sources += (sources.empty() ? "" : "; ") + source;
   };
-  if (given) add(fmt::format("--max-range {} m where the sensor's is longer", *given));
+  if (given)
+    add(scans_by_range.contains(*given)
+            ? fmt::format("--max-range {} m where the sensor's is longer", *given)
+            : fmt::format("--max-range {} m is beyond every scan's own and was not applied",
+                          *given));
   if (stats.detected_max_range)
     add(fmt::format("detected: {} m, from the FLASER lines' no-return readings",
                     *stats.detected_max_range));
@@ -115,6 +119,7 @@ void Run(const ConvertOptions& o) {
     throw UserError(
         fmt::format("convert reads one log (two files only with --from {})", kRoboNdSonar));
   const std::string& input = o.inputs[0];
+  const LogFormat to = OutputLogFormat(o.to, o.out, "--out", "--to");
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
   if (o.min_range) carmen.min_range = *o.min_range;
@@ -150,7 +155,6 @@ void Run(const ConvertOptions& o) {
     if (from != LogFormat::kCarmen && o.poses) log.pose_source = carmen.pose_source;
   }
 
-  const LogFormat to = OutputLogFormat(o.to, o.out, "--out");
   const auto rings = std::count_if(log.scans.begin(), log.scans.end(),
                                    [](const Scan& scan) { return scan.sonar.has_value(); });
   // CARMEN's laser records have no cone: a ring written there would come back as a laser scan.

@@ -88,9 +88,9 @@ void RequireLogFitsInMemory(double scans, double readings_per_scan, bool sonar) 
   if (!(bytes <= kMaxLogBytes))
     throw UserError(fmt::format(
         "{} of {:.0f} readings would take about {:.0f} GB of memory, more than {:.0f} GB: use "
-        "fewer beams, a lower --rate or a higher --speed",
+        "{}a lower --rate or a higher --speed",
         scans == 1 ? "a scan" : fmt::format("{:.3g} scans", scans), readings_per_scan, bytes / 1e9,
-        kMaxLogBytes / 1e9));
+        kMaxLogBytes / 1e9, sonar ? "" : "fewer --beams, "));
 }
 
 void Run(const SimulateOptions& o) {
@@ -101,7 +101,7 @@ void Run(const SimulateOptions& o) {
   if (o.out.empty() && !o.write_scene)
     throw UserError("--out is required (or --write-scene alone to export the scene)");
   const LogFormat format =
-      o.out.empty() ? LogFormat::kJson : OutputLogFormat(o.format, o.out, "--out");
+      o.out.empty() ? LogFormat::kJson : OutputLogFormat(o.format, o.out, "--out", "--format");
   if (sonar && !o.out.empty() && format != LogFormat::kJson)
     throw UserError(
         fmt::format("--out {}: sonar rings are written as JSON logs only (a CARMEN "

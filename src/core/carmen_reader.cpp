@@ -453,7 +453,7 @@ class CarmenParser {
       scan.max_range = std::min(options_.max_range.value_or(kInf), sensor);
       if (!(scan.max_range > scan.min_range)) {
         // A minimum range the caller chose at or beyond the sensor's reach leaves no reading
-        // that could be valid; else (a record's max range of 0) the scan has no known reach.
+        // that could be valid; else (a caller's max range <= 0) the scan has no known reach.
         if (options_.min_range > 0.0)
           return Diagnostic{
               name_, 0, 0,

@@ -1,5 +1,8 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
+#include <span>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -123,11 +126,28 @@ void AppendRecordTimestamps(std::string& out, double timestamp,
   }
 }
 
+// Whether `scan` is written as a FLASER/RLASER line (else as ROBOTLASER1).
+bool WrittenAsFlaser(const Scan& scan) {
+  return (scan.channel == "FLASER" || scan.channel == "RLASER") && scan.odom_pose.has_value() &&
+         HasFlaserAngles(scan);
+}
+
+// A ROBOTLASER1 record's own field of view is written back as read (0 included).
+bool HasOwnFieldOfView(const Scan& scan) {
+  return scan.carmen && (scan.channel == "ROBOTLASER1" || scan.carmen->fov != 0.0);
+}
+
+// The max range a ROBOTLASER1 line gets: the record's own maximum_range as read (writing the
+// detected one in its place would make its readings leave the detection when read again).
+double WrittenMaxRange(const Scan& scan) {
+  return HasOwnFieldOfView(scan) && scan.carmen->maximum_range ? *scan.carmen->maximum_range
+                                                               : scan.max_range;
+}
+
 void AppendScan(std::string& out, const Scan& scan, std::size_t index) {
   const RecordName record{"scan", index};
   const CarmenLaserFields carmen = scan.carmen.value_or(CarmenLaserFields{});
-  const bool old_style = (scan.channel == "FLASER" || scan.channel == "RLASER") &&
-                         scan.odom_pose.has_value() && HasFlaserAngles(scan);
+  const bool old_style = WrittenAsFlaser(scan);
   RequireFinite(scan.pose, "pose", record);
   if (old_style) RequireFinite(*scan.odom_pose, "odometry pose", record);
   if (!old_style) RequireFinite(scan.robot_pose.value_or(scan.pose), "robot pose", record);
@@ -144,17 +164,12 @@ void AppendScan(std::string& out, const Scan& scan, std::size_t index) {
     AppendPose(out, *scan.odom_pose);
   } else {
     const auto [start, resolution] = RobotLaserAngles(scan, index);
-    // A ROBOTLASER1 record's own field of view is written back as read (0 included); other
-    // scans get the span of their angles.
-    const bool own_fov = scan.carmen && (scan.channel == "ROBOTLASER1" || carmen.fov != 0.0);
-    const double fov = own_fov           ? carmen.fov
-                       : scan.size() > 1 ? resolution * static_cast<double>(scan.size() - 1)
-                                         : 0.0;
+    // Other scans than ROBOTLASER1 records get the span of their angles.
+    const double fov = HasOwnFieldOfView(scan) ? carmen.fov
+                       : scan.size() > 1       ? resolution * static_cast<double>(scan.size() - 1)
+                                               : 0.0;
     RequireFinite(fov, "field of view", record);
-    // The record's own maximum_range as read: writing the detected one in its place would make
-    // the record's readings leave the detection when the log is read again.
-    const double max_range =
-        own_fov && carmen.maximum_range ? *carmen.maximum_range : scan.max_range;
+    const double max_range = WrittenMaxRange(scan);
     fmt::format_to(std::back_inserter(out), "ROBOTLASER1 {} {} {} {} {} {} {} {}",
                    carmen.laser_type, start, fov, resolution, max_range, carmen.accuracy,
                    carmen.remission_mode, scan.size());
@@ -184,22 +199,34 @@ std::string Counted(std::size_t n, std::string_view what, std::string_view unit,
 
 std::vector<std::string> CarmenLosses(const Log& log) {
   const CarmenReadOptions read_back;
-  std::size_t other_sigma = 0, precision = 0, truth = 0, odometry = 0, min_range = 0, flagged = 0;
+  // The max range each scan reads back with, as the reader finds it: a ROBOTLASER1 line's own
+  // (when positive), else the one detected from the lines without one.
+  std::vector<std::optional<double>> own_max_range;
+  std::vector<std::span<const double>> without_own;
   for (const Scan& scan : log.scans) {
+    const double written = WrittenMaxRange(scan);
+    own_max_range.push_back(!WrittenAsFlaser(scan) && written > 0.0 ? std::optional<double>(written)
+                                                                    : std::nullopt);
+    if (!own_max_range.back()) without_own.emplace_back(scan.ranges);
+  }
+  const double detected =
+      DetectMaxRangeSentinel(without_own).value_or(std::numeric_limits<double>::infinity());
+  std::size_t other_sigma = 0, precision = 0, truth = 0, odometry = 0, min_range = 0, max_range = 0,
+              status = 0;
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    const Scan& scan = log.scans[k];
     if (std::ranges::any_of(scan.sigma, [&](double s) { return s != read_back.sigma; }))
       ++other_sigma;
     if (scan.precision) ++precision;
     if (scan.truth) ++truth;
-    const bool old_style = (scan.channel == "FLASER" || scan.channel == "RLASER") &&
-                           scan.odom_pose.has_value() && HasFlaserAngles(scan);
     // ODOM records, where the log has them, carry the odometry that ROBOTLASER1 lines cannot.
-    if (scan.odom_pose && !old_style && log.odometry.empty()) ++odometry;
+    if (scan.odom_pose && !WrittenAsFlaser(scan) && log.odometry.empty()) ++odometry;
     if (scan.min_range != read_back.min_range) ++min_range;
+    const double read_max_range = own_max_range[k].value_or(detected);
+    if (read_max_range != scan.max_range) ++max_range;
     for (std::size_t i = 0; i < scan.size(); ++i)
-      if (scan.status[i] == BeamStatus::kInvalid &&
-          ClassifyReading(scan.ranges[i], read_back.min_range, scan.max_range) ==
-              BeamStatus::kValid)
-        ++flagged;
+      if (scan.status[i] != ClassifyReading(scan.ranges[i], read_back.min_range, read_max_range))
+        ++status;
   }
   std::vector<std::string> losses;
   if (other_sigma > 0)
@@ -211,8 +238,18 @@ std::vector<std::string> CarmenLosses(const Log& log) {
     losses.push_back(
         Counted(odometry, "the odometry pose", "scan", " (ROBOTLASER1 has no field for it)"));
   if (min_range > 0) losses.push_back(Counted(min_range, "the minimum range", "scan"));
-  if (flagged > 0)
-    losses.push_back(Counted(flagged, "the invalid flag", "reading", " (read back as valid)"));
+  if (max_range > 0)
+    losses.push_back(Counted(max_range, "the max range", "scan",
+                             std::isinf(detected)
+                                 ? std::string(" (FLASER has no field for it)")
+                                 : fmt::format(" (read back as the {} m detected from the "
+                                               "no-return readings)",
+                                               detected)));
+  if (status > 0)
+    losses.push_back(Counted(status, "the status", "reading", " (read back from its value)"));
+  if (log.pose_source != read_back.pose_source)
+    losses.push_back(fmt::format("the pose source \"{}\" (read back as \"{}\")",
+                                 ToString(log.pose_source), ToString(read_back.pose_source)));
   return losses;
 }
 

@@ -1,5 +1,8 @@
 #include <algorithm>
 #include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <unistd.h>
 
@@ -13,7 +16,25 @@ namespace fs = std::filesystem;
 namespace {
 
 bool EndsWithGz(const fs::path& path) {
-  return path.extension() == ".gz";
+  std::string extension = path.extension().string();
+  std::ranges::transform(extension, extension.begin(),
+                         [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".gz";
+}
+
+// The file `path` names once its links are followed, even a link to a file not yet made (which
+// weakly_canonical would leave as the link itself). A loop of links is an error.
+fs::path FollowLinks(const fs::path& path) {
+  fs::path target = path;
+  std::error_code ec;
+  for (int hops = 0; fs::is_symlink(target, ec); ++hops) {
+    if (hops == 40)
+      throw IoError(fmt::format("{}: cannot write: too many levels of links", path.string()));
+    const fs::path next = fs::read_symlink(target, ec);
+    if (ec) throw IoError(fmt::format("{}: cannot write: {}", path.string(), ec.message()));
+    target = next.is_absolute() ? next : target.parent_path() / next;
+  }
+  return target;
 }
 
 fs::path TemporarySibling(const fs::path& path) {
@@ -54,13 +75,17 @@ Result<std::string> ReadFileText(const fs::path& path) {
 
 void WriteFileAtomically(const fs::path& named, const std::function<void(const fs::path&)>& write) {
   std::error_code ec;
+  // A device, a FIFO or a socket (/dev/null, /dev/stdout, a pipe), or a link to one, is written
+  // in place: there is nothing to keep whole, and renaming over it would replace it by a plain
+  // file.
+  if (const fs::file_status status = fs::status(named, ec);
+      !ec && fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status)) {
+    write(named);
+    return;
+  }
   // A link is written through, to the file it names: renaming over the link itself would
   // replace it by a plain file and leave its target stale.
-  fs::path path = named;
-  if (fs::is_symlink(named, ec)) {
-    path = fs::weakly_canonical(named, ec);
-    if (ec) throw IoError(fmt::format("{}: cannot write: {}", named.string(), ec.message()));
-  }
+  const fs::path path = FollowLinks(named);
   const fs::path directory = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   if (!fs::is_directory(directory, ec)) {
     if (fs::exists(directory, ec)) {
@@ -86,11 +111,27 @@ void WriteFileAtomically(const fs::path& named, const std::function<void(const f
   }
 }
 
+namespace {
+
+// Why `file` (the output itself, or its temporary sibling) could not be opened.
+IoError CannotOpen(const fs::path& path, const fs::path& file) {
+  const int error = errno;
+  const fs::path directory = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+  return IoError(
+      file == path
+          ? fmt::format("{}: cannot open for writing: {}", path.string(), std::strerror(error))
+          : fmt::format("{}: cannot create a file in {} to write it: {}", path.string(),
+                        directory.string(), std::strerror(error)));
+}
+
+}  // namespace
+
 void WriteTextFileAtomically(const fs::path& path, std::string_view content) {
   WriteFileAtomically(path, [&](const fs::path& temporary) {
+    errno = 0;
     if (EndsWithGz(path)) {
       gzFile file = gzopen(temporary.string().c_str(), "wb");
-      if (file == nullptr) throw IoError(fmt::format("{}: cannot open for writing", path.string()));
+      if (file == nullptr) throw CannotOpen(path, temporary);
       const bool ok =
           content.empty() || gzwrite(file, content.data(), static_cast<unsigned>(content.size())) ==
                                  static_cast<int>(content.size());
@@ -100,7 +141,7 @@ void WriteTextFileAtomically(const fs::path& path, std::string_view content) {
       return;
     }
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw IoError(fmt::format("{}: cannot open for writing", path.string()));
+    if (!out) throw CannotOpen(path, temporary);
     out.write(content.data(), static_cast<std::streamsize>(content.size()));
     out.close();
     if (!out) throw IoError(fmt::format("{}: write failed (disk full?)", path.string()));
@@ -122,13 +163,13 @@ TextPosition PositionOfOffset(std::string_view text, std::size_t offset) {
 }
 
 bool IsNumberedName(std::string_view name, std::string_view prefix, std::string_view suffix,
-                    bool zero_padded) {
+                    bool allow_leading_zeros) {
   if (name.size() <= prefix.size() + suffix.size() || !name.starts_with(prefix) ||
       !name.ends_with(suffix))
     return false;
   const std::string_view number =
       name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
-  if (!zero_padded && number.size() > 1 && number.front() == '0') return false;
+  if (!allow_leading_zeros && number.size() > 1 && number.front() == '0') return false;
   return std::ranges::all_of(number, [](char c) { return c >= '0' && c <= '9'; });
 }
 

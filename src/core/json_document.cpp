@@ -1,5 +1,6 @@
 #include "json_document.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -303,6 +304,46 @@ void Fail(const JsonNode& node, std::string message) {
 void RequireObject(const JsonNode& node, std::string_view what) {
   if (!node.value.is_object())
     Fail(node, fmt::format("expected {} (an object), got {}", what, Describe(node.value)));
+}
+
+namespace {
+
+// Levenshtein distance, for suggesting the key a misspelt one was meant to be.
+std::size_t EditDistance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t substitution = diagonal + (a[i - 1] == b[j - 1] ? 0 : 1);
+      diagonal = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitution});
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+void RefuseUnknownMembers(const JsonNode& object, std::span<const std::string_view> known,
+                          std::string_view what) {
+  for (const auto& item : object.value.items()) {
+    const std::string& key = item.key();
+    if (std::ranges::find(known, key) != known.end()) continue;
+    std::string_view nearest;
+    std::size_t nearest_distance = 3;  // at most two edits away
+    for (const std::string_view candidate : known) {
+      if (const std::size_t d = EditDistance(key, candidate); d < nearest_distance) {
+        nearest = candidate;
+        nearest_distance = d;
+      }
+    }
+    Fail(JsonNode{item.value(), object.pointer / key},
+         nearest.empty()
+             ? fmt::format("unknown key \"{}\" in {}", key, what)
+             : fmt::format("unknown key \"{}\" in {} (did you mean \"{}\"?)", key, what, nearest));
+  }
 }
 
 JsonNode Member(const JsonNode& object, const char* key) {

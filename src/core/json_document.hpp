@@ -3,6 +3,7 @@
 // expected, and a failure is reported at the file:line:col of the offending value.
 
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -56,6 +57,11 @@ JsonNode Member(const JsonNode& object, const char* key);
 std::optional<JsonNode> OptionalMember(const JsonNode& object, const char* key);
 JsonNode Element(const JsonNode& array, std::size_t index);
 void RequireObject(const JsonNode& node, std::string_view what);
+/// Fails at the first member of `object` whose key is not in `known`, naming the nearest known
+/// key when it is a likely misspelling: a typo must not be read as "absent" (a misspelt
+/// max_range would make every no-return reading a wall).
+void RefuseUnknownMembers(const JsonNode& object, std::span<const std::string_view> known,
+                          std::string_view what);
 std::size_t ArraySize(const JsonNode& node, std::string_view what);
 /// A number; null is NaN and the strings "nan", "inf", "-inf" are what they say.
 double Number(const JsonNode& node, std::string_view what);

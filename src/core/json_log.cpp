@@ -181,6 +181,38 @@ std::vector<int> SizedInts(const JsonNode& object, const char* key, std::size_t 
   return {values.begin(), values.end()};
 }
 
+// Every key a reader takes, by object: any other is refused rather than ignored.
+constexpr std::string_view kScanKeys[] = {
+    "format",          "version",      "type",        "channel",      "timestamp", "pose",
+    "robot_pose",      "odom_pose",    "min_range",   "max_range",    "angles",    "angle_min",
+    "angle_increment", "ranges",       "sigma",       "status",       "precision", "true_range",
+    "true_alpha",      "true_surface", "true_region", "true_outlier", "carmen",    "sonar"};
+constexpr std::string_view kCarmenLaserKeys[] = {"has_timestamps",
+                                                 "host",
+                                                 "logger_timestamp",
+                                                 "laser_type",
+                                                 "start_angle",
+                                                 "fov",
+                                                 "angular_resolution",
+                                                 "maximum_range",
+                                                 "accuracy",
+                                                 "remission_mode",
+                                                 "remissions",
+                                                 "tv",
+                                                 "rv",
+                                                 "forward_safety_dist",
+                                                 "side_safety_dist",
+                                                 "turn_axis"};
+constexpr std::string_view kCarmenRecordKeys[] = {"has_timestamps", "host", "logger_timestamp"};
+constexpr std::string_view kSonarKeys[] = {"spread", "origins", "true_echo", "true_feature"};
+constexpr std::string_view kPrecisionKeys[] = {"bandwidth", "bands"};
+constexpr std::string_view kOdometryKeys[] = {"type", "timestamp", "pose",  "tv",
+                                              "rv",   "accel",     "carmen"};
+constexpr std::string_view kTruePoseKeys[] = {"type", "timestamp", "true_pose", "odom_pose",
+                                              "carmen"};
+constexpr std::string_view kParamKeys[] = {"type", "name", "value"};
+constexpr std::string_view kLogKeys[] = {"format", "version", "pose_source", "records"};
+
 std::vector<double> ReadAngles(const JsonNode& object, std::size_t n) {
   if (detail::OptionalMember(object, "angles")) return SizedNumbers(object, "angles", n);
   const auto min = detail::OptionalMember(object, "angle_min");
@@ -228,6 +260,8 @@ std::vector<BeamStatus> ReadStatus(const JsonNode& node, const std::vector<doubl
 }
 
 SymmetricBandedMatrix ReadPrecision(const JsonNode& node, std::size_t n) {
+  detail::RequireObject(node, "the precision");
+  detail::RefuseUnknownMembers(node, kPrecisionKeys, "the precision");
   const long long bandwidth =
       detail::Integer(detail::Member(node, "bandwidth"), "the precision bandwidth");
   if (bandwidth < 0 || static_cast<std::size_t>(bandwidth) >= std::max<std::size_t>(n, 1)) {
@@ -262,6 +296,7 @@ SymmetricBandedMatrix ReadPrecision(const JsonNode& node, std::size_t n) {
 
 CarmenLaserFields ReadCarmenLaser(const JsonNode& node) {
   detail::RequireObject(node, "\"carmen\" fields");
+  detail::RefuseUnknownMembers(node, kCarmenLaserKeys, "a scan's \"carmen\" fields");
   CarmenLaserFields c;
   const auto number = [&](const char* key, double fallback) {
     return OptionalNumber(node, key, key).value_or(fallback);
@@ -293,6 +328,7 @@ CarmenLaserFields ReadCarmenLaser(const JsonNode& node) {
 // The "sonar" member of a ring's scan record (docs/formats.md): n readings.
 SonarFields ReadSonar(const JsonNode& node, std::size_t n) {
   detail::RequireObject(node, "\"sonar\" fields");
+  detail::RefuseUnknownMembers(node, kSonarKeys, "a scan's \"sonar\" fields");
   SonarFields sonar;
   const JsonNode spread = detail::Member(node, "spread");
   sonar.spread = detail::FiniteNumber(spread, "the sonar cone's spread");
@@ -332,6 +368,7 @@ std::optional<CarmenRecordFields> ReadCarmenRecord(const JsonNode& record) {
   const auto node = detail::OptionalMember(record, "carmen");
   if (!node) return std::nullopt;
   detail::RequireObject(*node, "\"carmen\" fields");
+  detail::RefuseUnknownMembers(*node, kCarmenRecordKeys, "a record's \"carmen\" fields");
   CarmenRecordFields c;
   if (const auto n = detail::OptionalMember(*node, "has_timestamps"))
     c.has_timestamps = detail::Boolean(*n, "has_timestamps");
@@ -342,6 +379,7 @@ std::optional<CarmenRecordFields> ReadCarmenRecord(const JsonNode& record) {
 
 Scan ReadScan(const JsonNode& node) {
   detail::RequireObject(node, "a scan");
+  detail::RefuseUnknownMembers(node, kScanKeys, "a scan");
   Scan scan;
   if (const auto n = detail::OptionalMember(node, "channel"))
     scan.channel = detail::String(*n, "the channel");
@@ -414,6 +452,14 @@ void ReadRecord(const JsonNode& record, Log& log) {
   detail::RequireObject(record, "a log record");
   const JsonNode type_node = detail::Member(record, "type");
   const std::string type = detail::String(type_node, "the record type");
+  if (type != "scan") {
+    const std::span<const std::string_view> known =
+        type == "odometry"    ? std::span<const std::string_view>(kOdometryKeys)
+        : type == "true_pose" ? std::span<const std::string_view>(kTruePoseKeys)
+                              : std::span<const std::string_view>(kParamKeys);
+    if (type == "odometry" || type == "true_pose" || type == "param")
+      detail::RefuseUnknownMembers(record, known, fmt::format("a {} record", type));
+  }
   if (type == "scan") {
     log.order.push_back({Log::RecordKind::kScan, log.scans.size()});
     log.scans.push_back(ReadScan(record));
@@ -462,6 +508,7 @@ Log ReadLogDocument(const JsonNode& root) {
         fmt::format("expected format \"priormap.log\" or \"priormap.scan\", got \"{}\"", format));
   }
   detail::RequireFormat(root, "priormap.log", kVersion);
+  detail::RefuseUnknownMembers(root, kLogKeys, "a priormap.log document");
   if (const auto source = detail::OptionalMember(root, "pose_source")) {
     const std::string name = detail::String(*source, "the pose source");
     const auto parsed = PoseSourceFromString(name);

@@ -14,8 +14,9 @@ bool RangeSensor::IsValid(std::string* why) const {
     reason = fmt::format("num_beams must be at least 1 (got {})", num_beams);
   } else if (!(fov > 0.0 && fov <= kTwoPi)) {
     reason = fmt::format("fov must be in (0, 2 pi] rad (got {})", fov);
-  } else if (!(sigma > 0.0 && std::isfinite(sigma))) {
-    reason = fmt::format("sigma must be positive (got {})", sigma);
+  } else if (!(sigma >= 1e-100 && sigma <= 1e100)) {
+    // Beyond these, the noise's information matrix (1 / sigma^2) is no longer a finite double.
+    reason = fmt::format("sigma must be in [1e-100, 1e100] m (got {})", sigma);
   } else if (!(correlation >= 0.0 && correlation < 1.0)) {
     reason = fmt::format("correlation must be in [0, 1) (got {})", correlation);
   } else if (!(min_range >= 0.0 && max_range > min_range && std::isfinite(max_range))) {

@@ -132,7 +132,7 @@ class Printer {
 
 // How long a node's text would be with every shared subexpression written out in full, at least
 // (names and numbers count one character), saturating: definitions used twice per line double the
-// text at each line, so a chain of 30 is some 1e9 characters for a graph of 100 nodes.
+// text at each line, so a chain of 30 is some 1e15 characters for a graph of 100 nodes.
 std::size_t WrittenOutLength(const ExpressionGraph& graph, NodeId id,
                              std::unordered_map<NodeId, std::size_t>& memo) {
   constexpr std::size_t kSaturated = std::size_t{1} << 60;

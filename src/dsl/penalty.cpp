@@ -73,12 +73,14 @@ PenaltyValue AccumulatePenalty(const CompiledBlock& block, const double* values,
         sum += r * r;
         worst = std::max(worst, std::abs(r));
       }
+      // A branch outside its terms' domain (NaN) is infinitely violated, never the best.
       if (sum < best_sum) {
         best_sum = sum;
         best_worst = worst;
         best_branch[g] = b;
       }
     }
+    if (std::isinf(best_sum)) best_worst = best_sum;  // every branch undefined (or infinite)
     penalty.constraint += best_sum;
     penalty.max_residual = std::max(penalty.max_residual, best_worst);
   }
@@ -98,11 +100,13 @@ PenaltyValue AccumulatePenalty(const CompiledBlock& block, const double* values,
     }
     if (term.disjunction >= 0 && term.branch != best_branch[term.disjunction]) continue;
     const double r = Residual(term, values[t]);
-    if (std::isnan(r) && term.disjunction < 0) {
-      // Outside the term's domain (sqrt or log of a negative number): infinitely violated, not
-      // (as std::max would have it) not violated at all; no NaN into the derivatives.
-      penalty.constraint = std::numeric_limits<double>::infinity();
-      penalty.max_residual = std::numeric_limits<double>::infinity();
+    if (std::isnan(r)) {
+      // Outside the term's domain (sqrt or log of a negative number): infinitely violated (a
+      // disjunction's was counted above); no NaN into the derivatives.
+      if (term.disjunction < 0) {
+        penalty.constraint = std::numeric_limits<double>::infinity();
+        penalty.max_residual = std::numeric_limits<double>::infinity();
+      }
       continue;
     }
     if (term.disjunction < 0) {

@@ -187,7 +187,12 @@ LogOddsCells CellsCovering(const Box2& extent, double resolution, double max_cel
   const double limit = std::min(max_cells, 4e9);
   // Each side must also fit the cells' int coordinates: one row of 3e9 cells is under 4e9.
   const double longest_side = static_cast<double>(std::numeric_limits<int>::max());
-  if (!(width * height <= limit) || width > longest_side || height > longest_side) {
+  if (width > longest_side || height > longest_side)
+    throw std::invalid_argument(fmt::format(
+        "a grid of {:.1f} m x {:.1f} m at {} m would be {:.3g} x {:.3g} cells, a side longer "
+        "than {} cells: use a coarser resolution or a shorter insertion range",
+        extent.sizes().x(), extent.sizes().y(), resolution, width, height, longest_side));
+  if (!(width * height <= limit)) {
     throw std::invalid_argument(fmt::format(
         "a grid of {:.1f} m x {:.1f} m at {} m would have {:.3g} cells, more than {:.3g} (about "
         "17 bytes a cell): use a coarser resolution, a shorter insertion range or fewer scans, or "

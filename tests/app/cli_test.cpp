@@ -322,8 +322,10 @@ TEST_F(Cli, LogOptionWritesALocalizedLogAlongTheWaypoints) {
 TEST_F(Cli, CarmenOutputHoldsTheSameScanAsJson) {
   Ok({"simulate", "--seed", "9", "-o", "s.json"});
   // The utm30's noise is the CARMEN reader's default; its minimum range and truth are not.
-  OkLosingToCarmen({"simulate", "--seed", "9", "-o", "s.log"},
-                   "CARMEN cannot hold the ground truth of 1 scan, the minimum range of 1 scan;");
+  OkLosingToCarmen(
+      {"simulate", "--seed", "9", "-o", "s.log"},
+      "CARMEN cannot hold the ground truth of 1 scan, the minimum range of 1 scan, the pose "
+      "source \"ground_truth\" (read back as \"unknown\");");
   EXPECT_THAT(ReadAll(Work("s.log")), Not(StartsWith("{")));
   const Scan json = ReadLogFile("s.json").scans.at(0);
   Result<Log> carmen = ReadCarmenLog(Work("s.log"));
@@ -341,7 +343,7 @@ TEST_F(Cli, CarmenOutputHoldsTheSameScanAsJson) {
 
 TEST_F(Cli, SimulatedLogCanBeWrittenAsCompressedCarmen) {
   OkLosingToCarmen({"simulate", "--log", "--sensor", "lms200", "--speed", "2", "-o", "log.log.gz"},
-                   "CARMEN cannot hold the ground truth of 38 scans;");
+                   "CARMEN cannot hold the ground truth of 38 scans, the pose source");
   EXPECT_THAT(ReadAll(Work("log.log.gz")), StartsWith("\x1f\x8b"));
   const Log log = ReadLogFile("log.log.gz");
   EXPECT_GT(log.scans.size(), 5u);

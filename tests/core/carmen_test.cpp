@@ -264,11 +264,25 @@ TEST(Carmen, WhatCarmenCannotHoldIsNamedWithItsCount) {
                           "the correlated noise of 1 scan", "the ground truth of 2 scans",
                           "the odometry pose of 1 scan (ROBOTLASER1 has no field for it)",
                           "the minimum range of 1 scan",
-                          "the invalid flag of 1 reading (read back "
-                          "as valid)"));
+                          "the status of 1 reading (read back from its value)"));
   // ODOM records carry the odometry that ROBOTLASER1 lines cannot.
   log.odometry.push_back({});
   EXPECT_THAT(CarmenLosses(log), ::testing::Not(::testing::Contains(HasSubstr("odometry"))));
+}
+
+// FLASER lines have no max range: a shorter one given when reading (--max-range) is lost, and
+// the readings beyond it read back as walls.
+TEST(Carmen, AShorterMaxRangeOfFlaserLinesIsALoss) {
+  std::string text;
+  for (int k = 0; k < 20; ++k) text += "FLASER 4 81.83 81.83 30 2 0 0 0 0 0 0\n";
+  CarmenReadOptions options;
+  options.max_range = 20.0;
+  const Log log = ParseCarmenLog(text, "in.log", options).value();
+  EXPECT_THAT(CarmenLosses(log),
+              ElementsAre("the max range of 20 scans (read back as the 81.33 m detected from the "
+                          "no-return readings)",
+                          "the status of 20 readings (read back from its value)"));
+  EXPECT_THAT(CarmenLosses(ParseCarmenLog(text, "in.log").value()), ::testing::IsEmpty());
 }
 
 TEST(Carmen, TheLogFormatOfAFileNameIgnoresCaseAndGzipAndKnowsNoOthers) {

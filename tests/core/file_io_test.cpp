@@ -3,6 +3,8 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <sys/stat.h>
+#include <thread>
 #include <vector>
 
 #include <gmock/gmock.h>
@@ -253,6 +255,39 @@ TEST(FileIo, WritingThroughASymbolicLinkReplacesItsTargetAndKeepsTheLink) {
   WriteTextFileAtomically(dir / "link.txt", "new");
   EXPECT_TRUE(std::filesystem::is_symlink(dir / "link.txt"));
   EXPECT_EQ(ReadFileText(dir / "target.txt").value(), "new");
+}
+
+TEST(FileIo, ALinkToAFileNotYetMadeMakesItInTheLinksDirectoryOrElsewhere) {
+  const testing::TempDir dir;
+  std::filesystem::create_directory(dir / "other");
+  std::filesystem::create_symlink("new.txt", dir / "dangling.txt");
+  std::filesystem::create_symlink("../other/elsewhere.txt", dir / "other" / "up.txt");
+  WriteTextFileAtomically(dir / "dangling.txt", "a");
+  WriteTextFileAtomically(dir / "other" / "up.txt", "b");
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "dangling.txt"));
+  EXPECT_EQ(ReadFileText(dir / "new.txt").value(), "a");
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "other" / "up.txt"));
+  EXPECT_EQ(ReadFileText(dir / "other" / "elsewhere.txt").value(), "b");
+}
+
+// A FIFO (or a device, /dev/stdout) is written in place, not renamed over: that would make it a
+// plain file, and the reader at its other end would get nothing.
+TEST(FileIo, AFifoIsWrittenInPlace) {
+  const testing::TempDir dir;
+  const std::filesystem::path fifo = dir / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string received;
+  std::thread reader([&] { received = testing::ReadAll(fifo); });
+  WriteTextFileAtomically(fifo, "through the pipe");
+  reader.join();
+  EXPECT_EQ(received, "through the pipe");
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+}
+
+TEST(FileIo, AnUpperCaseGzExtensionCompressesToo) {
+  const testing::TempDir dir;
+  WriteTextFileAtomically(dir / "LOG.JSON.GZ", "text");
+  EXPECT_EQ(testing::ReadAll(dir / "LOG.JSON.GZ").substr(0, 2), "\x1f\x8b");
 }
 
 TEST(FileIo, AReplacedFileKeepsItsPermissions) {

@@ -119,6 +119,20 @@ TEST(Penalty, DisjunctionTakesTheSmallestBranch) {
   ExpectDerivativesMatch(block, x, phi);
 }
 
+// The penalty at `e` (where some term is NaN) is infinitely violated, and adds no NaN to the
+// derivatives.
+void ExpectInfinitelyViolatedWithFiniteDerivatives(const CompiledBlock& block,
+                                                   const Evaluation& e) {
+  const std::size_t n = static_cast<std::size_t>(block.num_variables());
+  std::vector<double> gradient(n, 0.0), hessian(n * n, 0.0);
+  const PenaltyValue p = AccumulatePenalty(block, e.values.data(), e.gradients.data(),
+                                           e.hessians.data(), {}, gradient.data(), hessian.data());
+  EXPECT_EQ(p.constraint, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(p.max_residual, std::numeric_limits<double>::infinity());
+  for (const double g : gradient) EXPECT_TRUE(std::isfinite(g));
+  for (const double h : hessian) EXPECT_TRUE(std::isfinite(h));
+}
+
 // A term outside its domain (here a NaN put in its place) is infinitely violated: std::max alone
 // would have dropped it and called the point feasible. It adds no NaN to the derivatives.
 TEST(Penalty, ATermThatIsNotANumberIsInfinitelyViolated) {
@@ -127,13 +141,7 @@ TEST(Penalty, ATermThatIsNotANumberIsInfinitelyViolated) {
   const std::vector<double> x = {1.0, 2.0, 0.3, 0.5}, phi = {0.0, 0.2};
   Evaluation e = Evaluate(block, x, phi);
   e.values[0] = std::nan("");
-  std::vector<double> gradient(4, 0.0), hessian(16, 0.0);
-  const PenaltyValue p = AccumulatePenalty(block, e.values.data(), e.gradients.data(),
-                                           e.hessians.data(), {}, gradient.data(), hessian.data());
-  EXPECT_EQ(p.max_residual, std::numeric_limits<double>::infinity());
-  EXPECT_EQ(p.constraint, std::numeric_limits<double>::infinity());
-  for (const double g : gradient) EXPECT_TRUE(std::isfinite(g));
-  for (const double h : hessian) EXPECT_TRUE(std::isfinite(h));
+  ExpectInfinitelyViolatedWithFiniteDerivatives(block, e);
 }
 
 // The same for an inequality, where max(0, NaN) is 0: sqrt(rho_1 - 100) <= 0 at rho_1 = 1 was
@@ -147,13 +155,22 @@ TEST(Penalty, AnInequalityThatIsNotANumberIsInfinitelyViolated) {
   const std::vector<double> x = {1.0, 1.0, 0.0, kPi / 2}, phi = {0.0, 0.1};
   Evaluation e = Evaluate(block, x, phi);
   e.values[static_cast<std::size_t>(inequality - block.terms().begin())] = std::nan("");
-  std::vector<double> gradient(4, 0.0), hessian(16, 0.0);
-  const PenaltyValue p = AccumulatePenalty(block, e.values.data(), e.gradients.data(),
-                                           e.hessians.data(), {}, gradient.data(), hessian.data());
-  EXPECT_EQ(p.constraint, std::numeric_limits<double>::infinity());
-  EXPECT_EQ(p.max_residual, std::numeric_limits<double>::infinity());
-  for (const double g : gradient) EXPECT_TRUE(std::isfinite(g));
-  for (const double h : hessian) EXPECT_TRUE(std::isfinite(h));
+  ExpectInfinitelyViolatedWithFiniteDerivatives(block, e);
+}
+
+// A disjunction whose every branch leaves its domain: no branch is satisfied.
+TEST(Penalty, ADisjunctionOfUndefinedBranchesIsInfinitelyViolated) {
+  const CompiledPrior prior = PriorLibrary()
+                                  .CompileText(
+                                      "name: Undefined\norder: 2\npriorlet same_region:\n"
+                                      "  sqrt(rho_1 - 100) <= 0 || sqrt(rho_2 - 100) <= 0\n",
+                                      "undefined.prior")
+                                  .value();
+  const CompiledBlock& block = *prior.block(BlockKind::kSameRegion);
+  const std::vector<double> x = {1.0, 2.0, 0.3, 0.5}, phi = {0.0, 0.2};
+  const Evaluation e = Evaluate(block, x, phi);
+  ASSERT_TRUE(std::ranges::all_of(e.values, [](double v) { return std::isnan(v); }));
+  ExpectInfinitelyViolatedWithFiniteDerivatives(block, e);
 }
 
 TEST(Penalty, InequalitiesCountOnlyWhenViolated) {

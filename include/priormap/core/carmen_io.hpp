@@ -61,9 +61,10 @@ void WriteCarmenLog(const Log& log, const std::filesystem::path& path);
 /// What FormatCarmenLog cannot carry of `log`, one phrase per kind with its count ("the ground
 /// truth of 12 scans", ...): the noise model (sigma other than the reader's default, a precision
 /// matrix), ground truth, odometry poses of scans written as ROBOTLASER1 (in a log without ODOM
-/// records), a minimum range, and invalid flags on readings whose value alone reads as valid. Empty
-/// when nothing is lost, so that a command can warn before the user relies on a log that reads back
-/// different.
+/// records), a minimum range, a max range that reading back would not find (FLASER lines have
+/// none: it is detected again from their readings), readings whose status would read back
+/// otherwise, and the pose source. Empty when reading the text back gives the same log, so that
+/// a command can warn before the user relies on a log that reads back different.
 [[nodiscard]] std::vector<std::string> CarmenLosses(const Log& log);
 
 /// The beam angles of a FLASER/RLASER line of n readings (see CarmenReadOptions::fov).

@@ -43,9 +43,10 @@ struct TextPosition {
 [[nodiscard]] TextPosition PositionOfOffset(std::string_view text, std::size_t offset);
 
 /// Whether `name` is `prefix`, one or more decimal digits, then `suffix`: a file of a numbered
-/// series that a command writes (and may remove before writing another). Unless `zero_padded`,
-/// the number has no leading zero ("chain0.png", "chain12.png", not "chain012.png").
+/// series that a command writes (and may remove before writing another). Unless
+/// `allow_leading_zeros`, the number has no leading zero ("chain0.png", "chain12.png", not
+/// "chain012.png").
 [[nodiscard]] bool IsNumberedName(std::string_view name, std::string_view prefix,
-                                  std::string_view suffix, bool zero_padded);
+                                  std::string_view suffix, bool allow_leading_zeros);
 
 }  // namespace priormap
