@@ -458,7 +458,7 @@ void ReadRecord(const JsonNode& record, Log& log) {
         : type == "true_pose" ? std::span<const std::string_view>(kTruePoseKeys)
                               : std::span<const std::string_view>(kParamKeys);
     if (type == "odometry" || type == "true_pose" || type == "param")
-      detail::RefuseUnknownMembers(record, known, fmt::format("a {} record", type));
+      detail::RefuseUnknownMembers(record, known, fmt::format("a \"{}\" record", type));
   }
   if (type == "scan") {
     log.order.push_back({Log::RecordKind::kScan, log.scans.size()});
