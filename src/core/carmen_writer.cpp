@@ -201,12 +201,14 @@ std::vector<std::string> CarmenLosses(const Log& log) {
   const CarmenReadOptions read_back;
   // The max range each scan reads back with, as the reader finds it: a ROBOTLASER1 line's own
   // (when positive), else the one detected from the lines without one.
+  std::vector<bool> as_flaser;
   std::vector<std::optional<double>> own_max_range;
   std::vector<std::span<const double>> without_own;
   for (const Scan& scan : log.scans) {
+    as_flaser.push_back(WrittenAsFlaser(scan));
     const double written = WrittenMaxRange(scan);
-    own_max_range.push_back(!WrittenAsFlaser(scan) && written > 0.0 ? std::optional<double>(written)
-                                                                    : std::nullopt);
+    own_max_range.push_back(!as_flaser.back() && written > 0.0 ? std::optional<double>(written)
+                                                               : std::nullopt);
     if (!own_max_range.back()) without_own.emplace_back(scan.ranges);
   }
   const double detected =
@@ -220,7 +222,7 @@ std::vector<std::string> CarmenLosses(const Log& log) {
     if (scan.precision) ++precision;
     if (scan.truth) ++truth;
     // ODOM records, where the log has them, carry the odometry that ROBOTLASER1 lines cannot.
-    if (scan.odom_pose && !WrittenAsFlaser(scan) && log.odometry.empty()) ++odometry;
+    if (scan.odom_pose && !as_flaser[k] && log.odometry.empty()) ++odometry;
     if (scan.min_range != read_back.min_range) ++min_range;
     const double read_max_range = own_max_range[k].value_or(detected);
     if (read_max_range != scan.max_range) ++max_range;

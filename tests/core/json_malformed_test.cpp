@@ -277,14 +277,16 @@ TEST(JsonMalformed, AnIntegerBeyondSixtyFourSignedBitsIsRefusedNotWrapped) {
 // absent (max_range absent means no reading is a max-range reading).
 TEST(JsonMalformed, AnUnknownKeyIsRefusedWithTheNearestKnownOne) {
   EXPECT_THAT(LogErrors(ScanDocument("sigma", "[0.1, 0.1, 0.1], \"max_rnage\": 30")),
-              ElementsAre(DiagnosticAt(7, 42, "unknown key \"max_rnage\" in a scan (did you mean "
-                                              "\"max_range\"?)")));
+              ElementsAre(DiagnosticAt(7, 42,
+                                       "unknown key \"max_rnage\" in a scan (did you mean "
+                                       "\"max_range\"?)")));
   EXPECT_THAT(LogErrors(ScanDocument("sigma", "[0.1, 0.1, 0.1], \"comment\": \"x\"")),
               ElementsAre(DiagnosticAt(7, 40, "unknown key \"comment\" in a scan (at /comment)")));
   EXPECT_THAT(LogErrors(R"({"format": "priormap.log", "version": 1, "records": [
   {"type": "odometry", "pose": [0, 0, 0], "tv": 0, "accell": 1}]})"),
-              ElementsAre(DiagnosticAt(2, 62, "unknown key \"accell\" in a \"odometry\" record "
-                                              "(did you mean \"accel\"?)")));
+              ElementsAre(DiagnosticAt(2, 62,
+                                       "unknown key \"accell\" in a \"odometry\" record "
+                                       "(did you mean \"accel\"?)")));
 }
 
 TEST(JsonMalformed, AByteOrderMarkIsSkipped) {

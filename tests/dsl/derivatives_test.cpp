@@ -157,6 +157,39 @@ TEST(PriorDerivatives, TheCheckedListIsEveryFileOfThePriorsDirectory) {
   EXPECT_EQ(stems.size(), 10u);
 }
 
+// The terms of `block` whose value, gradient or Hessian at `p` is not finite, or whose gradient
+// and Hessian do not match central differences (of the values for the gradients, of the compiled
+// gradients for the Hessians), or whose Hessian is not symmetric; each is reported, after
+// `label`.
+int DerivativeMismatches(Evaluation& evaluation, const CompiledBlock& block, const Point& p,
+                         const std::string& label) {
+  const int nt = block.num_terms(), nv = block.num_variables();
+  Eigen::VectorXd values, gradients, hessians;
+  evaluation.All(p.x, p.phi, values, gradients, hessians);
+  const Eigen::MatrixXd numeric_gradients = NumericJacobian(
+      [&](const Eigen::VectorXd& x) { return evaluation.Values(x, p.phi); }, p.x, kStep);
+  const Eigen::MatrixXd numeric_hessians = NumericJacobian(
+      [&](const Eigen::VectorXd& x) { return evaluation.Gradients(x, p.phi); }, p.x, kStep);
+  int failures = 0;
+  for (int t = 0; t < nt; ++t) {
+    const Eigen::MatrixXd gradient = gradients.segment(t * nv, nv).transpose();
+    const Eigen::MatrixXd hessian = Eigen::Map<const Eigen::MatrixXd>(
+        hessians.data() + static_cast<std::ptrdiff_t>(t) * nv * nv, nv, nv);
+    const bool finite = std::isfinite(values[t]) && gradient.allFinite() && hessian.allFinite();
+    const auto gradient_match = JacobiansMatch(gradient, numeric_gradients.row(t), kTolerance);
+    const auto hessian_match =
+        JacobiansMatch(hessian, numeric_hessians.middleRows(t * nv, nv), kTolerance);
+    const bool symmetric = hessian == hessian.transpose();
+    if (finite && gradient_match && hessian_match && symmetric) continue;
+    ++failures;
+    ADD_FAILURE() << label << Describe(block, t, p) << "\nvalue " << values[t]
+                  << (symmetric ? "" : "\nHessian not symmetric")
+                  << "\ngradient: " << gradient_match.message()
+                  << "\nHessian: " << hessian_match.message();
+  }
+  return failures;
+}
+
 class EveryBuiltinPrior : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryBuiltinPrior, GradientsAndHessiansMatchCentralDifferencesAtRandomPoints) {
@@ -179,30 +212,7 @@ TEST_P(EveryBuiltinPrior, GradientsAndHessiansMatchCentralDifferencesAtRandomPoi
         ++rejected;
         p = RandomPoint(rng, prior.order());
       }
-      Eigen::VectorXd values, gradients, hessians;
-      evaluation.All(p.x, p.phi, values, gradients, hessians);
-      // Finite differences of the values for the gradients, of the compiled gradients for the
-      // Hessians.
-      const Eigen::MatrixXd numeric_gradients = NumericJacobian(
-          [&](const Eigen::VectorXd& x) { return evaluation.Values(x, p.phi); }, p.x, kStep);
-      const Eigen::MatrixXd numeric_hessians = NumericJacobian(
-          [&](const Eigen::VectorXd& x) { return evaluation.Gradients(x, p.phi); }, p.x, kStep);
-      for (int t = 0; t < nt; ++t) {
-        const Eigen::MatrixXd gradient = gradients.segment(t * nv, nv).transpose();
-        const Eigen::MatrixXd hessian = Eigen::Map<const Eigen::MatrixXd>(
-            hessians.data() + static_cast<std::ptrdiff_t>(t) * nv * nv, nv, nv);
-        const bool finite = std::isfinite(values[t]) && gradient.allFinite() && hessian.allFinite();
-        const auto gradient_match = JacobiansMatch(gradient, numeric_gradients.row(t), kTolerance);
-        const auto hessian_match =
-            JacobiansMatch(hessian, numeric_hessians.middleRows(t * nv, nv), kTolerance);
-        const bool symmetric = hessian == hessian.transpose();
-        if (finite && gradient_match && hessian_match && symmetric) continue;
-        ++failures;
-        ADD_FAILURE() << GetParam() << ": " << Describe(*block, t, p) << "\nvalue " << values[t]
-                      << (symmetric ? "" : "\nHessian not symmetric")
-                      << "\ngradient: " << gradient_match.message()
-                      << "\nHessian: " << hessian_match.message();
-      }
+      failures += DerivativeMismatches(evaluation, *block, p, GetParam() + ": ");
     }
     // The guards reject a small part of the space only: the test still covers it.
     EXPECT_LT(rejected, kPointsPerPrior / 5) << ToString(block->kind());
@@ -581,8 +591,7 @@ TEST(OperatorDerivatives, EveryOperatorsGradientAndHessianMatchCentralDifference
   const CompiledPrior prior = CompileEveryOperatorPrior();
   const CompiledBlock* block = prior.block(BlockKind::kSameRegion);
   ASSERT_NE(block, nullptr);
-  const int nt = block->num_terms(), nv = block->num_variables();
-  ASSERT_EQ(nt, 10);
+  ASSERT_EQ(block->num_terms(), 10);
   Evaluation evaluation(*block);
   Rng rng(4242);
   int failures = 0, rejected = 0;
@@ -592,28 +601,7 @@ TEST(OperatorDerivatives, EveryOperatorsGradientAndHessianMatchCentralDifference
       ++rejected;
       p = RandomPoint(rng, 2);
     }
-    Eigen::VectorXd values, gradients, hessians;
-    evaluation.All(p.x, p.phi, values, gradients, hessians);
-    const Eigen::MatrixXd numeric_gradients = NumericJacobian(
-        [&](const Eigen::VectorXd& x) { return evaluation.Values(x, p.phi); }, p.x, kStep);
-    const Eigen::MatrixXd numeric_hessians = NumericJacobian(
-        [&](const Eigen::VectorXd& x) { return evaluation.Gradients(x, p.phi); }, p.x, kStep);
-    for (int t = 0; t < nt; ++t) {
-      const Eigen::MatrixXd gradient = gradients.segment(t * nv, nv).transpose();
-      const Eigen::MatrixXd hessian = Eigen::Map<const Eigen::MatrixXd>(
-          hessians.data() + static_cast<std::ptrdiff_t>(t) * nv * nv, nv, nv);
-      const bool finite = std::isfinite(values[t]) && gradient.allFinite() && hessian.allFinite();
-      const auto gradient_match = JacobiansMatch(gradient, numeric_gradients.row(t), kTolerance);
-      const auto hessian_match =
-          JacobiansMatch(hessian, numeric_hessians.middleRows(t * nv, nv), kTolerance);
-      const bool symmetric = hessian == hessian.transpose();
-      if (finite && gradient_match && hessian_match && symmetric) continue;
-      ++failures;
-      ADD_FAILURE() << Describe(*block, t, p) << "\nvalue " << values[t]
-                    << (symmetric ? "" : "\nHessian not symmetric")
-                    << "\ngradient: " << gradient_match.message()
-                    << "\nHessian: " << hessian_match.message();
-    }
+    failures += DerivativeMismatches(evaluation, *block, p, "");
   }
   // The guards leave most of the space in the test (tan's guard alone rejects ~10 %).
   EXPECT_LT(rejected, kPointsPerPrior / 3);
