@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 suites=(core_tests dsl_tests grid_tests prf_tests slam_io_tests)
-cmake --preset asan >/dev/null
+cmake --preset asan -DPRIORMAP_WARNINGS_AS_ERRORS=ON >/dev/null
 cmake --build --preset asan --target "${suites[@]}"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
