@@ -26,7 +26,8 @@ namespace {
 constexpr const char* kRoboNdSonar = "roboND-sonar";
 
 struct ConvertOptions {
-  std::vector<std::string> inputs;
+  std::string input;
+  std::optional<std::string> robond_poses;  // the second file of --from roboND-sonar
   std::string out;
   std::optional<std::string> from, to;
   std::optional<double> max_range, min_range, fov_deg, sigma;
@@ -35,7 +36,7 @@ struct ConvertOptions {
 
 // The RoboND sonar files, converted as documented in docs/formats.md.
 Log ReadRoboNd(const ConvertOptions& o) {
-  if (o.inputs.size() != 2)
+  if (!o.robond_poses)
     throw UserError(
         fmt::format("--from {} reads two files: measurement.txt poses.txt", kRoboNdSonar));
   if (o.fov_deg || o.sigma)
@@ -55,7 +56,7 @@ Log ReadRoboNd(const ConvertOptions& o) {
                       *o.max_range, kRoboNdSonar, sensor_max_range));
     options.no_echo_mm = *o.max_range * 1000.0;
   }
-  Log log = ValueOrThrow(ReadRoboNdSonar(o.inputs[0], o.inputs[1], options));
+  Log log = ValueOrThrow(ReadRoboNdSonar(o.input, *o.robond_poses, options));
   if (o.poses) log.pose_source = *PoseSourceFromString(*o.poses);
   return log;
 }
@@ -115,10 +116,10 @@ void RefuseOptionsTheFormatIgnores(const ConvertOptions& o, LogFormat from,
 
 void Run(const ConvertOptions& o) {
   const bool robond = o.from && *o.from == kRoboNdSonar;
-  if (!robond && o.inputs.size() != 1)
+  if (!robond && o.robond_poses)
     throw UserError(
         fmt::format("convert reads one log (two files only with --from {})", kRoboNdSonar));
-  const std::string& input = o.inputs[0];
+  const std::string& input = o.input;
   const LogFormat to = OutputLogFormat(o.to, o.out, "--out", "--to");
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
@@ -174,8 +175,8 @@ void Run(const ConvertOptions& o) {
     }
   }
   fmt::print("read {} ({}): {}{}, {} odometry, {} true poses, {} params\n",
-             fmt::join(o.inputs, " "), from ? ToString(*from) : kRoboNdSonar,
-             Plural(log.scans.size(), "scan"),
+             o.robond_poses ? fmt::format("{} {}", o.input, *o.robond_poses) : o.input,
+             from ? ToString(*from) : kRoboNdSonar, Plural(log.scans.size(), "scan"),
              rings > 0 ? fmt::format(" ({} sonar rings)", rings) : "", log.odometry.size(),
              log.true_poses.size(), log.params.size());
   fmt::print("readings: {} valid, {} max-range, {} invalid\n", valid, max_range, invalid);
@@ -202,10 +203,9 @@ void AddConvertCommand(CLI::App& app) {
       "Convert a log between CARMEN (plain or .gz) and priormap JSON, or CSM laser_data JSON "
       "(--from csm) or the RoboND sonar files (--from roboND-sonar measurement.txt poses.txt) to "
       "priormap JSON");
-  cmd->add_option("input", o->inputs,
-                  "Input log (with --from roboND-sonar: measurement.txt poses.txt)")
-      ->required()
-      ->expected(1, 2);
+  cmd->add_option("input", o->input, "Input log (with --from roboND-sonar: measurement.txt)")
+      ->required();
+  cmd->add_option("poses-file", o->robond_poses, "With --from roboND-sonar: poses.txt");
   cmd->add_option("-o,--out", o->out,
                   "Output file: .json / .json.gz (JSON) or .log / .log.gz (CARMEN; also .clf, "
                   ".carmen, .txt); .gz compresses")

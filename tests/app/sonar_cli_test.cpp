@@ -153,7 +153,14 @@ TEST_F(SonarCli, ReportsMalformedRoboNdFilesAtFileLineAndColumn) {
   EXPECT_EQ(r.status, 1);
   EXPECT_THAT(r.err, HasSubstr("m.txt:2:9"));
   EXPECT_THAT(r.err, HasSubstr("a range in mm"));
-  EXPECT_EQ(RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "-o", "x.json"}).status, 1);
+  EXPECT_THAT(RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "-o", "x.json"}).err,
+              HasSubstr("--from roboND-sonar reads two files: measurement.txt poses.txt"));
+  EXPECT_THAT(RunFailing({"convert", "m.txt", "p.txt", "-o", "x.json"}).err,
+              HasSubstr("convert reads one log (two files only with --from roboND-sonar)"));
+  EXPECT_NE(
+      RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "p.txt", "-o", "x.json"})
+          .status,
+      0);
 }
 
 TEST_F(SonarCli, RefusesRoboNdRangeLimitsThatWouldTurnNoEchoIntoWalls) {
