@@ -34,6 +34,13 @@ void List(const PriorOptions& o) {
   for (const dsl::PriorListing& p : library.List()) {
     fmt::print("{:<42} {}\n", p.name, p.description);
     fmt::print("{:<42} {}\n", "", p.path);
+    // A file that parses can still fail to compile (an unknown name, a missing parent): naming
+    // it would fail, so say so here rather than at the user's first `scan`.
+    if (p.builtin) continue;
+    const Result<dsl::CompiledPrior> compiled = library.Load(p.name);
+    for (const Diagnostic& d : compiled.diagnostics())
+      fmt::print(stderr, "priormap: warning: '{}' does not compile, {}: {}\n", p.name, d.Location(),
+                 d.message);
   }
   for (const Diagnostic& d : library.Unparsable())
     fmt::print(stderr, "priormap: warning: not listed, {}: {}\n", d.Location(), d.message);
@@ -91,6 +98,11 @@ void Check(const PriorOptions& o) {
       fmt::print("  pose independence: {} term(s) changed under rigid motions (warnings above)\n",
                  report.violations.size());
     }
+    if (report.undefined_evaluations > 0)
+      fmt::print(
+          "  pose independence: where defined only: {} term evaluation(s) were NaN or infinite "
+          "both before and after the motion, and test nothing\n",
+          report.undefined_evaluations);
   }
 }
 
@@ -154,7 +166,9 @@ std::map<std::string, double> ParseAssignments(const std::string& text) {
       throw UserError(
           fmt::format("--at: expected name=value pairs separated by commas, got '{}'", item));
     }
-    values[item.substr(0, eq)] = value;
+    // A repeated name is a typo for another one: taking either value would hide it.
+    if (!values.emplace(item.substr(0, eq), value).second)
+      throw UserError(fmt::format("--at: {} is given twice", item.substr(0, eq)));
     start = end + 1;
   }
   return values;
@@ -211,9 +225,11 @@ void AddPriorCommand(CLI::App& app) {
   // Its subcommands (made below) inherit this: `prior check FILE --prior-path DIR` passes the
   // option up to `prior`, as users write it.
   prior->fallthrough();
-  prior->add_option("--prior-path", o->prior_path,
-                    "Directory searched for priors by name (repeatable; before PRIORMAP_PRIOR_PATH "
-                    "and the built-ins)");
+  prior
+      ->add_option("--prior-path", o->prior_path,
+                   "Directory searched for priors by name (repeatable; before PRIORMAP_PRIOR_PATH "
+                   "and the built-ins)")
+      ->check(CLI::ExistingDirectory);
 
   prior
       ->add_subcommand("list",

@@ -183,7 +183,8 @@ void AddScanCommand(CLI::App& app) {
                   "Prior: a built-in name (see 'priormap prior list') or a .prior file")
       ->required();
   cmd->add_option("--prior-path", o->prior_path,
-                  "Directories searched for priors named by 'specializes:'");
+                  "Directories searched for priors named by 'specializes:'")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("-i,--input,--log", o->input, "Scan or log: priormap JSON or CARMEN (.gz too)")
       ->required();
   cmd->add_option("--index", o->index, "Which scan of the log (0-based; default 0)")

@@ -60,14 +60,18 @@ PoseIndependenceReport CheckPoseIndependence(const CompiledPrior& prior, int con
       Configuration(points, alpha, x, phi);
       evaluator.Evaluate(x, phi, after.data());
       for (std::size_t t = 0; t < nt; ++t) {
-        if (!std::isfinite(before[t]) || !std::isfinite(after[t])) continue;
-        const double change = std::abs(after[t] - before[t]);
-        if (change <= kTolerance * (1.0 + std::abs(before[t]))) continue;
-        auto [it, inserted] = worst.try_emplace(static_cast<int>(t));
-        if (inserted || change > std::abs(it->second.value_after - it->second.value_before)) {
-          it->second = {
-              static_cast<BlockKind>(b), static_cast<int>(t), before[t], after[t], dx, dy, dtheta};
+        if (!std::isfinite(before[t]) && !std::isfinite(after[t])) {
+          ++report.undefined_evaluations;
+          continue;
         }
+        // A term defined at one pose and not at the other depends on the pose as surely as one
+        // whose value moves: its change is infinite.
+        const PoseIndependenceViolation candidate{
+            static_cast<BlockKind>(b), static_cast<int>(t), before[t], after[t], dx, dy, dtheta};
+        const double change = candidate.Change();
+        if (std::isfinite(change) && change <= kTolerance * (1.0 + std::abs(before[t]))) continue;
+        auto [it, inserted] = worst.try_emplace(static_cast<int>(t), candidate);
+        if (!inserted && change > it->second.Change()) it->second = candidate;
       }
     }
     for (auto& [term, violation] : worst) report.violations.push_back(violation);

@@ -697,6 +697,17 @@ TEST_F(Cli, PriorListIncludesThePriorPathBeforeOrAfterTheSubcommand) {
   }
 }
 
+TEST_F(Cli, PriorListWarnsOfAPriorThatParsesButDoesNotCompile) {
+  fs::create_directory(Work("lib"));
+  WriteAll(Work("lib/typo.prior"), "name: Typo\norder: 1\npriorlet same_region:\n  rho_1 == rh\n");
+  const RunResult r = Run({"prior", "list", "--prior-path", "lib"});
+  EXPECT_EQ(r.status, 0);
+  EXPECT_THAT(r.out, StartsWith("Typo "));
+  EXPECT_THAT(r.err, HasSubstr("priormap: warning: 'Typo' does not compile, lib/typo.prior:4:12: "
+                               "unknown name 'rh'"));
+  EXPECT_THAT(Ok({"prior", "list"}).err, Not(HasSubstr("warning")));
+}
+
 TEST_F(Cli, PriorCheckSummarisesTheResolvedPrior) {
   const RunResult r = Ok({"prior", "check", "rectangular"});
   EXPECT_THAT(r.out, StartsWith("Rectangular prior (<builtin>/rectangular.prior)\n"));
@@ -809,6 +820,8 @@ TEST_F(Cli, PriorErrorsNameTheProblem) {
   EXPECT_THAT(Fails(args).err, HasSubstr("got 'rho_2=x'"));
   args.back() = "rho_1=1,rho_2=2,alpha_1=0.3,phi_1=0,phi_2=0.5";
   EXPECT_THAT(Fails(args).err, HasSubstr("--at: missing a value for alpha_2"));
+  args.back() = "rho_1=1,rho_2=2,rho_1=3,alpha_1=0.3,alpha_2=-0.1,phi_1=0,phi_2=0.5";
+  EXPECT_THAT(Fails(args).err, HasSubstr("--at: rho_1 is given twice"));
   args.back() = "rho_1=1,rho_2=2,alpha_1=0.3,alpha_2=-0.1,phi_1=0,phi_2=0.5,rho_3=1";
   EXPECT_THAT(Fails(args).err,
               HasSubstr("--at: 'rho_3' is not a variable of this prior (order 2)"));
@@ -822,6 +835,9 @@ TEST_F(Cli, PriorErrorsNameTheProblem) {
   EXPECT_THAT(Fails(args).err, HasSubstr("the prior 'Polygonal prior' has no such block"));
 
   EXPECT_THAT(Fails({"prior", "eval", "polygonal"}).err, HasSubstr("--at"));
+  // A --prior-path that does not exist is a typo, not an empty library.
+  EXPECT_THAT(Fails({"prior", "list", "--prior-path", "no-such-dir"}).err,
+              HasSubstr("--prior-path: Directory does not exist: no-such-dir"));
   Fails({"prior"});  // a subcommand is required
   Fails({"prior", "check"});
 }

@@ -1,6 +1,7 @@
 // The numerical pose-independence check (paper Def. 3): the built-in priors pass it, and terms
 // that look at the map in the sensor's frame are reported by name.
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -107,6 +108,27 @@ TEST(PoseIndependence, ReportSaysHowManyConfigurationsWereTried) {
   const PoseIndependenceReport report = CheckPoseIndependence(prior, 17, 1);
   EXPECT_EQ(report.configurations, 17);
   EXPECT_TRUE(report.ok());
+}
+
+// abs(sqrt(phi_1)) - sqrt(phi_1) is 0 wherever phi_1 >= 0 and undefined elsewhere: its value never
+// moves, but whether it is defined does, which depends on the pose as much.
+TEST(PoseIndependence, ATermDefinedAtOnePoseOnlyIsReported) {
+  const CompiledPrior prior = Compile(
+      "name: OneSided\norder: 1\npriorlet same_region:\n  abs(sqrt(phi_1)) - sqrt(phi_1) == 0\n");
+  const PoseIndependenceReport report = CheckPoseIndependence(prior, 100, 2);
+  ASSERT_EQ(report.violations.size(), 1u);
+  const PoseIndependenceViolation& v = report.violations[0];
+  EXPECT_NE(std::isfinite(v.value_before), std::isfinite(v.value_after));
+  EXPECT_EQ(v.Change(), std::numeric_limits<double>::infinity());
+  EXPECT_GT(report.undefined_evaluations, 0);
+}
+
+TEST(PoseIndependence, TermsUndefinedAtBothPosesAreCountedNotPassed) {
+  const CompiledPrior prior =
+      Compile("name: Never\norder: 1\npriorlet same_region:\n  sqrt(phi_1 - 10) == 0\n");
+  const PoseIndependenceReport report = CheckPoseIndependence(prior, 30, 4);
+  EXPECT_TRUE(report.ok());
+  EXPECT_EQ(report.undefined_evaluations, 30);
 }
 
 }  // namespace

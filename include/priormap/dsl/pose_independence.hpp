@@ -5,7 +5,9 @@
 /// Value invariance is sufficient, not necessary: a constraint can keep its zero set while its
 /// value changes, so a failure is a warning to read, not a proof.
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -19,11 +21,19 @@ struct PoseIndependenceViolation {
   double value_before = 0.0;
   double value_after = 0.0;
   double dx = 0.0, dy = 0.0, dtheta = 0.0;  ///< the rigid motion that changed it
+  /// |after - before|; infinite when the term is defined (finite) at one pose only.
+  [[nodiscard]] double Change() const {
+    return std::isfinite(value_before) && std::isfinite(value_after)
+               ? std::abs(value_after - value_before)
+               : std::numeric_limits<double>::infinity();
+  }
 };
 
 struct PoseIndependenceReport {
   int configurations = 0;                             ///< random configurations tried per block
   std::vector<PoseIndependenceViolation> violations;  ///< the worst one per term that changed
+  /// Term evaluations undefined (NaN or infinite) at both poses, which test nothing.
+  int undefined_evaluations = 0;
   [[nodiscard]] bool ok() const { return violations.empty(); }
 };
 
