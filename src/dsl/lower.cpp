@@ -57,6 +57,7 @@ Value Scalar(NodeId id) {
 struct Header {
   std::string name;
   int order = 0;
+  SourceLocation order_loc;  // of the value that wins, which a child can set for its parent's text
   double max_curvature = std::numeric_limits<double>::infinity();
 };
 
@@ -96,7 +97,10 @@ Header ResolveHeader(const ResolvedPrior& prior) {
   std::optional<int> order;
   // Ancestors first, so that the nearest value overrides.
   for (auto it = prior.files.rbegin(); it != prior.files.rend(); ++it) {
-    if (const HeaderEntry* entry = (*it)->Header("order")) order = ParseOrder(*entry);
+    if (const HeaderEntry* entry = (*it)->Header("order")) {
+      order = ParseOrder(*entry);
+      header.order_loc = entry->value_loc;
+    }
     if (const HeaderEntry* entry = (*it)->Header("max_curvature"))
       header.max_curvature = ParseCurvature(*entry);
   }
@@ -254,8 +258,14 @@ class Lowerer {
       const auto& [base, index] = *predefined;
       if (index < 1) Fail(e.loc, fmt::format("'{}': indices start at 1", e.name));
       if (index > header_.order) {
-        Fail(e.loc, fmt::format("'{}': index {} is above the prior's order {}", e.name,
-                                e.name.substr(base.size() + 1), header_.order));
+        // In a parent's text, the order that rules it out may be a child's.
+        const SourceLocation& set_at = header_.order_loc;
+        const std::string where_set = set_at.file_name() == e.loc.file_name()
+                                          ? ""
+                                          : fmt::format(" (order: {} at {}:{})", header_.order,
+                                                        set_at.file_name(), set_at.line);
+        Fail(e.loc, fmt::format("'{}': index {} is above the prior's order {}{}", e.name,
+                                e.name.substr(base.size() + 1), header_.order, where_set));
       }
       const int k = header_.order;
       if (base == "rho") return Scalar(graph_.Var(index - 1));

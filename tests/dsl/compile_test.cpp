@@ -350,8 +350,11 @@ TEST_F(Inheritance, LoweringTheOrderBelowAParentsIndexIsAnErrorInTheParentsFile)
   const Result<CompiledPrior> prior = CompileChild("name: Child\nspecializes: Three\norder: 2\n");
   ASSERT_FALSE(prior.ok());
   ASSERT_EQ(prior.diagnostics().size(), 1u);
-  EXPECT_THAT(prior.diagnostics().front(), DiagnosticAt((dir() / "three.prior").string(), 4, 12,
-                                                        "index 3 is above the prior's order 2"));
+  // The order that rules the parent's text out is the child's, and is named.
+  EXPECT_THAT(prior.diagnostics().front(),
+              DiagnosticAt((dir() / "three.prior").string(), 4, 12,
+                           fmt::format("index 3 is above the prior's order 2 (order: 2 at {}:3)",
+                                       ChildPath())));
 }
 
 TEST_F(Inheritance, GrandchildInheritsThroughTheChain) {
