@@ -24,7 +24,9 @@ namespace fs = std::filesystem;
 using priormap::testing::ColorNear;
 using priormap::testing::FilesIn;
 using priormap::testing::HasTemporaryFile;
+using priormap::testing::Like;
 using priormap::testing::Near;
+using priormap::testing::PixelPredicate;
 using priormap::testing::PngImage;
 using priormap::testing::ReadAll;
 using priormap::testing::Rgba;
@@ -53,6 +55,29 @@ FigureOptions Plain(int width = 400) {
   options.axes = false;
   options.padding_m = 0.0;
   return options;
+}
+
+// `color` drawn over white with alpha `alpha`, as Cairo blends it (to within rounding).
+Rgba OverWhite(const Color& color, double alpha) {
+  return ToRgba(Color{alpha * color.r + (1.0 - alpha), alpha * color.g + (1.0 - alpha),
+                      alpha * color.b + (1.0 - alpha)});
+}
+
+bool InImage(const PngImage& image, const Vec2& device) {
+  return device.x() >= 0.0 && device.y() >= 0.0 && device.x() < image.width() &&
+         device.y() < image.height();
+}
+
+// Whether a pixel within `radius` pixels (per axis) of the device point satisfies `predicate`.
+bool AnyNear(const PngImage& image, const Vec2& device, int radius,
+             const PixelPredicate& predicate) {
+  const int cx = static_cast<int>(std::floor(device.x()));
+  const int cy = static_cast<int>(std::floor(device.y()));
+  for (int y = cy - radius; y <= cy + radius; ++y)
+    for (int x = cx - radius; x <= cx + radius; ++x)
+      if (x >= 0 && y >= 0 && x < image.width() && y < image.height() && predicate(image.At(x, y)))
+        return true;
+  return false;
 }
 
 // --- Files -------------------------------------------------------------------------------------
@@ -349,6 +374,74 @@ TEST(Figure, ColorbarIsDrawnRightOfThePlot) {
       right_of_plot += Near(image.At(x, y), high, 3);
   }
   EXPECT_GT(right_of_plot, 0);
+  // The bar runs along the plot's height from the low end at the bottom to the high end at the
+  // top: right of the plot, the row at height fraction f shows the colour map at f (to within
+  // the bar's steps), and not the colour of the mirrored height 1 - f.
+  const double top = figure.ToDevice({0.0, 4.25}).y(), bottom = figure.ToDevice({0.0, -0.25}).y();
+  for (const double f : {0.03, 0.25, 0.5, 0.75, 0.97}) {
+    const int y = static_cast<int>(std::floor(bottom - f * (bottom - top)));
+    // Whether the row shows the colour map at some t in [lo, hi].
+    const auto shows = [&](double lo, double hi) {
+      for (double t = std::max(lo, 0.0); t <= std::min(hi, 1.0); t += 0.001)
+        for (int x = plot_right + 1; x < image.width(); ++x)
+          if (Near(image.At(x, y), ToRgba(MapColor(Colormap::kViridis, t)), 2)) return true;
+      return false;
+    };
+    EXPECT_TRUE(shows(f - 0.02, f + 0.02)) << "height fraction " << f;
+    if (std::abs(f - 0.5) > 0.1) {
+      EXPECT_FALSE(shows(0.97 - f, 1.03 - f)) << "height fraction " << f;
+    }
+  }
+}
+
+// Legend entries: a bar in each entry's colour, in entry order from the top, in the corner
+// FigureOptions::legend names (or under the plot).
+TEST(Figure, LegendSwatchesAreDrawnInTheirColoursWhereTheLegendGoes) {
+  const TempDir dir;
+  const Color crimson{0.8, 0.0, 0.2}, teal{0.0, 0.5, 0.5};
+  struct Place {
+    LegendPlace place;
+    bool right, bottom, below;
+  };
+  for (const Place& place : {Place{LegendPlace::kTopRight, true, false, false},
+                             Place{LegendPlace::kBottomLeft, false, true, false},
+                             Place{LegendPlace::kTopLeft, false, false, false},
+                             Place{LegendPlace::kBelow, false, false, true}}) {
+    FigureOptions options = Plain();
+    options.legend = place.place;
+    Figure figure(World(0, 0, 4, 4), options);
+    figure.AddLegend("first", crimson);
+    figure.AddLegend("second", teal);
+    figure.Save(dir / "legend.png");
+    const PngImage image(dir / "legend.png");
+    ASSERT_TRUE(image.ok());
+    const Vec2 top_left = figure.ToDevice({0.0, 4.0}), bottom_right = figure.ToDevice({4.0, 0.0});
+    const Vec2 middle = (top_left + bottom_right) / 2;
+    double mean_row[2] = {0.0, 0.0};
+    int index = 0;
+    for (const Color& color : {crimson, teal}) {
+      int n = 0;
+      for (int y = 0; y < image.height(); ++y) {
+        for (int x = 0; x < image.width(); ++x) {
+          if (!Like(color)(image.At(x, y))) continue;
+          ++n;
+          mean_row[index] += y + 0.5;
+          if (place.below) {
+            EXPECT_GT(y, bottom_right.y()) << "entry " << index << " not under the plot";
+            continue;
+          }
+          EXPECT_EQ(x + 0.5 > middle.x(), place.right) << "entry " << index << " at x " << x;
+          EXPECT_EQ(y + 0.5 > middle.y(), place.bottom) << "entry " << index << " at y " << y;
+        }
+      }
+      ASSERT_GE(n, 20) << "entry " << index << ": no swatch";  // a bar about 22 by 4 pixels
+      mean_row[index] /= n;
+      ++index;
+    }
+    if (!place.below) {
+      EXPECT_LT(mean_row[0], mean_row[1]) << "the first entry is on top";
+    }
+  }
 }
 
 TEST(Figure, PointsAndLinesUseTheirColours) {
@@ -463,6 +556,56 @@ TEST(SceneDrawing, ScanFigureHasTheRequestedSizeAndShowsTheReadings) {
   EXPECT_EQ(image.height(), figure.height_px());
   EXPECT_GT(image.Count(ToRgba(ScanStyle{}.valid)), 100);
   EXPECT_GT(image.Count(ToRgba(palette::kYellow)), 10);  // the pose marker
+
+  // Every reading is a dot of the valid colour where it lies in the world.
+  int readings = 0, misplaced = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.IsValid(i)) continue;
+    ++readings;
+    const Vec2 d = figure.ToDevice(scan.PointInWorld(i));
+    if (!InImage(image, d) || !Like(ScanStyle{}.valid)(image.At(d))) ++misplaced;
+  }
+  EXPECT_GT(readings, 900);
+  EXPECT_EQ(misplaced, 0) << "of " << readings << " readings";
+
+  // The scene: the wall (dark grey, 0.25) where the sensor's blind sector leaves it bare, the
+  // clutter box and bin (orange at half alpha) at their centres.
+  const Vec2 bare_wall(-3.0, -2.25);
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (scan.IsValid(i)) {
+      ASSERT_GT((scan.PointInWorld(i) - bare_wall).norm(), 0.3);
+    }
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice(bare_wall)), (Rgba{64, 64, 64, 255}), 2));
+  const Rgba clutter = OverWhite(palette::kOrange, 0.5);
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({-0.8, -2.3})), clutter, 2));  // the box
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({-2.3, -0.6})), clutter, 2));  // the bin
+
+  // Empty space is background: inside the room and in the quadrant the L leaves out.
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({-1.5, 1.5})), kWhite));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.5, 1.5})), kWhite));
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.5, -1.5})), kWhite));
+
+  // The pose marker points along the heading (45 degrees: up and to the right in the image).
+  const Vec2 pose = figure.ToDevice(scan.pose.translation());
+  const Vec2 heading(std::cos(scan.pose.theta()), -std::sin(scan.pose.theta()));  // y down
+  EXPECT_TRUE(ColorNear(image.At(pose + 4.0 * heading), ToRgba(palette::kYellow), 2));
+  EXPECT_TRUE(ColorNear(image.At(pose - 10.0 * heading), kWhite));
+
+  // True normals: green ticks from each reading into the room. On the top wall (y = 3) they
+  // point down in the image, and nothing is drawn beyond the wall.
+  std::size_t top = scan.size();
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.IsValid(i) &&
+        (top == scan.size() || (scan.PointInWorld(i) - Vec2(-1.5, 3.0)).norm() <
+                                   (scan.PointInWorld(top) - Vec2(-1.5, 3.0)).norm()))
+      top = i;
+  }
+  ASSERT_LT((scan.PointInWorld(top) - Vec2(-1.5, 3.0)).norm(), 0.05);
+  const Vec2 on_wall = figure.ToDevice(scan.PointInWorld(top));
+  const auto green = [](const Rgba& p) { return p.g - p.r > 50 && p.g > p.b; };
+  EXPECT_TRUE(green(image.At(on_wall + Vec2(0.0, 4.0))))
+      << priormap::testing::Describe(image.At(on_wall + Vec2(0.0, 4.0)));
+  EXPECT_TRUE(ColorNear(image.At(on_wall - Vec2(0.0, 4.0)), kWhite));
 }
 
 TEST(SceneDrawing, OutliersAreDrawnInTheOutlierColour) {
@@ -481,6 +624,42 @@ TEST(SceneDrawing, OutliersAreDrawnInTheOutlierColour) {
       EXPECT_EQ(outlier_pixels, 0);
     } else {
       EXPECT_GT(outlier_pixels, 50);
+    }
+    // Each reading is drawn where it lies: outliers (the simulator's truth) in the outlier
+    // colour, the others in the valid colour. Readings under what is drawn later are left out:
+    // the pose marker (12 pixels) over everything, an outlier's dot (radius 1.6 x 1.4) over the
+    // valid readings within its reach.
+    ASSERT_TRUE(scan->truth.has_value());
+    std::vector<Vec2> outlier_points;
+    for (std::size_t i = 0; i < scan->size(); ++i)
+      if (scan->IsValid(i) && scan->truth->outlier[i] != 0)
+        outlier_points.push_back(figure.ToDevice(scan->PointInWorld(i)));
+    const Vec2 pose = figure.ToDevice(scan->pose.translation());
+    int outliers = 0, valid = 0, wrong_outliers = 0, wrong_valid = 0;
+    for (std::size_t i = 0; i < scan->size(); ++i) {
+      if (!scan->IsValid(i)) continue;
+      const Vec2 d = figure.ToDevice(scan->PointInWorld(i));
+      ASSERT_TRUE(InImage(image, d)) << i;
+      if ((d - pose).norm() < 14.0) continue;
+      if (scan->truth->outlier[i] != 0) {
+        ++outliers;
+        wrong_outliers += Like(ScanStyle{}.outlier)(image.At(d)) ? 0 : 1;
+        continue;
+      }
+      bool covered = false;
+      for (const Vec2& o : outlier_points) covered = covered || (o - d).norm() < 1.6 * 1.4 + 1.5;
+      if (covered) continue;
+      ++valid;
+      wrong_valid += Like(ScanStyle{}.valid)(image.At(d)) ? 0 : 1;
+    }
+    EXPECT_EQ(wrong_outliers, 0) << "of " << outliers;
+    EXPECT_EQ(wrong_valid, 0) << "of " << valid;
+    if (scan == &noisy) {
+      EXPECT_GT(outliers, 100);
+      EXPECT_GT(valid, 300);
+    } else {
+      EXPECT_EQ(outliers, 0);
+      EXPECT_GT(valid, 900);
     }
   }
 }
@@ -505,7 +684,32 @@ TEST(SceneDrawing, LogFigureHasTheRequestedSize) {
   EXPECT_EQ(image.width(), figure.width_px());
   EXPECT_EQ(image.height(), figure.height_px());
   // The trajectory, a thin vermillion line (anti-aliased, so reddish rather than exact).
-  EXPECT_GT(image.Count([](const Rgba& c) { return c.r - c.b > 100 && c.g < c.r; }), 100);
+  const auto reddish = [](const Rgba& c) { return c.r - c.b > 100 && c.g < c.r; };
+  EXPECT_GT(image.Count(reddish), 100);
+  // ...through every scan's pose.
+  int off_trajectory = 0;
+  for (const Scan& scan : log.scans)
+    off_trajectory += AnyNear(image, figure.ToDevice(scan.pose.translation()), 1, reddish) ? 0 : 1;
+  EXPECT_EQ(off_trajectory, 0) << "of " << log.scans.size() << " poses";
+  // The readings of the scans drawn (every other one) are bluish dots on the walls.
+  const auto bluish = [](const Rgba& c) { return c.b - c.r > 30; };
+  int missing = 0, drawn = 0;
+  for (std::size_t k = 0; k < log.scans.size(); k += 2) {
+    const Scan& scan = log.scans[k];
+    for (std::size_t i = 0; i < scan.size(); i += 10) {
+      if (!scan.IsValid(i)) continue;
+      ++drawn;
+      missing += bluish(image.At(figure.ToDevice(scan.PointInWorld(i)))) ? 0 : 1;
+    }
+  }
+  EXPECT_GT(drawn, 100);
+  EXPECT_EQ(missing, 0) << "of " << drawn << " readings";
+  // The corridor between the trajectory's two legs (y = -0.3 and 0.3) is empty, and so is the
+  // doorway in the upper wall (x in [1.5, 2.5]); the lower wall opposite it is drawn.
+  for (const double x : {-6.0, -2.0, 0.0, 4.0, 7.0})
+    EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({x, 0.0})), kWhite)) << "x = " << x;
+  EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2.0, 1.0})), kWhite));
+  EXPECT_LT(image.At(figure.ToDevice({2.0, -1.0})).r, 128);
 }
 
 TEST(SceneDrawing, ScanBoundsContainThePoseAndEveryValidReading) {

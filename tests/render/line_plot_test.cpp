@@ -1,5 +1,8 @@
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -19,8 +22,10 @@ namespace {
 namespace fs = std::filesystem;
 using priormap::testing::HasTemporaryFile;
 using priormap::testing::Like;
+using priormap::testing::PixelPredicate;
 using priormap::testing::PngImage;
 using priormap::testing::ReadAll;
+using priormap::testing::Rgba;
 using priormap::testing::TempDir;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -66,6 +71,91 @@ LinePlotOptions YRange(double lo, double hi) {
   return options;
 }
 
+// The plot's frame as the image shows it: the black rectangle of width 1 around the data area,
+// the only dark lines that run across most of the figure (text is short, the grid light grey).
+// Its edges are in device coordinates (pixel (i, j) covers [i, i + 1] x [j, j + 1]), found from
+// the image alone, so that the tests below check the data's placement against the frame without
+// repeating the plot's layout.
+struct Frame {
+  double left = 0.0, right = 0.0, top = 0.0, bottom = 0.0;
+  // Where a data point falls for the axis ranges [x_lo, x_hi] x [y_lo, y_hi] (y up).
+  [[nodiscard]] Vec2 ToDevice(double x, double y, std::pair<double, double> x_range,
+                              std::pair<double, double> y_range) const {
+    return {left + (x - x_range.first) / (x_range.second - x_range.first) * (right - left),
+            bottom - (y - y_range.first) / (y_range.second - y_range.first) * (bottom - top)};
+  }
+};
+
+bool Dark(const Rgba& p) {
+  return p.r <= 160 && p.r == p.g && p.g == p.b;
+}
+
+// The mean position (pixel centres, weighted by `darkness`) of those of `lines` (the rows or
+// columns dark across most of the image) within two pixels of `first`: one edge of the frame.
+double LineCentre(const std::vector<double>& darkness, const std::vector<int>& lines, int first) {
+  double sum = 0.0, weight = 0.0;
+  for (int i : lines) {
+    if (std::abs(i - first) > 2) continue;
+    sum += (i + 0.5) * darkness[static_cast<std::size_t>(i)];
+    weight += darkness[static_cast<std::size_t>(i)];
+  }
+  return sum / weight;
+}
+
+std::optional<Frame> FindFrame(const PngImage& image) {
+  const int w = image.width(), h = image.height();
+  std::vector<int> rows, columns;
+  std::vector<double> row_darkness(static_cast<std::size_t>(h)),
+      column_darkness(static_cast<std::size_t>(w));
+  std::vector<int> row_count(static_cast<std::size_t>(h)),
+      column_count(static_cast<std::size_t>(w));
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const Rgba p = image.At(x, y);
+      if (!Dark(p)) continue;
+      ++row_count[static_cast<std::size_t>(y)];
+      ++column_count[static_cast<std::size_t>(x)];
+      row_darkness[static_cast<std::size_t>(y)] += 255 - p.r;
+      column_darkness[static_cast<std::size_t>(x)] += 255 - p.r;
+    }
+  }
+  for (int y = 0; y < h; ++y)
+    if (row_count[static_cast<std::size_t>(y)] > w / 2) rows.push_back(y);
+  for (int x = 0; x < w; ++x)
+    if (column_count[static_cast<std::size_t>(x)] > h / 2) columns.push_back(x);
+  if (rows.size() < 2 || columns.size() < 2 || rows.back() - rows.front() < 10 ||
+      columns.back() - columns.front() < 10)
+    return std::nullopt;
+  return Frame{LineCentre(column_darkness, columns, columns.front()),
+               LineCentre(column_darkness, columns, columns.back()),
+               LineCentre(row_darkness, rows, rows.front()),
+               LineCentre(row_darkness, rows, rows.back())};
+}
+
+// The mean row (pixel centres) of the pixels of column `x` that satisfy `predicate`; nullopt
+// when there is none.
+std::optional<double> MeanRow(const PngImage& image, int x, const PixelPredicate& predicate) {
+  double sum = 0.0;
+  int n = 0;
+  for (int y = 0; y < image.height(); ++y) {
+    if (predicate(image.At(x, y))) {
+      sum += y + 0.5;
+      ++n;
+    }
+  }
+  if (n == 0) return std::nullopt;
+  return sum / n;
+}
+
+// The rows that hold a pixel satisfying `predicate`.
+std::set<int> RowsWith(const PngImage& image, const PixelPredicate& predicate) {
+  std::set<int> rows;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      if (predicate(image.At(x, y))) rows.insert(y);
+  return rows;
+}
+
 TEST(LinePlot, SavesPngSvgAndPdfWithTheRequestedSize) {
   const TempDir dir;
   LinePlotOptions options = Size(640, 360);
@@ -84,6 +174,23 @@ TEST(LinePlot, SavesPngSvgAndPdfWithTheRequestedSize) {
   ASSERT_TRUE(image.ok());
   EXPECT_EQ(image.width(), 640);
   EXPECT_EQ(image.height(), 360);
+  // The PNG shows the plot, not just a canvas of the right size: the frame, most of the figure,
+  // and the legend's swatch of the labelled series (palette colour 0, a horizontal bar) in the
+  // frame's top-right corner.
+  const std::optional<Frame> frame = FindFrame(image);
+  ASSERT_TRUE(frame.has_value());
+  EXPECT_GT(frame->right - frame->left, 0.7 * 640);
+  EXPECT_GT(frame->bottom - frame->top, 0.6 * 360);
+  int longest_swatch_run = 0;
+  const PixelPredicate swatch = Like(palette::Categorical(0));
+  for (int y = static_cast<int>(frame->top); y < static_cast<int>(frame->top) + 40; ++y) {
+    int run = 0;
+    for (int x = static_cast<int>(frame->right) - 200; x < static_cast<int>(frame->right); ++x) {
+      run = swatch(image.At(x, y)) ? run + 1 : 0;
+      longest_swatch_run = std::max(longest_swatch_run, run);
+    }
+  }
+  EXPECT_GE(longest_swatch_run, 18);
 
   const std::string svg = ReadAll(dir / "p.svg");
   EXPECT_NE(svg.find("<svg"), std::string::npos);
@@ -124,17 +231,65 @@ TEST(LinePlot, EmptyPlotStillSaves) {
   ASSERT_TRUE(image.ok());
   EXPECT_EQ(image.width(), 300);
   EXPECT_EQ(image.height(), 200);
+  // An empty frame: inside it only white and the light grey grid, nothing in colour anywhere,
+  // and the title's text above the frame, centred on it.
+  const std::optional<Frame> frame = FindFrame(image);
+  ASSERT_TRUE(frame.has_value());
+  int inside = 0, blank = 0, coloured = 0;
+  double title_x = 0.0;
+  int title_pixels = 0;
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) {
+      const Rgba p = image.At(x, y);
+      coloured += std::max({p.r, p.g, p.b}) - std::min({p.r, p.g, p.b}) > 10 ? 1 : 0;
+      if (x > frame->left + 1 && x + 1 < frame->right - 1 && y > frame->top + 1 &&
+          y + 1 < frame->bottom - 1) {
+        ++inside;
+        blank += p.r >= 200 && p.r == p.g && p.g == p.b ? 1 : 0;
+      }
+      if (y + 1 < frame->top && Dark(p)) {
+        title_x += x + 0.5;
+        ++title_pixels;
+      }
+    }
+  }
+  EXPECT_EQ(blank, inside);
+  EXPECT_EQ(coloured, 0);
+  ASSERT_GT(title_pixels, 20);
+  EXPECT_NEAR(title_x / title_pixels, (frame->left + frame->right) / 2, 10.0);
 }
 
+// An all-NaN series draws nothing; a series of one repeated point draws a dot (the round cap of
+// a segment of no length) in the middle of the frame, its ranges padded evenly around it.
 TEST(LinePlot, AllNanOrConstantSeriesStillSave) {
   const TempDir dir;
   LinePlot all_nan;
-  all_nan.Add(Xy({0, 1, 2}, {kNaN, kNaN, kNaN}));
+  all_nan.Add(Line({0, 1, 2}, {kNaN, kNaN, kNaN}, kCrimson));
   EXPECT_NO_THROW(all_nan.Save(dir / "nan.png"));
+  const PngImage nan_image(dir / "nan.png");
+  ASSERT_TRUE(nan_image.ok());
+  EXPECT_TRUE(FindFrame(nan_image).has_value());
+  EXPECT_EQ(nan_image.Count(Like(kCrimson)), 0);
+
   LinePlot constant;
-  constant.Add(Xy({5, 5}, {-2, -2}));
+  constant.Add(Line({5, 5}, {-2, -2}, kCrimson));
   EXPECT_NO_THROW(constant.Save(dir / "constant.png"));
-  EXPECT_TRUE(PngImage(dir / "constant.png").ok());
+  const PngImage image(dir / "constant.png");
+  ASSERT_TRUE(image.ok());
+  const std::optional<Frame> frame = FindFrame(image);
+  ASSERT_TRUE(frame.has_value());
+  const Vec2 centre((frame->left + frame->right) / 2, (frame->top + frame->bottom) / 2);
+  EXPECT_TRUE(Like(kCrimson)(image.At(centre))) << priormap::testing::Describe(image.At(centre));
+  // The dot and nothing else: a disc of diameter 4 covers a few pixels, all next to the centre.
+  const int dot = image.Count(Like(kCrimson));
+  EXPECT_GT(dot, 0);
+  EXPECT_LT(dot, 25);
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      if (Like(kCrimson)(image.At(x, y))) {
+        EXPECT_LT(std::abs(x + 0.5 - centre.x()), 3.0) << x << " " << y;
+        EXPECT_LT(std::abs(y + 0.5 - centre.y()), 3.0) << x << " " << y;
+      }
 }
 
 // 0.1 * 3 and 0.3 differ in the last bit: a y range one double wide, with a tick step far below
@@ -168,15 +323,34 @@ TEST(LinePlot, SeriesColourAppearsInThePng) {
   EXPECT_EQ(PngImage(dir / "without.png").Count(Like(kCrimson)), 0);
 }
 
+// Series 0 rises from (0, 0) to (1, 1), series 1 falls from (0, 1) to (1, 0): each in the palette
+// colour of its index, and each where its data are (x to the right, y up) against the frame.
 TEST(LinePlot, SeriesWithoutColourTakesThePaletteColourOfItsIndex) {
   const TempDir dir;
-  LinePlot plot;
+  LinePlotOptions options;
+  options.x_range = std::pair{-0.25, 1.25};
+  options.y_range = std::pair{-0.5, 1.5};
+  LinePlot plot(options);
   plot.Add(Xy({0, 1}, {0, 1}, 4.0));
   plot.Add(Xy({0, 1}, {1, 0}, 4.0));
   plot.Save(dir / "palette.png");
   const PngImage image(dir / "palette.png");
+  ASSERT_TRUE(image.ok());
   EXPECT_GT(image.Count(Like(palette::Categorical(0))), 50);
   EXPECT_GT(image.Count(Like(palette::Categorical(1))), 50);
+  const std::optional<Frame> frame = FindFrame(image);
+  ASSERT_TRUE(frame.has_value());
+  for (const double x : {0.2, 0.35, 0.65, 0.8}) {
+    const Vec2 rising = frame->ToDevice(x, x, *options.x_range, *options.y_range);
+    const Vec2 falling = frame->ToDevice(x, 1.0 - x, *options.x_range, *options.y_range);
+    const int column = static_cast<int>(std::floor(rising.x()));
+    const std::optional<double> row0 = MeanRow(image, column, Like(palette::Categorical(0)));
+    const std::optional<double> row1 = MeanRow(image, column, Like(palette::Categorical(1)));
+    ASSERT_TRUE(row0.has_value()) << "x = " << x;
+    ASSERT_TRUE(row1.has_value()) << "x = " << x;
+    EXPECT_NEAR(*row0, rising.y(), 1.5) << "series 0 at x = " << x;
+    EXPECT_NEAR(*row1, falling.y(), 1.5) << "series 1 at x = " << x;
+  }
 }
 
 TEST(LinePlot, MarkersDrawDotsInTheSeriesColour) {
@@ -233,6 +407,26 @@ TEST(LinePlot, HorizontalLinesAreInTheAutomaticYRange) {
   const PngImage image(dir / "auto.png");
   EXPECT_GT(image.Count(Like(kMagenta)), 0);
   EXPECT_GT(image.Count(Like(kCrimson)), 0);
+  // y = 10 runs along the top of the frame and y = -10 along its bottom (the range is theirs and
+  // a little more), each on one row; the data (palette colour 0, y in [0, 1]) in the middle.
+  const std::optional<Frame> frame = FindFrame(image);
+  ASSERT_TRUE(frame.has_value());
+  const double height = frame->bottom - frame->top;
+  const std::set<int> top_rows = RowsWith(image, Like(kMagenta));
+  const std::set<int> bottom_rows = RowsWith(image, Like(kCrimson));
+  ASSERT_FALSE(top_rows.empty());
+  ASSERT_FALSE(bottom_rows.empty());
+  EXPECT_LE(*top_rows.rbegin() - *top_rows.begin(), 1);
+  EXPECT_LE(*bottom_rows.rbegin() - *bottom_rows.begin(), 1);
+  EXPECT_GT(*top_rows.begin(), frame->top);
+  EXPECT_LT(*top_rows.rbegin(), frame->top + 0.1 * height);
+  EXPECT_LT(*bottom_rows.rbegin() + 1, frame->bottom);
+  EXPECT_GT(*bottom_rows.begin(), frame->bottom - 0.1 * height);
+  const int middle = static_cast<int>((frame->left + frame->right) / 2);
+  const std::optional<double> data_row =
+      MeanRow(image, middle, [](const Rgba& p) { return p.b - p.r > 60; });  // palette blue
+  ASSERT_TRUE(data_row.has_value());
+  EXPECT_NEAR(*data_row, (frame->top + frame->bottom) / 2, 0.1 * height);
 
   // With a y range that excludes them, the lines are clipped away.
   LinePlot fixed(YRange(0.0, 1.0));

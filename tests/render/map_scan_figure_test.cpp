@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <string>
 #include <vector>
@@ -18,8 +19,10 @@ namespace {
 using priorlets::Link;
 using priormap::testing::HasTemporaryFile;
 using priormap::testing::Like;
+using priormap::testing::PixelPredicate;
 using priormap::testing::PngImage;
 using priormap::testing::ReadAll;
+using priormap::testing::Rgba;
 using priormap::testing::TempDir;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -132,6 +135,36 @@ TEST(MapScanFigure, DownsamplesALargeCovariance) {
   EXPECT_GT(HeatMapPixels(PngImage(dir / "large.png")), 500);
 }
 
+// The mean position (pixel centres) of the pixels satisfying `predicate`, and their number.
+std::pair<Vec2, int> Centroid(const PngImage& image, const PixelPredicate& predicate) {
+  Vec2 sum = Vec2::Zero();
+  int n = 0;
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) {
+      if (!predicate(image.At(x, y))) continue;
+      sum += Vec2(x + 0.5, y + 0.5);
+      ++n;
+    }
+  }
+  return {n > 0 ? Vec2(sum / n) : sum, n};
+}
+
+// Whether a pixel within one pixel (per axis) of the device point satisfies `predicate`.
+bool NearPixel(const PngImage& image, const Vec2& device, const PixelPredicate& predicate) {
+  const int cx = static_cast<int>(std::floor(device.x()));
+  const int cy = static_cast<int>(std::floor(device.y()));
+  for (int y = cy - 1; y <= cy + 1; ++y)
+    for (int x = cx - 1; x <= cx + 1; ++x)
+      if (x >= 0 && y >= 0 && x < image.width() && y < image.height() && predicate(image.At(x, y)))
+        return true;
+  return false;
+}
+
+// With no reading in the model, panel (a) shows every reading as an outlier: a cross where the
+// reading lies in the sensor frame (x to the right, y up), around the sensor's marker at the
+// origin; and with no posterior, no heat map. The panel's scale is not known to the test: it is
+// the one of pixels per metre, found by search, that puts a cross under every reading (the
+// sensor's yellow marker, drawn nowhere else, is the origin).
 TEST(MapScanFigure, DrawsWithoutInModelPointsOrGroundTruth) {
   const TempDir dir;
   Synthetic s = MakeSynthetic();
@@ -140,7 +173,39 @@ TEST(MapScanFigure, DrawsWithoutInModelPointsOrGroundTruth) {
   s.map.links.clear();
   s.posterior = priorlets::Posterior{};
   MapScanFigure(s.scan, s.map, s.posterior).Save(dir / "empty.png");
-  EXPECT_TRUE(PngImage(dir / "empty.png").ok());
+  const PngImage image(dir / "empty.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_EQ(HeatMapPixels(image), 0);
+
+  const auto [origin, marker_pixels] = Centroid(image, Like(palette::kYellow));
+  ASSERT_GT(marker_pixels, 20);
+  // In the top-left panel.
+  EXPECT_LT(origin.x(), image.width() / 2.0);
+  EXPECT_LT(origin.y(), image.height() / 2.0);
+
+  const PixelPredicate cross = Like(palette::kVermillion);
+  std::vector<Vec2> readings;
+  for (std::size_t i = 0; i < s.scan.size(); ++i)
+    if (s.scan.IsValid(i)) readings.push_back(s.scan.PointInSensorFrame(i));
+  ASSERT_EQ(readings.size(), s.scan.size());
+  std::size_t best = 0;
+  double best_scale = 0.0;
+  for (double scale = 20.0; scale <= 400.0; scale += 0.1) {
+    std::size_t found = 0;
+    for (const Vec2& p : readings)
+      found += NearPixel(image, origin + scale * Vec2(p.x(), -p.y()), cross) ? 1 : 0;
+    if (found > best) {
+      best = found;
+      best_scale = scale;
+    }
+  }
+  EXPECT_EQ(best, readings.size()) << "at " << best_scale << " pixels per metre";
+  // The readings span most of the panel: a scale of about 600 / 3.6 m.
+  EXPECT_GT(best_scale, 100.0);
+  // Under the sensor (beams at negative angles, y < 0) there are crosses: the panel's y is up.
+  const Vec2 below = origin + best_scale * Vec2(readings.front().x(), -readings.front().y());
+  EXPECT_GT(below.y(), origin.y() + 50.0);
+  EXPECT_TRUE(NearPixel(image, below, cross));
 }
 
 TEST(MapScanFigure, RejectsAMapScanOfAnotherScan) {
