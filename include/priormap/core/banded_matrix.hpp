@@ -46,7 +46,7 @@ class SymmetricBandedMatrix {
   [[nodiscard]] const Eigen::MatrixXd& band() const { return band_; }
 
  private:
-  Eigen::MatrixXd band_;  // (bandwidth + 1) x n
+  Eigen::MatrixXd band_;  ///< (bandwidth + 1) x n
 };
 
 /// A = L L^T with L lower triangular and banded like A.
@@ -64,7 +64,7 @@ class BandedCholesky {
   [[nodiscard]] double LogDeterminant() const;
 
  private:
-  Eigen::MatrixXd l_band_;  // l_band_(k, i) = L(i + k, i)
+  Eigen::MatrixXd l_band_;  ///< l_band_(k, i) = L(i + k, i)
 };
 
 }  // namespace priormap

@@ -16,8 +16,8 @@ namespace priormap {
 struct OccupancyRaster {
   /// P(occupied) per cell, row 0 at the bottom (smallest y); NaN where unknown.
   Eigen::MatrixXd probability;
-  Vec2 origin = Vec2::Zero();  // lower-left corner of cell (0, 0), m
-  double resolution = 0.05;    // m per cell
+  Vec2 origin = Vec2::Zero();  ///< lower-left corner of cell (0, 0), m
+  double resolution = 0.05;    ///< m per cell
 };
 
 /// The PGM pixel of a probability: (1 - p) * 255 rounded; 205 (map_saver's unknown) for NaN.

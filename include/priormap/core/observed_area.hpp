@@ -24,9 +24,9 @@ namespace priormap {
 
 /// One sensor pose with the reach of its sensor.
 struct SensorView {
-  Se2 pose;                // T_world_sensor
-  double fov = kTwoPi;     // rad, centred on the sensor's x axis
-  double max_range = 8.0;  // m
+  Se2 pose;                ///< T_world_sensor
+  double fov = kTwoPi;     ///< rad, centred on the sensor's x axis
+  double max_range = 8.0;  ///< m
 };
 
 enum class Observation : std::uint8_t { kUnseen = 0, kVisible = 1, kBehindSurface = 2 };

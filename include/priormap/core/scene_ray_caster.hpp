@@ -28,7 +28,7 @@ class SceneRayCaster {
 
  private:
   std::vector<ScenePrimitive> primitives_;
-  std::vector<Box2> bounds_;  // one per primitive, for a cheap reject before the exact test
+  std::vector<Box2> bounds_;  ///< one per primitive, for a cheap reject before the exact test
 };
 
 }  // namespace priormap

@@ -21,8 +21,8 @@
 namespace priormap {
 
 struct SceneTruthOptions {
-  double resolution = 0.01;  // raster cell, m
-  double margin = 0.1;       // raster beyond the surfaces and seeds, m (at least two cells)
+  double resolution = 0.01;  ///< raster cell, m
+  double margin = 0.1;       ///< raster beyond the surfaces and seeds, m (at least two cells)
 };
 
 class SceneTruth {
@@ -56,16 +56,16 @@ class SceneTruth {
   void FloodFill(std::span<const Vec2> seeds);
 
   std::vector<ScenePrimitive> walls_;
-  std::vector<Box2> bounds_;  // of each wall, for a cheap reject
+  std::vector<Box2> bounds_;  ///< of each wall, for a cheap reject
   Vec2 origin_ = Vec2::Zero();
   double resolution_ = 0.01;
   int nx_ = 0;
   int ny_ = 0;
-  std::vector<std::uint8_t> blocked_right_;  // the centre joins its +x neighbour through a wall
-  std::vector<std::uint8_t> blocked_up_;     // ... its +y neighbour
-  std::vector<std::uint8_t> near_wall_;      // a wall passes between the centre and a neighbour
-  std::vector<std::uint8_t> free_;           // reachable
-  bool outside_free_ = false;                // the colour beyond the raster (the unbounded face)
+  std::vector<std::uint8_t> blocked_right_;  ///< the centre joins its +x neighbour through a wall
+  std::vector<std::uint8_t> blocked_up_;     ///< ... its +y neighbour
+  std::vector<std::uint8_t> near_wall_;      ///< a wall passes between the centre and a neighbour
+  std::vector<std::uint8_t> free_;           ///< reachable
+  bool outside_free_ = false;                ///< the colour beyond the raster (the unbounded face)
 };
 
 /// True when the closed segment ab meets the wall (a segment, or a circle's curve).

@@ -84,9 +84,9 @@ class CompiledBlock {
   int order_;
   std::vector<Term> terms_;
   BlockSummary summary_;
-  std::shared_ptr<detail::ExpressionGraph> graph_;  // not changed after construction
+  std::shared_ptr<detail::ExpressionGraph> graph_;  ///< not changed after construction
   std::vector<int> term_nodes_;
-  std::vector<int> gradient_nodes_;  // num_terms x num_variables
+  std::vector<int> gradient_nodes_;  ///< num_terms x num_variables
   std::unique_ptr<detail::CompiledTape> tape_;
 };
 
@@ -111,8 +111,8 @@ class BlockEvaluator {
 
  private:
   const CompiledBlock* block_;
-  std::vector<double> slots_;       // one value per slot
-  std::vector<double> lane_slots_;  // kLanes values per slot, for EvaluateBatch
+  std::vector<double> slots_;       ///< one value per slot
+  std::vector<double> lane_slots_;  ///< kLanes values per slot, for EvaluateBatch
   std::vector<double> cached_phi_;
   bool phi_valid_ = false;
   // EvaluateBatch: the phi of the last call and its parameter-only slots, chunk after chunk,

@@ -43,7 +43,7 @@ class CellUpdate {
 class LogOddsCells {
  public:
   static constexpr std::int8_t kUnobserved = CellUpdate::kUnobserved;
-  static constexpr int kTile = 8;  // cells per tile side: 64 cells, one cache line
+  static constexpr int kTile = 8;  ///< cells per tile side: 64 cells, one cache line
 
   /// Throws std::invalid_argument unless both sizes are positive and the cells fit in memory
   /// addressed by 32-bit offsets.
@@ -78,8 +78,8 @@ class LogOddsCells {
 
   int width_ = 0;
   int height_ = 0;
-  std::vector<std::uint32_t> column_offset_;  // per ix
-  std::vector<std::uint32_t> row_offset_;     // per iy
+  std::vector<std::uint32_t> column_offset_;  ///< per ix
+  std::vector<std::uint32_t> row_offset_;     ///< per iy
   std::vector<std::int8_t> cells_;
 };
 

@@ -15,14 +15,14 @@
 namespace priormap::grid {
 
 struct GridOptions {
-  double resolution = 0.05;  // m
+  double resolution = 0.05;  ///< m
   double log_odds_hit = 0.85;
   double log_odds_miss = -0.4;
-  double log_odds_limit = 4.0;  // |log-odds| saturates here
+  double log_odds_limit = 4.0;  ///< |log-odds| saturates here
   /// Beams are inserted up to this range; max-range readings clear cells up to it.
   double max_range = 20.0;
   bool max_readings_clear = true;
-  double margin = 1.0;  // m around the data, for the grid's extent
+  double margin = 1.0;  ///< m around the data, for the grid's extent
   /// Every k-th beam of each scan (the PRF's --beam-step, for comparisons at equal data).
   std::size_t beam_step = 1;
   /// The grid may have at most this many cells (CellsCovering).
@@ -75,7 +75,7 @@ class OccupancyGrid {
   LogOddsCells cells_;
   CellUpdate miss_;
   CellUpdate hit_;
-  std::vector<double> beam_angles_;  // of the last scan inserted
+  std::vector<double> beam_angles_;  ///< of the last scan inserted
   std::vector<Vec2> beam_directions_;
 };
 

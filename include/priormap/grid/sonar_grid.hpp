@@ -14,16 +14,16 @@
 namespace priormap::grid {
 
 struct SonarGridOptions {
-  double resolution = 0.05;         // m
-  double log_odds_occupied = 0.85;  // a cell on the arc
-  double log_odds_free = -0.4;      // a cell inside the cone before the arc
-  double log_odds_limit = 4.0;      // |log-odds| saturates here
-  double arc_thickness = 0.1;       // α: the arc's depth, m
+  double resolution = 0.05;         ///< m
+  double log_odds_occupied = 0.85;  ///< a cell on the arc
+  double log_odds_free = -0.4;      ///< a cell inside the cone before the arc
+  double log_odds_limit = 4.0;      ///< |log-odds| saturates here
+  double arc_thickness = 0.1;       ///< α: the arc's depth, m
   /// Readings are inserted up to this range; max-range readings (and longer ones) clear
   /// their cones up to it, or up to the ring's own max range where that is shorter.
   double max_range = 5.0;
   bool max_readings_clear = true;
-  double margin = 1.0;  // m around the data, for the grid's extent
+  double margin = 1.0;  ///< m around the data, for the grid's extent
   /// The grid may have at most this many cells (CellsCovering).
   double max_cells = kMaxGridCells;
 };
@@ -60,7 +60,7 @@ class SonarGrid {
  private:
   SonarGridOptions options_;
   Vec2 origin_;
-  double scale_;  // fixed-point steps per unit of log-odds
+  double scale_;  ///< fixed-point steps per unit of log-odds
   LogOddsCells cells_;
   CellUpdate occupied_;
   CellUpdate free_;

@@ -13,9 +13,9 @@ namespace priormap::prf {
 /// under an edit: the log density is linear in them).
 struct ColoringStats {
   int edges = 0;
-  double total_length = 0.0;    // Σ|e|
-  double sum_log_length = 0.0;  // Σ log|e|
-  double sum_log_sin = 0.0;     // Σ log sin φ_v
+  double total_length = 0.0;    ///< Σ|e|
+  double sum_log_length = 0.0;  ///< Σ log|e|
+  double sum_log_sin = 0.0;     ///< Σ log sin φ_v
   // Σ|e| cos 4θ_e and Σ|e| sin 4θ_e (θ_e the edge's direction): what an orientation
   // preference needs, whatever its preferred direction.
   double sum_cos4 = 0.0;
@@ -49,8 +49,8 @@ struct ColoringStats {
 /// orientations"): the potential κ Σ|e| sin²(2(θ_e − θ₀)), nothing for an edge along θ₀ or
 /// across it, κ per metre at 45° to them. κ = 0 is the Arak process.
 struct OrientationPrior {
-  double weight = 0.0;  // κ, 1/m
-  double angle = 0.0;   // θ₀, rad
+  double weight = 0.0;  ///< κ, 1/m
+  double angle = 0.0;   ///< θ₀, rad
 };
 /// The orientation potential of a coloring's statistics (or its change under an edit).
 [[nodiscard]] double OrientationPotential(const ColoringStats& stats,

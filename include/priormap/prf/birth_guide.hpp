@@ -47,12 +47,12 @@ class BirthGuide {
   template <class Visit>
   void ForEachPointNear(const Vec2& q, double radius, Visit&& visit) const;
 
-  std::vector<Vec2> points_;  // sorted by index cell
+  std::vector<Vec2> points_;  ///< sorted by index cell
   double pair_radius_;
   double jitter_;
-  CellGrid grid_;                           // cells of pair_radius_
-  std::vector<std::uint32_t> cell_start_;   // points_ of cell k: [cell_start_[k], [k + 1])
-  std::vector<double> inverse_neighbours_;  // 1 / #points within r, per point
+  CellGrid grid_;                           ///< cells of pair_radius_
+  std::vector<std::uint32_t> cell_start_;   ///< points_ of cell k: [cell_start_[k], [k + 1])
+  std::vector<double> inverse_neighbours_;  ///< 1 / #points within r, per point
 };
 
 }  // namespace priormap::prf

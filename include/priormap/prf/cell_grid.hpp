@@ -14,7 +14,7 @@ namespace priormap::prf {
 
 struct CellGrid {
   Vec2 origin = Vec2::Zero();
-  Vec2 cell = Vec2::Ones();  // cell width and height
+  Vec2 cell = Vec2::Ones();  ///< cell width and height
   int nx = 1;
   int ny = 1;
 

@@ -42,8 +42,8 @@ void SaveChainCheckpoint(const std::filesystem::path& path, std::uint64_t finger
 
 struct LoadedChain {
   std::unique_ptr<PrfSampler> sampler;
-  std::vector<std::unique_ptr<PrfSampler>> hot;  // the ladder's other replicas, hotter and hotter
-  bool recording = false;                        // the estimates hold samples
+  std::vector<std::unique_ptr<PrfSampler>> hot;  ///< the ladder's other replicas, hotter and hotter
+  bool recording = false;                        ///< the estimates hold samples
 };
 
 /// Restores a chain saved by SaveChainCheckpoint into `estimates` and `summary`, each sampler

@@ -37,8 +37,8 @@ struct ColoringVertex {
   Vec2 position = Vec2::Zero();
   int side = kInterior;
   std::array<EdgeId, 2> edges{kNoEdge, kNoEdge};  // interior: both; boundary: edges[0]
-  double log_sin = 0.0;                           // log sin φ_v, cached
-  std::int32_t slot = -1;  // position in the interior or boundary list; -1 when free
+  double log_sin = 0.0;                           ///< log sin φ_v, cached
+  std::int32_t slot = -1;  ///< position in the interior or boundary list; -1 when free
 };
 
 /// Where a ray first meets an edge: origin + t·direction lies on `edge`.
@@ -56,7 +56,7 @@ struct RayHit {
 struct ColoringEdge {
   std::array<VertexId, 2> vertices{kNoVertex, kNoVertex};
   double length = 0.0;
-  std::int32_t slot = -1;  // position in the edge list; -1 when free
+  std::int32_t slot = -1;  ///< position in the edge list; -1 when free
 };
 
 /// Queries (CountCrossings, ColourAt, FirstHit, ForEachEdgeNear) are const but share a mutable

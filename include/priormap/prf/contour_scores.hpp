@@ -24,15 +24,15 @@ namespace priormap::prf {
 
 /// A true wall as seen by the data: its length and the points of it that were seen.
 struct SeenWall {
-  double length = 0.0;       // of the whole wall, m
-  std::vector<Vec2> points;  // seen points, one every ContourWallOptions::spacing
+  double length = 0.0;       ///< of the whole wall, m
+  std::vector<Vec2> points;  ///< seen points, one every ContourWallOptions::spacing
 };
 
 struct ContourWallOptions {
-  double spacing = 0.01;         // m between the points a contour or a wall is measured at
-  double tolerance = 0.1;        // m: a seen wall point is recovered with the contour this close
-  double missed_below = 0.5;     // a wall with less of its seen points recovered is missed
-  double min_seen_length = 0.2;  // m: walls seen less than this are not counted
+  double spacing = 0.01;         ///< m between the points a contour or a wall is measured at
+  double tolerance = 0.1;        ///< m: a seen wall point is recovered with the contour this close
+  double missed_below = 0.5;     ///< a wall with less of its seen points recovered is missed
+  double min_seen_length = 0.2;  ///< m: walls seen less than this are not counted
 };
 
 struct ContourWallScore {

@@ -35,7 +35,7 @@ struct VertexRef {
 
 struct NewVertex {
   Vec2 position = Vec2::Zero();
-  int side = kInterior;  // 0..3 for boundary vertices
+  int side = kInterior;  ///< 0..3 for boundary vertices
 };
 
 struct Edit {

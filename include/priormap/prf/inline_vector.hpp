@@ -41,7 +41,7 @@ class InlineVector {
  private:
   std::array<T, N> items_{};
   std::size_t size_ = 0;
-  std::vector<T> spill_;  // every item once there are more than N
+  std::vector<T> spill_;  ///< every item once there are more than N
 };
 
 }  // namespace priormap::prf

@@ -17,14 +17,14 @@ namespace priormap::prf {
 
 struct LaserBeam {
   Vec2 origin = Vec2::Zero();
-  Vec2 direction = Vec2::UnitX();  // unit
-  double range = 0.0;              // the reading, when not max_reading
+  Vec2 direction = Vec2::UnitX();  ///< unit
+  double range = 0.0;              ///< the reading, when not max_reading
   bool max_reading = false;
-  int sensor = 0;  // index into LaserData::sensors
+  int sensor = 0;  ///< index into LaserData::sensors
 };
 
 struct LaserData {
-  std::vector<Vec2> sensors;  // positions of the scans' sensors
+  std::vector<Vec2> sensors;  ///< positions of the scans' sensors
   std::vector<LaserBeam> beams;
   /// R: readings at or above it are max-range readings; beams are followed to it.
   double max_range = 0.0;
@@ -32,8 +32,8 @@ struct LaserData {
 
 struct LaserSelection {
   std::size_t first_scan = 0;
-  std::optional<std::size_t> end_scan;  // one past the last; all scans when unset
-  std::size_t beam_step = 1;            // every beam_step-th beam of each scan
+  std::optional<std::size_t> end_scan;  ///< one past the last; all scans when unset
+  std::size_t beam_step = 1;            ///< every beam_step-th beam of each scan
   /// Caps the sensor's own max range (long beams cost walk time and say little indoors).
   double max_range = 20.0;
 };

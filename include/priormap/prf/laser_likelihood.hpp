@@ -77,7 +77,7 @@ class LaserLikelihood final : public DataTerm {
   double cell_size_;
   CellGrid grid_;
   std::vector<BeamState> state_;
-  DynamicCellIndex index_;  // the beams, each on the cells up to its first edge
+  DynamicCellIndex index_;  ///< the beams, each on the cells up to its first edge
   std::vector<std::vector<std::int32_t>> sensor_cells_;
   FixedLogLik total_ = 0;
   // Scratch of Evaluate, read by Commit.

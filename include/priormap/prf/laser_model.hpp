@@ -14,7 +14,7 @@
 namespace priormap::prf {
 
 struct LaserModel {
-  double sigma = 0.05;  // m
+  double sigma = 0.05;  ///< m
   double hit_weight = 0.8;
   double outlier_weight = 0.15;
   double max_weight = 0.05;

@@ -29,9 +29,9 @@ namespace priormap::prf {
 /// cell indices (iy * nx + ix).
 struct EvaluationRaster {
   CellGrid grid;
-  std::vector<std::uint8_t> truth_black;  // 1: occupied in truth
-  std::vector<Observation> observation;   // from the sensor poses
-  std::vector<std::uint8_t> covered;      // a measurement crossed or ended in the cell
+  std::vector<std::uint8_t> truth_black;  ///< 1: occupied in truth
+  std::vector<Observation> observation;   ///< from the sensor poses
+  std::vector<std::uint8_t> covered;      ///< a measurement crossed or ended in the cell
 
   /// Scored for classification: visible, or just behind a seen surface and black in truth. A
   /// band point that is white in truth lies behind a wall with free space beyond (the corridor's
@@ -80,9 +80,9 @@ struct ClassificationScore {
 
 /// The classification scores of one map.
 struct MapClassification {
-  ClassificationScore observed;  // the whole observed area
-  ClassificationScore sparse;    // its cells no measurement crossed or ended in
-  ClassificationScore covered;   // the rest of it
+  ClassificationScore observed;  ///< the whole observed area
+  ClassificationScore sparse;    ///< its cells no measurement crossed or ended in
+  ClassificationScore covered;   ///< the rest of it
 };
 
 /// Scores P(occupied) given at each point of `raster` (same indexing; NaN where unknown).
@@ -101,8 +101,8 @@ struct MapClassification {
                                       double q);
 
 struct WallScoreOptions {
-  double spacing = 0.01;    // m between the points an edge or a true wall is measured at
-  double tolerance = 0.05;  // m: a seen true wall point is recovered with an edge this close
+  double spacing = 0.01;    ///< m between the points an edge or a true wall is measured at
+  double tolerance = 0.05;  ///< m: a seen true wall point is recovered with an edge this close
   /// m: an edge piece is a wall of the map when the points this far on both of its sides are
   /// observed (visible, or behind a seen surface).
   double side_offset = 0.02;

@@ -46,14 +46,14 @@ template <typename T, typename Name>
 }
 
 struct MapStudyOptions {
-  std::vector<Scene> scenes;         // each with a waypoint path (or a default pose)
-  std::vector<RangeSensor> sensors;  // each scene is simulated with each sensor
-  int poses = 3;                     // scans per case, evenly spaced along the waypoint path
-  std::size_t beam_step = 1;         // every k-th beam of each scan, for both methods
-  double max_range = 20.0;           // R (capped by the sensor's own), m
-  double resolution = 0.05;          // evaluation raster, grid cells and PRF raster, m
-  double band = 0.1;                 // depth behind a seen surface that counts as observed, m
-  double truth_resolution = 0.01;    // raster of the ground truth's reachability, m
+  std::vector<Scene> scenes;         ///< each with a waypoint path (or a default pose)
+  std::vector<RangeSensor> sensors;  ///< each scene is simulated with each sensor
+  int poses = 3;                     ///< scans per case, evenly spaced along the waypoint path
+  std::size_t beam_step = 1;         ///< every k-th beam of each scan, for both methods
+  double max_range = 20.0;           ///< R (capped by the sensor's own), m
+  double resolution = 0.05;          ///< evaluation raster, grid cells and PRF raster, m
+  double band = 0.1;                 ///< depth behind a seen surface that counts as observed, m
+  double truth_resolution = 0.01;    ///< raster of the ground truth's reachability, m
   WallScoreOptions walls;
   /// The PRF run; its seed and raster resolution are set per case, annealing is on when
   /// anneal_steps > 0.
@@ -70,22 +70,22 @@ struct MapStudyOptions {
 
 /// One mapping method's result on one case.
 struct MethodScores {
-  std::string method;  // "grid", "prf posterior", "prf map"
+  std::string method;  ///< "grid", "prf posterior", "prf map"
   MapClassification classification;
-  double seconds = 0.0;  // building the map (the MAP map: annealing included in the PRF's)
+  double seconds = 0.0;  ///< building the map (the MAP map: annealing included in the PRF's)
 };
 
 struct MapStudyCase {
   std::string scene;
   std::string sensor;
-  std::uint64_t seed = 0;  // of the simulation; the PRF's is derived from it
+  std::uint64_t seed = 0;  ///< of the simulation; the PRF's is derived from it
   std::vector<Se2> poses;
   std::shared_ptr<const LaserData> data;
   EvaluationRaster evaluation;
-  OccupancyRaster grid_map;  // P(occupied), NaN where never observed
-  MappingResult prf;         // posterior rasters on evaluation.grid, the MAP coloring
+  OccupancyRaster grid_map;  ///< P(occupied), NaN where never observed
+  MappingResult prf;         ///< posterior rasters on evaluation.grid, the MAP coloring
   std::vector<MethodScores> methods;
-  WallScore walls;  // of the MAP map
+  WallScore walls;  ///< of the MAP map
   double wall_time_s = 0.0;
 
   [[nodiscard]] std::string Name() const { return scene + "/" + sensor; }
@@ -93,7 +93,7 @@ struct MapStudyCase {
 };
 
 struct MapStudyResult {
-  std::vector<MapStudyCase> cases;  // scenes outer, sensors inner
+  std::vector<MapStudyCase> cases;  ///< scenes outer, sensors inner
   /// Per method, the counts of all cases pooled and their times summed.
   std::vector<MethodScores> overall;
   double wall_time_s = 0.0;

@@ -47,16 +47,16 @@ struct WarmBurnIn {
 };
 
 struct MappingOptions {
-  SamplerOptions sampler;  // p, move weights, scales (temperature is set by the run)
+  SamplerOptions sampler;  ///< p, move weights, scales (temperature is set by the run)
   LaserModel model;
-  double cell_size = 0.5;          // of the edge and beam indices, m
-  double margin = 1.0;             // window around the data, m
-  double raster_resolution = 0.1;  // of the P(black) and white-fraction rasters, m
+  double cell_size = 0.5;          ///< of the edge and beam indices, m
+  double margin = 1.0;             ///< window around the data, m
+  double raster_resolution = 0.1;  ///< of the P(black) and white-fraction rasters, m
   /// δ of the guided triangle births, whose guide points are the readings' end points (not
   /// max readings); their pair radius is the sampler's birth_scale. m.
   double guide_jitter = 0.05;
-  std::uint64_t samples = 1000000;  // steps recorded per chain, after the burn-in
-  std::uint64_t burn_in = 200000;   // steps per chain
+  std::uint64_t samples = 1000000;  ///< steps recorded per chain, after the burn-in
+  std::uint64_t burn_in = 200000;   ///< steps per chain
   /// The chains start the burn-in at this temperature and cool geometrically to 1 over its
   /// first half (in blocks of kTemperatureBlock steps), so that they cross barriers between
   /// modes early; samples are taken at temperature 1 only. 1: no tempering.
@@ -80,9 +80,9 @@ struct MappingOptions {
   bool replica_pick_best = false;
   int chains = 2;
   std::uint64_t seed = 1;
-  std::uint64_t trace_every = 1000;  // steps between trace records (R̂)
-  int trace_points = 32;             // fixed points whose colours enter R̂
-  std::uint64_t anneal_steps = 0;    // 0: no annealing
+  std::uint64_t trace_every = 1000;  ///< steps between trace records (R̂)
+  int trace_points = 32;             ///< fixed points whose colours enter R̂
+  std::uint64_t anneal_steps = 0;    ///< 0: no annealing
   double anneal_final_temperature = 0.01;
   /// Steps per chain between progress calls (and between chunks of work).
   std::uint64_t chunk = 20000;
@@ -148,8 +148,8 @@ struct ChainSummary {
   std::optional<Coloring> last;
   int edges = 0;
   std::vector<double> log_posterior_trace;
-  std::vector<std::vector<double>> point_traces;  // per trace point: 1 black, 0 white
-  std::vector<SwapCounter> swaps;                 // of the burn-in's replicas, per adjacent pair
+  std::vector<std::vector<double>> point_traces;  ///< per trace point: 1 black, 0 white
+  std::vector<SwapCounter> swaps;                 ///< of the burn-in's replicas, per adjacent pair
   /// This chain's P(black) per cell on MappingResult::raster: which chain holds what where the
   /// chains disagree (MappingResult::chain_spread shows only where).
   Eigen::MatrixXd black_fraction;
@@ -157,26 +157,26 @@ struct ChainSummary {
 
 /// A chain as it stood at its latest progress report.
 struct ChainProgress {
-  bool reported = false;  // false until the chain reports this session (or is restored finished)
-  double log_posterior = 0.0;  // under its stage's data:
-  int data_stride = 1;         // 1/data_stride of the readings (KeptByThinning); 1: all of them
+  bool reported = false;  ///< false until the chain reports this session (or is restored finished)
+  double log_posterior = 0.0;  ///< under its stage's data:
+  int data_stride = 1;         ///< 1/data_stride of the readings (KeptByThinning); 1: all of them
 };
 
 /// Every report shows all the chains, each at its own latest report: a line built from the
 /// reporting chain alone would jump between chains whose log-posteriors differ by their modes.
 struct MappingProgress {
-  std::uint64_t steps_done = 0;  // over all chains, restored ones included
+  std::uint64_t steps_done = 0;  ///< over all chains, restored ones included
   std::uint64_t steps_total = 0;
-  std::uint64_t steps_resumed = 0;  // of steps_done, restored from checkpoints
+  std::uint64_t steps_resumed = 0;  ///< of steps_done, restored from checkpoints
   double seconds = 0.0;
-  std::vector<ChainProgress> chains;  // one per chain, in chain order
+  std::vector<ChainProgress> chains;  ///< one per chain, in chain order
   MoveCounters counters{};            // summed over the chains' latest reports
 };
 
 struct MappingResult {
   Window window;
   CellGrid raster;
-  Eigen::MatrixXd black_fraction;  // pooled over chains, row 0 at the bottom
+  Eigen::MatrixXd black_fraction;  ///< pooled over chains, row 0 at the bottom
   Eigen::MatrixXd white_fraction;
   /// The largest minus the smallest chain's P(black), per cell: where the chains disagree
   /// (what R̂ only summarizes); zero with one chain.
@@ -184,23 +184,23 @@ struct MappingResult {
   std::vector<ChainSummary> chains;
   std::vector<Vec2> trace_points;
   double rhat_log_posterior = 0.0;
-  double rhat_point_colours = 0.0;  // the largest over the trace points
+  double rhat_point_colours = 0.0;  ///< the largest over the trace points
   double wall_time_s = 0.0;
   double sampling_time_s = 0.0;
   /// All chains and their replicas, burn-in included, annealing excluded.
   std::uint64_t proposals = 0;
-  std::optional<Coloring> map;  // the annealed MAP coloring
+  std::optional<Coloring> map;  ///< the annealed MAP coloring
   double map_log_posterior = 0.0;
   /// False when the session stopped before the end (the estimates and R̂ are then unset).
   bool complete = true;
-  std::uint64_t resumed_steps = 0;  // steps restored from checkpoints, all chains
+  std::uint64_t resumed_steps = 0;  ///< steps restored from checkpoints, all chains
 };
 
 /// What a run needs of its data, whatever the sensor (laser beams, sonar cones).
 struct MappingData {
   Window window;
-  std::vector<Vec2> trace_points;  // whose colours enter R̂
-  std::vector<Vec2> guide_points;  // of the guided triangle births: where readings ended
+  std::vector<Vec2> trace_points;  ///< whose colours enter R̂
+  std::vector<Vec2> guide_points;  ///< of the guided triangle births: where readings ended
   /// Identifies the run (data, data model and options): checkpoints of another are refused.
   std::uint64_t fingerprint = 0;
   /// Identifies the likelihood alone (the readings, the sensors and the data model), not the

@@ -64,7 +64,7 @@ inline constexpr int kNumMoveTypesBeforePairs = 17;
 
 struct MoveCounter {
   std::uint64_t proposed = 0;
-  std::uint64_t invalid = 0;  // the proposal left the space of valid colorings (or had density 0)
+  std::uint64_t invalid = 0;  ///< the proposal left the space of valid colorings (or had density 0)
   std::uint64_t accepted = 0;
   /// Rejected by the delayed acceptance's first stage, on the screening data alone
   /// (SamplerOptions::screen_stride), before the full data were evaluated.

@@ -41,7 +41,7 @@ class OrderedMarks {
 
  private:
   std::vector<std::uint64_t> words_;
-  std::size_t lowest_ = 0, highest_ = 0;  // the words that may hold marks: [lowest_, highest_)
+  std::size_t lowest_ = 0, highest_ = 0;  ///< the words that may hold marks: [lowest_, highest_)
 };
 
 }  // namespace priormap::prf

@@ -14,10 +14,10 @@
 namespace priormap::prf {
 
 struct MapFace {
-  std::vector<Vec2> outer;               // counter-clockwise
-  std::vector<std::vector<Vec2>> holes;  // clockwise
+  std::vector<Vec2> outer;               ///< counter-clockwise
+  std::vector<std::vector<Vec2>> holes;  ///< clockwise
   Colour colour = Colour::kWhite;
-  double area = 0.0;  // of the outer ring, holes not subtracted
+  double area = 0.0;  ///< of the outer ring, holes not subtracted
 };
 
 /// The faces of the coloring, largest outer ring first (drawing them in this order paints every

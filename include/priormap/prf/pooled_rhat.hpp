@@ -21,8 +21,8 @@ namespace priormap::prf {
 
 /// What a run recorded for R̂, per chain and trace record.
 struct RunTraces {
-  std::vector<std::uint64_t> samples;              // the sample index of each record
-  std::vector<std::vector<double>> log_posterior;  // [chain][record]
+  std::vector<std::uint64_t> samples;              ///< the sample index of each record
+  std::vector<std::vector<double>> log_posterior;  ///< [chain][record]
   /// [chain][point][record], 1 black and 0 white; empty when the run did not record them.
   std::vector<std::vector<std::vector<double>>> point_colours;
 };
@@ -52,9 +52,9 @@ struct PooledRun {
 
 /// One trace point's R̂ over the pooled chains, and what each chain made of the point.
 struct PointRhat {
-  std::size_t point = 0;  // its index among the trace points
+  std::size_t point = 0;  ///< its index among the trace points
   double rhat = 1.0;
-  std::vector<double> black;  // per chain: the share of its records in which the point is black
+  std::vector<double> black;  ///< per chain: the share of its records in which the point is black
 };
 
 struct PooledRhat {

@@ -15,19 +15,19 @@ namespace priormap::prf {
 
 struct PriorStatsOptions {
   double p = 1.0;
-  double window = 1.0;             // side L of the square window [0, L]²
-  std::uint64_t samples = 20000;   // recorded states
-  std::uint64_t thin = 100;        // sampler steps between recorded states
-  std::uint64_t burn_in = 100000;  // steps before the first record
+  double window = 1.0;             ///< side L of the square window [0, L]²
+  std::uint64_t samples = 20000;   ///< recorded states
+  std::uint64_t thin = 100;        ///< sampler steps between recorded states
+  std::uint64_t burn_in = 100000;  ///< steps before the first record
   std::uint64_t seed = 1;
   std::vector<double> distances{0.05, 0.1, 0.2, 0.4};  // in units of the window side
-  int segments_per_distance = 16;  // fixed segments of each length, placed at random
-  int colour_points = 16;          // fixed points whose colours give P(black)
+  int segments_per_distance = 16;  ///< fixed segments of each length, placed at random
+  int colour_points = 16;          ///< fixed points whose colours give P(black)
   /// Guide points of the guided triangle births, in units of the window side (none: the kind
   /// is off). Any points will do: the guide changes the proposals, never the target, which is
   /// what the closed forms check. Their pair radius is birth_scale; their jitter:
   std::vector<Vec2> guide_points;
-  double guide_jitter = 0.03;  // in units of the window side
+  double guide_jitter = 0.03;  ///< in units of the window side
   std::size_t batches = 40;
   /// The temperatures of a replica-exchange ladder (1 first, increasing) whose cold replica is
   /// the chain recorded, its replicas offering swaps every `thin` steps; empty: one chain. The
@@ -48,12 +48,12 @@ struct PriorStatsOptions {
 };
 
 struct DistanceStats {
-  double distance = 0.0;  // absolute length
+  double distance = 0.0;  ///< absolute length
   Estimate same_colour;
   double expected_same_colour = 0.0;
   Estimate crossings;
   double expected_crossings = 0.0;
-  Estimate no_crossing;  // P(no crossing) = e^{−2pd} for Poisson crossings
+  Estimate no_crossing;  ///< P(no crossing) = e^{−2pd} for Poisson crossings
   double expected_no_crossing = 0.0;
 };
 
@@ -63,8 +63,8 @@ struct PriorStatsResult {
   Estimate black_fraction;
   std::vector<DistanceStats> by_distance;
   MoveCounters counters{};
-  std::vector<SwapCounter> swaps;  // per adjacent pair of the ladder's rungs
-  std::uint64_t steps = 0;         // per replica
+  std::vector<SwapCounter> swaps;  ///< per adjacent pair of the ladder's rungs
+  std::uint64_t steps = 0;         ///< per replica
   double seconds = 0.0;
 };
 

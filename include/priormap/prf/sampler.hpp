@@ -20,7 +20,7 @@
 namespace priormap::prf {
 
 struct SamplerOptions {
-  double p = 0.1;  // scale parameter of the Arak process (1/length)
+  double p = 0.1;  ///< scale parameter of the Arak process (1/length)
   /// A preference for edges along two perpendicular directions, added to the Arak potential
   /// (off by default: the Arak process).
   OrientationPrior orientation;

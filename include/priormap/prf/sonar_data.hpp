@@ -18,20 +18,20 @@ namespace priormap::prf {
 /// The cone of one reading: apex, axis and half-angle, followed to R.
 struct SonarCone {
   Vec2 origin = Vec2::Zero();
-  Vec2 axis = Vec2::UnitX();                 // unit
-  double half_spread = 0.17453292519943295;  // rad, in (0, pi/2)
-  double max_range = 5.0;                    // R, m
+  Vec2 axis = Vec2::UnitX();                 ///< unit
+  double half_spread = 0.17453292519943295;  ///< rad, in (0, pi/2)
+  double max_range = 5.0;                    ///< R, m
 };
 
 struct SonarReading {
   SonarCone cone;
-  double range = 0.0;  // the reading, when not max_reading
+  double range = 0.0;  ///< the reading, when not max_reading
   bool max_reading = false;
-  int sensor = 0;  // index into SonarData::sensors (the cone's apex)
+  int sensor = 0;  ///< index into SonarData::sensors (the cone's apex)
 };
 
 struct SonarData {
-  std::vector<Vec2> sensors;  // distinct transducer positions (apexes), per ring
+  std::vector<Vec2> sensors;  ///< distinct transducer positions (apexes), per ring
   std::vector<SonarReading> readings;
   /// R: readings at or above it are max-range readings; cones are followed to it.
   double max_range = 0.0;
@@ -39,7 +39,7 @@ struct SonarData {
 
 struct SonarSelection {
   std::size_t first_scan = 0;
-  std::optional<std::size_t> end_scan;  // one past the last; all scans when unset
+  std::optional<std::size_t> end_scan;  ///< one past the last; all scans when unset
   /// Caps the rings' own max range (the paper treated readings beyond 3.5 m as max range).
   double max_range = 5.0;
 };

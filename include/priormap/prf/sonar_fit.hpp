@@ -22,10 +22,10 @@ namespace priormap::prf {
 
 /// One reading and what the true map shows its cone.
 struct SonarFitReading {
-  double range = 0.0;  // when not max_reading
+  double range = 0.0;  ///< when not max_reading
   bool max_reading = false;
   double max_range = 0.0;
-  std::vector<SonarFeature> features;  // in depth order
+  std::vector<SonarFeature> features;  ///< in depth order
   double seen_fraction = 0.0;
   /// The length of its multipath path in the true map (+inf: not heard within R), nullopt when
   /// its axis meets no face (SonarLikelihood::MultipathLength).
@@ -70,8 +70,8 @@ struct SonarFitOptions {
 
 struct SonarFitResult {
   SonarModel model;
-  double log_likelihood = 0.0;          // of the fitted model (without the weights' prior)
-  double initial_log_likelihood = 0.0;  // of the starting model
+  double log_likelihood = 0.0;          ///< of the fitted model (without the weights' prior)
+  double initial_log_likelihood = 0.0;  ///< of the starting model
   int evaluations = 0;
   std::size_t readings = 0;
 };

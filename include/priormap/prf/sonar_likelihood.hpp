@@ -133,7 +133,7 @@ class SonarLikelihood final : public DataTerm {
   std::shared_ptr<const ConeCells> cone_cells_;
   Window window_;
   std::vector<ReadingState> state_;
-  DynamicCellIndex index_;  // the readings, each on its cone's cells up to its extent
+  DynamicCellIndex index_;  ///< the readings, each on its cone's cells up to its extent
   std::vector<std::vector<std::int32_t>> sensor_cells_;
   FixedLogLik total_ = 0;
   // Scratch of Evaluate, read by Commit.

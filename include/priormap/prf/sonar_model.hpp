@@ -43,13 +43,13 @@ struct SonarModel {
   //            subtended).
   double face_bias = -1.0;
   double face_per_m = -0.3;
-  double face_per_rad_projection = 15.0;  // about 0.26 per degree off normal incidence
-  double face_per_rad_subtended = 12.0;   // a whole 20° cone: +4.2
+  double face_per_rad_projection = 15.0;  ///< about 0.26 per degree off normal incidence
+  double face_per_rad_subtended = 12.0;   ///< a whole 20° cone: +4.2
   /// Caps every q, so that a reading always keeps some outlier weight.
   double max_return = 0.95;
 
-  double sigma_relative = 0.01;  // range noise relative to the distance
-  double sigma_min = 0.01;       // m
+  double sigma_relative = 0.01;  ///< range noise relative to the distance
+  double sigma_min = 0.01;       ///< m
 
   // The outlier component, given no feature echoed: a mixture of a uniform, an exponential and
   // a max-range atom, its weights summing to one, for the sound that met a surface and was
@@ -57,7 +57,7 @@ struct SonarModel {
   double uniform_weight = 0.3;
   double exponential_weight = 0.1;
   double max_weight = 0.6;
-  double exponential_rate = 2.0;  // 1/m
+  double exponential_rate = 2.0;  ///< 1/m
   // ... and for the sound that met nothing within R, which has no surface to bounce off: a
   // second mixture. The outlier density is the two weighted by the share of the cone's angle
   // that sees a face (SonarView::seen_fraction) and the rest. Equal to the first (the

@@ -19,13 +19,14 @@ namespace priormap::prf {
 
 /// The leg of the axis's path beyond the face that mirrors it.
 struct MirrorLeg {
-  Vec2 from = Vec2::Zero();        // where the axis meets the face
-  Vec2 direction = Vec2::UnitX();  // unit, mirrored at the face
-  double axis_distance = 0.0;      // from the apex to `from`
+  Vec2 from = Vec2::Zero();        ///< where the axis meets the face
+  Vec2 direction = Vec2::UnitX();  ///< unit, mirrored at the face
+  double axis_distance = 0.0;      ///< from the apex to `from`
   /// The leg is followed this far: to R − axis_distance (a longer path is a max reading) or to
   /// the window's side, beyond which the map says nothing.
   double reach = 0.0;
-  std::int32_t mirror_tag = 0;  // the face's segment, which the leg leaves and does not meet again
+  std::int32_t mirror_tag =
+      0;  ///< the face's segment, which the leg leaves and does not meet again
 
   [[nodiscard]] Vec2 PointAt(double t) const { return from + t * direction; }
 };

@@ -29,17 +29,17 @@
 namespace priormap::prf {
 
 struct SonarStudyOptions {
-  std::vector<Scene> scenes;  // each with a waypoint path
+  std::vector<Scene> scenes;  ///< each with a waypoint path
   SonarSensor sensor = *SonarSensor::Preset("pioneer16");
-  double speed = 0.5;        // m/s along the waypoints
-  double rate = 2.0;         // rings per second
-  double resolution = 0.05;  // evaluation raster, grid cells and PRF raster, m
-  double band = 0.1;         // depth behind a seen surface that counts as observed, m
+  double speed = 0.5;        ///< m/s along the waypoints
+  double rate = 2.0;         ///< rings per second
+  double resolution = 0.05;  ///< evaluation raster, grid cells and PRF raster, m
+  double band = 0.1;         ///< depth behind a seen surface that counts as observed, m
   double truth_resolution = 0.01;
-  int rays_per_cone = 21;  // of the fan that finds what each cone could see
+  int rays_per_cone = 21;  ///< of the fan that finds what each cone could see
   ContourWallOptions walls;
   SonarModel model;
-  MappingOptions mapping;  // seed and raster resolution are set per case
+  MappingOptions mapping;  ///< seed and raster resolution are set per case
   grid::SonarGridOptions grid;
   std::uint64_t seed = 1;
   /// Diagnostic: start every chain at the true map (SceneColoring) instead of the empty one,
@@ -51,7 +51,7 @@ struct SonarStudyOptions {
 };
 
 struct SonarStudyMethod {
-  std::string method;  // "grid", "prf posterior"
+  std::string method;  ///< "grid", "prf posterior"
   MapClassification classification;
   ContourWallScore walls;
   double seconds = 0.0;
@@ -64,7 +64,7 @@ struct SonarStudyCase {
   std::size_t max_readings = 0;
   std::vector<Se2> ring_poses;
   EvaluationRaster evaluation;
-  OccupancyRaster grid_map;  // P(occupied), NaN where never observed
+  OccupancyRaster grid_map;  ///< P(occupied), NaN where never observed
   MappingResult prf;
   /// log-posterior (Arak prior + sonar likelihood) of the true map, when the scene is made of
   /// closed polylines (NaN otherwise); against the chains', it tells a model that prefers

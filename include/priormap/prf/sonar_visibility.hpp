@@ -125,7 +125,7 @@ class ConeSweep {
   // The segments spanning the current interval, nearest first: a sorted vector, cheaper than
   // a tree for the handful of edges a cone holds.
   std::vector<std::uint32_t> active_;
-  double ray_tau_ = 0.0;  // slope of the current comparison
+  double ray_tau_ = 0.0;  ///< slope of the current comparison
   SectorTrig trig_;
 };
 

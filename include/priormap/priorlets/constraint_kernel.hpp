@@ -178,8 +178,8 @@ class IntrinsicSubspace {
 
  private:
   ConstraintKernel free_;
-  Eigen::MatrixXd removed_;              // D
-  Eigen::MatrixXd removed_coordinates_;  // U_r = N^T D, dim Free x r
+  Eigen::MatrixXd removed_;              ///< D
+  Eigen::MatrixXd removed_coordinates_;  ///< U_r = N^T D, dim Free x r
   Eigen::VectorXd cosines_;
 };
 

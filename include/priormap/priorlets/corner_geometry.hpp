@@ -21,14 +21,14 @@ struct CornerCheck {
   // corner turning by min_turn between them would put it. A step, where one surface hides
   // another behind it, not a corner.
   bool step = false;
-  double bearing = 0.0;  // of the lines' intersection, rad, sensor frame
+  double bearing = 0.0;  ///< of the lines' intersection, rad, sensor frame
   // Beams the border must move for the corner to lie between its two points: -k hands the last
   // k points before the border to the region after it, +k the first k after it to the one before.
   int shift = 0;
 };
 
 struct CornerOptions {
-  double min_turn = 0.17;  // rad (10 deg): below, the intersection is too ill-conditioned
+  double min_turn = 0.17;  ///< rad (10 deg): below, the intersection is too ill-conditioned
 };
 
 // Points j = 0..n-1 of consecutive in-model beams with bearings phi[j] (increasing), ranges

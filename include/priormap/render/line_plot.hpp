@@ -46,7 +46,7 @@ class LinePlot {
  private:
   LinePlotOptions options_;
   std::vector<Series> series_;
-  std::vector<Series> horizontal_lines_;  // y = {value, value}; x spans the axis when drawn
+  std::vector<Series> horizontal_lines_;  ///< y = {value, value}; x spans the axis when drawn
 };
 
 }  // namespace priormap::render

@@ -107,7 +107,7 @@ class JointState {
   Eigen::VectorXd mean_;
   Eigen::MatrixXd covariance_;
   std::vector<StateBlock> blocks_;
-  std::unordered_map<long, std::size_t> index_;  // Key -> position in blocks_
+  std::unordered_map<long, std::size_t> index_;  ///< Key -> position in blocks_
   int num_landmarks_ = 0;
 };
 
