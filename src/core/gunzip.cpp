@@ -57,6 +57,28 @@ ByteBuffer Grown(ByteBuffer bytes, std::size_t used, std::size_t size) {
   return grown;
 }
 
+// libdeflate skips a member header's CRC (FHCRC), which zlib and gzip check: unchecked, a file
+// that ReadFileText refuses would read here. Anything malformed is left to libdeflate.
+bool HeaderCrcMatches(std::string_view member) {
+  const auto* p = reinterpret_cast<const unsigned char*>(member.data());
+  const std::size_t n = member.size();
+  constexpr unsigned kHeaderCrc = 0x02, kExtra = 0x04, kName = 0x08, kComment = 0x10;
+  if (n < 10 || !(p[3] & kHeaderCrc)) return true;
+  std::size_t at = 10;
+  if (p[3] & kExtra) {
+    if (at + 2 > n) return true;
+    at += 2 + (static_cast<std::size_t>(p[at]) | static_cast<std::size_t>(p[at + 1]) << 8);
+  }
+  for (const unsigned field : {kName, kComment}) {
+    if (!(p[3] & field)) continue;
+    while (at < n && p[at] != 0) ++at;
+    ++at;  // the terminating zero
+  }
+  if (at + 2 > n) return true;
+  const unsigned stored = static_cast<unsigned>(p[at]) | static_cast<unsigned>(p[at + 1]) << 8;
+  return (libdeflate_crc32(0, p, at) & 0xffffu) == stored;
+}
+
 struct FreeDecompressor {
   void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
 };
@@ -70,6 +92,7 @@ Result<ByteBuffer> Gunzip(std::string_view bytes, const std::string& name) {
   std::size_t used = 0;  // bytes of `text` inflated so far
   std::size_t room = RoomFor(bytes);
   while (StartsAMember(bytes)) {
+    if (!HeaderCrcMatches(bytes)) return corrupt;
     text = Grown(std::move(text), used, used + room);
     std::size_t in = 0, out = 0;
     const libdeflate_result result = libdeflate_gzip_decompress_ex(

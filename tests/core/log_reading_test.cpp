@@ -3,9 +3,11 @@
 // exactly as std::from_chars parses them.
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -117,6 +119,43 @@ TEST(LogReading, CorruptOrTruncatedGzipIsADiagnostic) {
           << "case " << k;
     }
   }
+}
+
+// The CRC-32 of gzip (RFC 1952), bit by bit: a test needs only a few bytes of it.
+std::uint32_t Crc32(std::string_view bytes) {
+  std::uint32_t crc = 0xffffffffu;
+  for (const char c : bytes) {
+    crc ^= static_cast<unsigned char>(c);
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+TEST(LogReading, AGzipHeaderCrcIsCheckedByEveryReader) {
+  const testing::TempDir dir;
+  const std::string text = CarmenText(3, 8);
+  const std::string gz = Gzipped(dir, text);
+  // The same member with FHCRC set: the CRC-16 of the header follows its 10 bytes.
+  std::string header = gz.substr(0, 10);
+  header[3] = static_cast<char>(header[3] | 0x02);
+  const std::uint32_t crc = Crc32(header) & 0xffffu;
+  std::string good = header;
+  good += static_cast<char>(crc & 0xffu);
+  good += static_cast<char>(crc >> 8);
+  good += gz.substr(10);
+  std::string bad = good;
+  bad[10] = static_cast<char>(bad[10] ^ 0x01);
+  testing::WriteAll(dir / "good.log.gz", good);
+  testing::WriteAll(dir / "bad.log.gz", bad);
+  const Result<Log> read = ReadLog(dir / "good.log.gz");
+  ASSERT_TRUE(read.ok()) << read.error();
+  EXPECT_TRUE(testing::SameLog(read.value(), Parsed(text)));
+  EXPECT_TRUE(ReadFileText(dir / "good.log.gz").ok());
+  // ReadLog (libdeflate) refuses what ReadFileText (zlib, as gzip) refuses.
+  EXPECT_THAT(ReadLog(dir / "bad.log.gz").diagnostics(),
+              ElementsAre(DiagnosticAt((dir / "bad.log.gz").string(), 0, 0,
+                                       "corrupt or truncated gzip data")));
+  EXPECT_FALSE(ReadFileText(dir / "bad.log.gz").ok());
 }
 
 TEST(LogReading, LargeFilesReadTheSamePlainAndGzipped) {
