@@ -40,6 +40,34 @@ CLI::Validator NonNegativeValue() {
   return NumberCheck(true);
 }
 
+CLI::Validator PositiveValueUpTo(double max, const std::string& unit) {
+  return CLI::Validator(
+      [max, unit](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+        if (std::isfinite(value) && value > 0.0 && value <= max) return {};
+        return fmt::format("{} is not in (0, {}] {}", text, max, unit);
+      },
+      fmt::format("POSITIVE up to {}", max));
+}
+
+void RefuseNonFiniteNumbers(CLI::App& app) {
+  const CLI::Validator finite(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        // Text that is no number is left to the option's own conversion, which says so.
+        if (!CLI::detail::lexical_cast(text, value) || std::isfinite(value)) return {};
+        return text + " is not a finite number";
+      },
+      "");
+  for (CLI::Option* option : app.get_options()) {
+    // Every floating-point option, with or without validators ("FLOAT", "FLOAT:POSITIVE").
+    if (option->get_type_name().starts_with("FLOAT")) option->check(finite);
+  }
+  for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
+    RefuseNonFiniteNumbers(*command);
+}
+
 void RequireCarmenForMaxRange(const std::string& input, LogFormat read_as,
                               const std::optional<double>& max_range) {
   if (max_range && read_as != LogFormat::kCarmen)

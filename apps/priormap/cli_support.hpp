@@ -44,6 +44,14 @@ T ValueOrThrow(Result<T> result) {
 /// its range up to DBL_MAX).
 [[nodiscard]] CLI::Validator PositiveValue();
 [[nodiscard]] CLI::Validator NonNegativeValue();
+/// A positive number at most `max` (in `unit`): for lengths and speeds whose huge values would
+/// overflow the geometry they make, long after parsing.
+[[nodiscard]] CLI::Validator PositiveValueUpTo(double max, const std::string& unit);
+
+/// Refuses NaN and infinite values of every floating-point option of `app` and its subcommands
+/// (CLI11's ranges let NaN through, as every comparison with it is false). Call it once every
+/// command is added.
+void RefuseNonFiniteNumbers(CLI::App& app);
 
 /// A whole number in [0, max] for an unsigned option (`what` names it in the error: "a seed"),
 /// handed on in plain decimal. CLI11 alone would read "-5" into an unsigned option as 2^64 - 5,

@@ -191,29 +191,42 @@ MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCli
 
 // Ctrl-C and SIGTERM stop the chains at their next chunk, checkpointed.
 std::atomic<bool> g_stop_requested{false};
+// The first of them, for the exit status.
+std::atomic<int> g_stop_signal{0};
 extern "C" void RequestStop(int signal) {
-  // A second signal does not wait for the chains' next chunk: it ends the process at once.
+  // A second signal does not wait for the chains' next chunk: it ends the process at once,
+  // without the checkpoints or outputs being written.
   if (g_stop_requested) {
+    RemoveTemporaryFilesInProgress();
     std::signal(signal, SIG_DFL);
     std::raise(signal);
     return;
   }
+  g_stop_signal = signal;
   g_stop_requested = true;
 }
 
-// Installs RequestStop for SIGINT and SIGTERM while it lives.
+// Installs RequestStop for SIGINT and SIGTERM while it lives, then puts back the handlers it
+// replaced (main's, which remove temporary files when a signal ends the process).
 class StopOnSignals {
  public:
   StopOnSignals() {
-    std::signal(SIGINT, RequestStop);
-    std::signal(SIGTERM, RequestStop);
+    struct sigaction action {};
+    action.sa_handler = RequestStop;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &previous_int_);
+    sigaction(SIGTERM, &action, &previous_term_);
   }
   ~StopOnSignals() {
-    std::signal(SIGINT, SIG_DFL);
-    std::signal(SIGTERM, SIG_DFL);
+    sigaction(SIGINT, &previous_int_, nullptr);
+    sigaction(SIGTERM, &previous_term_, nullptr);
   }
   StopOnSignals(const StopOnSignals&) = delete;
   StopOnSignals& operator=(const StopOnSignals&) = delete;
+
+ private:
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
 };
 
 // One status line: redrawn in place on a terminal, every 10 % elsewhere.
@@ -354,6 +367,14 @@ void RunMappingCommand(MappingCliOptions o) {
         "--samples 0: P(black), R-hat and the annealing's start come from the "
         "samples; at least 1");
   if (o.out.empty()) throw UserError("-o/--out is required");
+  // A new run would delete a stopped one's checkpoints, its progress of hours perhaps.
+  const std::filesystem::path earlier_checkpoints = std::filesystem::path(o.out) / "checkpoints";
+  if (std::error_code ec; !resuming && std::filesystem::is_directory(earlier_checkpoints, ec) &&
+                          !std::filesystem::is_empty(earlier_checkpoints, ec))
+    throw UserError(fmt::format(
+        "-o {0}: it holds a stopped run ({0}/checkpoints); continue it with priormap prf --resume "
+        "{0}, or remove {0}/checkpoints to start a new run there",
+        o.out));
   const Log log = ValueOrThrow(ReadLog(o.log));
   std::tie(o.selection.first_scan, o.selection.end_scan) =
       SelectedScans(ParseScanRange(o.range), log.scans.size());
@@ -394,11 +415,12 @@ void RunMappingCommand(MappingCliOptions o) {
   if (!r.complete) {
     fmt::print("stopped and checkpointed in {}; continue with: priormap prf --resume {}\n",
                session.checkpoint_directory.string(), o.out);
-    // Stopped by a signal: the shell's convention for an interrupted command, so that a
-    // scheduler does not take the run for finished.
+    // Stopped by a signal: the shell's convention for a command a signal ended (128 + its
+    // number: 130 for Ctrl-C, 143 for SIGTERM), so that a scheduler does not take the run for
+    // finished.
     if (g_stop_requested) {
       std::fflush(stdout);
-      std::exit(130);
+      std::exit(128 + g_stop_signal);
     }
     return;
   }
@@ -612,7 +634,7 @@ void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& 
   cmd.add_option("--guide-jitter", m.guide_jitter,
                  "Half-width of the squares around the end points where guided births put their "
                  "vertices, m")
-      ->check(PositiveValue())
+      ->check(PositiveValueUpTo(100.0, "m"))
       ->capture_default_str();
   cmd.add_option("--cell-size", m.cell_size, "Cell of the edge and beam indices, m")
       ->check(PositiveValue())

@@ -92,6 +92,7 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
 
 void RunFitSonarCommand(const FitSonarCliOptions& o) {
   if (o.out.empty()) throw UserError("-o/--out is required");
+  RequireOutputDirectory(o.out, "--out");  // before the fit, not after it
   nlohmann::ordered_json about;
   const std::vector<prf::SonarFitReading> readings = TrainingReadings(o, &about);
   const prf::SonarModel start =
@@ -130,7 +131,7 @@ void AddPrfFitSonarCommand(CLI::App& prf_cmd) {
   cmd->add_option("--sensor", o->sensor, "Sonar ring preset of the simulation")
       ->capture_default_str();
   cmd->add_option("--speed", o->speed, "Robot speed along the waypoints, m/s")
-      ->check(PositiveValue())
+      ->check(PositiveValueUpTo(100.0, "m/s"))
       ->capture_default_str();
   cmd->add_option("--rate", o->rate, "Rings per second")
       ->check(PositiveValue())
@@ -139,7 +140,7 @@ void AddPrfFitSonarCommand(CLI::App& prf_cmd) {
       ->transform(SeedValue())
       ->capture_default_str();
   cmd->add_option("--max-range", o->max_range, "R, m (default: the sensor's, or 5 with --log)")
-      ->check(PositiveValue());
+      ->check(PositiveValueUpTo(100.0, "m"));
   cmd->add_option("--log", o->log, "A localized sonar log instead of simulated rings");
   cmd->add_option("--scene", o->scene, "The true map of --log (a scene of closed polylines)");
   cmd->add_option("--start", o->start, "Start from this model file (default: the built-in one)");

@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -18,6 +19,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "json_whole_number.hpp"
 #include "prf_run_file.hpp"
 
 namespace priormap::app {
@@ -48,7 +50,13 @@ T Member(const nlohmann::json& document, const char* key, const fs::path& path) 
   if (!document.contains(key))
     throw UserError(fmt::format("{}: expected the member '{}'", path.string(), key));
   try {
-    return document[key].get<T>();
+    if constexpr (std::is_integral_v<T>) {
+      return WholeNumberMember<T>(document, key);
+    } else {
+      return document[key].get<T>();
+    }
+  } catch (const JsonNumberError& e) {
+    throw UserError(fmt::format("{}: {}", path.string(), e.what()));
   } catch (const nlohmann::json::exception&) {
     throw UserError(fmt::format("{}: the member '{}' has the wrong type", path.string(), key));
   }
@@ -123,7 +131,14 @@ LoadedRun LoadRun(const std::string& dir) {
   loaded.summary = ReadJsonFile(summary_path);
   loaded.summary_path = summary_path;
   loaded.pooled.name = dir;
-  if (loaded.summary.contains("trace_points")) loaded.trace_points = loaded.summary["trace_points"];
+  if (loaded.summary.contains("trace_points")) {
+    loaded.trace_points = loaded.summary["trace_points"];
+    if (!loaded.trace_points.is_array())
+      throw UserError(
+          fmt::format("{}: the member 'trace_points' has the wrong type (expected an "
+                      "array of points)",
+                      summary_path.string()));
+  }
 
   const fs::path trace_path = root / "trace.csv";
   prf::RunTraces traces = ValueOrThrow(

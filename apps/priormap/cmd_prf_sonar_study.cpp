@@ -117,13 +117,13 @@ void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
       ->capture_default_str();
   cmd->add_option("--sensor", o->sensor, "Sonar ring preset")->capture_default_str();
   cmd->add_option("--speed", s.speed, "Robot speed along the waypoints, m/s")
-      ->check(PositiveValue())
+      ->check(PositiveValueUpTo(100.0, "m/s"))
       ->capture_default_str();
   cmd->add_option("--rate", s.rate, "Rings per second")
       ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--max-range", o->max_range, "R of the sonar, m (default: the preset's)")
-      ->check(PositiveValue());
+      ->check(PositiveValueUpTo(100.0, "m"));
   cmd->add_option("--resolution", s.resolution,
                   "Cell of the evaluation raster, the grid and the PRF raster, m")
       ->check(PositiveValue())

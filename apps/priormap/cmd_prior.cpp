@@ -161,11 +161,14 @@ std::map<std::string, double> ParseAssignments(const std::string& text) {
     double value = 0.0;
     const char* first = item.data() + (eq == std::string::npos ? 0 : eq + 1);
     const auto [ptr, ec] = std::from_chars(first, item.data() + item.size(), value);
-    if (eq == std::string::npos || eq == 0 || ec != std::errc() ||
+    if (eq == std::string::npos || eq == 0 ||
+        (ec != std::errc() && ec != std::errc::result_out_of_range) ||
         ptr != item.data() + item.size()) {
       throw UserError(
           fmt::format("--at: expected name=value pairs separated by commas, got '{}'", item));
     }
+    if (ec == std::errc::result_out_of_range || !std::isfinite(value))
+      throw UserError(fmt::format("--at: {} is not a finite number", item));
     // A repeated name is a typo for another one: taking either value would hide it.
     if (!values.emplace(item.substr(0, eq), value).second)
       throw UserError(fmt::format("--at: {} is given twice", item.substr(0, eq)));

@@ -1,5 +1,7 @@
 #include "commands.hpp"
 
+#include "cli_support.hpp"
+
 namespace priormap::app {
 
 void AddAllCommands(CLI::App& app) {
@@ -13,6 +15,7 @@ void AddAllCommands(CLI::App& app) {
   AddGridCommand(app);
   AddDemoCommand(app);
   AddVersionCommand(app);
+  RefuseNonFiniteNumbers(app);
 }
 
 }  // namespace priormap::app

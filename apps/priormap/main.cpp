@@ -1,7 +1,10 @@
 // priormap: 2D mapping with structural prior knowledge. A thin shell: each subcommand parses
 // its options, calls the library and reports; errors go to stderr as "priormap: error: ...".
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <string>
 #include <string_view>
@@ -28,9 +31,40 @@ void PrintError(std::string_view message) {
   }
 }
 
+// A signal that ends the process would leave the temporary file of an output being written.
+extern "C" void RemoveTemporariesAndDie(int signal) {
+  priormap::RemoveTemporaryFilesInProgress();
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+void RemoveTemporariesOnSignals() {
+  struct sigaction action {};
+  action.sa_handler = RemoveTemporariesAndDie;
+  sigemptyset(&action.sa_mask);
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction previous {};
+    // An ignored signal stays ignored (nohup; a shell's background job and SIGINT).
+    if (sigaction(signal, nullptr, &previous) == 0 && previous.sa_handler == SIG_IGN) continue;
+    sigaction(signal, &action, nullptr);
+  }
+}
+
+// Output lost (a full disk, a closed pipe, /dev/full) must not end in a success, so `status`
+// 0 becomes 1 when stdout cannot be flushed.
+int FlushStandardOutput(int status) {
+  errno = 0;
+  if (std::fflush(stdout) == 0 && std::ferror(stdout) == 0) return status;
+  const int error = errno;
+  fmt::print(stderr, "priormap: error: cannot write to standard output: {}\n",
+             error != 0 ? std::strerror(error) : "write failed");
+  return status == 0 ? 1 : status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  RemoveTemporariesOnSignals();
   CLI::App app{"priormap: 2D robotic mapping with structural prior knowledge", "priormap"};
   app.require_subcommand(1);
   app.fallthrough(false);
@@ -49,11 +83,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    return FlushStandardOutput(app.exit(e));
   } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
+    return FlushStandardOutput(app.exit(e));
   } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
+    return FlushStandardOutput(app.exit(e));
   } catch (const CLI::ParseError& e) {
     fmt::print(stderr,
                "priormap: error: {}\nRun 'priormap --help' or 'priormap <command> --help'.\n",
@@ -72,5 +106,5 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "priormap: error: {}\n", e.what());
     return 1;
   }
-  return 0;
+  return FlushStandardOutput(0);
 }

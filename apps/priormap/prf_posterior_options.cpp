@@ -12,6 +12,7 @@
 #include <priormap/prf/mapping_options_json.hpp>
 
 #include "cli_support.hpp"
+#include "json_whole_number.hpp"
 
 namespace priormap::app {
 namespace {
@@ -101,7 +102,7 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "Half-widths of the random-walk steps of the vertex moves and edge shifts, m; "
                  "each step draws one (finer ones help once walls are pinned to centimetres)")
       ->delimiter(',')
-      ->check(PositiveValue())
+      ->check(PositiveValueUpTo(100.0, "m"))
       ->capture_default_str();
   cmd.add_option("--vertex-birth-widths", m.sampler.vertex_birth_widths,
                  "κ of the vertex births on an edge e, whose new vertex is uniform within κ|e| of "
@@ -183,48 +184,56 @@ void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* 
     for (const std::string& text : cli.thinned_burn_in)
       m->thinned_burn_in.push_back(ParseStage(text));
   }
-  if (m->burn_in_replicas > 1 && !(m->replica_temperature > 1.0))
+  if (!cli.warm_burn_in.empty()) m->warm_burn_in = ParseWarmStage(cli.warm_burn_in);
+  RequireConsistentPosteriorOptions(*m);
+}
+void RequireConsistentPosteriorOptions(const prf::MappingOptions& m) {
+  if (m.burn_in_replicas > 1 && !(m.replica_temperature > 1.0))
     throw UserError("--replica-temperature must be above 1 for more than one replica");
-  if (m->sampler.corner_completion + m->sampler.neighbour_birth >= 1.0)
+  if (m.sampler.corner_completion + m.sampler.neighbour_birth >= 1.0)
     throw UserError(fmt::format(
         "--corner-completion {} and --neighbour-births {} sum to 1 or more; a vertex birth "
         "needs a share for its rectangles",
-        m->sampler.corner_completion, m->sampler.neighbour_birth));
-  if (m->replica_steps > m->burn_in)
+        m.sampler.corner_completion, m.sampler.neighbour_birth));
+  if (m.replica_steps > m.burn_in)
     throw UserError(fmt::format("--replica-steps: {} steps, more than the burn-in's {}",
-                                m->replica_steps, m->burn_in));
+                                m.replica_steps, m.burn_in));
   std::uint64_t steps = 0;
-  for (const prf::ThinnedBurnIn& stage : m->thinned_burn_in)  // saturating: no wrap to pass
+  for (const prf::ThinnedBurnIn& stage : m.thinned_burn_in)  // saturating: no wrap to pass
     steps += std::min(stage.steps, std::numeric_limits<std::uint64_t>::max() - steps);
-  if (steps > m->burn_in)
+  if (steps > m.burn_in)
     throw UserError(fmt::format(
         "--thinned-burn-in: the stages take {} steps, more than the burn-in's {} (they are part "
         "of it)",
-        steps, m->burn_in));
-  if (!cli.warm_burn_in.empty()) m->warm_burn_in = ParseWarmStage(cli.warm_burn_in);
-  if (m->warm_burn_in.steps > m->burn_in - steps)
+        steps, m.burn_in));
+  if (m.warm_burn_in.steps > m.burn_in - steps)
     throw UserError(fmt::format(
         "--warm-burn-in: {} steps after the thinned stages' {}, more than the burn-in's {} (they "
         "are part of it)",
-        m->warm_burn_in.steps, steps, m->burn_in));
+        m.warm_burn_in.steps, steps, m.burn_in));
 }
 
 nlohmann::json PosteriorOptionsJson(const prf::MappingOptions& m) {
   nlohmann::json j = prf::SamplingOptionsJson(m);
   j["orientation_deg"] = m.sampler.orientation.angle * 180.0 / std::numbers::pi;
+  // And bit for bit: degrees read back do not always give the same radians, which a resumed
+  // run's checkpoints must match (they hold a fingerprint of the options).
+  j["orientation_rad"] = m.sampler.orientation.angle;
   return j;
 }
 
 void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->sampler.free_space = j.value("free_space", 0.0);
   m->sampler.orientation.weight = j.value("orientation_weight", 0.0);
-  m->sampler.orientation.angle = j.value("orientation_deg", 0.0) * std::numbers::pi / 180.0;
+  m->sampler.orientation.angle = j.contains("orientation_rad")
+                                     ? j.at("orientation_rad").get<double>()
+                                     : j.value("orientation_deg", 0.0) * std::numbers::pi / 180.0;
   m->burn_in_temperature = j.value("burn_in_temperature", 1.0);
-  m->burn_in_replicas = j.value("burn_in_replicas", 1);
+  m->burn_in_replicas = WholeNumberMember<int>(j, "burn_in_replicas", 1);
   m->replica_temperature = j.value("replica_temperature", 4.0);
-  m->replica_steps = j.value("replica_steps", std::uint64_t{0});
+  m->replica_steps = WholeNumberMember<std::uint64_t>(j, "replica_steps", 0);
   m->replica_pick_best = j.value("replica_pick", std::string("cold")) == "best";
-  m->sampler.screen_stride = j.value("delayed_acceptance", 1);
+  m->sampler.screen_stride = WholeNumberMember<int>(j, "delayed_acceptance", 1);
   m->sampler.weights[prf::MoveKind::kEdgeShift] = j.value("edge_shifts", 0.0);
   m->sampler.step_scales = j.value("step_scales", m->sampler.step_scales);
   m->sampler.vertex_birth_widths = j.value("vertex_birth_widths", m->sampler.vertex_birth_widths);
@@ -250,12 +259,12 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
   m->thinned_burn_in.clear();
   if (j.contains("thinned_burn_in"))
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))
-      m->thinned_burn_in.push_back(
-          {stage.at("stride").get<int>(), stage.at("steps").get<std::uint64_t>()});
+      m->thinned_burn_in.push_back({WholeNumberMember<int>(stage, "stride"),
+                                    WholeNumberMember<std::uint64_t>(stage, "steps")});
   m->warm_burn_in = {};
   if (j.contains("warm_burn_in"))
     m->warm_burn_in = {j.at("warm_burn_in").at("temperature").get<double>(),
-                       j.at("warm_burn_in").at("steps").get<std::uint64_t>()};
+                       WholeNumberMember<std::uint64_t>(j.at("warm_burn_in"), "steps")};
 }
 
 }  // namespace priormap::app

@@ -25,6 +25,9 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& mapping, PosteriorC
 /// Puts the angle (radians), the thinned stages and the warm stage into `mapping`; UserError on
 /// a malformed stage or stages longer than the burn-in.
 void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* mapping);
+/// UserError when the options do not fit together (stages longer than the burn-in, shares of
+/// the vertex births that sum to 1 or more, ...): checked for the command line and run.json.
+void RequireConsistentPosteriorOptions(const prf::MappingOptions& mapping);
 
 /// The options as JSON (run.json, summaries), and back (keys absent from older run files keep
 /// their defaults).

@@ -1,8 +1,10 @@
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <fcntl.h>
 #include <fstream>
 #include <unistd.h>
 
@@ -44,7 +46,107 @@ fs::path TemporarySibling(const fs::path& path) {
   return path.parent_path() / name;
 }
 
+// The temporary files being written, for RemoveTemporaryFilesInProgress, which a signal handler
+// calls: fixed storage and atomics only, as a handler may neither lock nor allocate, and may run
+// on any thread while others register and release slots.
+constexpr std::size_t kTemporarySlots = 64;
+constexpr std::size_t kTemporaryPathBytes = 4096;  // Linux's PATH_MAX
+
+struct TemporarySlot {
+  std::atomic<bool> claimed{false};
+  // A sequence lock: odd while `path` changes. The handler unlinks a copy of `path` only when it
+  // saw the same even version before and after copying, so never a half-written path.
+  std::atomic<unsigned> version{0};
+  std::array<std::atomic<char>, kTemporaryPathBytes> path{};
+};
+static_assert(std::atomic<bool>::is_always_lock_free &&
+              std::atomic<unsigned>::is_always_lock_free && std::atomic<char>::is_always_lock_free);
+
+std::array<TemporarySlot, kTemporarySlots> g_temporaries;
+
+void SetSlotPath(TemporarySlot& slot, std::string_view path) {
+  const unsigned version = slot.version.load(std::memory_order_relaxed);
+  slot.version.store(version + 1, std::memory_order_relaxed);
+  std::atomic_thread_fence(std::memory_order_release);
+  for (std::size_t i = 0; i < path.size(); ++i)
+    slot.path[i].store(path[i], std::memory_order_relaxed);
+  slot.path[path.size()].store('\0', std::memory_order_relaxed);
+  slot.version.store(version + 2, std::memory_order_release);
+}
+
+// Holds `path` in the registry while it lives. Registered before the file exists and released
+// after it is renamed or removed, so a signal in between finds it. Without a free slot (more than
+// kTemporarySlots writes at once) or for a longer path, the file is not registered: a signal
+// would leave it behind, as it did before the registry.
+class TemporaryRegistration {
+ public:
+  explicit TemporaryRegistration(const std::string& path) {
+    if (path.empty() || path.size() >= kTemporaryPathBytes) return;
+    for (TemporarySlot& slot : g_temporaries) {
+      bool free = false;
+      if (!slot.claimed.compare_exchange_strong(free, true, std::memory_order_acquire)) continue;
+      SetSlotPath(slot, path);
+      slot_ = &slot;
+      return;
+    }
+  }
+  ~TemporaryRegistration() {
+    if (slot_ == nullptr) return;
+    SetSlotPath(*slot_, "");
+    slot_->claimed.store(false, std::memory_order_release);
+  }
+  TemporaryRegistration(const TemporaryRegistration&) = delete;
+  TemporaryRegistration& operator=(const TemporaryRegistration&) = delete;
+
+ private:
+  TemporarySlot* slot_ = nullptr;
+};
+
+// Puts the bytes of `file` on the disk before it is renamed over `path`: otherwise a crash or a
+// power loss shortly after the rename can leave `path` empty or truncated (the rename may reach
+// the disk before the data), where the old file would at least have been whole.
+void SyncFile(const fs::path& path, const fs::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    const int error = errno;
+    throw IoError(fmt::format("{}: cannot write: {}", path.string(), std::strerror(error)));
+  }
+  const int status = ::fsync(fd);
+  const int error = errno;
+  ::close(fd);
+  if (status != 0)
+    throw IoError(fmt::format("{}: cannot write: {}", path.string(), std::strerror(error)));
+}
+
+// Makes the rename itself durable. Best effort: the file is in place already, and some file
+// systems cannot sync a directory.
+void SyncDirectory(const fs::path& directory) {
+  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
 }  // namespace
+
+void RemoveTemporaryFilesInProgress() noexcept {
+  for (TemporarySlot& slot : g_temporaries) {
+    const unsigned version = slot.version.load(std::memory_order_acquire);
+    // Odd: the slot is being registered (its file not made yet) or released (its file renamed
+    // or removed already).
+    if (version % 2 != 0) continue;
+    std::array<char, kTemporaryPathBytes> copy;
+    std::size_t length = 0;
+    while (length < copy.size() &&
+           (copy[length] = slot.path[length].load(std::memory_order_relaxed)) != '\0')
+      ++length;
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if (length == 0 || length == copy.size() ||
+        slot.version.load(std::memory_order_relaxed) != version)
+      continue;
+    ::unlink(copy.data());
+  }
+}
 
 Result<std::string> ReadFileText(const fs::path& path) {
   const std::string name = path.string();
@@ -96,12 +198,15 @@ void WriteFileAtomically(const fs::path& named, const std::function<void(const f
                               directory.string()));
   }
   const fs::path temporary = TemporarySibling(path);
+  const TemporaryRegistration registration(temporary.string());
   try {
     write(temporary);
+    SyncFile(path, temporary);
     // A file replaced keeps its permissions (a private log stays private).
     const fs::file_status existing = fs::status(path, ec);
     if (!ec && fs::is_regular_file(existing)) fs::permissions(temporary, existing.permissions());
     fs::rename(temporary, path);
+    SyncDirectory(directory);
   } catch (const fs::filesystem_error& e) {
     fs::remove(temporary, ec);
     throw IoError(fmt::format("{}: cannot write: {}", path.string(), e.code().message()));

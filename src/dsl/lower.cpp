@@ -2,6 +2,7 @@
 // nodes, so that shape errors, unknown names and bad indices surface with their location.
 #include "lower.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <functional>
@@ -185,6 +186,15 @@ class Lowerer {
                        std::isnan(graph_.node(id).value) ? "not a number" : "infinite"));
     }
     return value;
+  }
+
+  // x / 0 with x unknown folds to x * inf, a term infinite or undefined everywhere, which Finite
+  // cannot see as it is not a constant (a constant divided by 0 is, and Finite says so).
+  void RefuseZeroDivisor(const Expr& e, const Value& dividend, const Value& divisor) {
+    const auto constant = [&](NodeId id) { return graph_.IsConst(id); };
+    if (std::all_of(dividend.entries.begin(), dividend.entries.end(), constant)) return;
+    for (const NodeId id : divisor.entries)
+      if (graph_.IsConst(id, 0.0)) Fail(e.loc, "division by zero (the divisor is the constant 0)");
   }
 
   Value Lower(const Expr& e, const Scope& scope) {
@@ -388,6 +398,7 @@ class Lowerer {
       case BinaryOp::kElementMultiply:
         return Elementwise(e, a, b, "'.*'", [&](NodeId x, NodeId y) { return g.Mul(x, y); });
       case BinaryOp::kElementDivide:
+        RefuseZeroDivisor(e, a, b);
         return Elementwise(e, a, b, "'./'", [&](NodeId x, NodeId y) { return g.Div(x, y); });
       case BinaryOp::kElementPower:
         return Elementwise(e, a, b, "'.^'", [&](NodeId x, NodeId y) { return g.Pow(x, y); });
@@ -401,6 +412,7 @@ class Lowerer {
                    "division)",
                    b.Shape()));
         }
+        RefuseZeroDivisor(e, a, b);
         return Elementwise(e, a, b, "'/'", [&](NodeId x, NodeId y) { return g.Div(x, y); });
       case BinaryOp::kPower:
         if (!a.IsScalar() || !b.IsScalar()) {

@@ -7,8 +7,10 @@
 #include <limits>
 #include <set>
 #include <string>
+#include <sys/wait.h>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -697,6 +699,23 @@ TEST_F(Cli, PriorListIncludesThePriorPathBeforeOrAfterTheSubcommand) {
   }
 }
 
+// CLI11's ranges let NaN through (every comparison with it is false); priormap refuses NaN and
+// infinities in every floating-point option.
+TEST_F(Cli, NonFiniteNumbersAreRefusedInEveryFloatingPointOption) {
+  for (const char* value : {"nan", "inf", "-inf"}) {
+    EXPECT_THAT(Fails({"simulate", "--scene", "square", "--fov", value, "-o", "s.json"}).err,
+                HasSubstr(fmt::format("--fov: {} is not a finite number", value)));
+  }
+  EXPECT_THAT(Fails({"slam", "simulate", "--runs", "1", "--p-accept", "nan", "-o", "x"}).err,
+              HasSubstr("--p-accept: nan is not a finite number"));
+  EXPECT_THAT(Fails({"scan", "--prior", "polygonal", "-i", "s.json", "--beta", "nan"}).err,
+              HasSubstr("--beta: nan is not a finite number"));
+  EXPECT_THAT(Fails({"prior", "eval", "rectangular", "--at",
+                     "rho_1=nan,alpha_1=0,phi_1=0,rho_2=1,alpha_2=0,phi_2=0.1"})
+                  .err,
+              HasSubstr("--at: rho_1=nan is not a finite number"));
+}
+
 TEST_F(Cli, PriorListWarnsOfAPriorThatParsesButDoesNotCompile) {
   fs::create_directory(Work("lib"));
   WriteAll(Work("lib/typo.prior"), "name: Typo\norder: 1\npriorlet same_region:\n  rho_1 == rh\n");
@@ -1145,6 +1164,21 @@ TEST_F(Cli, ConvertRefusesOptionsTheInputsReaderWouldIgnore) {
       Fails({"convert", "s.log", "-o", "c.json", "--min-range", "5", "--max-range", "2"}).err,
       HasSubstr("--min-range 5 must be below --max-range 2"));
   EXPECT_FALSE(fs::exists(Work("c.json")));
+}
+
+// A command whose output is lost must not report success: `priormap prior list > /dev/full`
+// wrote nothing and exited 0.
+TEST_F(Cli, AFailedWriteToStandardOutputIsAnError) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const fs::path err = Work("stderr");
+  const std::string command =
+      fmt::format("{} prior list >/dev/full 2>{}", priormap::testing::ShellQuote(PRIORMAP_BINARY),
+                  priormap::testing::ShellQuote(err.string()));
+  const int raw = std::system(command.c_str());
+  ASSERT_TRUE(raw != -1 && WIFEXITED(raw)) << raw;
+  EXPECT_EQ(WEXITSTATUS(raw), 1);
+  EXPECT_EQ(priormap::testing::ReadAll(err),
+            "priormap: error: cannot write to standard output: No space left on device\n");
 }
 
 }  // namespace

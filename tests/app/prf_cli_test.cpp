@@ -1,8 +1,13 @@
 // End-to-end tests of `priormap prf` and `priormap grid`: the prior statistics as JSON; a
 // simulated log mapped by PRF chains (every output, reproducible by seed, R-hat and acceptance
 // in the summary) and by the occupancy grid; bad options reported without output.
+#include <csignal>
+#include <fcntl.h>
+#include <filesystem>
 #include <limits>
 #include <string>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -264,6 +269,39 @@ TEST_F(MappingCli, AStoppedRunResumesToTheUninterruptedResult) {
               HasSubstr("is complete"));
 }
 
+TEST_F(MappingCli, ResumeRefusesAnEditedRunFileThatTheCommandLineWouldRefuse) {
+  ASSERT_EQ(Run({"prf", "--log", "room.log", "--beam-step", "8", "--samples", "4000", "--burn-in",
+                 "4000", "--chains", "1", "--stop-after-steps", "2000", "-o", "run"})
+                .status,
+            0);
+  const auto run_file = Work("run") / "run.json";
+  const json original = json::parse(testing::ReadAll(run_file));
+  const std::vector<std::pair<std::string, json>> edits = {
+      {"chains", 0},    {"chains", 1e300}, {"samples", -1.5},    {"trace_every", 0},
+      {"cell_size", 0}, {"p", -1},         {"guide_jitter", -1}, {"sigma", -1}};
+  for (const auto& [key, value] : edits) {
+    json edited = original;
+    edited[key] = value;
+    testing::WriteAll(run_file, edited.dump(2));
+    const auto r = RunFailing({"prf", "--resume", Work("run").string()});
+    EXPECT_EQ(r.status, 1) << key;
+    EXPECT_THAT(r.err, HasSubstr(run_file.string() + ": ")) << key;
+    EXPECT_THAT(r.err, HasSubstr("\"" + key + "\"")) << key;
+  }
+}
+
+// run.json keeps the orientation in radians too: -315.5 degrees read back as radians is one bit
+// off, which the checkpoints' fingerprint of the options would not match.
+TEST_F(MappingCli, AStoppedRunWithAnyOrientationResumes) {
+  ASSERT_EQ(Run({"prf", "--log", "room.log", "--beam-step", "8", "--samples", "3000", "--burn-in",
+                 "3000", "--chains", "1", "--orientation", "-315.5", "--orientation-weight", "1",
+                 "--stop-after-steps", "100", "-o", "run"})
+                .status,
+            0);
+  const auto r = Run({"prf", "--resume", Work("run").string()});
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
 TEST_F(MappingCli, ResumeRefusesWhatWouldMakeAnotherRun) {
   EXPECT_THAT(RunFailing({"prf", "--resume", Work("nowhere").string()}).err,
               HasSubstr("no run.json"));
@@ -280,11 +318,17 @@ TEST_F(MappingCli, ResumeRefusesWhatWouldMakeAnotherRun) {
   testing::WriteAll(checkpoint, bytes);
   EXPECT_THAT(RunFailing({"prf", "--resume", Work("run").string()}).err,
               HasSubstr("checksum mismatch"));
-  // A new run in the directory replaces the stopped one, whose checkpoints it must not meet.
-  ASSERT_EQ(Run({"prf", "--log", "room.log", "--beam-step", "8", "--p", "0.3", "--samples", "4000",
-                 "--burn-in", "4000", "--chains", "1", "--stop-after-steps", "3000", "-o", "run"})
-                .status,
-            0);
+  // A new run in the directory of a stopped one would delete its checkpoints: refused, until
+  // they are removed; then it replaces the stopped run, whose checkpoints it must not meet.
+  const std::vector<std::string> new_run = {
+      "prf",       "--log", "room.log",  "--beam-step", "8",        "--p", "0.3",
+      "--samples", "4000",  "--burn-in", "4000",        "--chains", "1",   "--stop-after-steps",
+      "3000",      "-o",    "run"};
+  EXPECT_THAT(RunFailing(new_run).err,
+              HasSubstr("-o run: it holds a stopped run (run/checkpoints); continue it with "
+                        "priormap prf --resume run, or remove run/checkpoints"));
+  std::filesystem::remove_all(Work("run") / "checkpoints");
+  ASSERT_EQ(Run(new_run).status, 0);
   const auto r = Run({"prf", "--resume", Work("run").string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("resumed 3000 steps"));
@@ -416,6 +460,18 @@ TEST_F(MappingCli, RhatPoolsTheChainsOfSeveralRuns) {
   EXPECT_THAT(RunFailing({"prf", "rhat", "a", "broken"}).err,
               HasSubstr("broken/trace.csv:2:8: expected a finite log-posterior, found 'x'"));
   EXPECT_NE(RunFailing({"prf", "rhat", "missing"}).status, 0);
+  // An edited summary.json is refused with its file named, never read out of range.
+  std::filesystem::copy(Work("moved"), Work("edited"));
+  json edited = moved_summary;
+  edited["trace_points"] = 0;
+  testing::WriteAll(Work("edited") / "summary.json", edited.dump(2));
+  EXPECT_THAT(RunFailing({"prf", "rhat", "a", "edited"}).err,
+              HasSubstr("edited/summary.json: the member 'trace_points' has the wrong type"));
+  edited = moved_summary;
+  edited["beams"] = -1.5;
+  testing::WriteAll(Work("edited") / "summary.json", edited.dump(2));
+  EXPECT_THAT(RunFailing({"prf", "rhat", "a", "edited"}).err,
+              HasSubstr("edited/summary.json: \"beams\" must be a whole number"));
 }
 
 TEST_F(MappingCli, GridWritesTheMapAndASummary) {
@@ -468,6 +524,72 @@ TEST_F(MappingCli, ReportsBadSelections) {
               HasSubstr("missing.log"));
   EXPECT_THAT(RunFailing({"grid", "--log", "room.log", "--range", "a:b", "-o", "x"}).err,
               HasSubstr("--range"));
+}
+
+// Starts priormap with `args` in `work`, signals it with `signal` once its chains have written a
+// checkpoint (so they run, under the graceful stop's handlers), and waits for it.
+struct SignalledRun {
+  int wait_status = 0;
+  std::string out;
+  std::string err;
+};
+SignalledRun RunAndSignalOnceCheckpointed(const std::filesystem::path& work,
+                                          std::vector<std::string> args,
+                                          const std::filesystem::path& checkpoints, int signal) {
+  const testing::TempDir io;
+  const std::string program = PRIORMAP_BINARY;
+  std::vector<char*> argv = {const_cast<char*>(program.c_str())};
+  for (std::string& arg : args) argv.push_back(arg.data());
+  argv.push_back(nullptr);
+  const int out = ::open((io / "stdout").c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  const int err = ::open((io / "stderr").c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  SignalledRun run;
+  if (out < 0 || err < 0) {
+    ADD_FAILURE() << "cannot create the output files";
+    return run;
+  }
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (::chdir(work.c_str()) != 0 || ::dup2(out, 1) < 0 || ::dup2(err, 2) < 0) ::_exit(127);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  ::close(out);
+  ::close(err);
+  const auto checkpointed = [&] {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(checkpoints, ec))
+      if (!entry.path().filename().string().starts_with(".")) return true;
+    return false;
+  };
+  for (int i = 0; i < 1200 && !checkpointed(); ++i) ::usleep(25000);
+  EXPECT_TRUE(checkpointed()) << "no checkpoint after 30 s";
+  ::kill(pid, signal);
+  ::waitpid(pid, &run.wait_status, 0);
+  run.out = testing::ReadAll(io / "stdout");
+  run.err = testing::ReadAll(io / "stderr");
+  return run;
+}
+
+// A signal stops the chains gracefully, checkpointed, with the shell's status for the signal
+// (128 + its number), so that a scheduler sees which one ended the run.
+TEST_F(MappingCli, ASignalStopsTheChainsWithItsExitStatus) {
+  for (const int signal : {SIGTERM, SIGINT}) {
+    const std::string out = fmt::format("run-{}", signal);
+    const SignalledRun r = RunAndSignalOnceCheckpointed(
+        Work("."),
+        {"prf", "--log", "room.log", "--beam-step", "4", "--samples", "100000000", "--burn-in",
+         "1000", "--chains", "1", "--checkpoint-every", "0.01", "-o", out},
+        Work(out) / "checkpoints", signal);
+    ASSERT_TRUE(WIFEXITED(r.wait_status))
+        << "ended by signal " << (WIFSIGNALED(r.wait_status) ? WTERMSIG(r.wait_status) : 0)
+        << "; stderr:\n"
+        << r.err;
+    EXPECT_EQ(WEXITSTATUS(r.wait_status), 128 + signal) << r.err;
+    EXPECT_THAT(r.out, HasSubstr("stopped and checkpointed"));
+    for (const std::string& file : testing::FilesUnder(Work(out)))
+      EXPECT_THAT(file, Not(HasSubstr(".tmp-")));
+  }
 }
 
 }  // namespace

@@ -285,6 +285,11 @@ TEST_F(SonarCli, ANewRunLeavesNoOutputsOfAnEarlierOneInItsDirectory) {
 TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   const auto fit = Run({"prf", "fit-sonar", "--scenes", "office", "--rate", "1", "-o", "m.json"});
   ASSERT_EQ(fit.status, 0) << fit.err;
+  // An output it cannot write is refused before the fit, not after it.
+  EXPECT_THAT(RunFailing({"prf", "fit-sonar", "--scenes", "office", "--rate", "1", "-o",
+                          "no-such-dir/m.json"})
+                  .err,
+              HasSubstr("no-such-dir"));
   const json model = json::parse(testing::ReadAll(Work("m.json")));
   EXPECT_EQ(model["format"], "priormap.sonar_model");
   EXPECT_GT(model["fit"]["log_likelihood"].get<double>(),

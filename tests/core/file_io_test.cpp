@@ -314,5 +314,78 @@ TEST(FileIo, IsNumberedNameMatchesPrefixDigitsSuffixOnly) {
   EXPECT_FALSE(IsNumberedName("chainpng", "chain", "png", false));  // prefix and suffix only
 }
 
+// What a handler of SIGINT/SIGTERM/SIGHUP does before the signal ends the process: the
+// temporary files of the writes in progress go, nested or concurrent ones too; nothing else does.
+TEST(FileIo, TheSignalCleanupRemovesTheTemporaryFilesOfWritesInProgress) {
+  const testing::TempDir dir;
+  testing::WriteAll(dir / "a.txt", "previous a\n");
+  testing::WriteAll(dir / ".b.txt.tmp-1-0", "another process's, maybe still running");
+  fs::path temporary_a;
+  fs::path temporary_b;
+  EXPECT_THROW(WriteFileAtomically(dir / "a.txt",
+                                   [&](const fs::path& path) {
+                                     temporary_a = path;
+                                     std::ofstream(path) << "half of a";
+                                     EXPECT_THROW(WriteFileAtomically(
+                                                      dir / "b.txt",
+                                                      [&](const fs::path& inner) {
+                                                        temporary_b = inner;
+                                                        std::ofstream(inner) << "half of b";
+                                                        ASSERT_TRUE(fs::exists(temporary_a));
+                                                        ASSERT_TRUE(fs::exists(temporary_b));
+                                                        RemoveTemporaryFilesInProgress();
+                                                        EXPECT_FALSE(fs::exists(temporary_a));
+                                                        EXPECT_FALSE(fs::exists(temporary_b));
+                                                      }),
+                                                  IoError);
+                                   }),
+               IoError);
+  EXPECT_THAT(testing::FilesIn(dir.path()), UnorderedElementsAre("a.txt", ".b.txt.tmp-1-0"));
+  EXPECT_EQ(testing::ReadAll(dir / "a.txt"), "previous a\n");
+}
+
+// A write that ended, well or not, leaves its temporary file's name unregistered: a later file of
+// that name (however unlikely) is not the cleanup's to remove.
+TEST(FileIo, AFinishedWriteLeavesNothingForTheSignalCleanup) {
+  const testing::TempDir dir;
+  std::vector<fs::path> temporaries;
+  WriteFileAtomically(dir / "done.txt", [&](const fs::path& path) {
+    temporaries.push_back(path);
+    std::ofstream(path) << "whole";
+  });
+  EXPECT_THROW(WriteFileAtomically(dir / "thrown.txt",
+                                   [&](const fs::path& path) {
+                                     temporaries.push_back(path);
+                                     std::ofstream(path) << "half";
+                                     throw WriterFailed("no");
+                                   }),
+               WriterFailed);
+  EXPECT_THROW(WriteFileAtomically(dir / "never.txt",
+                                   [&](const fs::path& path) { temporaries.push_back(path); }),
+               IoError);
+  ASSERT_EQ(temporaries.size(), 3u);
+  for (const fs::path& temporary : temporaries) testing::WriteAll(temporary, "someone else's");
+  RemoveTemporaryFilesInProgress();
+  for (const fs::path& temporary : temporaries) EXPECT_TRUE(fs::exists(temporary)) << temporary;
+  EXPECT_EQ(testing::ReadAll(dir / "done.txt"), "whole");
+}
+
+// Writes from several threads at once: each file is whole, and no temporary file is left.
+TEST(FileIo, ConcurrentWritesRegisterAndReleaseTheirTemporaryFiles) {
+  const testing::TempDir dir;
+  std::vector<std::thread> writers;
+  for (int t = 0; t < 8; ++t) {
+    writers.emplace_back([&dir, t] {
+      for (int i = 0; i < 20; ++i)
+        WriteTextFileAtomically(dir / ("out" + std::to_string(t) + ".txt"), std::to_string(i));
+    });
+  }
+  for (std::thread& writer : writers) writer.join();
+  RemoveTemporaryFilesInProgress();
+  EXPECT_EQ(testing::FilesIn(dir.path()).size(), 8u);
+  for (int t = 0; t < 8; ++t)
+    EXPECT_EQ(testing::ReadAll(dir / ("out" + std::to_string(t) + ".txt")), "19");
+}
+
 }  // namespace
 }  // namespace priormap

@@ -32,6 +32,11 @@ void WriteFileAtomically(const std::filesystem::path& path,
 /// WriteFileAtomically with `content` as the file's bytes; gzip-compressed when `path` ends in .gz.
 void WriteTextFileAtomically(const std::filesystem::path& path, std::string_view content);
 
+/// Removes the temporary files of the WriteFileAtomically calls in progress, for a signal handler
+/// that is about to end the process (which would leave them behind). Async-signal-safe: it calls
+/// only unlink(2). The writes in progress then fail, as their temporary file is gone.
+void RemoveTemporaryFilesInProgress() noexcept;
+
 /// The UTF-8 byte order mark some editors put at the start of a text file; readers skip it.
 inline constexpr std::string_view kUtf8ByteOrderMark = "\xef\xbb\xbf";
 
