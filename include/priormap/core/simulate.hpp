@@ -29,7 +29,8 @@ struct TimedPose {
 
 struct LogSimulationOptions {
   /// Odometry noise: standard deviation of the error of each increment, per metre travelled
-  /// (translation, m/m) and per radian turned plus per metre travelled (rotation).
+  /// (translation, m/m, drawn for x and for y apart, in the increment's start frame) and per
+  /// radian turned plus per metre travelled (rotation).
   double odom_sigma_per_meter = 0.02;
   double odom_sigma_rad_per_rad = 0.02;
   double odom_sigma_rad_per_meter = 0.01;

@@ -97,7 +97,8 @@ inline void AddCounters(MoveCounters* total, const MoveCounters& more) {
 }
 
 /// Relative weight of each move kind; zero switches a kind off. Guided triangles need a guide
-/// (SamplerOptions::guide); without one their weight counts as zero.
+/// (SamplerOptions::guide); without one, or with one that has no points, their weight counts as
+/// zero.
 struct MoveWeights {
   /// Edge shifts, vertex jumps and vertex pairs are off by default: they are not among the
   /// paper's moves, and chains with the default weights keep the course they had before the kinds
