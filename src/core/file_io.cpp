@@ -154,8 +154,15 @@ Result<std::string> ReadFileText(const fs::path& path) {
   if (!fs::exists(path, ec)) return Diagnostic{name, 0, 0, "no such file"};
   if (fs::is_directory(path, ec)) return Diagnostic{name, 0, 0, "is a directory, expected a file"};
   // gzread reads plain files unchanged, so one code path serves both.
+  errno = 0;
   gzFile file = gzopen(name.c_str(), "rb");
-  if (file == nullptr) return Diagnostic{name, 0, 0, "cannot open file for reading"};
+  if (file == nullptr) {
+    // Why, when the system says: permission denied, too many open files, ...
+    const int error = errno;
+    return Diagnostic{name, 0, 0,
+                      std::string("cannot open file for reading") +
+                          (error != 0 ? std::string(": ") + std::strerror(error) : "")};
+  }
   gzbuffer(file, 1 << 17);
   std::string text;
   std::string chunk(1 << 20, '\0');

@@ -1,6 +1,7 @@
 #include "gunzip.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -128,9 +129,16 @@ Result<ByteBuffer> ReadWholeFile(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) return Diagnostic{name, 0, 0, "no such file"};
   if (fs::is_directory(path, ec)) return Diagnostic{name, 0, 0, "is a directory, expected a file"};
+  errno = 0;
   const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(name.c_str(), "rb"),
                                                              &std::fclose);
-  if (!file) return Diagnostic{name, 0, 0, "cannot open file for reading"};
+  if (!file) {
+    // Why, when the system says: permission denied, too many open files, ...
+    const int error = errno;
+    return Diagnostic{name, 0, 0,
+                      std::string("cannot open file for reading") +
+                          (error != 0 ? std::string(": ") + std::strerror(error) : "")};
+  }
   // The size is a hint: the file is read to its end whatever it is (a pipe, a growing file).
   const std::uintmax_t hint = fs::file_size(path, ec);
   ByteBuffer bytes(ec ? std::size_t{1} << 16 : static_cast<std::size_t>(hint) + 1);

@@ -3,14 +3,18 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/log_io.hpp>
 
 #include "testing/temp_dir.hpp"
 
@@ -90,6 +94,25 @@ TEST(FileIo, MissingFileIsADiagnostic) {
   EXPECT_EQ(d.line, 0);
   EXPECT_EQ(d.col, 0);
   EXPECT_EQ(d.message, "no such file");
+}
+
+// A file that exists and cannot be opened says why. A socket is one even for root (ENXIO).
+TEST(FileIo, AFileThatCannotBeOpenedSaysWhy) {
+  const testing::TempDir dir;
+  const std::string socket_path = (dir / "socket").string();
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  ASSERT_LT(socket_path.size(), sizeof(address.sun_path));
+  socket_path.copy(address.sun_path, socket_path.size());
+  ASSERT_EQ(::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)), 0);
+  for (const std::vector<Diagnostic>& diagnostics :
+       {ReadFileText(socket_path).diagnostics(), ReadLog(socket_path).diagnostics()}) {
+    ASSERT_EQ(diagnostics.size(), 1U);
+    EXPECT_EQ(diagnostics[0].message, "cannot open file for reading: No such device or address");
+  }
+  ::close(fd);
 }
 
 TEST(FileIo, DirectoryIsADiagnostic) {
