@@ -13,6 +13,8 @@
 
 #include <priormap/core/file_io.hpp>
 
+#include "gunzip.hpp"
+
 namespace priormap {
 namespace fs = std::filesystem;
 namespace {
@@ -156,13 +158,7 @@ Result<std::string> ReadFileText(const fs::path& path) {
   // gzread reads plain files unchanged, so one code path serves both.
   errno = 0;
   gzFile file = gzopen(name.c_str(), "rb");
-  if (file == nullptr) {
-    // Why, when the system says: permission denied, too many open files, ...
-    const int error = errno;
-    return Diagnostic{name, 0, 0,
-                      std::string("cannot open file for reading") +
-                          (error != 0 ? std::string(": ") + std::strerror(error) : "")};
-  }
+  if (file == nullptr) return detail::CannotOpenForReading(name);
   gzbuffer(file, 1 << 17);
   std::string text;
   std::string chunk(1 << 20, '\0');

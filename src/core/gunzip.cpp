@@ -119,6 +119,14 @@ Result<ByteBuffer> Gunzip(std::string_view bytes, const std::string& name) {
 
 }  // namespace
 
+Diagnostic CannotOpenForReading(const std::string& name) {
+  // Why, when the system says: permission denied, no such device, too many open files, ...
+  const int error = errno;
+  return Diagnostic{name, 0, 0,
+                    std::string("cannot open file for reading") +
+                        (error != 0 ? std::string(": ") + std::strerror(error) : "")};
+}
+
 Result<ByteBuffer> ReadWholeFile(const fs::path& path) {
 #ifndef PRIORMAP_HAVE_LIBDEFLATE
   const Result<std::string> text = ReadFileText(path);
@@ -132,13 +140,7 @@ Result<ByteBuffer> ReadWholeFile(const fs::path& path) {
   errno = 0;
   const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(name.c_str(), "rb"),
                                                              &std::fclose);
-  if (!file) {
-    // Why, when the system says: permission denied, too many open files, ...
-    const int error = errno;
-    return Diagnostic{name, 0, 0,
-                      std::string("cannot open file for reading") +
-                          (error != 0 ? std::string(": ") + std::strerror(error) : "")};
-  }
+  if (!file) return CannotOpenForReading(name);
   // The size is a hint: the file is read to its end whatever it is (a pipe, a growing file).
   const std::uintmax_t hint = fs::file_size(path, ec);
   ByteBuffer bytes(ec ? std::size_t{1} << 16 : static_cast<std::size_t>(hint) + 1);

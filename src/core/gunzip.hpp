@@ -4,6 +4,7 @@
 // contract and diagnostics. Without libdeflate at build time, ReadFileText (zlib) does it.
 
 #include <filesystem>
+#include <string>
 
 #include <priormap/core/diagnostic.hpp>
 
@@ -16,5 +17,9 @@ namespace priormap::detail {
 /// that is not a gzip member is ignored (as zlib's gzread does), and a corrupt or truncated
 /// member is a diagnostic.
 [[nodiscard]] Result<ByteBuffer> ReadWholeFile(const std::filesystem::path& path);
+
+/// "cannot open file for reading", with the system's reason when errno holds one (read at once):
+/// the diagnostic of both ReadWholeFile and ReadFileText.
+[[nodiscard]] Diagnostic CannotOpenForReading(const std::string& name);
 
 }  // namespace priormap::detail
