@@ -35,6 +35,9 @@ LogFormat SniffLogFormat(std::string_view text) {
   const auto first = std::find_if(text.begin(), text.end(), [](char c) {
     return c != ' ' && c != '\n' && c != '\r' && c != '\t';
   });
+  // A CARMEN line starts with a record's name; JSON that is not an object goes to the JSON reader,
+  // which says what it expected where, rather than to CARMEN's "no records found".
+  if (first != text.end() && *first == '[') return LogFormat::kJson;
   if (first == text.end() || *first != '{') return LogFormat::kCarmen;
   return LooksLikeCsmLog(text) ? LogFormat::kCsm : LogFormat::kJson;
 }

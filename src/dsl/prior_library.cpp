@@ -221,6 +221,10 @@ Result<CompiledPrior> PriorLibrary::Load(const std::string& file_or_name) const 
     for (const PriorListing& listing : List()) {
       if (fs::path(listing.path).stem() == file_or_name) return Load(listing.name);
     }
+    if (fs::is_directory(file_or_name, ec))
+      return Diagnostic{file_or_name, 0, 0,
+                        "a directory, not a prior file or name (a directory of priors is searched "
+                        "with --prior-path)"};
     return Diagnostic{"", 0, 0,
                       fmt::format("no prior file or prior named '{}' (see 'priormap prior list'){}",
                                   file_or_name, SkippedFiles(Unparsable()))};

@@ -415,6 +415,17 @@ TEST(JsonIo, WriteLogChoosesTheFormat) {
   EXPECT_EQ(SniffLogFormat(testing::ReadAll(dir / "log.carmen")), LogFormat::kCarmen);
 }
 
+// JSON that is not an object goes to the JSON reader, whose error says where and what it expected,
+// not to CARMEN's "no records found".
+TEST(JsonIo, AJsonArrayIsReadAsJsonAndRefusedAtItsFirstCharacter) {
+  EXPECT_EQ(SniffLogFormat(" \n[1, 2]"), LogFormat::kJson);
+  const testing::TempDir dir;
+  testing::WriteAll(dir / "array.json", "\n  [1, 2]\n");
+  const Result<Log> log = ReadLog(dir / "array.json");
+  ASSERT_FALSE(log.ok());
+  EXPECT_THAT(log.error(), ::testing::HasSubstr("array.json:2:3: error: expected a priormap.log"));
+}
+
 // ---- scenes ----
 
 TEST(JsonIo, BuiltinScenesRoundTripBitExact) {

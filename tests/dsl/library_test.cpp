@@ -259,6 +259,16 @@ TEST(PriorLibraryLoad, UnknownNameIsAnError) {
   EXPECT_THAT(prior.error(), HasSubstr("no prior file or prior named 'no such prior'"));
 }
 
+// A directory is not a prior, and a user who gives one most likely meant --prior-path.
+TEST(PriorLibraryLoad, ADirectoryIsNamedAsOne) {
+  TempDir dir;
+  const Result<CompiledPrior> prior = PriorLibrary().Load(dir.path().string());
+  ASSERT_FALSE(prior.ok());
+  EXPECT_THAT(prior.error(),
+              HasSubstr(dir.path().string() + ": error: a directory, not a prior file"));
+  EXPECT_THAT(prior.error(), HasSubstr("--prior-path"));
+}
+
 // A prior in a file that does not parse cannot be found by its name; the error says which files
 // were passed over and why, and the listing's Unparsable() names them too.
 TEST(PriorLibraryLoad, APriorThatDoesNotParseIsNamedWhenItsNameIsNotFound) {
