@@ -3,11 +3,8 @@
 // `prior-stats` samples the Arak prior with no data and compares the chain with the process's
 // closed forms.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -38,6 +35,8 @@
 #include "chains_status.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "directory_lock.hpp"
+#include "graceful_stop.hpp"
 #include "log_selection.hpp"
 #include "prf_posterior_options.hpp"
 #include "prf_run_file.hpp"
@@ -189,46 +188,6 @@ MappingCliOptions RunFromJson(const std::filesystem::path& dir, const MappingCli
   return o;
 }
 
-// Ctrl-C and SIGTERM stop the chains at their next chunk, checkpointed.
-std::atomic<bool> g_stop_requested{false};
-// The first of them, for the exit status.
-std::atomic<int> g_stop_signal{0};
-extern "C" void RequestStop(int signal) {
-  // A second signal does not wait for the chains' next chunk: it ends the process at once,
-  // without the checkpoints or outputs being written.
-  if (g_stop_requested) {
-    RemoveTemporaryFilesInProgress();
-    std::signal(signal, SIG_DFL);
-    std::raise(signal);
-    return;
-  }
-  g_stop_signal = signal;
-  g_stop_requested = true;
-}
-
-// Installs RequestStop for SIGINT and SIGTERM while it lives, then puts back the handlers it
-// replaced (main's, which remove temporary files when a signal ends the process).
-class StopOnSignals {
- public:
-  StopOnSignals() {
-    struct sigaction action {};
-    action.sa_handler = RequestStop;
-    sigemptyset(&action.sa_mask);
-    sigaction(SIGINT, &action, &previous_int_);
-    sigaction(SIGTERM, &action, &previous_term_);
-  }
-  ~StopOnSignals() {
-    sigaction(SIGINT, &previous_int_, nullptr);
-    sigaction(SIGTERM, &previous_term_, nullptr);
-  }
-  StopOnSignals(const StopOnSignals&) = delete;
-  StopOnSignals& operator=(const StopOnSignals&) = delete;
-
- private:
-  struct sigaction previous_int_ {};
-  struct sigaction previous_term_ {};
-};
-
 // One status line: redrawn in place on a terminal, every 10 % elsewhere.
 class MappingStatus {
  public:
@@ -242,6 +201,10 @@ class MappingStatus {
     // The rates are those since the last line, not since the start: a stage on the full data
     // costs several times a thinned one, and a running average would hide the change for long.
     if (!last_steps_) last_steps_ = p.steps_resumed;
+    if (p.steps_done == p.steps_resumed) {  // the report of what the checkpoints restored
+      fmt::print(stderr, "{:3d}% restored from the checkpoints\n", percent);
+      return;
+    }
     const prf::MoveCounter total = prf::Total(p.counters);
     prf::MoveCounter interval;
     interval.proposed = total.proposed - last_total_.proposed;
@@ -367,6 +330,9 @@ void RunMappingCommand(MappingCliOptions o) {
         "--samples 0: P(black), R-hat and the annealing's start come from the "
         "samples; at least 1");
   if (o.out.empty()) throw UserError("-o/--out is required");
+  // Held to the run's end, and taken before the directory's contents are judged: a running run's
+  // checkpoints are not a stopped one's.
+  DirectoryLock lock = LockIfExists(o.out);
   // A new run would delete a stopped one's checkpoints, its progress of hours perhaps.
   const std::filesystem::path earlier_checkpoints = std::filesystem::path(o.out) / "checkpoints";
   if (std::error_code ec; !resuming && std::filesystem::is_directory(earlier_checkpoints, ec) &&
@@ -386,6 +352,7 @@ void RunMappingCommand(MappingCliOptions o) {
       !problem.empty())
     throw UserError(fmt::format("--resolution {} m: {}", o.mapping.raster_resolution, problem));
   EnsureDirectory(o.out);
+  if (!lock.held()) lock = DirectoryLock(o.out);
   const std::filesystem::path dir(o.out);
   if (!resuming) {
     RemoveEarlierRunOutputs(dir);
@@ -398,7 +365,7 @@ void RunMappingCommand(MappingCliOptions o) {
                                     .checkpoint_every_s = o.checkpoint_every_s,
                                     .resume = resuming,
                                     .stop_after_steps = o.stop_after_steps,
-                                    .stop = &g_stop_requested};
+                                    .stop = &StopFlag()};
   MappingStatus status;
   prf::MappingResult r;
   {
@@ -415,13 +382,7 @@ void RunMappingCommand(MappingCliOptions o) {
   if (!r.complete) {
     fmt::print("stopped and checkpointed in {}; continue with: priormap prf --resume {}\n",
                session.checkpoint_directory.string(), o.out);
-    // Stopped by a signal: the shell's convention for a command a signal ended (128 + its
-    // number: 130 for Ctrl-C, 143 for SIGTERM), so that a scheduler does not take the run for
-    // finished.
-    if (g_stop_requested) {
-      std::fflush(stdout);
-      std::exit(128 + g_stop_signal);
-    }
+    if (StopRequested()) ExitAsStopped();
     return;
   }
 

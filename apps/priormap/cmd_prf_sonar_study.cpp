@@ -19,6 +19,7 @@
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "prf_posterior_options.hpp"
+#include "study_session_cli.hpp"
 
 namespace priormap::app {
 namespace {
@@ -32,6 +33,7 @@ struct SonarStudyCliOptions {
   std::string out;
   bool figures = true;
   prf::SonarStudyOptions study;
+  StudySessionCliOptions session;
 };
 
 // Every figure a case may have, which a new run removes first.
@@ -79,19 +81,29 @@ void RunSonarStudyCommand(SonarStudyCliOptions o) {
   ApplyPosteriorOptions(o.posterior, &o.study.mapping);
   if (!o.sonar_model.empty()) o.study.model = ValueOrThrow(prf::ReadSonarModel(o.sonar_model));
   if (const std::string problem = o.study.Problem(); !problem.empty()) throw UserError(problem);
-  EnsureDirectory(o.out);
-
-  const prf::SonarStudyResult result = prf::RunSonarStudy(o.study);
-
   const std::filesystem::path dir(o.out);
+  std::vector<std::string> folders;
+  for (const Scene& scene : o.study.scenes)
+    folders.push_back(prf::StudyCaseFolder(scene.name, o.study.sensor.name));
+  const DirectoryLock lock = BeginStudy(dir, folders, o.session.resume);
+
+  prf::SonarStudyResult result;
+  RunStoppableStudy(
+      [&] { result = prf::RunSonarStudy(o.study, MakeStudySession(dir, o.session)); });
+  std::uint64_t resumed = 0;
+  for (const prf::SonarStudyCase& c : result.cases) resumed += c.prf.resumed_steps;
+  ReportResumedSteps(resumed);
+  if (!result.complete) return EndStoppedStudy(dir, folders);
+
   WriteTextFileAtomically(dir / "summary.json", prf::SonarStudySummaryJson(result, o.study));
   const std::string table = prf::SonarStudyMarkdownTable(result);
   WriteTextFileAtomically(dir / "table.md", table);
-  for (const prf::SonarStudyCase& c : result.cases) {
-    const std::filesystem::path case_dir = dir / fmt::format("{}-{}", c.scene, o.study.sensor.name);
+  for (std::size_t i = 0; i < result.cases.size(); ++i) {
+    const std::filesystem::path case_dir = dir / folders[i];
     RemoveFiles(case_dir, kCaseFigures);  // an earlier run's, beside this run's numbers
-    if (o.figures) SaveCaseFigures(case_dir, c, o.study.sensor.name);
+    if (o.figures) SaveCaseFigures(case_dir, result.cases[i], o.study.sensor.name);
   }
+  FinishStudy(dir, folders);
   fmt::print(
       "{}\nwrote {} (summary.json, table.md{}) in {:.0f} s\n", table, o.out,
       o.figures ? ", <scene>-<sensor>/{truth,grid,posterior,grid-errors,posterior-errors}.png" : "",
@@ -155,6 +167,7 @@ void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
                 "apart from how fast the chains find it");
   cmd->add_option("-o,--out", o->out, "Output directory")->required();
   cmd->add_flag("!--no-figures", o->figures, "Skip the per-case PNG figures");
+  AddStudySessionOptions(*cmd, o->session);
   cmd->callback([o] { RunSonarStudyCommand(*o); });
 }
 

@@ -17,6 +17,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "study_session_cli.hpp"
 
 namespace priormap::app {
 namespace {
@@ -27,6 +28,7 @@ struct StudyCliOptions {
   std::string out;
   bool figures = true;
   prf::MapStudyOptions study;
+  StudySessionCliOptions session;
 };
 
 // Every figure a case may have, which a new run removes first.
@@ -66,26 +68,33 @@ void RunStudyCommand(StudyCliOptions o) {
     o.study.sensors.push_back(*sensor);
   }
   if (const std::string problem = o.study.Problem(); !problem.empty()) throw UserError(problem);
-  EnsureDirectory(o.out);
-  o.study.progress = [](int done, int total) {
-    fmt::print(stderr, "case {}/{} done\n", done, total);
-  };
-
-  const prf::MapStudyResult result = prf::RunMapStudy(o.study);
-
   const std::filesystem::path dir(o.out);
+  std::vector<std::string> folders;
+  for (const Scene& scene : o.study.scenes)
+    for (const RangeSensor& sensor : o.study.sensors)
+      folders.push_back(prf::StudyCaseFolder(scene.name, sensor.name));
+  const DirectoryLock lock = BeginStudy(dir, folders, o.session.resume);
+
+  prf::MapStudyResult result;
+  RunStoppableStudy([&] { result = prf::RunMapStudy(o.study, MakeStudySession(dir, o.session)); });
+  std::uint64_t resumed = 0;
+  for (const prf::MapStudyCase& c : result.cases) resumed += c.prf.resumed_steps;
+  ReportResumedSteps(resumed);
+  if (!result.complete) return EndStoppedStudy(dir, folders);
+
   WriteTextFileAtomically(dir / "summary.json", prf::MapStudySummaryJson(result, o.study));
   const std::string table = prf::MapStudyMarkdownTable(result);
   WriteTextFileAtomically(dir / "table.md", table);
   bool maps = false;
   for (std::size_t i = 0; i < result.cases.size(); ++i) {
     const prf::MapStudyCase& c = result.cases[i];
-    const std::filesystem::path case_dir = dir / fmt::format("{}-{}", c.scene, c.sensor);
+    const std::filesystem::path case_dir = dir / folders[i];
     // An earlier run's figures of this case would stand beside this run's numbers.
     RemoveFiles(case_dir, kCaseFigures);
     if (o.figures) SaveCaseFigures(case_dir, c, o.study.scenes[i / o.study.sensors.size()]);
     maps = maps || c.prf.map.has_value();
   }
+  FinishStudy(dir, folders);
   fmt::print("{}\nwrote {} (summary.json, table.md{}) in {:.0f} s\n", table, o.out,
              !o.figures ? ""
              : maps     ? ", <scene>-<sensor>/{truth,grid,posterior,map}.png"
@@ -158,6 +167,7 @@ void AddPrfStudyCommand(CLI::App& prf_cmd) {
       ->capture_default_str();
   cmd->add_option("-o,--out", o->out, "Output directory")->required();
   cmd->add_flag("!--no-figures", o->figures, "Skip the per-case PNG figures");
+  AddStudySessionOptions(*cmd, o->session);
   cmd->callback([o] { RunStudyCommand(*o); });
 }
 

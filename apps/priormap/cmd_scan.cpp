@@ -1,5 +1,4 @@
 // priormap scan: the MAP scan under a prior (priorlets engine) for one scan or every scan of a log.
-#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
@@ -9,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 
+#include <priormap/core/binary_io.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/dsl/prior_library.hpp>
@@ -20,6 +20,8 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "graceful_stop.hpp"
+#include "scan_journal.hpp"
 
 namespace priormap::app {
 namespace {
@@ -40,7 +42,24 @@ struct ScanOptions {
   std::optional<std::string> png;
   std::optional<std::string> svg;
   std::optional<std::string> lines;
+  bool resume = false;
 };
+
+// What a scan's record depends on: the prior's files, the options and the log's bytes. A
+// journal of another run is refused on resume.
+std::uint64_t AllScansFingerprint(const ScanOptions& o, const dsl::CompiledPrior& prior) {
+  std::string identity =
+      fmt::format("priormap {}\n{}\n{}\n{}\n{}\n{}\n{}\n{}\n", PRIORMAP_VERSION, o.prior, o.input,
+                  o.beta, o.no_refine, o.max_range.value_or(-1.0), o.covariance, o.eigenvariations);
+  identity += fmt::format("{}\n", o.max_free_dimension);
+  for (const dsl::PriorOrigin& origin : prior.chain()) {
+    identity += origin.name + "\n" + origin.path + "\n";
+    if (const Result<std::string> text = ReadFileText(origin.path); text.ok())
+      identity += text.value();
+  }
+  const std::string log_bytes = ValueOrThrow(ReadFileText(o.input));
+  return Fnv1a64(log_bytes, Fnv1a64(identity));
+}
 
 // --png / --svg: each names a file of its own format, written only for one scan.
 void CheckFigureOptions(const ScanOptions& o) {
@@ -89,6 +108,8 @@ void Run(const ScanOptions& o) {
   RequireCarmenForMaxRange(o.input, read_as, o.max_range);
   if (log.scans.empty()) throw UserError(fmt::format("{}: the log has no scans", o.input));
   if (o.all && o.index) throw UserError("--all and --index exclude each other");
+  if (o.resume && !o.all)
+    throw UserError("--resume continues a stopped --all run (one scan is quick)");
   const std::size_t index = o.index.value_or(0);
   if (index >= log.scans.size()) {
     throw UserError(
@@ -140,37 +161,61 @@ void Run(const ScanOptions& o) {
                  fmt::format("{}: scan {}, {}", o.input, index, prior.name()));
     return;
   }
-  // Every scan, in parallel; a scan that fails is reported and written as an error record.
-  std::vector<std::string> lines(log.scans.size());
-  std::atomic<std::size_t> failures{0};
+  // Every scan, in parallel; a scan that fails is reported and written as an error record. Each
+  // record goes to the journal as it is done, so that Ctrl-C, SIGTERM or a crash loses none.
+  ScanJournal journal(o.out + ".partial", AllScansFingerprint(o, prior), log.scans.size(),
+                      o.resume);
+  if (journal.Restored() > 0)
+    fmt::print(stderr, "resumed {} of {} from {}\n", journal.Restored(),
+               Plural(log.scans.size(), "scan"), journal.path().string());
   Progress progress(log.scans.size(), "scans");
   std::mutex report;
-  tbb::parallel_for(std::size_t{0}, log.scans.size(), [&](std::size_t k) {
-    try {
-      lines[k] = estimate(k).json;
-    } catch (const std::exception& e) {
-      ++failures;
-      lines[k] = nlohmann::json{
-          {"format", "priormap.map_scan"},
-          {"version", 1},
-          {"scan_index", k},
-          {"error",
-           e.what()}}.dump();
-      std::lock_guard lock(report);
-      fmt::print(stderr, "\npriormap: scan {}: {}\n", k, e.what());
-    }
-    progress.Step();
-  });
+  {
+    const StopOnSignals stop_on_signals;
+    tbb::parallel_for(std::size_t{0}, log.scans.size(), [&](std::size_t k) {
+      if (journal.Record(k).empty() && !StopRequested()) {
+        std::string record;
+        try {
+          record = estimate(k).json;
+        } catch (const std::exception& e) {
+          record = nlohmann::json{{"format", "priormap.map_scan"},
+                                  {"version", 1},
+                                  {"scan_index", k},
+                                  {"error", e.what()}}
+                       .dump();
+          std::lock_guard lock(report);
+          fmt::print(stderr, "\npriormap: scan {}: {}\n", k, e.what());
+        }
+        journal.Append(k, record);
+      }
+      progress.Step();
+    });
+  }
+  std::size_t done = 0;
+  std::size_t failures = 0;
   std::string text;
-  for (const std::string& line : lines) text += line + "\n";
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    const std::string& record = journal.Record(k);
+    if (record.empty()) continue;
+    ++done;
+    // An error record (the only records with an "error" key at their top level).
+    if (nlohmann::json::parse(record).contains("error")) ++failures;
+    text += record + "\n";
+  }
+  if (done < log.scans.size()) {
+    fmt::print("stopped: {} of {} done, kept in {}; continue with the same command and --resume\n",
+               done, Plural(log.scans.size(), "scan"), journal.path().string());
+    ExitAsStopped();
+  }
   WriteTextFileAtomically(o.out, text);
-  fmt::print("wrote {} ({}{})\n", o.out, Plural(lines.size(), "scan"),
-             failures ? fmt::format(", {} failed", failures.load()) : std::string());
+  journal.Remove();
+  fmt::print("wrote {} ({}{})\n", o.out, Plural(log.scans.size(), "scan"),
+             failures ? fmt::format(", {} failed", failures) : std::string());
   // The file holds every scan's record, the failed ones' errors too; the exit status says that
   // not every scan was estimated.
   if (failures > 0)
-    throw UserError(fmt::format("{} of {} failed; their records in {} say why", failures.load(),
-                                Plural(lines.size(), "scan"), o.out));
+    throw UserError(fmt::format("{} of {} failed; their records in {} say why", failures,
+                                Plural(log.scans.size(), "scan"), o.out));
 }
 
 }  // namespace
@@ -190,6 +235,9 @@ void AddScanCommand(CLI::App& app) {
   cmd->add_option("--index", o->index, "Which scan of the log (0-based; default 0)")
       ->transform(IndexValue());
   cmd->add_flag("--all", o->all, "Every scan of the log, in parallel, as JSON Lines");
+  cmd->add_flag("--resume", o->resume,
+                "--all: continue the run stopped (Ctrl-C, SIGTERM or a crash) from the scans kept "
+                "in OUT.partial; give the same prior, log and options");
   cmd->add_option("-o,--out", o->out, "Output JSON (JSON Lines with --all)")->required();
   cmd->add_option("--beta", o->beta, "Prior probability that a reading fits the prior")
       ->check(CLI::Range(1e-6, 1.0 - 1e-6))

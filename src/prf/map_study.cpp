@@ -1,11 +1,9 @@
 #include <algorithm>
 #include <chrono>
 #include <iterator>
-#include <mutex>
 #include <span>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include <priormap/core/binary_io.hpp>
 #include <priormap/core/check.hpp>
@@ -118,7 +116,8 @@ std::vector<Se2> StudyPoses(const Scene& scene, int count) {
 }
 
 MapStudyCase RunMapStudyCase(const Scene& scene, const RangeSensor& sensor,
-                             const MapStudyOptions& options) {
+                             const MapStudyOptions& options, const MappingSession& session,
+                             const std::function<void(const MappingProgress&)>& progress) {
   const auto start = Clock::now();
   MapStudyCase c;
   c.scene = scene.name;
@@ -162,7 +161,8 @@ MapStudyCase RunMapStudyCase(const Scene& scene, const RangeSensor& sensor,
   const auto grid_start = Clock::now();
   c.grid_map = BuildGrid(*c.data, window, options);
   const double grid_seconds = Seconds(grid_start);
-  c.prf = RunMapping(c.data, mapping, nullptr);
+  c.prf = RunMapping(c.data, mapping, progress, session);
+  if (!c.prf.complete) return c;  // stopped: nothing to score yet
   PRIORMAP_CHECK(c.prf.raster.nx == evaluation_grid.nx && c.prf.raster.ny == evaluation_grid.ny,
                  "the PRF's raster is the evaluation raster");
 
@@ -191,25 +191,31 @@ MapStudyCase RunMapStudyCase(const Scene& scene, const RangeSensor& sensor,
   return c;
 }
 
-MapStudyResult RunMapStudy(const MapStudyOptions& options) {
+MapStudyResult RunMapStudy(const MapStudyOptions& options, const StudySession& session) {
   PRIORMAP_CHECK(options.Problem().empty(), options.Problem());
   const auto start = Clock::now();
   MapStudyResult result;
   const std::size_t sensors = options.sensors.size();
   const std::size_t cases = options.scenes.size() * sensors;
   result.cases.resize(cases);
-  std::mutex progress_mutex;
-  int done = 0;
-  const int total = static_cast<int>(cases);
-  tbb::parallel_for(std::size_t{0}, cases, [&](std::size_t i) {
-    result.cases[i] =
-        RunMapStudyCase(options.scenes[i / sensors], options.sensors[i % sensors], options);
-    if (options.progress) {
-      std::lock_guard lock(progress_mutex);
-      options.progress(++done, total);
+  StudyProgressTracker tracker(session, static_cast<int>(cases));
+  StudyCases runner(session);
+  runner.Run(cases, [&](std::size_t i) {
+    const Scene& scene = options.scenes[i / sensors];
+    const RangeSensor& sensor = options.sensors[i % sensors];
+    MapStudyCase& c = result.cases[i];
+    if (runner.Skip()) {  // not begun: stopping it is not worth its simulation
+      c.scene = scene.name;
+      c.sensor = sensor.name;
+      c.prf.complete = false;
+    } else {
+      c = RunMapStudyCase(scene, sensor, options, runner.CaseSession(scene.name, sensor.name),
+                          tracker.ForCase(static_cast<int>(i)));
     }
+    tracker.CaseDone(static_cast<int>(i), c.Name(), c.prf.complete);
   });
   for (const MapStudyCase& c : result.cases) {
+    result.complete = result.complete && c.prf.complete;
     for (const MethodScores& m : c.methods) {
       auto it = std::find_if(result.overall.begin(), result.overall.end(),
                              [&](const MethodScores& o) { return o.method == m.method; });

@@ -61,7 +61,10 @@ nlohmann::json CaseJson(const MapStudyCase& c) {
       {"methods", MethodsJson(c.methods)},
       {"prf",
        {{"proposals", c.prf.proposals},
-        {"proposals_per_second", static_cast<double>(c.prf.proposals) / c.prf.sampling_time_s},
+        {"proposals_per_second", c.prf.sampling_time_s > 0.0
+                                     ? static_cast<double>(c.prf.proposals) / c.prf.sampling_time_s
+                                     : 0.0},
+        {"resumed_steps", c.prf.resumed_steps},
         {"rhat_log_posterior", Number(c.prf.rhat_log_posterior)},
         {"rhat_point_colours", Number(c.prf.rhat_point_colours)}}},
       {"wall_time_s", c.wall_time_s}};
@@ -240,6 +243,7 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
          {"proposals_per_second", c.prf.sampling_time_s > 0.0
                                       ? static_cast<double>(c.prf.proposals) / c.prf.sampling_time_s
                                       : 0.0},
+         {"resumed_steps", c.prf.resumed_steps},
          {"rhat_log_posterior", Number(c.prf.rhat_log_posterior)},
          {"rhat_point_colours", Number(c.prf.rhat_point_colours)},
          {"truth_log_posterior", Number(c.truth_log_posterior)},

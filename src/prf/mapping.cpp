@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <priormap/core/binary_io.hpp>
 #include <priormap/core/check.hpp>
@@ -243,7 +244,13 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
       const std::uint64_t steps = loaded.sampler->steps();
       if (steps > options.burn_in + options.samples)
         throw BinaryFormatError(path.string() + ": a chain past the run's end");
-      if (loaded.hot.size() != (steps < ladder_end ? hot_replicas : 0))
+      // At the ladder's end both are right: a periodic checkpoint after its last round still holds
+      // the hot replicas (the chain leaves the ladder at its next step), a stop's has left it.
+      const bool consistent = hot_replicas == 0 ? loaded.hot.empty()
+                                                : (loaded.hot.size() == hot_replicas &&
+                                                   steps <= ladder_end && ladder_end > 0) ||
+                                                      (loaded.hot.empty() && steps >= ladder_end);
+      if (!consistent)
         throw BinaryFormatError(path.string() + ": a chain with the wrong number of replicas");
       samplers[c] = std::move(loaded.sampler);
       recording[c] = loaded.recording ? 1 : 0;
@@ -280,10 +287,28 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   for (std::size_t c = 0; c < chains; ++c) resumed += std::min(session_start[c], end);
   result.resumed_steps = resumed;
   std::atomic<std::uint64_t> steps_done{resumed};
+  // What the checkpoints restored, at once: a chain restored at its end never reports, and the
+  // others only after their first chunk.
+  if (progress && resumed > 0) {
+    MoveCounters counters{};
+    for (const MoveCounters& of_chain : chain_counters) AddCounters(&counters, of_chain);
+    progress({.steps_done = resumed,
+              .steps_total = chains * end,
+              .steps_resumed = resumed,
+              .seconds = Seconds(start),
+              .chains = chain_progress,
+              .counters = counters});
+  }
   std::atomic<std::uint64_t> hot_steps{0};  // of the replicas other than the chains, this session
   std::atomic<bool> stopped{false};
   const std::uint64_t steps_total = chains * end;
-  const auto stop_requested = [&] { return session.stop && session.stop->load(); };
+  // A chain also stops when another chain's task threw (its exception cancels this run's
+  // loops), rather than run to its end before the exception reaches the caller.
+  const auto stop_requested = [&] {
+    return (session.stop && session.stop->load()) ||
+           (session.also_stop && session.also_stop->load()) ||
+           tbb::is_current_task_group_canceling();
+  };
   const auto budget_left = [&](std::uint64_t first, std::uint64_t now) {
     return session.stop_after_steps == 0 ? std::numeric_limits<std::uint64_t>::max()
                                          : first + session.stop_after_steps - now;

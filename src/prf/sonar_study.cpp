@@ -4,7 +4,6 @@
 #include <map>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include <priormap/core/binary_io.hpp>
 #include <priormap/core/check.hpp>
@@ -130,7 +129,9 @@ std::uint64_t SonarStudyCaseSeed(std::uint64_t study_seed, const std::string& sc
   return SplitMix64(study_seed ^ Fnv1a64(scene + "/" + sensor));
 }
 
-SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& options) {
+SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& options,
+                                 const MappingSession& session,
+                                 const std::function<void(const MappingProgress&)>& progress) {
   const auto start = Clock::now();
   SonarStudyCase c;
   c.scene = scene.name;
@@ -198,7 +199,8 @@ SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& op
   for (const Scan& ring : log.scans) sonar_grid.Insert(ring);
   c.grid_map = sonar_grid.Raster();
   const double grid_seconds = Seconds(grid_start);
-  c.prf = RunMapping(mapping_data, mapping, nullptr);
+  c.prf = RunMapping(mapping_data, mapping, progress, session);
+  if (!c.prf.complete) return c;  // stopped: nothing to score yet
   PRIORMAP_CHECK(c.prf.raster.nx == evaluation_grid.nx && c.prf.raster.ny == evaluation_grid.ny,
                  "the PRF's raster is the evaluation raster");
 
@@ -217,14 +219,27 @@ SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& op
   return c;
 }
 
-SonarStudyResult RunSonarStudy(const SonarStudyOptions& options) {
+SonarStudyResult RunSonarStudy(const SonarStudyOptions& options, const StudySession& session) {
   PRIORMAP_CHECK(options.Problem().empty(), options.Problem());
   const auto start = Clock::now();
   SonarStudyResult result;
   result.cases.resize(options.scenes.size());
-  tbb::parallel_for(std::size_t{0}, options.scenes.size(), [&](std::size_t k) {
-    result.cases[k] = RunSonarStudyCase(options.scenes[k], options);
+  StudyProgressTracker tracker(session, static_cast<int>(options.scenes.size()));
+  StudyCases runner(session);
+  const std::string& sensor = options.sensor.name;
+  runner.Run(options.scenes.size(), [&](std::size_t k) {
+    const Scene& scene = options.scenes[k];
+    SonarStudyCase& c = result.cases[k];
+    if (runner.Skip()) {  // not begun: stopping it is not worth its simulation
+      c.scene = scene.name;
+      c.prf.complete = false;
+    } else {
+      c = RunSonarStudyCase(scene, options, runner.CaseSession(scene.name, sensor),
+                            tracker.ForCase(static_cast<int>(k)));
+    }
+    tracker.CaseDone(static_cast<int>(k), scene.name + "/" + sensor, c.prf.complete);
   });
+  for (const SonarStudyCase& c : result.cases) result.complete = result.complete && c.prf.complete;
   result.wall_time_s = Seconds(start);
   return result;
 }

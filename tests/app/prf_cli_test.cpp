@@ -2,12 +2,10 @@
 // simulated log mapped by PRF chains (every output, reproducible by seed, R-hat and acceptance
 // in the summary) and by the occupancy grid; bad options reported without output.
 #include <csignal>
-#include <fcntl.h>
 #include <filesystem>
 #include <limits>
 #include <string>
 #include <sys/wait.h>
-#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -250,12 +248,17 @@ TEST_F(MappingCli, AStoppedRunResumesToTheUninterruptedResult) {
     r = Run({"prf", "--resume", Work("parts").string(), "--stop-after-steps", steps});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_THAT(r.err, HasSubstr("resumed"));
+    // The status line starts where the checkpoints left the chains, not at 0 %.
+    EXPECT_THAT(r.err, HasSubstr("% restored from the checkpoints\n"));
+    EXPECT_THAT(r.err, Not(HasSubstr(" 0% restored")));
   }
   EXPECT_TRUE(std::filesystem::exists(Work("parts") / "checkpoints" / "anneal.ckpt"));
   EXPECT_FALSE(std::filesystem::exists(Work("parts") / "summary.json"));
   r = Run({"prf", "--resume", Work("parts").string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("resumed 100000 steps"));
+  // Chains restored at their end never report: only this line says where the run stands.
+  EXPECT_THAT(r.err, HasSubstr("100% restored from the checkpoints\n"));
   for (const char* file :
        {"posterior.pgm", "map.geojson", "map.pgm", "trace.csv", "point_traces.csv"})
     EXPECT_EQ(testing::ReadAll(Work("parts") / file), testing::ReadAll(Work("whole") / file))
@@ -526,57 +529,12 @@ TEST_F(MappingCli, ReportsBadSelections) {
               HasSubstr("--range"));
 }
 
-// Starts priormap with `args` in `work`, signals it with `signal` once its chains have written a
-// checkpoint (so they run, under the graceful stop's handlers), and waits for it.
-struct SignalledRun {
-  int wait_status = 0;
-  std::string out;
-  std::string err;
-};
-SignalledRun RunAndSignalOnceCheckpointed(const std::filesystem::path& work,
-                                          std::vector<std::string> args,
-                                          const std::filesystem::path& checkpoints, int signal) {
-  const testing::TempDir io;
-  const std::string program = PRIORMAP_BINARY;
-  std::vector<char*> argv = {const_cast<char*>(program.c_str())};
-  for (std::string& arg : args) argv.push_back(arg.data());
-  argv.push_back(nullptr);
-  const int out = ::open((io / "stdout").c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  const int err = ::open((io / "stderr").c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  SignalledRun run;
-  if (out < 0 || err < 0) {
-    ADD_FAILURE() << "cannot create the output files";
-    return run;
-  }
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    if (::chdir(work.c_str()) != 0 || ::dup2(out, 1) < 0 || ::dup2(err, 2) < 0) ::_exit(127);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  ::close(out);
-  ::close(err);
-  const auto checkpointed = [&] {
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(checkpoints, ec))
-      if (!entry.path().filename().string().starts_with(".")) return true;
-    return false;
-  };
-  for (int i = 0; i < 1200 && !checkpointed(); ++i) ::usleep(25000);
-  EXPECT_TRUE(checkpointed()) << "no checkpoint after 30 s";
-  ::kill(pid, signal);
-  ::waitpid(pid, &run.wait_status, 0);
-  run.out = testing::ReadAll(io / "stdout");
-  run.err = testing::ReadAll(io / "stderr");
-  return run;
-}
-
 // A signal stops the chains gracefully, checkpointed, with the shell's status for the signal
 // (128 + its number), so that a scheduler sees which one ended the run.
 TEST_F(MappingCli, ASignalStopsTheChainsWithItsExitStatus) {
   for (const int signal : {SIGTERM, SIGINT}) {
     const std::string out = fmt::format("run-{}", signal);
-    const SignalledRun r = RunAndSignalOnceCheckpointed(
+    const testing::SignalledRun r = testing::RunAndSignalOnceCheckpointed(
         Work("."),
         {"prf", "--log", "room.log", "--beam-step", "4", "--samples", "100000000", "--burn-in",
          "1000", "--chains", "1", "--checkpoint-every", "0.01", "-o", out},
@@ -590,6 +548,21 @@ TEST_F(MappingCli, ASignalStopsTheChainsWithItsExitStatus) {
     for (const std::string& file : testing::FilesUnder(Work(out)))
       EXPECT_THAT(file, Not(HasSubstr(".tmp-")));
   }
+}
+
+// A signal delivered twice within a second (a terminal's Ctrl-C and a wrapper that forwards it)
+// is one request: the run still stops checkpointed, with the signal's status.
+TEST_F(MappingCli, ASignalDeliveredTwiceStillStopsTheChainsCheckpointed) {
+  const testing::SignalledRun r = testing::RunAndSignalOnceCheckpointed(
+      Work("."),
+      {"prf", "--log", "room.log", "--beam-step", "4", "--samples", "100000000", "--burn-in",
+       "1000", "--chains", "1", "--checkpoint-every", "0.01", "-o", "run"},
+      Work("run") / "checkpoints", SIGTERM, 2);
+  ASSERT_TRUE(WIFEXITED(r.wait_status))
+      << "ended by signal " << (WIFSIGNALED(r.wait_status) ? WTERMSIG(r.wait_status) : 0);
+  EXPECT_EQ(WEXITSTATUS(r.wait_status), 128 + SIGTERM) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("stopped and checkpointed"));
+  EXPECT_TRUE(Run({"prf", "--resume", "run", "--stop-after-steps", "1000"}).status == 0);
 }
 
 }  // namespace

@@ -1,9 +1,14 @@
 // End-to-end tests of the sonar paths of the CLI: `priormap convert --from roboND-sonar` on the
-// real files and on malformed ones, and `priormap grid` / `priormap prf` on a simulated sonar
-// log (picked automatically, or refused when the sensor asked for is not in the log).
+// real files and on malformed ones, `priormap grid` / `priormap prf` on a simulated sonar log
+// (picked automatically, or refused when the sensor asked for is not in the log), and
+// `priormap prf sonar-study`, stopped (after some steps or by a signal) and resumed.
+#include <csignal>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
+#include <sys/wait.h>
 #include <vector>
 
 #include <gmock/gmock.h>
@@ -23,6 +28,7 @@ namespace {
 using nlohmann::json;
 using ::testing::ContainsRegex;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 class SonarCli : public priormap::testing::CliFixture {
  protected:
@@ -143,6 +149,112 @@ TEST_F(SonarCli, SonarStudyWritesItsSummaryTableAndFigures) {
 
   EXPECT_THAT(RunFailing({"prf", "sonar-study", "--sensor", "utm30", "-o", "bad"}).err,
               HasSubstr("unknown sonar 'utm30'"));
+}
+
+// A sonar study of the office and the l-office, one chain per case of 2000 burn-in and 2000
+// recorded steps; `extra` adds options.
+std::vector<std::string> SmallSonarStudy(const std::vector<std::string>& extra,
+                                         const std::string& seed = "2") {
+  std::vector<std::string> args = {"prf",       "sonar-study", "--scenes",  "office,l-office",
+                                   "--samples", "2000",        "--burn-in", "2000",
+                                   "--chains",  "1",           "--seed",    seed};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
+}
+
+// Stopped after 1500 of its chains' 4000 steps, refused where it would start over or resume
+// another study, then resumed: the uninterrupted study's summary, apart from what belongs to the
+// session, and no checkpoints left.
+TEST_F(SonarCli, ASonarStudyStoppedAfterStepsResumesToTheUninterruptedSummary) {
+  const auto whole = Run(SmallSonarStudy({"--no-figures", "-o", "whole"}));
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  auto refused = RunFailing(SmallSonarStudy({"--resume", "-o", "parts"}));
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_THAT(refused.err, HasSubstr("--resume: -o parts holds no stopped study of these cases (no "
+                                     "parts/office-pioneer16/checkpoints)"));
+
+  auto r = Run(SmallSonarStudy({"--stop-after-steps", "1500", "-o", "parts"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out,
+            "stopped and checkpointed in 2 of 2 cases (parts/office-pioneer16/checkpoints, ...); "
+            "continue with the same command and --resume\n");
+  EXPECT_THAT(r.err, Not(HasSubstr("case office/")));
+  for (const char* folder : {"office-pioneer16", "l-office-pioneer16"})
+    EXPECT_TRUE(std::filesystem::exists(Work("parts") / folder / "checkpoints" / "chain-0.ckpt"))
+        << folder;
+  for (const char* file : {"summary.json", "table.md", "office-pioneer16/truth.png"})
+    EXPECT_FALSE(std::filesystem::exists(Work("parts") / file)) << file;
+  const auto stopped = testing::FilesAndContents(Work("parts"));
+
+  refused = RunFailing(SmallSonarStudy({"-o", "parts"}));
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_THAT(refused.err,
+              HasSubstr("-o parts: it holds a stopped study (parts/office-pioneer16/checkpoints); "
+                        "continue it with the same command and --resume"));
+  refused = RunFailing(SmallSonarStudy({"--resume", "-o", "parts"}, "3"));
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_THAT(refused.err, HasSubstr("priormap: error: cannot resume: "));
+  EXPECT_THAT(refused.err, HasSubstr("; give the options the study was started with"));
+  EXPECT_EQ(testing::FilesAndContents(Work("parts")), stopped);
+
+  r = Run(SmallSonarStudy({"--resume", "-o", "parts"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("resumed 3000 steps from the cases' checkpoints\n"));  // 2 × 1500
+  EXPECT_THAT(r.err, HasSubstr("case office/pioneer16 done\n"));
+  EXPECT_THAT(r.err, HasSubstr("case l-office/pioneer16 done\n"));
+  EXPECT_THAT(r.err, ContainsRegex("100% of the chains' steps, 2/2 cases done, [0-9]+ s\n"));
+  const json expected = Summary("whole");
+  const json resumed = Summary("parts");
+  EXPECT_EQ(testing::WithoutSessionKeys(resumed), testing::WithoutSessionKeys(expected));
+  ASSERT_EQ(resumed["cases"].size(), 2u);
+  EXPECT_TRUE(testing::WithoutSessionKeys(expected)["cases"][0].contains("chains"));
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(resumed["cases"][k]["resumed_steps"], 1500) << k;
+    EXPECT_EQ(expected["cases"][k]["resumed_steps"], 0) << k;
+  }
+  for (const char* folder : {"office-pioneer16", "l-office-pioneer16"}) {
+    EXPECT_FALSE(std::filesystem::exists(Work("parts") / folder / "checkpoints")) << folder;
+    EXPECT_TRUE(testing::IsPng(testing::ReadAll(Work("parts") / folder / "posterior.png")))
+        << folder;
+  }
+  EXPECT_THAT(testing::ReadAll(Work("parts") / "table.md"), HasSubstr("| l-office |"));
+  testing::ExpectNoTemporaryFile(Work("parts"));
+  EXPECT_THAT(RunFailing(SmallSonarStudy({"--resume", "-o", "parts"})).err,
+              HasSubstr("holds no stopped study of these cases"));
+}
+
+// SIGTERM once the chain has checkpointed: it stops, checkpointed, with the shell's status for
+// the signal (143), no temporary file left and no summary; --resume then ends with the
+// uninterrupted study's summary.
+TEST_F(SonarCli, ASignalStopsTheSonarStudyCheckpointedAndItResumes) {
+  // One case whose chain runs about a second, long enough to be signalled while it runs.
+  const std::vector<std::string> study = {
+      "prf",  "sonar-study", "--scenes", "office", "--samples", "20000",       "--burn-in",
+      "2000", "--chains",    "1",        "--seed", "4",         "--no-figures"};
+  const auto with = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> args = study;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  const testing::SignalledRun stopped = testing::RunAndSignalOnceCheckpointed(
+      Work("."), with({"--checkpoint-every", "0.01", "-o", "run"}),
+      Work("run") / "office-pioneer16" / "checkpoints", SIGTERM);
+  testing::ExpectStoppedBy(
+      stopped, SIGTERM,
+      "stopped and checkpointed in 1 of 1 cases (run/office-pioneer16/checkpoints); "
+      "continue with the same command and --resume\n");
+  EXPECT_FALSE(std::filesystem::exists(Work("run") / "summary.json"));
+  testing::ExpectNoTemporaryFile(Work("run"));
+
+  const auto resumed = Run(with({"--resume", "-o", "run"}));
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  EXPECT_THAT(resumed.err, ContainsRegex("resumed [1-9][0-9]* steps from the cases' checkpoints"));
+  EXPECT_FALSE(std::filesystem::exists(Work("run") / "office-pioneer16" / "checkpoints"));
+  const auto whole = Run(with({"-o", "whole"}));
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  EXPECT_EQ(testing::WithoutSessionKeys(Summary("run")),
+            testing::WithoutSessionKeys(Summary("whole")));
+  EXPECT_GT(Summary("run")["cases"][0]["resumed_steps"].get<std::uint64_t>(), 0u);
 }
 
 TEST_F(SonarCli, ReportsMalformedRoboNdFilesAtFileLineAndColumn) {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <tuple>
@@ -23,6 +24,7 @@
 #include <priormap/core/range_sensor.hpp>
 #include <priormap/core/scene.hpp>
 #include <priormap/core/simulate.hpp>
+#include <priormap/prf/chain_checkpoint.hpp>
 #include <priormap/prf/mapping.hpp>
 
 #include "mapping_testing.hpp"
@@ -250,6 +252,45 @@ TEST(ReplicaMapping, AStoppedRunResumesToTheSameResult) {
   alone.burn_in_replicas = 1;
   const MappingResult single = RunMapping(data, alone, {});
   EXPECT_NE(single.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
+}
+
+// The checkpoint written right after the ladder's last round still holds the hot replicas (the
+// chain leaves the ladder at its next step). A crash before the next checkpoint leaves it as the
+// chain's last, and it must resume: with a pick of the best replica, which that next step makes.
+TEST(ReplicaMapping, TheCheckpointAtTheLaddersEndResumes) {
+  MappingOptions options = SmallRun(6, 12000, 3000);
+  options.chains = 1;
+  options.burn_in_replicas = 3;
+  options.replica_steps = 9000;  // a whole number of rounds: a chunk ends there
+  options.replica_pick_best = true;
+  const MappingData data = LaserMappingData(RoomData(), options);
+  const MappingResult whole = RunMapping(data, options, {});
+  ASSERT_TRUE(whole.complete);
+
+  // Every chunk checkpointed; at the first report past the ladder's end, the checkpoint on disk is
+  // the one of its end, as a crash then would leave it.
+  testing::TempDir dir;
+  testing::TempDir crashed;
+  bool saved = false;
+  const auto keep_the_ladders_end = [&](const MappingProgress& p) {
+    if (saved || p.steps_done <= options.replica_steps) return;
+    std::filesystem::copy_file(ChainCheckpointPath(dir.path(), 0),
+                               ChainCheckpointPath(crashed.path(), 0));
+    saved = true;
+  };
+  ASSERT_TRUE(RunMapping(data, options, keep_the_ladders_end,
+                         {.checkpoint_directory = dir.path(), .checkpoint_every_s = 0.0})
+                  .complete);
+  ASSERT_TRUE(saved);
+
+  const MappingResult resumed = RunMapping(
+      data, options, {},
+      {.checkpoint_directory = crashed.path(), .checkpoint_every_s = 1e9, .resume = true});
+  ASSERT_TRUE(resumed.complete);
+  EXPECT_EQ(resumed.resumed_steps, options.replica_steps);
+  EXPECT_EQ(resumed.black_fraction, whole.black_fraction);
+  EXPECT_EQ(resumed.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
+  EXPECT_EQ(resumed.chains[0].log_posterior, whole.chains[0].log_posterior);
 }
 
 // Stops a run of `options` after `steps` per chain; resuming its checkpoints as a run of `other`

@@ -79,8 +79,14 @@ TEST(MappingProgress, AChainRestoredAtItsEndIsReportedThoughItTakesNoStep) {
   const MappingResult result = RunMapping(
       data, options, [&](const MappingProgress& p) { reports.push_back(p); }, resumed);
   ASSERT_TRUE(result.complete);
-  // Only chain 1 steps, one report per chunk; each shows chain 0's end.
-  ASSERT_EQ(reports.size(), (options.burn_in + options.samples) / options.chunk);
+  // First what the checkpoints restored (chain 0 at its end, nothing of chain 1), before any step;
+  // then only chain 1 steps, one report per chunk; each shows chain 0's end.
+  const std::uint64_t per_chain = options.burn_in + options.samples;
+  ASSERT_EQ(reports.size(), 1 + per_chain / options.chunk);
+  EXPECT_EQ(reports.front().steps_done, per_chain);
+  EXPECT_EQ(reports.front().steps_resumed, per_chain);
+  EXPECT_EQ(reports.front().steps_total, 2 * per_chain);
+  EXPECT_FALSE(reports.front().chains[1].reported);
   for (const MappingProgress& p : reports) {
     ASSERT_EQ(p.chains.size(), 2u);
     ASSERT_TRUE(p.chains[0].reported);

@@ -25,6 +25,7 @@
 #include <priormap/grid/occupancy_grid.hpp>
 #include <priormap/prf/map_scores.hpp>
 #include <priormap/prf/mapping.hpp>
+#include <priormap/prf/study_session.hpp>
 
 namespace priormap::prf {
 
@@ -61,8 +62,6 @@ struct MapStudyOptions {
   /// The grid's log-odds; its resolution and insertion range are set from the above.
   grid::GridOptions grid;
   std::uint64_t seed = 1;
-  /// Called after each case (from worker threads, serialized) with (cases done, total).
-  std::function<void(int, int)> progress;
 
   /// Empty when usable, else what is wrong (scenes, sensors, counts, lengths).
   [[nodiscard]] std::string Problem() const;
@@ -93,18 +92,28 @@ struct MapStudyCase {
 };
 
 struct MapStudyResult {
-  std::vector<MapStudyCase> cases;  ///< scenes outer, sensors inner
+  /// Scenes outer, sensors inner. A case the session stopped has its name only, or its data
+  /// and truth with an incomplete `prf` (prf.complete false), and no scores.
+  std::vector<MapStudyCase> cases;
   /// Per method, the counts of all cases pooled and their times summed.
   std::vector<MethodScores> overall;
   double wall_time_s = 0.0;
+  /// False when the session stopped the study before every case was scored (`overall` then
+  /// pools the scored cases only).
+  bool complete = true;
 };
 
-/// The case of one scene and sensor. Precondition: options.Problem() is empty.
-[[nodiscard]] MapStudyCase RunMapStudyCase(const Scene& scene, const RangeSensor& sensor,
-                                           const MapStudyOptions& options);
+/// The case of one scene and sensor; its chains run in `session` and report to `progress`.
+/// Precondition: options.Problem() is empty.
+[[nodiscard]] MapStudyCase RunMapStudyCase(
+    const Scene& scene, const RangeSensor& sensor, const MapStudyOptions& options,
+    const MappingSession& session = {},
+    const std::function<void(const MappingProgress&)>& progress = {});
 
-/// Every scene × sensor case, in parallel. Precondition: options.Problem() is empty.
-[[nodiscard]] MapStudyResult RunMapStudy(const MapStudyOptions& options);
+/// Every scene × sensor case, in parallel. Precondition: options.Problem() is empty. Throws
+/// BinaryFormatError when resuming from a damaged checkpoint or one of another study.
+[[nodiscard]] MapStudyResult RunMapStudy(const MapStudyOptions& options,
+                                         const StudySession& session = {});
 
 /// `count` poses spaced evenly by arc length along the scene's waypoint path from its start,
 /// heading along it; the default pose when the scene has fewer than two waypoints (count 1).

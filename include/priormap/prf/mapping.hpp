@@ -134,6 +134,9 @@ struct MappingSession {
   /// Set from elsewhere (a signal handler) to stop every chain, checkpointed, at its next
   /// chunk boundary.
   const std::atomic<bool>* stop = nullptr;
+  /// A second flag with the same effect: a study sets it when one of its cases fails, so that
+  /// the other cases stop too rather than run to their end before the failure is reported.
+  const std::atomic<bool>* also_stop = nullptr;
 };
 
 struct ChainSummary {

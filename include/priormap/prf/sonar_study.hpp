@@ -12,6 +12,7 @@
 /// and the study seed; cases run in parallel.
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@
 #include <priormap/prf/mapping.hpp>
 #include <priormap/prf/sonar_data.hpp>
 #include <priormap/prf/sonar_model.hpp>
+#include <priormap/prf/study_session.hpp>
 
 namespace priormap::prf {
 
@@ -77,8 +79,12 @@ struct SonarStudyCase {
 };
 
 struct SonarStudyResult {
+  /// A case the session stopped has its name only, or an incomplete `prf` (prf.complete false),
+  /// and no scores.
   std::vector<SonarStudyCase> cases;
   double wall_time_s = 0.0;
+  /// False when the session stopped the study before every case was scored.
+  bool complete = true;
 };
 
 /// The seed of a case's rings, from the study seed and the case's name (scene and sensor), so
@@ -87,10 +93,15 @@ struct SonarStudyResult {
 [[nodiscard]] std::uint64_t SonarStudyCaseSeed(std::uint64_t study_seed, const std::string& scene,
                                                const std::string& sensor);
 
-/// Precondition: options.Problem() is empty.
-[[nodiscard]] SonarStudyCase RunSonarStudyCase(const Scene& scene,
-                                               const SonarStudyOptions& options);
-[[nodiscard]] SonarStudyResult RunSonarStudy(const SonarStudyOptions& options);
+/// The case of one scene; its chains run in `session` and report to `progress`. Precondition:
+/// options.Problem() is empty.
+[[nodiscard]] SonarStudyCase RunSonarStudyCase(
+    const Scene& scene, const SonarStudyOptions& options, const MappingSession& session = {},
+    const std::function<void(const MappingProgress&)>& progress = {});
+/// Every case, in parallel. Precondition: options.Problem() is empty. Throws BinaryFormatError
+/// when resuming from a damaged checkpoint or one of another study.
+[[nodiscard]] SonarStudyResult RunSonarStudy(const SonarStudyOptions& options,
+                                             const StudySession& session = {});
 
 /// summary.json and a Markdown table of a study.
 [[nodiscard]] std::string SonarStudySummaryJson(const SonarStudyResult& study,

@@ -1,0 +1,83 @@
+#include "graceful_stop.hpp"
+
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+
+#include <fmt/format.h>
+
+#include <priormap/core/file_io.hpp>
+
+namespace priormap::app {
+namespace {
+
+std::atomic<bool> g_stop_requested{false};
+// The first signal, for the exit status.
+std::atomic<int> g_stop_signal{0};
+
+// When the first signal came (CLOCK_MONOTONIC, ns).
+std::atomic<std::int64_t> g_first_signal_ns{0};
+
+std::int64_t MonotonicNs() {
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);  // async-signal-safe
+  return static_cast<std::int64_t>(now.tv_sec) * 1000000000 + now.tv_nsec;
+}
+
+extern "C" void RequestStop(int signal) {
+  // A second signal does not wait for the chains' next chunk: it ends the process at once,
+  // without the checkpoints or outputs being written. One within a second of the first is taken
+  // for the same request, delivered twice (a terminal's Ctrl-C to the process group and a
+  // wrapper that forwards it, a scheduler's SIGTERM and SIGINT).
+  if (g_stop_requested) {
+    if (MonotonicNs() - g_first_signal_ns.load() < 1000000000) return;
+    RemoveTemporaryFilesInProgress();
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+    return;
+  }
+  g_first_signal_ns = MonotonicNs();
+  g_stop_signal = signal;
+  g_stop_requested = true;
+}
+
+}  // namespace
+
+const std::atomic<bool>& StopFlag() {
+  return g_stop_requested;
+}
+
+bool StopRequested() {
+  return g_stop_requested.load();
+}
+
+StopOnSignals::StopOnSignals() {
+  struct sigaction action {};
+  action.sa_handler = RequestStop;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, &previous_int_);
+  sigaction(SIGTERM, &action, &previous_term_);
+  // An ignored signal stays ignored (nohup; a shell's background job and SIGINT), as main has it.
+  if (previous_int_.sa_handler == SIG_IGN) sigaction(SIGINT, &previous_int_, nullptr);
+  if (previous_term_.sa_handler == SIG_IGN) sigaction(SIGTERM, &previous_term_, nullptr);
+}
+
+StopOnSignals::~StopOnSignals() {
+  sigaction(SIGINT, &previous_int_, nullptr);
+  sigaction(SIGTERM, &previous_term_, nullptr);
+}
+
+void ExitAsStopped() {
+  errno = 0;
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) != 0) {
+    const int error = errno;
+    fmt::print(stderr, "priormap: error: cannot write to standard output: {}\n",
+               error != 0 ? std::strerror(error) : "write failed");
+  }
+  std::exit(128 + g_stop_signal.load());
+}
+
+}  // namespace priormap::app

@@ -1,0 +1,140 @@
+#include "scan_journal.hpp"
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <optional>
+#include <string_view>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <priormap/core/file_io.hpp>
+
+#include "cli_support.hpp"
+
+namespace priormap::app {
+namespace {
+
+constexpr const char* kFormat = "priormap.scan_journal";
+
+double Now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::string Header(std::uint64_t fingerprint, std::size_t scans) {
+  return nlohmann::json{{"format", kFormat},
+                        {"version", 1},
+                        {"fingerprint", fmt::format("{:016x}", fingerprint)},
+                        {"scans", scans}}
+      .dump();
+}
+
+}  // namespace
+
+ScanJournal::ScanJournal(std::filesystem::path path, std::uint64_t fingerprint, std::size_t scans,
+                         bool resume)
+    : path_(std::move(path)), records_(scans) {
+  std::error_code ec;
+  const bool exists = std::filesystem::exists(path_, ec);
+  if (!resume && exists)
+    throw UserError(fmt::format(
+        "{} holds a stopped scan --all of this output; continue it with the same command and "
+        "--resume, or remove it to start anew",
+        path_.string()));
+  if (resume && !exists)
+    throw UserError(fmt::format(
+        "--resume: no {} (no stopped scan --all of this output to continue); run without "
+        "--resume to start one",
+        path_.string()));
+  std::string text = Header(fingerprint, scans) + "\n";
+  if (resume) {
+    Restore(fingerprint);
+    for (const std::string& record : records_)
+      if (!record.empty()) text += record + "\n";
+  }
+  // Rewritten whole: a crash may have left half a record at the end, which the next append
+  // would run into.
+  WriteTextFileAtomically(path_, text);
+  file_ = std::fopen(path_.c_str(), "ab");
+  if (file_ == nullptr)
+    throw IoError(
+        fmt::format("{}: cannot open for appending: {}", path_.string(), std::strerror(errno)));
+  last_sync_s_ = Now();
+}
+
+ScanJournal::~ScanJournal() {
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+void ScanJournal::Restore(std::uint64_t fingerprint) {
+  const std::string text = ValueOrThrow(ReadFileText(path_));
+  const std::string where = path_.string();
+  std::size_t line_number = 0;
+  std::size_t begin = 0;
+  // A last line without its newline is a record a crash cut short: that scan is done again.
+  for (std::size_t end; (end = text.find('\n', begin)) != std::string::npos; begin = end + 1) {
+    ++line_number;
+    const std::string_view line(text.data() + begin, end - begin);
+    const auto located = [&](const std::string& what) {
+      return UserError(fmt::format("{}:{}:1: {}", where, line_number, what));
+    };
+    const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+    if (!j.is_object()) throw located("expected a JSON object on this line");
+    if (line_number == 1) {
+      // Members of another type, or counts that are not whole numbers, are no header of ours.
+      const auto text_of = [&](const char* key) {
+        const auto it = j.find(key);
+        return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+      };
+      const auto count_of = [&](const char* key) -> std::optional<std::uint64_t> {
+        const auto it = j.find(key);
+        if (it == j.end() || !it->is_number_unsigned()) return std::nullopt;
+        return it->get<std::uint64_t>();
+      };
+      if (text_of("format") != kFormat || count_of("version") != 1u)
+        throw located(fmt::format("expected the header of a {} (version 1)", kFormat));
+      if (text_of("fingerprint") != fmt::format("{:016x}", fingerprint) ||
+          count_of("scans") != static_cast<std::uint64_t>(records_.size()))
+        throw UserError(fmt::format(
+            "--resume: {} is a stopped run of another prior, log or options; give the same ones, "
+            "or remove it to start anew",
+            where));
+      continue;
+    }
+    const auto index = j.find("scan_index");
+    if (index == j.end() || !index->is_number_unsigned() ||
+        index->get<std::size_t>() >= records_.size())
+      throw located(
+          fmt::format("expected a scan record with a scan_index below {}", records_.size()));
+    std::string& record = records_[index->get<std::size_t>()];
+    if (record.empty()) {
+      record = line;
+      ++restored_;
+    }
+  }
+  if (line_number == 0)
+    throw UserError(fmt::format("{}:1:1: expected the header of a {}", where, kFormat));
+}
+
+void ScanJournal::Append(std::size_t k, const std::string& record) {
+  const std::lock_guard lock(mutex_);
+  records_[k] = record;
+  if (std::fputs(record.c_str(), file_) < 0 || std::fputc('\n', file_) == EOF ||
+      std::fflush(file_) != 0)
+    throw IoError(fmt::format("{}: cannot write: {}", path_.string(), std::strerror(errno)));
+  // On disk every few seconds: what a power loss may take is a few seconds' scans.
+  if (Now() - last_sync_s_ > 2.0) {
+    ::fsync(fileno(file_));
+    last_sync_s_ = Now();
+  }
+}
+
+void ScanJournal::Remove() {
+  if (file_ != nullptr) std::fclose(file_);
+  file_ = nullptr;
+  std::filesystem::remove(path_);
+}
+
+}  // namespace priormap::app

@@ -1,0 +1,61 @@
+// The output directory's lock (apps/priormap/directory_lock.hpp): a second holder is refused with
+// a message, the lock goes with its holder, and a directory that does not exist is not locked.
+#include "directory_lock.hpp"
+
+#include <string>
+#include <utility>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "cli_support.hpp"
+#include "testing/temp_dir.hpp"
+
+namespace priormap::app {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string RefusalOf(const std::filesystem::path& dir) {
+  try {
+    const DirectoryLock second(dir);
+  } catch (const UserError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DirectoryLock, ASecondHolderIsRefusedUntilTheFirstGoes) {
+  const testing::TempDir dir;
+  {
+    const DirectoryLock first(dir.path());
+    ASSERT_TRUE(first.held());
+    EXPECT_THAT(RefusalOf(dir.path()),
+                HasSubstr("-o " + dir.path().string() + ": another priormap is running there"));
+  }
+  EXPECT_EQ(RefusalOf(dir.path()), "");
+}
+
+TEST(DirectoryLock, AMovedLockStillHoldsAndAnUnheldOneHoldsNothing) {
+  const testing::TempDir dir;
+  DirectoryLock moved;
+  EXPECT_FALSE(moved.held());
+  {
+    DirectoryLock first(dir.path());
+    moved = std::move(first);
+  }
+  EXPECT_TRUE(moved.held());
+  EXPECT_THAT(RefusalOf(dir.path()), HasSubstr("another priormap is running there"));
+  moved = DirectoryLock();
+  EXPECT_EQ(RefusalOf(dir.path()), "");
+}
+
+TEST(DirectoryLock, ADirectoryThatDoesNotExistIsNotLocked) {
+  const testing::TempDir dir;
+  EXPECT_FALSE(LockIfExists(dir / "missing").held());
+  EXPECT_TRUE(LockIfExists(dir.path()).held());
+  EXPECT_THROW(DirectoryLock(dir / "missing"), UserError);
+}
+
+}  // namespace
+}  // namespace priormap::app
