@@ -77,10 +77,9 @@ Model ModelOf(std::string_view text) {
   };
   const nlohmann::json fingerprint = field("fingerprint");
   const nlohmann::json scans = field("scans");
-  // The scan count compared as the reader converts it (a fraction cut off).
+  // The scan count a whole number, as the reader takes it (8.0 or 8.9 is no count).
   m.run = fingerprint.is_string() && fingerprint == fmt::format("{:016x}", kFingerprint) &&
-          scans.is_number() && scans.get<double>() >= 0.0 && scans.get<double>() < 1e6 &&
-          static_cast<std::size_t>(scans.get<double>()) == kScans;
+          scans.is_number_unsigned() && scans.get<std::uint64_t>() == kScans;
   for (std::size_t i = 1; i < lines.size(); ++i) {
     const nlohmann::json record = nlohmann::json::parse(lines[i], nullptr, false);
     const auto index = record.is_object() ? record.find("scan_index") : record.end();

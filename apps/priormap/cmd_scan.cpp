@@ -1,6 +1,7 @@
 // priormap scan: the MAP scan under a prior (priorlets engine) for one scan or every scan of a log.
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <tuple>
 
@@ -88,6 +89,66 @@ void WriteFigures(const ScanOptions& o, const Scan& scan, const priorlets::MapSc
   }
 }
 
+// Every scan of `log`, in parallel, through `record_of` (its JSON record); a scan that fails is
+// reported and written as an error record. Each record goes to the journal as it is done, so that
+// Ctrl-C, SIGTERM or a crash loses none.
+void RunAll(const ScanOptions& o, const Log& log, const dsl::CompiledPrior& prior,
+            const std::function<std::string(std::size_t)>& record_of) {
+  ScanJournal journal(o.out + ".partial", AllScansFingerprint(o, prior), log.scans.size(),
+                      o.resume);
+  if (journal.Restored() > 0)
+    fmt::print(stderr, "resumed {} of {} from {}\n", journal.Restored(),
+               Plural(log.scans.size(), "scan"), journal.path().string());
+  Progress progress(log.scans.size(), "scans");
+  std::mutex report;
+  {
+    const StopOnSignals stop_on_signals;
+    tbb::parallel_for(std::size_t{0}, log.scans.size(), [&](std::size_t k) {
+      if (journal.Record(k).empty() && !StopRequested()) {
+        std::string record;
+        try {
+          record = record_of(k);
+        } catch (const std::exception& e) {
+          record = nlohmann::json{{"format", "priormap.map_scan"},
+                                  {"version", 1},
+                                  {"scan_index", k},
+                                  {"error", e.what()}}
+                       .dump();
+          std::lock_guard lock(report);
+          fmt::print(stderr, "\npriormap: scan {}: {}\n", k, e.what());
+        }
+        journal.Append(k, record);
+      }
+      progress.Step();
+    });
+  }
+  std::size_t done = 0;
+  std::size_t failures = 0;
+  std::string text;
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    const std::string& record = journal.Record(k);
+    if (record.empty()) continue;
+    ++done;
+    // An error record (the only records with an "error" key at their top level).
+    if (nlohmann::json::parse(record).contains("error")) ++failures;
+    text += record + "\n";
+  }
+  if (done < log.scans.size()) {
+    fmt::print("stopped: {} of {} done, kept in {}; continue with the same command and --resume\n",
+               done, Plural(log.scans.size(), "scan"), journal.path().string());
+    ExitAsStopped();
+  }
+  WriteTextFileAtomically(o.out, text);
+  journal.Remove();
+  fmt::print("wrote {} ({}{})\n", o.out, Plural(log.scans.size(), "scan"),
+             failures ? fmt::format(", {} failed", failures) : std::string());
+  // The file holds every scan's record, the failed ones' errors too; the exit status says that
+  // not every scan was estimated.
+  if (failures > 0)
+    throw UserError(fmt::format("{} of {} failed; their records in {} say why", failures,
+                                Plural(log.scans.size(), "scan"), o.out));
+}
+
 void Run(const ScanOptions& o) {
   CheckFigureOptions(o);
   if (o.lines) {
@@ -161,61 +222,7 @@ void Run(const ScanOptions& o) {
                  fmt::format("{}: scan {}, {}", o.input, index, prior.name()));
     return;
   }
-  // Every scan, in parallel; a scan that fails is reported and written as an error record. Each
-  // record goes to the journal as it is done, so that Ctrl-C, SIGTERM or a crash loses none.
-  ScanJournal journal(o.out + ".partial", AllScansFingerprint(o, prior), log.scans.size(),
-                      o.resume);
-  if (journal.Restored() > 0)
-    fmt::print(stderr, "resumed {} of {} from {}\n", journal.Restored(),
-               Plural(log.scans.size(), "scan"), journal.path().string());
-  Progress progress(log.scans.size(), "scans");
-  std::mutex report;
-  {
-    const StopOnSignals stop_on_signals;
-    tbb::parallel_for(std::size_t{0}, log.scans.size(), [&](std::size_t k) {
-      if (journal.Record(k).empty() && !StopRequested()) {
-        std::string record;
-        try {
-          record = estimate(k).json;
-        } catch (const std::exception& e) {
-          record = nlohmann::json{{"format", "priormap.map_scan"},
-                                  {"version", 1},
-                                  {"scan_index", k},
-                                  {"error", e.what()}}
-                       .dump();
-          std::lock_guard lock(report);
-          fmt::print(stderr, "\npriormap: scan {}: {}\n", k, e.what());
-        }
-        journal.Append(k, record);
-      }
-      progress.Step();
-    });
-  }
-  std::size_t done = 0;
-  std::size_t failures = 0;
-  std::string text;
-  for (std::size_t k = 0; k < log.scans.size(); ++k) {
-    const std::string& record = journal.Record(k);
-    if (record.empty()) continue;
-    ++done;
-    // An error record (the only records with an "error" key at their top level).
-    if (nlohmann::json::parse(record).contains("error")) ++failures;
-    text += record + "\n";
-  }
-  if (done < log.scans.size()) {
-    fmt::print("stopped: {} of {} done, kept in {}; continue with the same command and --resume\n",
-               done, Plural(log.scans.size(), "scan"), journal.path().string());
-    ExitAsStopped();
-  }
-  WriteTextFileAtomically(o.out, text);
-  journal.Remove();
-  fmt::print("wrote {} ({}{})\n", o.out, Plural(log.scans.size(), "scan"),
-             failures ? fmt::format(", {} failed", failures) : std::string());
-  // The file holds every scan's record, the failed ones' errors too; the exit status says that
-  // not every scan was estimated.
-  if (failures > 0)
-    throw UserError(fmt::format("{} of {} failed; their records in {} say why", failures,
-                                Plural(log.scans.size(), "scan"), o.out));
+  RunAll(o, log, prior, [&](std::size_t k) { return estimate(k).json; });
 }
 
 }  // namespace

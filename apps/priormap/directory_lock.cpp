@@ -22,6 +22,14 @@ DirectoryLock::DirectoryLock(const std::filesystem::path& directory) {
   const int error = errno;
   ::close(fd_);
   fd_ = -1;
+  // Where the file system cannot lock a directory (NFS emulates flock with POSIX locks, which
+  // need a descriptor open for writing), the run goes on unlocked rather than not at all.
+  if (error == EBADF || error == ENOLCK || error == EOPNOTSUPP || error == EINVAL) {
+    fmt::print(stderr,
+               "priormap: warning: cannot lock {} ({}): a second run there is not refused\n",
+               directory.string(), std::strerror(error));
+    return;
+  }
   if (error == EWOULDBLOCK)
     throw UserError(fmt::format(
         "-o {}: another priormap is running there (it holds the directory's lock); wait for it "

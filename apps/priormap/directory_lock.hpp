@@ -10,7 +10,8 @@ namespace priormap::app {
 class DirectoryLock {
  public:
   DirectoryLock() = default;
-  // Locks `directory`, which exists; throws UserError when another process holds it.
+  // Locks `directory`, which exists; throws UserError when another process holds it. Where the
+  // file system has no such locks, warns and holds nothing.
   explicit DirectoryLock(const std::filesystem::path& directory);
   ~DirectoryLock();
   DirectoryLock(DirectoryLock&& other) noexcept;

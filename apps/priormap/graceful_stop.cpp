@@ -58,11 +58,12 @@ StopOnSignals::StopOnSignals() {
   struct sigaction action {};
   action.sa_handler = RequestStop;
   sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, &previous_int_);
-  sigaction(SIGTERM, &action, &previous_term_);
-  // An ignored signal stays ignored (nohup; a shell's background job and SIGINT), as main has it.
-  if (previous_int_.sa_handler == SIG_IGN) sigaction(SIGINT, &previous_int_, nullptr);
-  if (previous_term_.sa_handler == SIG_IGN) sigaction(SIGTERM, &previous_term_, nullptr);
+  // An ignored signal stays ignored (nohup; a shell's background job and SIGINT), as main has it:
+  // the handler is not installed at all, not even for a moment.
+  sigaction(SIGINT, nullptr, &previous_int_);
+  sigaction(SIGTERM, nullptr, &previous_term_);
+  if (previous_int_.sa_handler != SIG_IGN) sigaction(SIGINT, &action, nullptr);
+  if (previous_term_.sa_handler != SIG_IGN) sigaction(SIGTERM, &action, nullptr);
 }
 
 StopOnSignals::~StopOnSignals() {

@@ -3,8 +3,11 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <fcntl.h>
 #include <optional>
 #include <string_view>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -31,6 +34,39 @@ std::string Header(std::uint64_t fingerprint, std::size_t scans) {
       .dump();
 }
 
+// The journal at `path` open for appending, locked (flock) against a second run on the same
+// output: refused when another process holds it, or when `path` was replaced between the open
+// and the lock (by another run starting there at the same moment).
+std::FILE* OpenLocked(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_APPEND | O_CLOEXEC);
+  if (fd < 0)
+    throw IoError(
+        fmt::format("{}: cannot open for appending: {}", path.string(), std::strerror(errno)));
+  const auto refuse = [&] {
+    ::close(fd);
+    return UserError(fmt::format(
+        "{}: another priormap scan --all is running on this output; wait for it to end or stop "
+        "it (Ctrl-C keeps its scans for --resume)",
+        path.string()));
+  };
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    if (errno == EWOULDBLOCK) throw refuse();
+    // A file system without such locks (some NFS set-ups): on, unlocked.
+  }
+  struct stat held {};
+  struct stat named {};
+  if (::fstat(fd, &held) != 0 || ::stat(path.c_str(), &named) != 0 || held.st_ino != named.st_ino ||
+      held.st_dev != named.st_dev)
+    throw refuse();
+  std::FILE* file = ::fdopen(fd, "ab");
+  if (file == nullptr) {
+    ::close(fd);
+    throw IoError(
+        fmt::format("{}: cannot open for appending: {}", path.string(), std::strerror(errno)));
+  }
+  return file;
+}
+
 }  // namespace
 
 ScanJournal::ScanJournal(std::filesystem::path path, std::uint64_t fingerprint, std::size_t scans,
@@ -49,18 +85,24 @@ ScanJournal::ScanJournal(std::filesystem::path path, std::uint64_t fingerprint, 
         "--resume to start one",
         path_.string()));
   std::string text = Header(fingerprint, scans) + "\n";
-  if (resume) {
-    Restore(fingerprint);
-    for (const std::string& record : records_)
-      if (!record.empty()) text += record + "\n";
+  // The stopped run's journal, locked while it is read: a run still going on there is refused
+  // rather than have its records replaced.
+  std::FILE* stopped = resume ? OpenLocked(path_) : nullptr;
+  try {
+    if (resume) {
+      Restore(fingerprint);
+      for (const std::string& record : records_)
+        if (!record.empty()) text += record + "\n";
+    }
+    // Rewritten whole: a crash may have left half a record at the end, which the next append
+    // would run into.
+    WriteTextFileAtomically(path_, text);
+    file_ = OpenLocked(path_);
+  } catch (...) {
+    if (stopped != nullptr) std::fclose(stopped);
+    throw;
   }
-  // Rewritten whole: a crash may have left half a record at the end, which the next append
-  // would run into.
-  WriteTextFileAtomically(path_, text);
-  file_ = std::fopen(path_.c_str(), "ab");
-  if (file_ == nullptr)
-    throw IoError(
-        fmt::format("{}: cannot open for appending: {}", path_.string(), std::strerror(errno)));
+  if (stopped != nullptr) std::fclose(stopped);
   last_sync_s_ = Now();
 }
 
@@ -69,7 +111,12 @@ ScanJournal::~ScanJournal() {
 }
 
 void ScanJournal::Restore(std::uint64_t fingerprint) {
-  const std::string text = ValueOrThrow(ReadFileText(path_));
+  const Result<std::string> read = ReadFileText(path_);
+  if (!read.ok()) {
+    const Diagnostic& why = read.diagnostics().front();
+    throw UserError(why.Location().empty() ? why.message : why.Location() + ": " + why.message);
+  }
+  const std::string& text = read.value();
   const std::string where = path_.string();
   std::size_t line_number = 0;
   std::size_t begin = 0;
@@ -126,15 +173,17 @@ void ScanJournal::Append(std::size_t k, const std::string& record) {
     throw IoError(fmt::format("{}: cannot write: {}", path_.string(), std::strerror(errno)));
   // On disk every few seconds: what a power loss may take is a few seconds' scans.
   if (Now() - last_sync_s_ > 2.0) {
-    ::fsync(fileno(file_));
+    if (::fsync(fileno(file_)) != 0)
+      throw IoError(fmt::format("{}: cannot sync: {}", path_.string(), std::strerror(errno)));
     last_sync_s_ = Now();
   }
 }
 
 void ScanJournal::Remove() {
+  // Unlinked while still locked: a run that opened it meanwhile finds it replaced and stops.
+  std::filesystem::remove(path_);
   if (file_ != nullptr) std::fclose(file_);
   file_ = nullptr;
-  std::filesystem::remove(path_);
 }
 
 }  // namespace priormap::app

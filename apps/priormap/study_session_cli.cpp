@@ -126,6 +126,9 @@ DirectoryLock BeginStudy(const std::filesystem::path& dir, const std::vector<std
         dir.string(), fmt::join(recorded, ", "), fmt::join(folders, ", ")));
   EnsureDirectory(dir);
   if (!lock.held()) lock = DirectoryLock(dir);
+  // An earlier study's results would stand beside a new study stopped before its own.
+  if (!resume)
+    for (const char* file : {"summary.json", "table.md"}) std::filesystem::remove(dir / file);
   if (!resume)
     WriteTextFileAtomically(
         record,
@@ -150,13 +153,10 @@ void RunStoppableStudy(const std::function<void()>& run) {
   try {
     run();
   } catch (const BinaryFormatError& e) {
-    const std::string what = e.what();
     throw UserError(fmt::format(
-        "cannot resume: {}; {}", what,
-        what.find("of another run") != std::string::npos
-            ? "give the options the study was started with"
-            : "remove that file (its chain then starts afresh) or give the options the study "
-              "was started with"));
+        "cannot resume: {}; give the options the study was started with (a damaged checkpoint: "
+        "remove it, and its chain starts afresh)",
+        e.what()));
   }
 }
 
@@ -164,6 +164,13 @@ void EndStoppedStudy(const std::filesystem::path& dir, const std::vector<std::st
   const std::vector<std::filesystem::path> stopped = StoppedCases(dir, folders);
   // On a terminal the status line has no line break yet.
   if (isatty(fileno(stderr)) != 0) fmt::print(stderr, "\n");
+  if (stopped.empty()) {
+    fmt::print(
+        "stopped before any case was checkpointed; run the same command again (without "
+        "--resume)\n");
+    if (StopRequested()) ExitAsStopped();
+    return;
+  }
   fmt::print(
       "stopped and checkpointed in {} of {} cases ({}{}); continue with the same command and "
       "--resume\n",

@@ -196,6 +196,12 @@ TEST_F(PrfStudyCli, AStudyStoppedAfterStepsResumesToTheUninterruptedSummary) {
   EXPECT_EQ(again.status, 1);
   EXPECT_THAT(again.err, HasSubstr("--resume: -o parts holds no stopped study of these cases (no "
                                    "parts/square-lms200/checkpoints); run without --resume"));
+
+  // A new study there, stopped before its end: the complete study's results do not stay beside
+  // it (whether a study is complete is told by its summary.json).
+  ASSERT_EQ(Run(SmallStudy({"--stop-after-steps", "2000", "-o", "parts"})).status, 0);
+  EXPECT_FALSE(std::filesystem::exists(Work("parts") / "summary.json"));
+  EXPECT_FALSE(std::filesystem::exists(Work("parts") / "table.md"));
 }
 
 // A new study over a stopped one would start its cases afresh and lose their progress; a resume
