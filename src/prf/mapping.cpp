@@ -287,21 +287,23 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   for (std::size_t c = 0; c < chains; ++c) resumed += std::min(session_start[c], end);
   result.resumed_steps = resumed;
   std::atomic<std::uint64_t> steps_done{resumed};
-  // What the checkpoints restored, at once: a chain restored at its end never reports, and the
-  // others only after their first chunk.
-  if (progress && resumed > 0) {
+  const std::uint64_t steps_total = chains * end;
+  // Every chain as it stood at its latest report (under progress_mutex once the chains run).
+  const auto report = [&] {
     MoveCounters counters{};
     for (const MoveCounters& of_chain : chain_counters) AddCounters(&counters, of_chain);
-    progress({.steps_done = resumed,
-              .steps_total = chains * end,
+    progress({.steps_done = steps_done.load(),
+              .steps_total = steps_total,
               .steps_resumed = resumed,
               .seconds = Seconds(start),
               .chains = chain_progress,
               .counters = counters});
-  }
+  };
+  // What the checkpoints restored, at once: a chain restored at its end never reports, and the
+  // others only after their first chunk.
+  if (progress && resumed > 0) report();
   std::atomic<std::uint64_t> hot_steps{0};  // of the replicas other than the chains, this session
   std::atomic<bool> stopped{false};
-  const std::uint64_t steps_total = chains * end;
   // A chain also stops when another chain's task threw (its exception cancels this run's
   // loops), rather than run to its end before the exception reaches the caller.
   const auto stop_requested = [&] {
@@ -413,14 +415,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
         chain_progress[c] = {
             .reported = true, .log_posterior = chain().LogPosterior(), .data_stride = strides[c]};
         chain_counters[c] = chain().counters();
-        MoveCounters counters{};
-        for (const MoveCounters& of_chain : chain_counters) AddCounters(&counters, of_chain);
-        progress({.steps_done = steps_done.load(),
-                  .steps_total = steps_total,
-                  .steps_resumed = resumed,
-                  .seconds = Seconds(start),
-                  .chains = chain_progress,
-                  .counters = counters});
+        report();
       } else {
         steps_done += target - s;
       }
