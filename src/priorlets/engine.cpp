@@ -49,6 +49,11 @@ constexpr double kWarmLambdaBackoff = 1e-3;
 // The window of an initial normal grows from normal_half_window neighbours on each side up to
 // this many times as many while the points fit a line.
 constexpr std::size_t kMaxNormalHalfWindow = 16;
+// A spike (RemoveSpikes) is judged against the line through this many times normal_half_window
+// neighbours on each side, and lies beyond its range bound by this many standard deviations of
+// that line's position at its bearing.
+constexpr std::size_t kSpikeWindowFactor = 2;
+constexpr double kSpikeLineSigmas = 3.0;
 
 // Total least squares lines through runs of consecutive points, from prefix sums of the
 // weighted moments (O(1) per window).
@@ -58,6 +63,15 @@ class LineFitter {
     double normal = 0.0;  // direction of the line's normal (either sense)
     double ssr = 0.0;     // weighted sum of squared orthogonal residuals
     std::size_t n = 0;
+    Vec2 centroid = Vec2::Zero();  // weighted
+    double weight = 0.0;           // the sum of the weights
+    double spread = 0.0;           // weighted sum of squared positions along the line
+    // The standard deviation of the line's orthogonal position at `p` (its offset's, 1 /
+    // weight, and its direction's, 1 / spread, with the weights 1 / sigma^2).
+    [[nodiscard]] double PositionSigma(const Vec2& p) const {
+      const double along = (p - centroid).dot(Vec2(-std::sin(normal), std::cos(normal)));
+      return std::sqrt(1.0 / weight + along * along / spread);
+    }
     // The residual per degree of freedom (about 1 for points on a line).
     [[nodiscard]] double NormalisedResidual() const {
       return n > 2 ? ssr / static_cast<double>(n - 2) : 0.0;
@@ -86,24 +100,42 @@ class LineFitter {
   // The line through points lo..hi; nullopt for fewer than 3 points or coinciding ones.
   [[nodiscard]] std::optional<Fit> operator()(std::size_t lo, std::size_t hi) const {
     if (hi < lo + 2) return std::nullopt;
-    const Moments& a = sums_[lo];
-    const Moments& b = sums_[hi + 1];
-    const double w = b.w - a.w, cx = (b.x - a.x) / w, cy = (b.y - a.y) / w;
-    const double sxx = (b.xx - a.xx) - w * cx * cx;
-    const double sxy = (b.xy - a.xy) - w * cx * cy;
-    const double syy = (b.yy - a.yy) - w * cy * cy;
-    if (!(sxx + syy > 0.0)) return std::nullopt;
-    Fit fit;
-    fit.normal = 0.5 * std::atan2(2.0 * sxy, sxx - syy) + 0.5 * std::numbers::pi;
-    fit.ssr = std::max(0.0, 0.5 * (sxx + syy - std::hypot(sxx - syy, 2.0 * sxy)));
-    fit.n = hi - lo + 1;
-    return fit;
+    return FitOf(sums_[hi + 1] - sums_[lo], hi - lo + 1);
+  }
+
+  // The line through points lo..hi without the points skip_lo..skip_hi inside them.
+  [[nodiscard]] std::optional<Fit> Without(std::size_t lo, std::size_t hi, std::size_t skip_lo,
+                                           std::size_t skip_hi) const {
+    const std::size_t n = (hi - lo + 1) - (skip_hi - skip_lo + 1);
+    if (n < 3) return std::nullopt;
+    return FitOf((sums_[hi + 1] - sums_[lo]) - (sums_[skip_hi + 1] - sums_[skip_lo]), n);
   }
 
  private:
   struct Moments {
     double w, x, y, xx, xy, yy;
+    Moments operator-(const Moments& o) const {
+      return {w - o.w, x - o.x, y - o.y, xx - o.xx, xy - o.xy, yy - o.yy};
+    }
   };
+
+  static std::optional<Fit> FitOf(const Moments& m, std::size_t n) {
+    const double w = m.w, cx = m.x / w, cy = m.y / w;
+    const double sxx = m.xx - w * cx * cx;
+    const double sxy = m.xy - w * cx * cy;
+    const double syy = m.yy - w * cy * cy;
+    if (!(sxx + syy > 0.0)) return std::nullopt;
+    Fit fit;
+    fit.normal = 0.5 * std::atan2(2.0 * sxy, sxx - syy) + 0.5 * std::numbers::pi;
+    const double root = std::hypot(sxx - syy, 2.0 * sxy);
+    fit.ssr = std::max(0.0, 0.5 * (sxx + syy - root));
+    fit.spread = 0.5 * (sxx + syy + root);
+    fit.centroid = Vec2(cx, cy);
+    fit.weight = w;
+    fit.n = n;
+    return fit;
+  }
+
   std::vector<Moments> sums_;
 };
 
@@ -193,6 +225,15 @@ class Engine {
   // region across that border (the border moves), once per point: near a corner the first
   // break is often a beam off.
   bool RemoveLonelyPoints(Topology& topology, const Topology* before = nullptr);
+  // Removes spikes: runs of fewer than min_region_points readings between neighbours that fit
+  // one line within the noise, every reading of the run farther from that line than its range
+  // bound lets it move (paper Sec. III-B: such readings make the constraints impossible and are
+  // to leave INMODEL). Left in, one costs a break at the first round, whose different_region
+  // constraint splits the straight wall around it into regions of alternating normals, and the
+  // greedy rounds do not undo that (a region has no cost but the constraints). Judged up front,
+  // like GeometricBreak; a spike near a border or next to another outlier, whose neighbours fit
+  // no one line, is left to the greedy rounds.
+  bool RemoveSpikes(Topology& topology) const;
   // Removes the point after the link with the largest penalty (when no link can relax).
   void RemoveWorstPoints(Topology& topology, const std::vector<double>& penalties) const;
   // The points with keep[j] set, bridged across removed runs as RemoveLonelyPoints says.
@@ -481,6 +522,60 @@ bool Engine::RemoveLonelyPoints(Topology& topology, const Topology* before) {
   return changed;
 }
 
+bool Engine::RemoveSpikes(Topology& topology) const {
+  const std::size_t m = topology.beams.size();
+  const std::size_t k =
+      kSpikeWindowFactor * static_cast<std::size_t>(std::max(1, options_.normal_half_window));
+  const auto max_run = static_cast<std::size_t>(std::max(1, options_.min_region_points - 1));
+  if (m < 2 * k + 1) return false;
+  std::vector<Vec2> xy(m);
+  std::vector<double> weight(m);
+  // borders[j]: links before point j that are not same_region (a window must not cross one).
+  std::vector<std::size_t> borders(m, 0);
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t beam = topology.beams[j];
+    xy[j] = scan_.PointInSensorFrame(beam);
+    weight[j] = 1.0 / (scan_.sigma[beam] * scan_.sigma[beam]);
+    if (j > 0) borders[j] = borders[j - 1] + (topology.links[j - 1] != Link::kSameRegion ? 1 : 0);
+  }
+  const LineFitter line_fit(xy, weight);
+  // How far beyond its range bound reading j lies from `fit`, in sigmas of the line's position
+  // there (positive: it cannot reach the line).
+  const auto beyond = [&](const LineFitter::Fit& fit, std::size_t j) {
+    const std::size_t beam = topology.beams[j];
+    const Vec2 normal(std::cos(fit.normal), std::sin(fit.normal));
+    const Vec2 ray = xy[j] / scan_.ranges[beam];
+    const double incidence = std::abs(normal.dot(ray));
+    if (incidence < 1e-3) return 0.0;  // the line runs along the ray: no range reaches it
+    // The range at which the ray meets the line, and how far the reading is from it.
+    const double reach = fit.centroid.dot(normal) / normal.dot(ray);
+    const double excess =
+        std::abs(scan_.ranges[beam] - reach) - options_.rho_bound_sigmas * scan_.sigma[beam];
+    return excess * incidence / fit.PositionSigma(xy[j]);
+  };
+  std::vector<char> keep(m, 1);
+  bool removed = false;
+  for (std::size_t j = k; j + k < m; ++j) {
+    for (std::size_t len = 1; len <= max_run && j + len - 1 + k < m; ++len) {
+      const std::size_t lo = j - k, hi = j + len - 1 + k;
+      if (borders[hi] != borders[lo]) break;  // the window crosses a border
+      bool spike = true;
+      for (std::size_t i = lo; i <= hi && spike; ++i) spike = keep[i] || (i >= j && i < j + len);
+      if (!spike) break;  // a spike found already is among the neighbours
+      const std::optional<LineFitter::Fit> fit = line_fit.Without(lo, hi, j, j + len - 1);
+      if (!fit || !fit->Consistent()) continue;
+      for (std::size_t i = j; i < j + len && spike; ++i) spike = beyond(*fit, i) > kSpikeLineSigmas;
+      if (!spike) continue;
+      std::fill(keep.begin() + static_cast<long>(j), keep.begin() + static_cast<long>(j + len), 0);
+      removed = true;
+      j += len - 1;
+      break;
+    }
+  }
+  if (removed) topology = Keep(topology, keep);
+  return removed;
+}
+
 void Engine::RemoveWorstPoints(Topology& topology, const std::vector<double>& penalties) const {
   if (topology.beams.empty()) return;
   // Drop the point after the link with the largest penalty.
@@ -688,8 +783,11 @@ MapScan Engine::Run() {
     if (!topology.beams.empty()) topology.links.push_back(InitialLink(topology.beams.back(), i));
     topology.beams.push_back(i);
   }
-  // Points that cannot form a region are outliers from the start.
+  // Points that cannot form a region are outliers from the start, and so are spikes.
   RemoveLonelyPoints(topology);
+  // Again without the spikes found: a spike among another's neighbours waits for its removal.
+  for (int pass = 0; pass < 3 && RemoveSpikes(topology); ++pass) {
+  }
 
   InnerResult solution;
   Topology solved;

@@ -226,5 +226,56 @@ TEST(Engine, StatsAccountForTheWork) {
   EXPECT_GE(s.seconds_total, s.seconds_outer + s.seconds_refine);
 }
 
+// Regions of a simulated scan: runs of one true region over the genuine valid readings, of at
+// least min_region_points readings (shorter runs are clutter to the engine too).
+std::size_t TrueRegionCount(const Scan& scan, std::size_t min_points) {
+  std::size_t count = 0, run = 0;
+  int region = -1;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.IsValid(i) || scan.truth->outlier[i]) continue;
+    if (scan.truth->region[i] != region) {
+      count += run >= min_points ? 1 : 0;
+      region = scan.truth->region[i];
+      run = 0;
+    }
+    ++run;
+  }
+  return count + (run >= min_points ? 1 : 0);
+}
+
+// Spurious short readings (uniform between the sensor and the wall) that land a few sigmas in
+// front of a wall, within reach of no range bound but too near for a geometric break, are
+// outliers, not borders: before, each cost a different_region break that split the straight
+// wall into regions of alternating normals (6-16 regions for 4 walls on these seeds, range RMS
+// error 3-5 mm). Tolerance: at most two extra regions in one scan and two in all, for a residual
+// spike the up-front test cannot judge (one next to a border or another outlier): 4 of the 80
+// scans of rectangle and square at 2 and 5 % outliers, seeds 1-20.
+TEST(Engine, SpuriousShortReadingsAreOutliersNotExtraRegions) {
+  const dsl::CompiledPrior prior = Prior("rectangular");
+  struct Case {
+    const char* scene;
+    double outliers;
+    std::uint64_t seed;
+  };
+  long excess = 0;
+  for (const Case& c :
+       {Case{"rectangle", 0.02, 2}, Case{"rectangle", 0.02, 4}, Case{"square", 0.05, 3},
+        Case{"square", 0.05, 4}, Case{"square", 0.05, 5}}) {
+    SCOPED_TRACE(std::string(c.scene) + " seed " + std::to_string(c.seed));
+    const Scene scene = BuiltinScene(c.scene).value();
+    RangeSensor sensor = RangeSensor::Preset("utm30").value();
+    sensor.outlier_probability = c.outliers;
+    const Scan scan = testing::SimulateScene(scene, sensor, scene.default_pose.value(), c.seed);
+    const MapScan map = EstimateMapScan(scan, prior);
+    EXPECT_TRUE(map.feasible);
+    const auto truth = static_cast<long>(TrueRegionCount(scan, 4));
+    const auto found = static_cast<long>(map.regions.size());
+    EXPECT_GE(found, truth);
+    EXPECT_LE(found, truth + 2);
+    excess += std::max(0L, found - truth);
+  }
+  EXPECT_LE(excess, 2);
+}
+
 }  // namespace
 }  // namespace priormap::priorlets
