@@ -32,8 +32,8 @@ struct LaserData {
 
 struct LaserSelection {
   std::size_t first_scan = 0;
-  std::optional<std::size_t> end_scan;  ///< one past the last; all scans when unset
-  std::size_t beam_step = 1;            ///< every beam_step-th beam of each scan
+  std::optional<std::size_t> end_scan{};  ///< one past the last; all scans when unset
+  std::size_t beam_step = 1;              ///< every beam_step-th beam of each scan
   /// Caps the sensor's own max range (long beams cost walk time and say little indoors).
   double max_range = 20.0;
 };

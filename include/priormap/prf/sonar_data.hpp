@@ -39,7 +39,7 @@ struct SonarData {
 
 struct SonarSelection {
   std::size_t first_scan = 0;
-  std::optional<std::size_t> end_scan;  ///< one past the last; all scans when unset
+  std::optional<std::size_t> end_scan{};  ///< one past the last; all scans when unset
   /// Caps the rings' own max range (the paper treated readings beyond 3.5 m as max range).
   double max_range = 5.0;
 };
