@@ -1,9 +1,10 @@
 // libFuzzer harness for the gzip container of the files priormap reads (logs may be .gz): the
 // input is written to a file (without .gz: the magic bytes decide) and read by both readers,
 // detail::ReadWholeFile (libdeflate; ReadLog and the CARMEN reader) and ReadFileText (zlib's
-// gzread; every other reader). ReadWholeFile promises ReadFileText's contract, so besides
+// inflate; every other reader). ReadWholeFile promises ReadFileText's contract, so besides
 // crashes and sanitizer reports it checks that
-//  - a failure is one diagnostic naming the file, and both readers fail on the same inputs;
+//  - a failure is one diagnostic naming the file, and both readers fail on the same inputs
+//    (corrupt or truncated members, bytes after the last member that do not start another);
 //  - both give the same bytes, and bytes that are not gzip data come back unchanged;
 //  - what they inflate, written by the writer (WriteTextFileAtomically to a .gz name), reads
 //    back the same through both.

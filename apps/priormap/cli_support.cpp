@@ -11,6 +11,7 @@
 #include <fmt/ranges.h>
 
 #include <priormap/core/json_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 #include <priormap/render/figure.hpp>
 
 namespace priormap::app {
@@ -124,6 +125,11 @@ Se2 ParsePose(const std::string& text) {
     const auto [ptr, ec] = std::from_chars(first, last, values[k]);
     if (ec != std::errc() || ptr != last || !std::isfinite(values[k])) {
       throw UserError(fmt::format("--pose: expected x,y,theta (three numbers), got '{}'", text));
+    }
+    // A pose the readers would refuse: the scan written would not read back.
+    if (k < 2 && !IsWithinWorld(values[k])) {
+      throw UserError("--pose: " +
+                      ExpectedWorldCoordinate(k == 0 ? "x" : "y", fmt::format("{}", values[k])));
     }
     if (k == 2) return {values[0], values[1], values[2]};
     start = end + 1;

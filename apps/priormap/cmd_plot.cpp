@@ -5,6 +5,7 @@
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/log_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 #include <priormap/render/line_plot.hpp>
 #include <priormap/render/scene_drawing.hpp>
 
@@ -26,8 +27,15 @@ struct PlotOptions {
   std::optional<double> max_range;
 };
 
-// Cairo draws in 24.8 fixed point: a world (or a range) this large cannot be drawn.
-constexpr double kLargestDrawable = 1e9;  // m
+// Cairo draws in 24.8 fixed point: a world (or a range) beyond the readers' bound on world
+// coordinates cannot be drawn. The readers refuse poses and scene points beyond it; a reading
+// can still end there.
+constexpr double kLargestDrawable = kMaxWorldCoordinate;  // m
+
+bool IsDrawable(const Box2& box) {
+  return box.isEmpty() || (box.min().cwiseAbs().maxCoeff() <= kLargestDrawable &&
+                           box.max().cwiseAbs().maxCoeff() <= kLargestDrawable);
+}
 
 void PlotMap(const Log& log, const PlotOptions& o) {
   std::optional<Scene> scene;
@@ -35,13 +43,22 @@ void PlotMap(const Log& log, const PlotOptions& o) {
   const bool one_scan = o.scan.has_value() || log.scans.size() == 1;
   const std::size_t k = o.scan.value_or(0);
   Box2 bounds = one_scan ? render::ScanBounds(log.scans[k]) : render::LogBounds(log);
-  if (scene) bounds.extend(scene->Bounds());
-  if (!(bounds.min().cwiseAbs().maxCoeff() <= kLargestDrawable &&
-        bounds.max().cwiseAbs().maxCoeff() <= kLargestDrawable)) {
+  // The log and the scene each on its own, so that the message names the one too far out.
+  if (!IsDrawable(bounds)) {
     throw UserError(
-        fmt::format("{}: poses or readings lie beyond {} m of the origin, too far "
-                    "to draw",
+        fmt::format("{}: poses or readings lie beyond {:.0e} m of the origin, too "
+                    "far to draw",
                     o.input, kLargestDrawable));
+  }
+  if (scene) {
+    const Box2 scene_bounds = scene->Bounds();
+    if (!IsDrawable(scene_bounds)) {
+      throw UserError(
+          fmt::format("--scene {}: the scene reaches beyond {:.0e} m of the origin, "
+                      "too far to draw",
+                      *o.scene, kLargestDrawable));
+    }
+    bounds.extend(scene_bounds);
   }
   const std::string title =
       o.title.value_or(one_scan ? fmt::format("{}: scan {} of {}", o.input, k, log.scans.size())

@@ -18,6 +18,7 @@
 #include <priormap/core/angles.hpp>
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 #include "gunzip.hpp"
 #include "number_text.hpp"
@@ -127,8 +128,13 @@ class FieldReader {
     return true;
   }
 
+  // A pose whose position lies within the world (world_bounds.hpp): a finite but absurd x of
+  // 1e300 is reported here, at its field, not later as a grid too large to make.
   Se2 Pose(std::string_view what) {
-    if (std::array<double, 3> v{}; TryNumbers(v.data(), 3, true)) return {v[0], v[1], v[2]};
+    if (std::array<double, 3> v{}; TryNumbers(v.data(), 3, true)) {
+      if (IsWithinWorld(v[0]) && IsWithinWorld(v[1])) return {v[0], v[1], v[2]};
+      next_ -= 3;  // read them again, one by one, to report the coordinate beyond the world
+    }
     return PoseFieldByField(what);
   }
 
@@ -143,6 +149,11 @@ class FieldReader {
         ++next_;
       } else {
         v[k] = FiniteNumber(fmt::format("{} {}", what, kAxes[k]));
+      }
+      if (k < 2 && !IsWithinWorld(v[k])) {
+        const Token& t = tokens_[next_ - 1];
+        Fail(t.col, ExpectedWorldCoordinate(fmt::format("{} {}", what, kAxes[k]),
+                                            QuoteForMessage(t.text)));
       }
     }
     return {v[0], v[1], v[2]};

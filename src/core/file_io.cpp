@@ -3,9 +3,15 @@
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
+#include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <limits>
+#include <memory>
+#include <optional>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -41,11 +47,40 @@ fs::path FollowLinks(const fs::path& path) {
   return target;
 }
 
+constexpr std::string_view kTemporaryMarker = ".tmp-";
+
 fs::path TemporarySibling(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
   const std::string name =
-      fmt::format(".{}.tmp-{}-{}", path.filename().string(), ::getpid(), counter++);
+      fmt::format(".{}{}{}-{}", path.filename().string(), kTemporaryMarker, ::getpid(), counter++);
   return path.parent_path() / name;
+}
+
+// What a name made by TemporarySibling says: the output's name and the writing process.
+struct TemporaryName {
+  std::string_view output;
+  pid_t pid = 0;
+};
+
+std::optional<TemporaryName> ParseTemporaryName(std::string_view name) {
+  const std::size_t marker = name.rfind(kTemporaryMarker);
+  if (!name.starts_with('.') || marker == std::string_view::npos || marker < 2) return {};
+  const std::string_view numbers = name.substr(marker + kTemporaryMarker.size());
+  const std::size_t dash = numbers.find('-');
+  if (dash == std::string_view::npos) return {};
+  const std::string_view pid = numbers.substr(0, dash);
+  const std::string_view counter = numbers.substr(dash + 1);
+  if (!IsNumberedName(pid, "", "", false) || !IsNumberedName(counter, "", "", false)) return {};
+  // Only the PIDs getpid() gives: kill() of 0 or of a negative number would name groups.
+  long long value = 0;
+  const std::from_chars_result parsed = std::from_chars(pid.data(), pid.data() + pid.size(), value);
+  if (parsed.ec != std::errc() || value < 1 || value > std::numeric_limits<pid_t>::max()) return {};
+  return TemporaryName{name.substr(1, marker - 1), static_cast<pid_t>(value)};
+}
+
+// Whether process `pid` exists (one of another user's too).
+bool ProcessRuns(pid_t pid) {
+  return ::kill(pid, 0) == 0 || errno == EPERM;
 }
 
 // The temporary files being written, for RemoveTemporaryFilesInProgress, which a signal handler
@@ -65,6 +100,9 @@ static_assert(std::atomic<bool>::is_always_lock_free &&
               std::atomic<unsigned>::is_always_lock_free && std::atomic<char>::is_always_lock_free);
 
 std::array<TemporarySlot, kTemporarySlots> g_temporaries;
+// Writes in progress whose temporary file found no slot: RemoveStaleTemporaryFiles cannot tell
+// this process's files apart while there are any.
+std::atomic<int> g_unregistered{0};
 
 void SetSlotPath(TemporarySlot& slot, std::string_view path) {
   const unsigned version = slot.version.load(std::memory_order_relaxed);
@@ -79,21 +117,27 @@ void SetSlotPath(TemporarySlot& slot, std::string_view path) {
 // Holds `path` in the registry while it lives. Registered before the file exists and released
 // after it is renamed or removed, so a signal in between finds it. Without a free slot (more than
 // kTemporarySlots writes at once) or for a longer path, the file is not registered: a signal
-// would leave it behind, as it did before the registry.
+// would leave it behind, as it did before the registry; it is counted instead, so that
+// RemoveStaleTemporaryFiles spares this process's temporaries meanwhile.
 class TemporaryRegistration {
  public:
   explicit TemporaryRegistration(const std::string& path) {
-    if (path.empty() || path.size() >= kTemporaryPathBytes) return;
-    for (TemporarySlot& slot : g_temporaries) {
-      bool free = false;
-      if (!slot.claimed.compare_exchange_strong(free, true, std::memory_order_acquire)) continue;
-      SetSlotPath(slot, path);
-      slot_ = &slot;
-      return;
+    if (!path.empty() && path.size() < kTemporaryPathBytes) {
+      for (TemporarySlot& slot : g_temporaries) {
+        bool free = false;
+        if (!slot.claimed.compare_exchange_strong(free, true, std::memory_order_acquire)) continue;
+        SetSlotPath(slot, path);
+        slot_ = &slot;
+        return;
+      }
     }
+    ++g_unregistered;
   }
   ~TemporaryRegistration() {
-    if (slot_ == nullptr) return;
+    if (slot_ == nullptr) {
+      --g_unregistered;
+      return;
+    }
     SetSlotPath(*slot_, "");
     slot_->claimed.store(false, std::memory_order_release);
   }
@@ -103,6 +147,33 @@ class TemporaryRegistration {
  private:
   TemporarySlot* slot_ = nullptr;
 };
+
+// The path in `slot`, copied whole (empty when it is being changed).
+std::string_view CopySlotPath(const TemporarySlot& slot,
+                              std::array<char, kTemporaryPathBytes>& copy) {
+  const unsigned version = slot.version.load(std::memory_order_acquire);
+  if (version % 2 != 0) return {};
+  std::size_t length = 0;
+  while (length < copy.size() &&
+         (copy[length] = slot.path[length].load(std::memory_order_relaxed)) != '\0')
+    ++length;
+  std::atomic_thread_fence(std::memory_order_acquire);
+  if (length == copy.size() || slot.version.load(std::memory_order_relaxed) != version) return {};
+  return {copy.data(), length};
+}
+
+// Whether a write of this process may have a temporary file named `name` in progress. A file
+// that exists while its write is in progress has its slot registered, unchanging, from before
+// the file was made until after it is renamed or removed: a slot being changed holds another.
+bool MayBeWriting(std::string_view name) {
+  if (g_unregistered.load() > 0) return true;
+  std::array<char, kTemporaryPathBytes> copy;
+  for (const TemporarySlot& slot : g_temporaries) {
+    const std::string_view path = CopySlotPath(slot, copy);
+    if (!path.empty() && fs::path(path).filename().native() == name) return true;
+  }
+  return false;
+}
 
 // Puts the bytes of `file` on the disk before it is renamed over `path`: otherwise a crash or a
 // power loss shortly after the rename can leave `path` empty or truncated (the rename may reach
@@ -133,21 +204,33 @@ void SyncDirectory(const fs::path& directory) {
 
 void RemoveTemporaryFilesInProgress() noexcept {
   for (TemporarySlot& slot : g_temporaries) {
-    const unsigned version = slot.version.load(std::memory_order_acquire);
-    // Odd: the slot is being registered (its file not made yet) or released (its file renamed
-    // or removed already).
-    if (version % 2 != 0) continue;
+    // Empty while the slot changes: it is being registered (its file not made yet) or released
+    // (its file renamed or removed already).
     std::array<char, kTemporaryPathBytes> copy;
-    std::size_t length = 0;
-    while (length < copy.size() &&
-           (copy[length] = slot.path[length].load(std::memory_order_relaxed)) != '\0')
-      ++length;
-    std::atomic_thread_fence(std::memory_order_acquire);
-    if (length == 0 || length == copy.size() ||
-        slot.version.load(std::memory_order_relaxed) != version)
-      continue;
-    ::unlink(copy.data());
+    if (!CopySlotPath(slot, copy).empty()) ::unlink(copy.data());
   }
+}
+
+std::vector<fs::path> RemoveStaleTemporaryFiles(
+    const fs::path& directory, const std::function<bool(std::string_view name)>& is_output) {
+  std::vector<fs::path> stale;
+  std::error_code ec;
+  for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const std::optional<TemporaryName> temporary = ParseTemporaryName(name);
+    if (!temporary || !is_output(temporary->output)) continue;
+    // Never another process's file while it runs: it may be writing it now.
+    const bool ours = temporary->pid == ::getpid();
+    if (ours ? MayBeWriting(name) : ProcessRuns(temporary->pid)) continue;
+    std::error_code status_error;
+    if (it->symlink_status(status_error).type() == fs::file_type::regular)
+      stale.push_back(it->path());
+  }
+  // Removed after the listing, which removing entries during it might skip or repeat.
+  std::vector<fs::path> removed;
+  for (const fs::path& file : stale)
+    if (fs::remove(file, ec)) removed.push_back(file);
+  return removed;
 }
 
 Result<std::string> ReadFileText(const fs::path& path) {
@@ -155,27 +238,19 @@ Result<std::string> ReadFileText(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) return Diagnostic{name, 0, 0, "no such file"};
   if (fs::is_directory(path, ec)) return Diagnostic{name, 0, 0, "is a directory, expected a file"};
-  // gzread reads plain files unchanged, so one code path serves both.
   errno = 0;
-  gzFile file = gzopen(name.c_str(), "rb");
-  if (file == nullptr) return detail::CannotOpenForReading(name);
-  gzbuffer(file, 1 << 17);
-  std::string text;
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(name.c_str(), "rb"),
+                                                             &std::fclose);
+  if (!file) return detail::CannotOpenForReading(name);
+  // Read to the end, whatever the file is (a pipe, a growing file): its size is no promise.
+  std::string bytes;
   std::string chunk(1 << 20, '\0');
-  for (;;) {
-    const int n = gzread(file, chunk.data(), static_cast<unsigned>(chunk.size()));
-    if (n < 0) break;
-    text.append(chunk.data(), static_cast<std::size_t>(n));
-    if (n == 0) break;
-  }
-  int error = Z_OK;
-  const char* message = gzerror(file, &error);
-  const std::string error_text = message ? message : "";
-  gzclose(file);
-  if (error != Z_OK && error != Z_STREAM_END) {
-    return Diagnostic{name, 0, 0, fmt::format("corrupt or truncated gzip data ({})", error_text)};
-  }
-  return text;
+  while (const std::size_t n = std::fread(chunk.data(), 1, chunk.size(), file.get()))
+    bytes.append(chunk.data(), n);
+  if (std::ferror(file.get())) return Diagnostic{name, 0, 0, "cannot read the file"};
+  // gzip data by its magic bytes, whatever the name.
+  if (!bytes.starts_with("\x1f\x8b")) return bytes;
+  return detail::GunzipWithZlib(bytes, name);
 }
 
 void WriteFileAtomically(const fs::path& named, const std::function<void(const fs::path&)>& write) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include <fmt/format.h>
+
 #include <priormap/core/file_io.hpp>
 
 #ifdef PRIORMAP_HAVE_LIBDEFLATE
@@ -89,6 +91,7 @@ Result<ByteBuffer> Gunzip(std::string_view bytes, const std::string& name) {
       libdeflate_alloc_decompressor());
   if (!decompressor) throw std::bad_alloc();
   const Diagnostic corrupt{name, 0, 0, "corrupt or truncated gzip data"};
+  const std::size_t file_size = bytes.size();
   ByteBuffer text;
   std::size_t used = 0;  // bytes of `text` inflated so far
   std::size_t room = RoomFor(bytes);
@@ -110,7 +113,9 @@ Result<ByteBuffer> Gunzip(std::string_view bytes, const std::string& name) {
     bytes.remove_prefix(in);
     room = RoomFor(bytes);
   }
-  // Whatever follows the last member and is not one is ignored, as gzread does.
+  // What follows the last member and does not start one is refused, not ignored as gzread
+  // ignores it: it may be data that would go unread.
+  if (!bytes.empty()) return TrailingGzipData(name, file_size - bytes.size(), file_size);
   text.Truncate(used);
   return text;
 }
@@ -118,6 +123,14 @@ Result<ByteBuffer> Gunzip(std::string_view bytes, const std::string& name) {
 #endif
 
 }  // namespace
+
+Diagnostic TrailingGzipData(const std::string& name, std::size_t offset, std::size_t file_size) {
+  return Diagnostic{name, 0, 0,
+                    fmt::format("trailing data after the last gzip member, at byte offset {} of "
+                                "{}: expected another gzip member (magic bytes 1f 8b) or the end "
+                                "of the file",
+                                offset, file_size)};
+}
 
 Diagnostic CannotOpenForReading(const std::string& name) {
   // Why, when the system says: permission denied, no such device, too many open files, ...

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 namespace priormap::detail {
 namespace {
@@ -390,6 +391,12 @@ double FiniteNumber(const JsonNode& node, std::string_view what) {
   return v;
 }
 
+double WorldCoordinate(const JsonNode& node, std::string_view what) {
+  const double v = FiniteNumber(node, what);
+  if (!IsWithinWorld(v)) Fail(node, ExpectedWorldCoordinate(what, fmt::format("{}", v)));
+  return v;
+}
+
 constexpr auto kLargestInteger =
     static_cast<unsigned long long>(std::numeric_limits<long long>::max());
 
@@ -452,12 +459,12 @@ std::vector<long long> Integers(const JsonNode& node, std::string_view what) {
 
 Vec2 Point(const JsonNode& node, std::string_view what) {
   if (ArraySize(node, what) != 2) Fail(node, fmt::format("expected {} as [x, y]", what));
-  return {FiniteNumber(Element(node, 0), "x"), FiniteNumber(Element(node, 1), "y")};
+  return {WorldCoordinate(Element(node, 0), "x"), WorldCoordinate(Element(node, 1), "y")};
 }
 
 Se2 Pose(const JsonNode& node, std::string_view what) {
   if (ArraySize(node, what) != 3) Fail(node, fmt::format("expected {} as [x, y, theta]", what));
-  return {FiniteNumber(Element(node, 0), "x"), FiniteNumber(Element(node, 1), "y"),
+  return {WorldCoordinate(Element(node, 0), "x"), WorldCoordinate(Element(node, 1), "y"),
           FiniteNumber(Element(node, 2), "theta")};
 }
 

@@ -66,6 +66,8 @@ std::size_t ArraySize(const JsonNode& node, std::string_view what);
 /// A number; null is NaN and the strings "nan", "inf", "-inf" are what they say.
 double Number(const JsonNode& node, std::string_view what);
 double FiniteNumber(const JsonNode& node, std::string_view what);
+/// A finite coordinate of the world, at most kMaxWorldCoordinate in magnitude (world_bounds.hpp).
+double WorldCoordinate(const JsonNode& node, std::string_view what);
 long long Integer(const JsonNode& node, std::string_view what);
 /// An integer in [lo, hi], so that narrowing it afterwards loses nothing.
 long long IntegerInRange(const JsonNode& node, std::string_view what, long long lo, long long hi);
@@ -73,9 +75,9 @@ bool Boolean(const JsonNode& node, std::string_view what);
 std::string String(const JsonNode& node, std::string_view what);
 std::vector<double> Numbers(const JsonNode& node, std::string_view what);
 std::vector<long long> Integers(const JsonNode& node, std::string_view what);
-/// [x, y], finite.
+/// [x, y], world coordinates.
 Vec2 Point(const JsonNode& node, std::string_view what);
-/// [x, y, theta], finite.
+/// [x, y, theta]: x and y world coordinates, theta finite.
 Se2 Pose(const JsonNode& node, std::string_view what);
 /// Checks "format" and "version" of a document.
 void RequireFormat(const JsonNode& root, std::string_view format, int version);

@@ -3,6 +3,7 @@
 
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/json_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 #include "json_document.hpp"
 
@@ -47,6 +48,14 @@ SceneSurface ReadSurface(const JsonNode& node) {
     const double radius = detail::FiniteNumber(radius_node, "the radius");
     if (!(radius > 0.0))
       detail::Fail(radius_node, fmt::format("radius must be positive, got {}", radius));
+    // The whole circle within the world, as every point of a scene: its bounds are drawn and
+    // gridded like the points'.
+    const double room = kMaxWorldCoordinate - center.cwiseAbs().maxCoeff();
+    if (!(radius <= room))
+      detail::Fail(radius_node,
+                   fmt::format("expected a radius of at most {} m, which keeps the circle about "
+                               "({}, {}) within {:.0e} m of the origin, got {}",
+                               room, center.x(), center.y(), kMaxWorldCoordinate, radius));
     surface.shape = Circle{center, radius};
   } else {
     detail::Fail(

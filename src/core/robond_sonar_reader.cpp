@@ -9,6 +9,7 @@
 #include <priormap/core/angles.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/robond_sonar_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 namespace priormap {
 namespace {
@@ -87,6 +88,17 @@ class Fields {
            fmt::format("expected {} (a finite number), got {}", what, QuoteForMessage(t.text)));
     return value;
   }
+  // A coordinate of the world written in mm, in metres: within the bound of world_bounds.hpp.
+  [[nodiscard]] double WorldMillimetres(std::size_t i, const char* what) const {
+    const double mm = Number(i, what);
+    if (!IsWithinWorld(mm / 1000.0))
+      Fail(file_, line_.number, col(i),
+           fmt::format("expected {} at most {:.0e} in magnitude (priormap's bound of {:.0e} m on "
+                       "world coordinates), got {}",
+                       what, kMaxWorldCoordinate * 1000.0, kMaxWorldCoordinate,
+                       QuoteForMessage(line_.tokens[i].text)));
+    return mm / 1000.0;
+  }
   [[nodiscard]] int col(std::size_t i) const { return line_.tokens[i].col; }
 
  private:
@@ -127,7 +139,7 @@ Log Parse(std::string_view measurements, const std::string& measurements_name,
     Scan scan;
     scan.channel = "SONAR";
     scan.timestamp = t_z / 1000.0;
-    scan.pose = Se2(p.Number(1, "x in mm") / 1000.0, p.Number(2, "y in mm") / 1000.0,
+    scan.pose = Se2(p.WorldMillimetres(1, "x in mm"), p.WorldMillimetres(2, "y in mm"),
                     WrapAngle(DegToRad(p.Number(3, "theta in tenths of a degree") / 10.0)));
     scan.angles = options.bearings;
     scan.min_range = options.min_range;

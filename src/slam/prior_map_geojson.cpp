@@ -45,18 +45,11 @@ Vec2 Position(const JsonNode& node) {
                                  "elements",
                                  n));
   }
-  const Vec2 p{json::FiniteNumber(json::Element(node, 0), "x"),
-               json::FiniteNumber(json::Element(node, 1), "y")};
+  // Metres in a local frame, bounded as every position priormap reads: beyond the bound the
+  // map's extent (max - min) could overflow to infinity.
+  const Vec2 p{json::WorldCoordinate(json::Element(node, 0), "x"),
+               json::WorldCoordinate(json::Element(node, 1), "y")};
   if (n == 3) (void)json::FiniteNumber(json::Element(node, 2), "z");
-  // Metres in a local frame: 1e9 m is 25 times round the Earth. Beyond it the map's extent
-  // (max - min) could overflow to infinity.
-  constexpr double kMaxCoordinate = 1e9;
-  for (int i = 0; i < 2; ++i)
-    if (std::abs(p[i]) > kMaxCoordinate)
-      json::Fail(json::Element(node, static_cast<std::size_t>(i)),
-                 fmt::format("expected {} in metres of a local frame, at most {:.0e} in magnitude, "
-                             "got {}",
-                             i == 0 ? "x" : "y", kMaxCoordinate, p[i]));
   return p;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <set>
 #include <string>
 #include <sys/wait.h>
@@ -596,15 +597,98 @@ TEST_F(Cli, PlotRefusesToOverwriteItsInputAndWorldsTooLargeToDraw) {
   fs::copy_file(Work("s.json"), Work("s.svg"));
   EXPECT_THAT(Fails({"plot", "s.svg", "-o", "s.svg"}).err,
               HasSubstr("one would overwrite the other"));
-  WriteAll(Work("far.json"),
-           R"({"format":"priormap.scan","version":1,"pose":[1e308,0,0],"max_range":1e308,)"
-           R"("angles":[-0.5,0.5],"ranges":[1e308,1]})");
-  EXPECT_THAT(Fails({"plot", "far.json", "-o", "far.png"}).err, HasSubstr("too far to draw"));
+  // Readings that end beyond the world (its poses cannot: the readers refuse them).
+  WriteAll(Work("far.json"), R"({"format":"priormap.scan","version":1,"pose":[0,0,0],)"
+                             R"("angles":[-0.5,0.5],"ranges":[1e308,1]})");
+  EXPECT_THAT(Fails({"plot", "far.json", "-o", "far.png"}).err,
+              HasSubstr("far.json: poses or readings lie beyond 1e+09 m of the origin, too far "
+                        "to draw"));
   WriteAll(Work("long.json"), R"({"format":"priormap.scan","version":1,"pose":[0,0,0],)"
                               R"("angles":[-0.5,0.5],"ranges":[1.79e308,1]})");
   EXPECT_THAT(Fails({"plot", "long.json", "--kind", "ranges", "-o", "long.png"}).err,
               HasSubstr("too large to draw"));
   EXPECT_EQ(ReadAll(Work("s.json")), scan);
+}
+
+// A finite but absurd pose made each command fail later, with a grid or a window too large to
+// make and no line to look at: every command that reads the log now names the record's field.
+TEST_F(Cli, APoseBeyondTheWorldIsReportedAtItsFieldByEveryCommandThatReadsTheLog) {
+  WriteAll(Work("far.log"),
+           "ODOM 0 0 0 0 0 0\n"
+           "FLASER 5 1 1 1 1 1 1e300 0 0 1e300 0 0\n");
+  WriteAll(Work("far.json"),
+           "{\"format\": \"priormap.log\", \"version\": 1, \"records\": [\n"
+           "{\"type\": \"scan\", \"pose\": [0, 1e300, 0], \"angles\": [0], "
+           "\"ranges\": [1]}]}\n");
+  const std::map<std::string, std::string> located = {
+      {"far.log",
+       "priormap: error: far.log:2:20: expected laser pose x in metres of a local frame, at "
+       "most 1e+09 in magnitude, got '1e300'"},
+      {"far.json",
+       "priormap: error: far.json:2:30: expected y in metres of a local frame, at most 1e+09 in "
+       "magnitude, got 1e+300 (at /records/0/pose/1)"}};
+  for (const auto& [log, message] : located) {
+    for (const std::vector<std::string>& args :
+         {std::vector<std::string>{"grid", "--log", log, "-o", "grid"},
+          {"prf", "--log", log, "-o", "prf", "--samples", "10", "--burn-in", "0"},
+          {"plot", log, "-o", "far.png"},
+          {"convert", log, "-o", "out.log"}}) {
+      const RunResult r = Fails(args);
+      EXPECT_THAT(r.err, HasSubstr(message)) << args[0];
+      EXPECT_THAT(r.err, Not(HasSubstr("cells"))) << args[0];
+    }
+  }
+}
+
+// A scene far away made plot blame the log ("far.log: poses or readings lie beyond ..."): the
+// scene is named, at the coordinate that leaves the world.
+TEST_F(Cli, PlotNamesASceneBeyondTheWorldNotTheLog) {
+  Ok({"simulate", "--scene", "l-room", "--log", "-o", "room.json"});
+  WriteAll(Work("far-scene.json"),
+           "{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [\n"
+           "  {\"type\": \"polyline\", \"points\": [[2e9, 0], [2e9, 4]]}]}\n");
+  WriteAll(Work("absurd-scene.json"),
+           "{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [\n"
+           "  {\"type\": \"circle\", \"center\": [0, 1e300], \"radius\": 1}]}\n");
+  const RunResult far = Fails({"plot", "room.json", "--scene", "far-scene.json", "-o", "p.png"});
+  EXPECT_THAT(far.err, HasSubstr("priormap: error: far-scene.json:2:36: expected x in metres of a "
+                                 "local frame, at most 1e+09 in magnitude, got 2000000000"));
+  EXPECT_THAT(far.err, Not(HasSubstr("room.json")));
+  const RunResult absurd =
+      Fails({"plot", "room.json", "--scene", "absurd-scene.json", "-o", "p.png"});
+  EXPECT_THAT(absurd.err, HasSubstr("priormap: error: absurd-scene.json:2:36: expected y in "
+                                    "metres of a local frame"));
+  EXPECT_THAT(absurd.err, Not(HasSubstr("room.json")));
+  // Far from the log but within the world: drawn.
+  WriteAll(Work("distant-scene.json"),
+           "{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [\n"
+           "  {\"type\": \"polyline\", \"points\": [[9e8, 0], [9e8, 4]]}]}\n");
+  Ok({"plot", "room.json", "--scene", "distant-scene.json", "-o", "p.png"});
+}
+
+// A simulated scan at a pose the readers refuse could not be read back.
+TEST_F(Cli, SimulateRefusesAPoseBeyondTheWorld) {
+  EXPECT_THAT(Fails({"simulate", "--pose", "2e9,0,0", "-o", "s.json"}).err,
+              HasSubstr("priormap: error: --pose: expected x in metres of a local frame, at most "
+                        "1e+09 in magnitude, got 2000000000"));
+  EXPECT_THAT(Fails({"simulate", "--pose", "0,-1e300,0", "-o", "s.json"}).err,
+              HasSubstr("--pose: expected y in metres of a local frame"));
+}
+
+// Bytes after the last gzip member were ignored: a log with a second file appended lost it
+// without a word. Members written one after the other are one log.
+TEST_F(Cli, GzipLogsAreReadAsTheirMembersConcatenatedAndTrailingDataIsAnError) {
+  OkLosingToCarmen({"simulate", "--scene", "l-room", "--log", "-o", "room.log.gz"},
+                   "the ground truth");
+  const std::string member = ReadAll(Work("room.log.gz"));
+  WriteAll(Work("twice.log.gz"), member + member);
+  EXPECT_EQ(ReadLogFile("twice.log.gz").scans.size(), 2 * ReadLogFile("room.log.gz").scans.size());
+  WriteAll(Work("tail.log.gz"), member + "FLASER 0 0 0 0 0 0 0\n");
+  EXPECT_THAT(Fails({"convert", "tail.log.gz", "-o", "out.json"}).err,
+              HasSubstr(fmt::format("priormap: error: tail.log.gz: trailing data after the last "
+                                    "gzip member, at byte offset {} of {}: expected another gzip "
+                                    "member (magic bytes 1f 8b) or the end of the file",
+                                    member.size(), member.size() + 21)));
 }
 
 // A run that fails writes none of its outputs, even when the first one could have been written.

@@ -130,6 +130,31 @@ TEST(CarmenMalformed, InfiniteOdometryThetaIsRejectedAsNonFinite) {
                   "odometry pose theta must be finite, got 'inf'");
 }
 
+// A finite but absurd position was read, and failed later as a grid too large to make, without
+// a line to look at; it is reported at its field, with the bound it breaks.
+TEST(CarmenMalformed, APositionBeyondTheWorldIsReportedAtItsField) {
+  ExpectLineError("FLASER 3 1 2 3 1e300 0 0 0 0 0", 16,
+                  "expected laser pose x in metres of a local frame, at most 1e+09 in magnitude, "
+                  "got '1e300'");
+  ExpectLineError("FLASER 3 1 2 3 0 -2e9 0 0 0 0", 18, "laser pose y in metres");
+  ExpectLineError("FLASER 3 1 2 3 0 0 0 0 1e10 0", 24, "odometry pose y in metres");
+  ExpectLineError("ODOM 1e300 0 0 0 0 0", 6, "odometry pose x in metres");
+  ExpectLineError("TRUEPOS 0 1e300 0 0 0 0", 11, "true pose y in metres");
+  ExpectLineError("TRUEPOS 0 0 0 -1e300 0 0", 15, "odometry pose x in metres");
+  ExpectLineError("ROBOTLASER1 0 -1.5 3 0.01 80 0.01 0 3 1 2 3 0 1e300 0 0 0 0 0 0 0 0 0 0", 47,
+                  "laser pose x in metres");
+  ExpectLineError("ROBOTLASER1 0 -1.5 3 0.01 80 0.01 0 3 1 2 3 0 0 0 0 0 1e300 0 0 0 0 0 0", 55,
+                  "robot pose y in metres");
+}
+
+TEST(CarmenMalformed, PositionsUpToTheWorldsBoundAndAnyThetaAreRead) {
+  const Result<Log> log =
+      ParseCarmenLog("FLASER 3 1 2 3 1e9 -1e9 1e300 -1e9 1e9 0\nODOM -1e9 1e9 0 0 0 0\n", kName);
+  ASSERT_TRUE(log.ok()) << log.error();
+  EXPECT_EQ(log.value().scans.at(0).pose.x(), 1e9);
+  EXPECT_EQ(log.value().odometry.at(0).pose.y(), 1e9);
+}
+
 TEST(CarmenMalformed, OdometryWithTooFewFieldsEndsEarly) {
   // The column is one past the end of the line: where the missing field should be.
   ExpectLineError("ODOM 1 2 3 0 0", 15, "ODOM record ends early: expected accel");

@@ -14,6 +14,7 @@
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 #include "testing/log_equality.hpp"
 #include "testing/temp_dir.hpp"
@@ -509,7 +510,7 @@ const std::string kEveryRecordType =
     "FLASER 3 1.5 nan 2.5 1 2 0.5 1.1 2.1 0.6 12.5 host 12.75\n"
     "RLASER 2 4 -0 1 2 0.5 1.1 2.1 0.6\n"
     "ODOM 1 2 3 0.1 0.2 0.3 13 host 13.5\n"
-    "ODOM -1e-300 2e300 -3.14159 nan inf -inf\n"
+    "ODOM -1e-300 1e9 -3.14159 nan inf -inf\n"
     "TRUEPOS 1 2 3 4 5 6 14 host 14.5\n"
     "TRUEPOS 0.1 0.2 0.3 0.4 0.5 0.6\n" +
     Flaser(Continuous(181)) +
@@ -719,13 +720,14 @@ RC_GTEST_PROP(Carmen, FormatInvertsParseForRandomLogs, ()) {
                      rc::gen::map(rc::gen::arbitrary<int>(), [](int v) { return v / 1000.0; }),
                      rc::gen::arbitrary<double>());
   const auto finite = rc::gen::suchThat(number, [](double v) { return std::isfinite(v); });
+  // Positions within the world, as the reader requires: any finite number folded into it.
+  const auto coordinate = rc::gen::map(
+      finite, [](double v) { return IsWithinWorld(v) ? v : std::fmod(v, kMaxWorldCoordinate); });
   std::ostringstream text;
   text.precision(17);
   const int records = *rc::gen::inRange(1, 8);
   for (int k = 0; k < records; ++k) {
-    const auto pose = [&] {
-      for (int i = 0; i < 3; ++i) text << ' ' << *finite;
-    };
+    const auto pose = [&] { text << ' ' << *coordinate << ' ' << *coordinate << ' ' << *finite; };
     const auto timestamps = [&] {
       if (*rc::gen::arbitrary<bool>()) {
         text << ' ' << *finite << ' ' << *rc::gen::element<std::string>("nohost", "h", "1") << ' '

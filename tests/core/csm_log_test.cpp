@@ -424,6 +424,15 @@ TEST(CsmLogMalformed, PosesMustBeThreeNumbersOrUnknown) {
                                "\"odometry\" as [x, y, theta]")));
 }
 
+TEST(CsmLogMalformed, APositionBeyondTheWorldIsReportedAtTheCoordinate) {
+  EXPECT_THAT(Errors(Document("odometry", "[0, 1e300, 0]")),
+              ElementsAre(DiagnosticAt(8, 19,
+                                       "expected \"odometry\" y in metres of a local frame, at "
+                                       "most 1e+09 in magnitude, got 1e+300 (at /odometry/1)")));
+  EXPECT_THAT(Errors(Document("estimate", "[-5e9, 0, 0]")),
+              ElementsAre(DiagnosticAt(9, 16, "expected \"estimate\" x in metres")));
+}
+
 TEST(CsmLogMalformed, BadSigmaOrTimestamp) {
   EXPECT_THAT(Errors(Document("valid", "[1, 1, 1], \"readings_sigma\": [0.1, -0.1, 0.1]")),
               ElementsAre(DiagnosticAt(7, 47,

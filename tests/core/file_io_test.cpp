@@ -1,8 +1,10 @@
 // Reading files whole (plain or gzip, recognised by content) and writing them atomically.
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -16,6 +18,7 @@
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
 
+#include "testing/ended_process.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap {
@@ -408,6 +411,75 @@ TEST(FileIo, ConcurrentWritesRegisterAndReleaseTheirTemporaryFiles) {
   EXPECT_EQ(testing::FilesIn(dir.path()).size(), 8u);
   for (int t = 0; t < 8; ++t)
     EXPECT_EQ(testing::ReadAll(dir / ("out" + std::to_string(t) + ".txt")), "19");
+}
+
+// A write killed mid-way by SIGKILL (which no handler sees), or by a crash, leaves its temporary
+// file. The cleanup removes those of the outputs named whose process has ended, or that an
+// earlier process of this one's PID left; nothing that a running process may be writing, and no
+// other file.
+TEST(FileIo, StaleTemporaryFilesOfEndedWritersAreRemoved) {
+  const testing::TempDir dir;
+  const std::string ended = std::to_string(testing::EndedProcessId());
+  const std::string ours = std::to_string(::getpid());
+  const std::vector<std::string> stale = {".out.bin.tmp-" + ended + "-3",
+                                          ".out.bin.tmp-" + ours + "-4000000000"};
+  const std::vector<std::string> kept = {
+      ".out.bin.tmp-1-0",                     // process 1 runs
+      ".other.bin.tmp-" + ended + "-0",       // not an output named
+      ".out.bin.tmp-0-1",                     // no process's ID
+      ".out.bin.tmp-99999999999999999999-1",  // nor this
+      ".out.bin.tmp-" + ended,                // no counter
+      ".out.bin.tmp-" + ended + "-x",         // nor this
+      "out.bin.tmp-" + ended + "-0",          // no leading dot
+      ".out.bin.tmp-0" + ended + "-0",        // not as getpid() is written
+      "out.bin"};
+  for (const std::string& name : stale) testing::WriteAll(dir / name, "half");
+  for (const std::string& name : kept) testing::WriteAll(dir / name, "kept");
+  fs::create_directory(dir / (".out.bin.tmp-" + ended + "-9"));  // not a file
+  const auto out = [](std::string_view name) { return name == "out.bin"; };
+  EXPECT_THAT(RemoveStaleTemporaryFiles(dir.path(), out),
+              UnorderedElementsAre(dir / stale[0], dir / stale[1]));
+  std::vector<std::string> left = kept;
+  left.push_back(".out.bin.tmp-" + ended + "-9");
+  EXPECT_THAT(testing::FilesIn(dir.path()), ::testing::UnorderedElementsAreArray(left));
+  EXPECT_TRUE(RemoveStaleTemporaryFiles(dir / "missing", out).empty());
+}
+
+// This process's writes in progress keep their temporary files, from the same thread or another,
+// while the cleanup runs again and again: every write completes.
+TEST(FileIo, TheStaleCleanupKeepsThisProcesssWritesInProgress) {
+  const testing::TempDir dir;
+  const auto any = [](std::string_view) { return true; };
+  WriteFileAtomically(dir / "a.txt", [&](const fs::path& path) {
+    std::ofstream(path) << "whole";
+    EXPECT_TRUE(RemoveStaleTemporaryFiles(dir.path(), any).empty());
+    EXPECT_TRUE(fs::exists(path));
+  });
+  EXPECT_EQ(testing::ReadAll(dir / "a.txt"), "whole");
+
+  std::atomic<bool> writing{true};
+  std::atomic<int> failures{0};
+  std::thread cleaner([&] {
+    while (writing)
+      if (!RemoveStaleTemporaryFiles(dir.path(), any).empty()) ++failures;
+  });
+  std::vector<std::thread> writers;
+  for (int t = 0; t < 4; ++t) {
+    writers.emplace_back([&dir, &failures, t] {
+      for (int i = 0; i < 100; ++i) {
+        try {
+          WriteTextFileAtomically(dir / ("out" + std::to_string(t) + ".txt"), std::to_string(i));
+        } catch (const IoError&) {
+          ++failures;
+        }
+      }
+    });
+  }
+  for (std::thread& writer : writers) writer.join();
+  writing = false;
+  cleaner.join();
+  EXPECT_EQ(failures.load(), 0);
+  EXPECT_EQ(testing::FilesIn(dir.path()).size(), 5u);
 }
 
 }  // namespace

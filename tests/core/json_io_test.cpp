@@ -16,6 +16,7 @@
 #include <priormap/core/json_io.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/core/simulate.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 #include "testing/log_equality.hpp"
 #include "testing/temp_dir.hpp"
@@ -48,7 +49,7 @@ Scan RichScan() {
   scan.timestamp = 1234567.123456789;
   scan.pose = Se2(1.0 / 3, -2.0 / 7, 3.0);
   scan.robot_pose = Se2(0.1, 0.2, -0.3);
-  scan.odom_pose = Se2(-1e-300, 1e300, kPi);
+  scan.odom_pose = Se2(-1e-300, -kMaxWorldCoordinate, kPi);  // at the world's bound
   scan.angles = {-1.0, -0.3, 0.0, 1e-9, 0.7, 2.5};
   scan.ranges = {1.5, kNaN, kInf, -kInf, 0.0, 7.25};
   scan.sigma = {0.01, 0.02, 0.03, 0.04, 0.05, 1.0 / 3};
@@ -323,9 +324,12 @@ RC_GTEST_PROP(JsonIo, RandomScansRoundTrip, ()) {
   Scan scan;
   scan.channel = *rc::gen::element<std::string>("FLASER", "SIM", "", "\"odd\" \\ name\n");
   scan.timestamp = *number;
-  scan.pose = Se2(*finite, *finite, *finite);
-  if (*rc::gen::arbitrary<bool>()) scan.robot_pose = Se2(*finite, *finite, *finite);
-  if (*rc::gen::arbitrary<bool>()) scan.odom_pose = Se2(*finite, *finite, *finite);
+  // Positions within the world, as the reader requires: any finite number folded into it.
+  const auto coordinate = rc::gen::map(
+      finite, [](double v) { return IsWithinWorld(v) ? v : std::fmod(v, kMaxWorldCoordinate); });
+  scan.pose = Se2(*coordinate, *coordinate, *finite);
+  if (*rc::gen::arbitrary<bool>()) scan.robot_pose = Se2(*coordinate, *coordinate, *finite);
+  if (*rc::gen::arbitrary<bool>()) scan.odom_pose = Se2(*coordinate, *coordinate, *finite);
   double angle = *rc::gen::map(rc::gen::inRange(-400, 400), [](int v) { return v / 100.0; });
   const bool even = *rc::gen::arbitrary<bool>();
   const double step = *rc::gen::map(rc::gen::inRange(1, 10000), [](int v) { return v / 1e4; });
@@ -444,7 +448,8 @@ TEST(JsonIo, SceneWithEveryFieldRoundTrips) {
   scene.name = "every \"field\"";
   scene.surfaces.push_back({Polyline{{{0, 0}, {1.0 / 3, 0}, {1, 1e-300}}, true}, false, "room"});
   scene.surfaces.push_back({Polyline{{{5, 5}, {6, 5}}, false}, true, ""});
-  scene.surfaces.push_back({Circle{{-1e300, 2.5}, 1e-3}, true, "bin"});
+  // At the world's bound: the circle's far side at -kMaxWorldCoordinate.
+  scene.surfaces.push_back({Circle{{-kMaxWorldCoordinate + 0.5, 2.5}, 0.5}, true, "bin"});
   scene.default_pose = Se2(0.5, -0.5, kPi);
   scene.waypoints = {{0, 0}, {1.0 / 7, 2}};
   ASSERT_TRUE(scene.Problems().empty());

@@ -211,6 +211,28 @@ TEST(JsonMalformed, NonFinitePoseIsReportedAtTheElement) {
                                        "\"inf\" (at /pose/1)")));
 }
 
+// A finite but absurd position is reported at the coordinate, with the bound it breaks, not
+// later as a grid too large to make.
+TEST(JsonMalformed, APositionBeyondTheWorldIsReportedAtTheCoordinate) {
+  EXPECT_THAT(LogErrors(ScanDocument("pose", "[1e300, 0, 0]")),
+              ElementsAre(DiagnosticAt(4, 12,
+                                       "expected x in metres of a local frame, at most 1e+09 in "
+                                       "magnitude, got 1e+300 (at /pose/0)")));
+  EXPECT_THAT(LogErrors(ScanDocument("pose", "[0, -2e9, 0]")),
+              ElementsAre(DiagnosticAt(4, 15, "expected y in metres of a local frame")));
+  EXPECT_THAT(LogErrors(ScanDocument("pose", "[0, 0, 0], \"odom_pose\": [0, 1e10, 0]")),
+              ElementsAre(DiagnosticAt(4, 39, "expected y in metres of a local frame")));
+  EXPECT_THAT(LogErrors("{\"format\": \"priormap.log\", \"version\": 1, \"records\": [\n"
+                        "{\"type\": \"odometry\", \"pose\": [-1e300, 0, 0]}]}"),
+              ElementsAre(DiagnosticAt(2, 31, "got -1e+300 (at /records/0/pose/0)")));
+  EXPECT_THAT(LogErrors("{\"format\": \"priormap.log\", \"version\": 1, \"records\": [\n"
+                        "{\"type\": \"true_pose\", \"true_pose\": [0, 0, 0], "
+                        "\"odom_pose\": [0, 1e300, 0]}]}"),
+              ElementsAre(DiagnosticAt(2, 64, "got 1e+300 (at /records/0/odom_pose/1)")));
+  // The bound itself is inside, and theta, an angle, has none.
+  EXPECT_TRUE(ParseJsonLog(ScanDocument("pose", "[1e9, -1e9, 1e300]"), kName).ok());
+}
+
 TEST(JsonMalformed, InconsistentScanIsReportedAtTheMemberItIsAbout) {
   EXPECT_THAT(LogErrors(ScanDocument("angles", "[0, 1, 0.5]")),
               ElementsAre(DiagnosticAt(5, 13,
@@ -410,6 +432,33 @@ TEST(JsonMalformed, PointWithThreeCoordinatesIsReportedAtThePoint) {
               ElementsAre(DiagnosticAt(2, 43,
                                        "expected a point [x, y] as [x, y] (at "
                                        "/surfaces/0/points/1)")));
+}
+
+// A scene point 1e300 away was read as a zero-length segment (1e300 + 4 == 1e300) and, drawn
+// with a log, blamed the log for lying too far away: it is reported at the coordinate.
+TEST(JsonMalformed, ASceneBeyondTheWorldIsReportedWhereItLeavesIt) {
+  EXPECT_THAT(SceneErrors(SceneDocument("0.5", "[[1e300, 0], [4, 0]]")),
+              ElementsAre(DiagnosticAt(2, 36,
+                                       "expected x in metres of a local frame, at most 1e+09 in "
+                                       "magnitude, got 1e+300 (at /surfaces/0/points/0/0)")));
+  EXPECT_THAT(SceneErrors(SceneDocument("0.5", "[[0, 0], [4, -2e9]]")),
+              ElementsAre(DiagnosticAt(2, 47, "got -2000000000 (at /surfaces/0/points/1/1)")));
+  EXPECT_THAT(SceneErrors("{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [\n"
+                          "  {\"type\": \"circle\", \"center\": [3e9, 1], \"radius\": 1}]}"),
+              ElementsAre(DiagnosticAt(2, 33, "got 3000000000 (at /surfaces/0/center/0)")));
+  // A circle whose centre is inside but whose far side is not.
+  EXPECT_THAT(SceneErrors("{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [\n"
+                          "  {\"type\": \"circle\", \"center\": [9e8, 1], \"radius\": 2e8}]}"),
+              ElementsAre(DiagnosticAt(2, 52,
+                                       "expected a radius of at most 100000000 m, which keeps "
+                                       "the circle about (900000000, 1) within 1e+09 m of the "
+                                       "origin, got 200000000 (at /surfaces/0/radius)")));
+  EXPECT_THAT(SceneErrors("{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [],\n"
+                          " \"default_pose\": [0, 5e9, 0]}"),
+              ElementsAre(DiagnosticAt(2, 22, "got 5000000000 (at /default_pose/1)")));
+  EXPECT_THAT(SceneErrors("{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [],\n"
+                          " \"waypoints\": [[0, 0], [-1e20, 0]]}"),
+              ElementsAre(DiagnosticAt(2, 25, "got -1e+20 (at /waypoints/1/0)")));
 }
 
 TEST(JsonMalformed, DegeneratePolylineIsReportedAtTheSurface) {

@@ -1,6 +1,6 @@
-// Reading log files whole (ReadLog, ReadCarmenLog): gzip members of any size, what follows the
-// last member, corrupt and truncated data, large files, and the numbers of a CARMEN log parsed
-// exactly as std::from_chars parses them.
+// Reading log files whole (ReadLog, ReadCarmenLog, and ReadFileText beside them): gzip members
+// of any size, what follows the last member, corrupt and truncated data, large files, and the
+// numbers of a CARMEN log parsed exactly as std::from_chars parses them.
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -17,6 +17,7 @@
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 #include "testing/diagnostic_matchers.hpp"
 #include "testing/log_equality.hpp"
@@ -76,23 +77,48 @@ TEST(LogReading, AnEmptyMemberAddsNothing) {
   EXPECT_TRUE(testing::SameLog(read.value(), Parsed(text)));
 }
 
-TEST(LogReading, WhatFollowsTheLastMemberIsIgnoredUnlessItStartsAMember) {
+// Bytes after the last member that do not start another were ignored, as zlib's gzread does:
+// a second file appended whole, or a member whose magic bytes were damaged, went unread without
+// a word. gzip(1) warns of them; here they are an error at the offset where they start.
+TEST(LogReading, WhatFollowsTheLastMemberIsAnErrorAtItsOffsetUnlessItStartsAMember) {
   const testing::TempDir dir;
   const std::string text = CarmenText(3, 5);
   const std::string gz = Gzipped(dir, text);
-  // As zlib's gzread: bytes that are not a gzip member after one are ignored.
+  const std::string name = (dir / "log.gz").string();
   for (const std::string& tail : {std::string("ODOM 1 2 3 0 0 0\n"), std::string(1000, '\0'),
                                   std::string("\x1f"), std::string("\x1f\x8c garbage")}) {
-    testing::WriteAll(dir / "log.gz", gz + tail);
-    const Result<Log> read = ReadLog(dir / "log.gz");
-    ASSERT_TRUE(read.ok()) << read.error();
-    EXPECT_TRUE(testing::SameLog(read.value(), Parsed(text)));
+    for (const std::string& members : {gz, Gzipped(dir, "") + gz}) {
+      testing::WriteAll(dir / "log.gz", members + tail);
+      const std::string message = fmt::format(
+          "trailing data after the last gzip member, at byte offset {} of {}: expected another "
+          "gzip member (magic bytes 1f 8b) or the end of the file",
+          members.size(), members.size() + tail.size());
+      for (const std::vector<Diagnostic>& diagnostics :
+           {ReadLog(dir / "log.gz").diagnostics(), ReadCarmenLog(dir / "log.gz").diagnostics(),
+            ReadFileText(dir / "log.gz").diagnostics()})
+        EXPECT_THAT(diagnostics, ElementsAre(DiagnosticAt(name, 0, 0, message)))
+            << QuoteForMessage(tail);
+    }
   }
-  // A second member that is cut short is not.
+  // A second member that is cut short is corrupt.
   testing::WriteAll(dir / "log.gz", gz + gz.substr(0, gz.size() / 2));
-  EXPECT_THAT(
-      ReadLog(dir / "log.gz").diagnostics(),
-      ElementsAre(DiagnosticAt((dir / "log.gz").string(), 0, 0, "corrupt or truncated gzip data")));
+  EXPECT_THAT(ReadLog(dir / "log.gz").diagnostics(),
+              ElementsAre(DiagnosticAt(name, 0, 0, "corrupt or truncated gzip data")));
+  EXPECT_THAT(ReadFileText(dir / "log.gz").diagnostics(),
+              ElementsAre(DiagnosticAt(name, 0, 0, "corrupt or truncated gzip data")));
+}
+
+// `cat a.gz b.gz c.gz` is one stream, as gzip(1) reads it, whichever reader reads it.
+TEST(LogReading, ConcatenatedMembersReadAsTheConcatenationByEveryReader) {
+  const testing::TempDir dir;
+  const std::string a = CarmenText(2, 11), b = CarmenText(1, 12), c = CarmenText(3, 13);
+  testing::WriteAll(dir / "log.gz", Gzipped(dir, a) + Gzipped(dir, b) + Gzipped(dir, c));
+  const Result<std::string> text = ReadFileText(dir / "log.gz");
+  ASSERT_TRUE(text.ok()) << text.error();
+  EXPECT_EQ(text.value(), a + b + c);
+  const Result<Log> read = ReadLog(dir / "log.gz");
+  ASSERT_TRUE(read.ok()) << read.error();
+  EXPECT_TRUE(testing::SameLog(read.value(), Parsed(a + b + c)));
 }
 
 TEST(LogReading, CorruptOrTruncatedGzipIsADiagnostic) {
@@ -256,12 +282,14 @@ TEST(LogReading, NumbersAreWhatFromCharsMakesOfThem) {
   for (const std::string& s : NumberSpellings())
     if (FromChars(s)) numbers.push_back(s);
   ASSERT_GT(numbers.size(), 19000U);
-  // Each number as a reading, and where a finite one is required (poses, timestamps) as the
-  // laser's x and the logger's timestamp when it is finite.
+  // Each number as a reading, where a finite one is required (timestamps) as the logger's
+  // timestamp when it is finite, and where a world coordinate is (poses) as the laser's x when
+  // it is one.
   std::string text;
   for (const std::string& s : numbers) {
     const std::string finite = std::isfinite(*FromChars(s)) ? s : "0";
-    text += "FLASER 1 " + s + " " + finite + " 0 0 0 0 0 1 nohost " + finite + "\n";
+    const std::string coordinate = IsWithinWorld(*FromChars(s)) ? s : "0";
+    text += "FLASER 1 " + s + " " + coordinate + " 0 0 0 0 0 1 nohost " + finite + "\n";
   }
   const Log log = Parsed(text);
   ASSERT_EQ(log.scans.size(), numbers.size());
@@ -269,10 +297,10 @@ TEST(LogReading, NumbersAreWhatFromCharsMakesOfThem) {
   for (std::size_t k = 0; k < numbers.size(); ++k) {
     const double expected = *FromChars(numbers[k]);
     const Scan& scan = log.scans[k];
-    const bool finite = std::isfinite(expected);
-    const bool same = SameNumber(scan.ranges[0], expected) &&
-                      (!finite || (SameNumber(scan.pose.x(), expected) &&
-                                   SameNumber(scan.carmen->logger_timestamp, expected)));
+    const bool same =
+        SameNumber(scan.ranges[0], expected) &&
+        (!std::isfinite(expected) || SameNumber(scan.carmen->logger_timestamp, expected)) &&
+        (!IsWithinWorld(expected) || SameNumber(scan.pose.x(), expected));
     if (!same && ++differences <= 10)
       ADD_FAILURE() << numbers[k] << ": read " << scan.ranges[0] << ", from_chars " << expected;
   }

@@ -167,6 +167,14 @@ TEST(RoboNdSonar, ReportsBadLinesAtFileLineAndColumn) {
   EXPECT_THAT(errors(good_z + "200 1 2 3 4 5 6 7 8\n", good_p),
               ElementsAre(DiagnosticAt("m.txt", 2, 1, "p.txt has 1")));
   EXPECT_THAT(errors("", good_p), ElementsAre(DiagnosticAt("m.txt", 1, 1, "no measurement")));
+  // A position beyond priormap's bound on world coordinates (1e9 m), at its field.
+  EXPECT_THAT(errors(good_z, "100 1e300 0 0\n"),
+              ElementsAre(DiagnosticAt("p.txt", 1, 5,
+                                       "expected x in mm at most 1e+12 in magnitude (priormap's "
+                                       "bound of 1e+09 m on world coordinates), got '1e300'")));
+  EXPECT_THAT(errors(good_z, "100 0 -2e12 0\n"),
+              ElementsAre(DiagnosticAt("p.txt", 1, 7, "expected y in mm at most 1e+12")));
+  EXPECT_TRUE(ParseRoboNdSonar(good_z, "m.txt", "100 1e12 -1e12 0\n", "p.txt").ok());
 }
 
 TEST(RoboNdSonar, RejectsRangeLimitsThatLeaveNoReadingValid) {

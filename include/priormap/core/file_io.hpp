@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <priormap/core/diagnostic.hpp>
 
@@ -18,7 +19,9 @@ class IoError : public std::runtime_error {
 };
 
 /// The bytes of `path`, decompressed when it is gzip data (recognised by its magic bytes, so
-/// the name need not end in .gz). Diagnostics for missing files and corrupt gzip streams.
+/// the name need not end in .gz). Concatenated gzip members are one stream, as gzip(1) reads
+/// them. Diagnostics for missing files, corrupt or truncated gzip members, and bytes after the
+/// last member that do not start another (at their byte offset).
 [[nodiscard]] Result<std::string> ReadFileText(const std::filesystem::path& path);
 
 /// Calls `write(temporary_path)`, which must create that file, then renames it to `path`, so
@@ -36,6 +39,18 @@ void WriteTextFileAtomically(const std::filesystem::path& path, std::string_view
 /// that is about to end the process (which would leave them behind). Async-signal-safe: it calls
 /// only unlink(2). The writes in progress then fail, as their temporary file is gone.
 void RemoveTemporaryFilesInProgress() noexcept;
+
+/// Removes the temporary files that WriteFileAtomically left behind in `directory` (named
+/// ".NAME.tmp-PID-N") for outputs whose NAME `is_output` accepts, when their writer can no longer
+/// be writing them: process PID is gone (it was killed mid-write: SIGKILL, a crash, a power loss),
+/// or PID is this process's and none of its writes has that file in progress (an earlier process
+/// had the same PID). The temporaries of a running process are kept, as is every other file: the
+/// directory need not be locked against other writers. (A process of another PID namespace or
+/// host writing there is not seen as running.) Best effort: errors are ignored. Returns the files
+/// removed.
+std::vector<std::filesystem::path> RemoveStaleTemporaryFiles(
+    const std::filesystem::path& directory,
+    const std::function<bool(std::string_view name)>& is_output);
 
 /// The UTF-8 byte order mark some editors put at the start of a text file; readers skip it.
 inline constexpr std::string_view kUtf8ByteOrderMark = "\xef\xbb\xbf";
