@@ -58,6 +58,10 @@ StopOnSignals::StopOnSignals() {
   struct sigaction action {};
   action.sa_handler = RequestStop;
   sigemptyset(&action.sa_mask);
+  // The handler returns (main's does not), so a write it interrupts must go on rather than fail
+  // with EINTR: the stop's message blocked on a full pipe or a paused terminal would be lost, the
+  // status line cut.
+  action.sa_flags = SA_RESTART;
   // An ignored signal stays ignored (nohup; a shell's background job and SIGINT), as main has it:
   // the handler is not installed at all, not even for a moment.
   sigaction(SIGINT, nullptr, &previous_int_);
@@ -67,6 +71,11 @@ StopOnSignals::StopOnSignals() {
 }
 
 StopOnSignals::~StopOnSignals() {
+  // A stopped run is on its way to ExitAsStopped: the same request delivered twice may come
+  // after the run has stopped, and main's handler would take it for a second request, ending
+  // the process by the signal with the stop's message on stdout lost. This handler still ends it
+  // at once, as main's would, for a signal a second or more after the first.
+  if (StopRequested()) return;
   sigaction(SIGINT, &previous_int_, nullptr);
   sigaction(SIGTERM, &previous_term_, nullptr);
 }

@@ -1,7 +1,7 @@
 #pragma once
-// Ctrl-C and SIGTERM during a long run (prf, prf study, prf sonar-study): the first stops the
-// chains at their next chunk, checkpointed, so that the run can be resumed; a second, a second or
-// more after the first, ends the process at once.
+// Ctrl-C and SIGTERM during a long run (prf, prf study, prf sonar-study, scan --all): the first
+// stops it checkpointed at the chains' next chunk (or once the scans under way are journaled), so
+// that it can be resumed; a second, a second or more after the first, ends the process at once.
 
 #include <atomic>
 #include <csignal>
@@ -14,7 +14,8 @@ namespace priormap::app {
 [[nodiscard]] bool StopRequested();
 
 // Installs the stopping handler for SIGINT and SIGTERM while it lives, then puts back the handlers
-// it replaced (main's, which remove temporary files when a signal ends the process).
+// it replaced (main's, which remove temporary files when a signal ends the process); after a stop
+// it leaves its own in place, for the process's way out.
 class StopOnSignals {
  public:
   StopOnSignals();

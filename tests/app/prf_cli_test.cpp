@@ -1,11 +1,15 @@
 // End-to-end tests of `priormap prf` and `priormap grid`: the prior statistics as JSON; a
 // simulated log mapped by PRF chains (every output, reproducible by seed, R-hat and acceptance
 // in the summary) and by the occupancy grid; bad options reported without output.
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <limits>
+#include <optional>
+#include <set>
 #include <string>
 #include <sys/wait.h>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -563,6 +567,52 @@ TEST_F(MappingCli, ASignalDeliveredTwiceStillStopsTheChainsCheckpointed) {
   EXPECT_EQ(WEXITSTATUS(r.wait_status), 128 + SIGTERM) << r.err;
   EXPECT_THAT(r.out, HasSubstr("stopped and checkpointed"));
   EXPECT_TRUE(Run({"prf", "--resume", "run", "--stop-after-steps", "1000"}).status == 0);
+}
+
+// A second signal a second or more after the first is a user who insists: it ends the process at
+// once, by that signal, without waiting for the chains' chunk, checkpointing or writing outputs.
+// The checkpoint written before it is left whole, and the run resumes from it.
+TEST_F(MappingCli, ASecondSignalASecondOrMoreLaterEndsTheRunAtOnce) {
+  using namespace std::chrono_literals;
+  // --check recomputes the likelihood after every accepted move: the burn-in's 20 steps (a chunk,
+  // checkpointed after it) take a fraction of a second, the next chunk's 20000 steps tens of
+  // seconds. The first signal comes 1 s after that checkpoint appears, which leaves the run the
+  // time to sync the checkpoint's directory and begin the long chunk (a signal before would stop
+  // it there, checkpointed); the second 2 s later (the second within which a signal is the first
+  // delivered twice, with a margin), the run still in that chunk.
+  const std::filesystem::path checkpoint = Work("run") / "checkpoints" / "chain-0.ckpt";
+  std::string checkpointed;
+  std::optional<std::chrono::steady_clock::time_point> checkpointed_at;
+  const testing::SignalledRun r = testing::RunAndSignalWhen(
+      Work("."),
+      {"prf", "--log", "room.log", "--beam-step", "2", "--samples", "100000000", "--burn-in", "20",
+       "--chains", "1", "--check", "--trace-every", "100000000", "--checkpoint-every", "0.000001",
+       "-o", "run"},
+      [&] {
+        std::error_code ec;
+        if (!checkpointed_at && std::filesystem::exists(checkpoint, ec)) {
+          checkpointed = testing::ReadAll(checkpoint);
+          checkpointed_at = std::chrono::steady_clock::now();
+        }
+        return checkpointed_at && std::chrono::steady_clock::now() - *checkpointed_at >= 1s;
+      },
+      "no checkpoint after 30 s", {.signal = SIGINT, .times = 2, .apart = 2s});
+  ASSERT_EQ(r.signals_while_running, 2)
+      << "the run ended before the second signal: " << testing::HowItEnded(r.wait_status)
+      << "; stdout:\n"
+      << r.out << "stderr:\n"
+      << r.err;
+  ASSERT_TRUE(WIFSIGNALED(r.wait_status)) << testing::HowItEnded(r.wait_status) << "; stderr:\n"
+                                          << r.err;
+  EXPECT_EQ(WTERMSIG(r.wait_status), SIGINT);
+  EXPECT_EQ(r.out, "");  // not "stopped and checkpointed": it did not wait for the chunk's end
+  // Neither outputs nor temporary files; the checkpoint as it was before the signals.
+  EXPECT_EQ(testing::FilesUnder(Work("run")),
+            (std::set<std::string>{"checkpoints", "checkpoints/chain-0.ckpt", "run.json"}));
+  EXPECT_EQ(testing::ReadAll(checkpoint), checkpointed);
+  const auto resumed = Run({"prf", "--resume", "run", "--stop-after-steps", "20"});
+  EXPECT_EQ(resumed.status, 0) << resumed.err;
+  EXPECT_THAT(resumed.err, HasSubstr("resumed 20 steps from"));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // same command with --resume does only the scans the journal lacks and writes what the
 // uninterrupted run writes (times aside); a journal of another run, a damaged one, a missing one
 // and a new run over one are refused without touching it. The log is simulated by the app itself.
+#include <chrono>
 #include <csignal>
 #include <cstddef>
 #include <filesystem>
@@ -29,6 +30,7 @@ using priormap::testing::ReadAll;
 using priormap::testing::WriteAll;
 using ::testing::HasSubstr;
 using ::testing::MatchesRegex;
+using ::testing::Not;
 using ::testing::StartsWith;
 
 constexpr const char* kOut = "scans.jsonl";
@@ -59,7 +61,9 @@ json WithoutSeconds(const std::string& line) {
 class ScanResumeCli : public priormap::testing::CliFixture {
  protected:
   void SetUp() override {
-    // 237 scans of 181 beams: scan --all takes about 1.5 s (two cores).
+    // 237 scans of 181 beams: scan --all takes about 1.5 s. The signalled runs are held to one
+    // CPU, so that it lasts as long on many cores: one signalled after its first records cannot
+    // have ended by then.
     const auto r = Run({"simulate", "--log", "--rate", "8", "--beams", "181", "-o", "run.json"});
     ASSERT_EQ(r.status, 0) << r.err;
     std::smatch m;
@@ -76,18 +80,27 @@ class ScanResumeCli : public priormap::testing::CliFixture {
     return args;
   }
 
-  /// The run stopped by `signal` once its journal holds `records` records (mid-run: the handlers
-  /// of the graceful stop are in place once a record is journaled).
-  testing::SignalledRun Stop(int signal, std::size_t records = 10) const {
+  /// The run (`extra` options) signalled as `how` says, on one CPU, once its journal holds
+  /// `records` records more than `before` (mid-run: the handlers of the graceful stop are in
+  /// place once a record is journaled).
+  testing::SignalledRun Signalled(testing::Signalling how, std::size_t records = 10,
+                                  const std::vector<std::string>& extra = {},
+                                  std::size_t before = 0) const {
     const fs::path journal = Work(kJournal);
+    how.one_cpu = true;
     return testing::RunAndSignalWhen(
-        Work("."), Command(),
+        Work("."), Command(extra),
         [&] {
           std::error_code ec;
           if (!fs::exists(journal, ec)) return false;
-          return CompleteLines(ReadAll(journal)).size() >= records + 1;
+          return CompleteLines(ReadAll(journal)).size() >= before + records + 1;
         },
-        fmt::format("{} records not journaled after 30 s", records), signal);
+        fmt::format("{} records not journaled after 30 s", records), how);
+  }
+
+  /// The run stopped by `signal` once its journal holds `records` records.
+  testing::SignalledRun Stop(int signal, std::size_t records = 10) const {
+    return Signalled({.signal = signal}, records);
   }
 
   /// The uninterrupted run's records (written to ref/all.jsonl, reading the same run.json).
@@ -204,15 +217,7 @@ TEST_F(ScanResumeCli, AResumedRunStoppedAgainKeepsTheScansOfBothSessions) {
   const std::vector<std::string> first_lines = CompleteLines(ReadAll(Work(kJournal)));
   const std::size_t first_done = first_lines.size() - 1;
 
-  const fs::path journal = Work(kJournal);
-  const testing::SignalledRun second = testing::RunAndSignalWhen(
-      Work("."), Command({"--resume"}),
-      [&] {
-        std::error_code ec;
-        return fs::exists(journal, ec) &&
-               CompleteLines(ReadAll(journal)).size() >= first_done + 1 + 10;
-      },
-      "10 more records not journaled after 30 s", SIGTERM);
+  const testing::SignalledRun second = Signalled({.signal = SIGTERM}, 10, {"--resume"}, first_done);
   ASSERT_TRUE(WIFEXITED(second.wait_status) && WEXITSTATUS(second.wait_status) == 143)
       << second.err;
   EXPECT_THAT(second.err, StartsWith(fmt::format("resumed {} of {} scans", first_done, scans_)));
@@ -247,6 +252,28 @@ TEST_F(ScanResumeCli, SigintStopsTheRunWithItsExitStatus) {
   ASSERT_TRUE(WIFEXITED(stopped.wait_status)) << stopped.err;
   EXPECT_EQ(WEXITSTATUS(stopped.wait_status), 128 + SIGINT) << stopped.err;
   EXPECT_THAT(stopped.out, StartsWith("stopped: "));
+  EXPECT_EQ(WorkFiles(), (std::set<std::string>{"run.json", kJournal}));
+}
+
+// The same request delivered twice, the second after the scans have stopped (the run waiting to
+// write its message): still one request, the message written, the status SIGTERM's.
+TEST_F(ScanResumeCli, ASignalDeliveredTwiceIsOneRequestEvenOnceTheScansHaveStopped) {
+  using namespace std::chrono_literals;
+  // Its stdout full, the stopped run waits to write its message, past the scans and the scope of
+  // their StopOnSignals, until the second signal has come: 500 ms later, long enough for the
+  // scans under way to end, within the second of one request.
+  const testing::SignalledRun stopped =
+      Signalled({.signal = SIGTERM, .times = 2, .apart = 500ms, .stdout_full = true});
+  EXPECT_EQ(stopped.signals_while_running, 2);
+  ASSERT_TRUE(WIFEXITED(stopped.wait_status))
+      << testing::HowItEnded(stopped.wait_status) << "; stderr:\n"
+      << stopped.err;
+  EXPECT_EQ(WEXITSTATUS(stopped.wait_status), 128 + SIGTERM) << stopped.err;
+  const std::size_t done = CompleteLines(ReadAll(Work(kJournal))).size() - 1;
+  EXPECT_EQ(stopped.out, fmt::format("stopped: {} of {} scans done, kept in scans.jsonl.partial; "
+                                     "continue with the same command and --resume\n",
+                                     done, scans_));
+  EXPECT_THAT(stopped.err, Not(HasSubstr("error")));
   EXPECT_EQ(WorkFiles(), (std::set<std::string>{"run.json", kJournal}));
 }
 
