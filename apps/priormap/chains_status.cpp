@@ -58,4 +58,11 @@ std::string ChainsLogPosteriors(const std::vector<prf::ChainProgress>& chains) {
   return fmt::format("log posteriors {}{}", fmt::join(parts, "; "), waiting);
 }
 
+std::string MappingState(const prf::MappingProgress& progress) {
+  if (!progress.annealing) return ChainsLogPosteriors(progress.chains);
+  const prf::AnnealingProgress& a = *progress.annealing;
+  return fmt::format("annealing chain {} at T {:.3g}, log posterior {:.1f}", a.chain, a.temperature,
+                     a.log_posterior);
+}
+
 }  // namespace priormap::app

@@ -213,7 +213,7 @@ class MappingStatus {
     const std::string line = fmt::format(
         "{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, {}", percent,
         seconds > 0.0 ? static_cast<double>(p.steps_done - *last_steps_) / seconds / 1e3 : 0.0,
-        100.0 * interval.AcceptanceRate(), ChainsLogPosteriors(p.chains));
+        100.0 * interval.AcceptanceRate(), MappingState(p));
     last_steps_ = p.steps_done;
     last_seconds_ = p.seconds;
     last_total_ = total;
@@ -444,7 +444,7 @@ void RunMappingCommand(MappingCliOptions o) {
   summary["window"] = {r.window.min.x(), r.window.min.y(), r.window.max.x(), r.window.max.y()};
   summary["wall_time_s"] = r.wall_time_s;
   summary["proposals"] = r.proposals;
-  summary["proposals_per_second"] = static_cast<double>(r.proposals) / r.sampling_time_s;
+  summary["proposals_per_second"] = r.ProposalsPerSecond();
   summary["rhat"] = {{"log_posterior", NumberOrInfinityText(r.rhat_log_posterior)},
                      {"point_colours", NumberOrInfinityText(r.rhat_point_colours)},
                      {"points", r.trace_points.size()}};

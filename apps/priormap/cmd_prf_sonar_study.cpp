@@ -87,13 +87,11 @@ void RunSonarStudyCommand(SonarStudyCliOptions o) {
     folders.push_back(prf::StudyCaseFolder(scene.name, o.study.sensor.name));
   const DirectoryLock lock = BeginStudy(dir, folders, o.session.resume);
 
-  prf::SonarStudyResult result;
-  RunStoppableStudy(
-      [&] { result = prf::RunSonarStudy(o.study, MakeStudySession(dir, o.session)); });
-  std::uint64_t resumed = 0;
-  for (const prf::SonarStudyCase& c : result.cases) resumed += c.prf.resumed_steps;
-  ReportResumedSteps(resumed);
-  if (!result.complete) return EndStoppedStudy(dir, folders);
+  const std::optional<prf::SonarStudyResult> ended = RunStoppableStudy(
+      dir, folders, o.session,
+      [&](const prf::StudySession& session) { return prf::RunSonarStudy(o.study, session); });
+  if (!ended) return;
+  const prf::SonarStudyResult& result = *ended;
 
   WriteTextFileAtomically(dir / "summary.json", prf::SonarStudySummaryJson(result, o.study));
   const std::string table = prf::SonarStudyMarkdownTable(result);

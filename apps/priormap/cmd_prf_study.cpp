@@ -3,6 +3,7 @@
 #include <array>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,12 +76,11 @@ void RunStudyCommand(StudyCliOptions o) {
       folders.push_back(prf::StudyCaseFolder(scene.name, sensor.name));
   const DirectoryLock lock = BeginStudy(dir, folders, o.session.resume);
 
-  prf::MapStudyResult result;
-  RunStoppableStudy([&] { result = prf::RunMapStudy(o.study, MakeStudySession(dir, o.session)); });
-  std::uint64_t resumed = 0;
-  for (const prf::MapStudyCase& c : result.cases) resumed += c.prf.resumed_steps;
-  ReportResumedSteps(resumed);
-  if (!result.complete) return EndStoppedStudy(dir, folders);
+  const std::optional<prf::MapStudyResult> ended = RunStoppableStudy(
+      dir, folders, o.session,
+      [&](const prf::StudySession& session) { return prf::RunMapStudy(o.study, session); });
+  if (!ended) return;
+  const prf::MapStudyResult& result = *ended;
 
   WriteTextFileAtomically(dir / "summary.json", prf::MapStudySummaryJson(result, o.study));
   const std::string table = prf::MapStudyMarkdownTable(result);

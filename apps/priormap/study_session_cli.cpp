@@ -61,7 +61,7 @@ class StudyStatus {
       if (percent == last_percent_ || (!terminal_ && percent / 10 == last_percent_ / 10)) return;
     }
     last_percent_ = percent;
-    const std::string line = fmt::format("{:3d}% of the chains' steps, {}/{} cases done, {:.0f} s",
+    const std::string line = fmt::format("{:3d}% of the PRF steps, {}/{} cases done, {:.0f} s",
                                          percent, p.cases_done, p.cases_total, p.seconds);
     if (!p.case_done.empty()) {
       if (terminal_) fmt::print(stderr, "\r\x1b[K");
@@ -148,7 +148,7 @@ prf::StudySession MakeStudySession(const std::filesystem::path& dir,
           .progress = StudyStatus()};
 }
 
-void RunStoppableStudy(const std::function<void()>& run) {
+void RunStoppable(const std::function<void()>& run) {
   const StopOnSignals stop_on_signals;
   try {
     run();

@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -39,17 +41,37 @@ void AddStudySessionOptions(CLI::App& cmd, StudySessionCliOptions& o);
 
 // The study's run, with Ctrl-C and SIGTERM stopping it and a checkpoint it cannot resume from
 // turned into the user's error.
-void RunStoppableStudy(const std::function<void()>& run);
+void RunStoppable(const std::function<void()>& run);
 
 // After a study that stopped before its end: says how to continue it and, when a signal stopped
 // it, exits with 128 + the signal.
 void EndStoppedStudy(const std::filesystem::path& dir, const std::vector<std::string>& folders);
 
+// "resumed 1.2M steps from the checkpoints" on stderr, when the study resumed any.
+void ReportResumedSteps(std::uint64_t steps);
+
+// Runs a study in `dir` (run(session) gives its result: RunMapStudy, RunSonarStudy) that Ctrl-C
+// and SIGTERM stop, and reports the steps it resumed. The result when the study reached its end;
+// else the study is ended as stopped (EndStoppedStudy) and there is none.
+template <typename RunStudy>
+[[nodiscard]] auto RunStoppableStudy(const std::filesystem::path& dir,
+                                     const std::vector<std::string>& folders,
+                                     const StudySessionCliOptions& o, const RunStudy& run)
+    -> std::optional<std::invoke_result_t<const RunStudy&, const prf::StudySession&>> {
+  std::invoke_result_t<const RunStudy&, const prf::StudySession&> result;
+  RunStoppable([&] { result = run(MakeStudySession(dir, o)); });
+  std::uint64_t resumed = 0;
+  for (const auto& c : result.cases) resumed += c.prf.resumed_steps;
+  ReportResumedSteps(resumed);
+  if (!result.complete) {
+    EndStoppedStudy(dir, folders);
+    return std::nullopt;
+  }
+  return result;
+}
+
 // After the study's outputs are written: removes the cases' checkpoints (megabytes per chain),
 // the case folders they leave empty, and the record of the study in progress.
 void FinishStudy(const std::filesystem::path& dir, const std::vector<std::string>& folders);
-
-// "resumed 1.2M steps from the checkpoints" on stderr, when the study resumed any.
-void ReportResumedSteps(std::uint64_t steps);
 
 }  // namespace priormap::app

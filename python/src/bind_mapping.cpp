@@ -110,7 +110,7 @@ py::dict PrfMap(const Doubles& poses, const Doubles& ranges, const Doubles& angl
   out["rhat_log_posterior"] = r.rhat_log_posterior;
   out["rhat_point_colours"] = r.rhat_point_colours;
   out["proposals"] = r.proposals;
-  out["proposals_per_second"] = static_cast<double>(r.proposals) / r.sampling_time_s;
+  out["proposals_per_second"] = r.ProposalsPerSecond();
   out["beams"] = data->beams.size();
   py::list log_posterior;
   for (const prf::ChainSummary& chain : r.chains) log_posterior.append(chain.log_posterior);

@@ -161,6 +161,18 @@ std::filesystem::path AnnealCheckpointPath(const std::filesystem::path& director
   return directory / "anneal.ckpt";
 }
 
+std::size_t RemoveStaleCheckpointTemporaries(const std::filesystem::path& directory) {
+  // The names of ChainCheckpointPath and AnnealCheckpointPath only: the directory may hold
+  // other files of the caller's.
+  return RemoveStaleTemporaryFiles(directory,
+                                   [](std::string_view name) {
+                                     return IsNumberedName(name, "chain-", ".ckpt",
+                                                           /*allow_leading_zeros=*/false) ||
+                                            name == "anneal.ckpt";
+                                   })
+      .size();
+}
+
 void SaveChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
                          const PrfSampler& sampler, std::span<const PrfSampler* const> hot,
                          const PosteriorEstimates* estimates, const ChainSummary& summary) {

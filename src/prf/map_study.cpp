@@ -1,7 +1,10 @@
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <iterator>
 #include <span>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -12,6 +15,8 @@
 #include <priormap/core/simulate.hpp>
 #include <priormap/prf/map_study.hpp>
 #include <priormap/prf/polygon_map.hpp>
+
+#include "study_cases.hpp"
 
 namespace priormap::prf {
 namespace {
@@ -198,24 +203,24 @@ MapStudyResult RunMapStudy(const MapStudyOptions& options, const StudySession& s
   const std::size_t sensors = options.sensors.size();
   const std::size_t cases = options.scenes.size() * sensors;
   result.cases.resize(cases);
-  StudyProgressTracker tracker(session, static_cast<int>(cases));
-  StudyCases runner(session);
-  runner.Run(cases, [&](std::size_t i) {
-    const Scene& scene = options.scenes[i / sensors];
-    const RangeSensor& sensor = options.sensors[i % sensors];
+  std::vector<StudyCaseName> names;
+  for (std::size_t i = 0; i < cases; ++i) {
+    // Named before the run: a case the session skips keeps its name (and an incomplete prf).
     MapStudyCase& c = result.cases[i];
-    if (runner.Skip()) {  // not begun: stopping it is not worth its simulation
-      c.scene = scene.name;
-      c.sensor = sensor.name;
-      c.prf.complete = false;
-    } else {
-      c = RunMapStudyCase(scene, sensor, options, runner.CaseSession(scene.name, sensor.name),
-                          tracker.ForCase(static_cast<int>(i)));
-    }
-    tracker.CaseDone(static_cast<int>(i), c.Name(), c.prf.complete);
+    c.scene = options.scenes[i / sensors].name;
+    c.sensor = options.sensors[i % sensors].name;
+    c.prf.complete = false;
+    names.push_back({c.scene, c.sensor});
+  }
+  StudyCases runner(session, std::move(names));
+  result.complete = runner.Run([&](std::size_t i, const MappingSession& mapping,
+                                   const std::function<void(const MappingProgress&)>& progress) {
+    MapStudyCase& c = result.cases[i];
+    c = RunMapStudyCase(options.scenes[i / sensors], options.sensors[i % sensors], options, mapping,
+                        progress);
+    return c.prf.complete;
   });
   for (const MapStudyCase& c : result.cases) {
-    result.complete = result.complete && c.prf.complete;
     for (const MethodScores& m : c.methods) {
       auto it = std::find_if(result.overall.begin(), result.overall.end(),
                              [&](const MethodScores& o) { return o.method == m.method; });

@@ -61,9 +61,7 @@ nlohmann::json CaseJson(const MapStudyCase& c) {
       {"methods", MethodsJson(c.methods)},
       {"prf",
        {{"proposals", c.prf.proposals},
-        {"proposals_per_second", c.prf.sampling_time_s > 0.0
-                                     ? static_cast<double>(c.prf.proposals) / c.prf.sampling_time_s
-                                     : 0.0},
+        {"proposals_per_second", c.prf.ProposalsPerSecond()},
         {"resumed_steps", c.prf.resumed_steps},
         {"rhat_log_posterior", Number(c.prf.rhat_log_posterior)},
         {"rhat_point_colours", Number(c.prf.rhat_point_colours)}}},
@@ -233,22 +231,19 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
       methods[method.method]["walls"] = ContourJson(method.walls);
       methods[method.method]["seconds"] = method.seconds;
     }
-    j["cases"].push_back(
-        {{"scene", c.scene},
-         {"seed", c.seed},
-         {"readings", c.readings},
-         {"max_readings", c.max_readings},
-         {"rings", c.ring_poses.size()},
-         {"methods", methods},
-         {"proposals_per_second", c.prf.sampling_time_s > 0.0
-                                      ? static_cast<double>(c.prf.proposals) / c.prf.sampling_time_s
-                                      : 0.0},
-         {"resumed_steps", c.prf.resumed_steps},
-         {"rhat_log_posterior", Number(c.prf.rhat_log_posterior)},
-         {"rhat_point_colours", Number(c.prf.rhat_point_colours)},
-         {"truth_log_posterior", Number(c.truth_log_posterior)},
-         {"chains", chains},
-         {"wall_time_s", c.wall_time_s}});
+    j["cases"].push_back({{"scene", c.scene},
+                          {"seed", c.seed},
+                          {"readings", c.readings},
+                          {"max_readings", c.max_readings},
+                          {"rings", c.ring_poses.size()},
+                          {"methods", methods},
+                          {"proposals_per_second", c.prf.ProposalsPerSecond()},
+                          {"resumed_steps", c.prf.resumed_steps},
+                          {"rhat_log_posterior", Number(c.prf.rhat_log_posterior)},
+                          {"rhat_point_colours", Number(c.prf.rhat_point_colours)},
+                          {"truth_log_posterior", Number(c.truth_log_posterior)},
+                          {"chains", chains},
+                          {"wall_time_s", c.wall_time_s}});
   }
   return j.dump(2) + "\n";
 }

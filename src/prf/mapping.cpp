@@ -24,6 +24,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The annealing's temperature falls from 1 to its final value in this many stages.
+constexpr std::uint64_t kAnnealStages = 100;
+
+std::uint64_t AnnealStageSteps(const MappingOptions& options) {
+  return std::max<std::uint64_t>(1, options.anneal_steps / kAnnealStages);
+}
+
 double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
@@ -70,6 +77,15 @@ std::string RasterSizeProblem(const Window& window, double resolution) {
       "the {:.1f} m x {:.1f} m window would make rasters of {:.3g} cells, more "
       "than {:.0e}",
       window.Width(), window.Height(), cells, kMaxRasterCells);
+}
+
+std::uint64_t AnnealingSteps(const MappingOptions& options) {
+  return options.anneal_steps == 0 ? 0 : kAnnealStages * AnnealStageSteps(options);
+}
+
+double MappingResult::ProposalsPerSecond() const {
+  const double seconds = sampling_time_s + annealing_time_s;
+  return seconds > 0.0 ? static_cast<double>(proposals) / seconds : 0.0;
 }
 
 WarmStage WarmStageOf(const MappingOptions& options) {
@@ -203,7 +219,12 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     data.start->Save(out);
     return Fnv1a64(out.bytes());
   }();
-  if (!checkpoints.empty()) std::filesystem::create_directories(checkpoints);
+  if (!checkpoints.empty()) {
+    std::filesystem::create_directories(checkpoints);
+    // Checkpoint writes killed mid-way (SIGKILL) leave temporaries that nothing else removes
+    // until the run completes.
+    RemoveStaleCheckpointTemporaries(checkpoints);
+  }
   const auto make_likelihood = [&] { return data.make_data_term(); };
   // A chain on all the data screens its moves with thinned data, when asked to (delayed
   // acceptance); the screen's state is a function of the coloring, so it is made anew on resume.
@@ -273,7 +294,20 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   });
 
   const std::uint64_t end = options.burn_in + options.samples;
-  std::mutex progress_mutex;  // guards the progress callback and the two vectors below
+  const std::uint64_t anneal_end = end + AnnealingSteps(options);
+  // The annealing from its checkpoint, before any chain runs, so that its steps are among the
+  // restored ones from the first report on (as the chains' are). Which chain it continues is
+  // checked once the chains have ended.
+  std::optional<LoadedAnneal> restored_annealing;
+  const auto anneal_path = AnnealCheckpointPath(checkpoints);
+  if (options.anneal_steps > 0 && session.resume && std::filesystem::exists(anneal_path)) {
+    restored_annealing =
+        LoadAnnealCheckpoint(anneal_path, fingerprint, result.window, options, make_likelihood());
+    const std::uint64_t steps = restored_annealing->sampler->steps();
+    if (steps < end || steps > anneal_end)
+      throw BinaryFormatError(anneal_path.string() + ": an annealing step outside the annealing");
+  }
+  std::mutex progress_mutex;  // guards the progress callback and what it reports
   std::vector<ChainProgress> chain_progress(chains);
   std::vector<MoveCounters> chain_counters(chains);
   // A chain restored at its end takes no step this session, so it would never report.
@@ -285,9 +319,11 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     }
   std::uint64_t resumed = 0;
   for (std::size_t c = 0; c < chains; ++c) resumed += std::min(session_start[c], end);
+  if (restored_annealing) resumed += restored_annealing->sampler->steps() - end;
   result.resumed_steps = resumed;
   std::atomic<std::uint64_t> steps_done{resumed};
-  const std::uint64_t steps_total = chains * end;
+  const std::uint64_t steps_total = chains * end + (anneal_end - end);
+  std::optional<AnnealingProgress> annealing_progress;
   // Every chain as it stood at its latest report (under progress_mutex once the chains run).
   const auto report = [&] {
     MoveCounters counters{};
@@ -297,7 +333,8 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
               .steps_resumed = resumed,
               .seconds = Seconds(start),
               .chains = chain_progress,
-              .counters = counters});
+              .counters = counters,
+              .annealing = annealing_progress});
   };
   // What the checkpoints restored, at once: a chain restored at its end never reports, and the
   // others only after their first chunk.
@@ -441,7 +478,8 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     summary.edges = sampler.coloring().stats().edges;
   });
   result.sampling_time_s = Seconds(start);
-  result.proposals = steps_done.load() - resumed + hot_steps.load();
+  const auto this_session = [&] { return steps_done.load() - resumed + hot_steps.load(); };
+  result.proposals = this_session();
   if (stopped) {
     result.complete = false;
     result.wall_time_s = Seconds(start);
@@ -487,21 +525,17 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
 
   if (options.anneal_steps > 0) {
     // From the chain that ended highest; the temperature falls geometrically from 1 in
-    // `stages` stages. The annealing step count, past the chain's end, is its clock.
+    // kAnnealStages stages. The annealing step count, past the chain's end, is its clock.
+    const auto annealing_start = Clock::now();
     std::size_t best = 0;
     for (std::size_t c = 1; c < chains; ++c)
       if (result.chains[c].log_posterior > result.chains[best].log_posterior) best = c;
-    const std::uint64_t stages = 100;
-    const std::uint64_t per_stage = std::max<std::uint64_t>(1, options.anneal_steps / stages);
+    const std::uint64_t per_stage = AnnealStageSteps(options);
     std::unique_ptr<PrfSampler> annealing;
-    const auto path = AnnealCheckpointPath(checkpoints);
-    if (session.resume && std::filesystem::exists(path)) {
-      LoadedAnneal loaded =
-          LoadAnnealCheckpoint(path, fingerprint, result.window, options, make_likelihood());
-      if (loaded.chain != best) throw BinaryFormatError(path.string() + ": of another chain");
-      if (loaded.sampler->steps() < end || loaded.sampler->steps() > end + stages * per_stage)
-        throw BinaryFormatError(path.string() + ": an annealing step outside the annealing");
-      annealing = std::move(loaded.sampler);
+    if (restored_annealing) {
+      if (restored_annealing->chain != best)
+        throw BinaryFormatError(anneal_path.string() + ": of another chain");
+      annealing = std::move(restored_annealing->sampler);
     } else {
       annealing = std::move(samplers[best]);
       annealing->RecordInto(nullptr);
@@ -509,24 +543,36 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     screen_if_asked(*annealing);
     const std::uint64_t first = annealing->steps();
     auto last_checkpoint = Clock::now();
-    while (annealing->steps() < end + stages * per_stage) {
+    while (annealing->steps() < anneal_end) {
       const std::uint64_t a = annealing->steps() - end;
       if (stop_requested() || budget_left(first, annealing->steps()) == 0) {
         result.complete = false;
         break;
       }
       const std::uint64_t stage = a / per_stage;
-      const double fraction = static_cast<double>(stage + 1) / static_cast<double>(stages);
-      annealing->set_temperature(std::pow(options.anneal_final_temperature, fraction));
+      const double fraction = static_cast<double>(stage + 1) / static_cast<double>(kAnnealStages);
+      const double temperature = std::pow(options.anneal_final_temperature, fraction);
+      annealing->set_temperature(temperature);
       const std::uint64_t n = std::min(
           {(stage + 1) * per_stage - a, options.chunk, budget_left(first, annealing->steps())});
       annealing->Run(n);
+      steps_done += n;
+      if (progress) {
+        std::lock_guard lock(progress_mutex);
+        // The annealing goes on from its chain's counters, so the sum stays a run's total.
+        chain_counters[best] = annealing->counters();
+        annealing_progress = {
+            .chain = best, .temperature = temperature, .log_posterior = annealing->LogPosterior()};
+        report();
+      }
       if (!checkpoints.empty() && Seconds(last_checkpoint) >= session.checkpoint_every_s) {
-        SaveAnnealCheckpoint(path, fingerprint, best, *annealing);
+        SaveAnnealCheckpoint(anneal_path, fingerprint, best, *annealing);
         last_checkpoint = Clock::now();
       }
     }
-    if (!checkpoints.empty()) SaveAnnealCheckpoint(path, fingerprint, best, *annealing);
+    if (!checkpoints.empty()) SaveAnnealCheckpoint(anneal_path, fingerprint, best, *annealing);
+    result.proposals = this_session();
+    result.annealing_time_s = Seconds(annealing_start);
     if (result.complete) {
       result.map = annealing->coloring();
       result.map_log_posterior = annealing->LogPosterior();

@@ -1,7 +1,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -16,6 +19,8 @@
 #include <priormap/prf/scene_coloring.hpp>
 #include <priormap/prf/sonar_mapping.hpp>
 #include <priormap/prf/sonar_study.hpp>
+
+#include "study_cases.hpp"
 
 namespace priormap::prf {
 namespace {
@@ -224,22 +229,20 @@ SonarStudyResult RunSonarStudy(const SonarStudyOptions& options, const StudySess
   const auto start = Clock::now();
   SonarStudyResult result;
   result.cases.resize(options.scenes.size());
-  StudyProgressTracker tracker(session, static_cast<int>(options.scenes.size()));
-  StudyCases runner(session);
-  const std::string& sensor = options.sensor.name;
-  runner.Run(options.scenes.size(), [&](std::size_t k) {
-    const Scene& scene = options.scenes[k];
+  std::vector<StudyCaseName> names;
+  for (std::size_t k = 0; k < options.scenes.size(); ++k) {
+    // Named before the run: a case the session skips keeps its name (and an incomplete prf).
+    result.cases[k].scene = options.scenes[k].name;
+    result.cases[k].prf.complete = false;
+    names.push_back({options.scenes[k].name, options.sensor.name});
+  }
+  StudyCases runner(session, std::move(names));
+  result.complete = runner.Run([&](std::size_t k, const MappingSession& mapping,
+                                   const std::function<void(const MappingProgress&)>& progress) {
     SonarStudyCase& c = result.cases[k];
-    if (runner.Skip()) {  // not begun: stopping it is not worth its simulation
-      c.scene = scene.name;
-      c.prf.complete = false;
-    } else {
-      c = RunSonarStudyCase(scene, options, runner.CaseSession(scene.name, sensor),
-                            tracker.ForCase(static_cast<int>(k)));
-    }
-    tracker.CaseDone(static_cast<int>(k), scene.name + "/" + sensor, c.prf.complete);
+    c = RunSonarStudyCase(options.scenes[k], options, mapping, progress);
+    return c.prf.complete;
   });
-  for (const SonarStudyCase& c : result.cases) result.complete = result.complete && c.prf.complete;
   result.wall_time_s = Seconds(start);
   return result;
 }

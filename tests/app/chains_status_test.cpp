@@ -1,5 +1,6 @@
 // The chains' part of `priormap prf`'s status line: every chain in chain order while they fit,
-// ranges beyond four, and which values are of a thinned stage's fraction of the readings.
+// ranges beyond four, and which values are of a thinned stage's fraction of the readings; the
+// annealing's once it runs.
 #include "chains_status.hpp"
 
 #include <vector>
@@ -48,6 +49,15 @@ TEST(ChainsLogPosteriors, GivesEachStagesRangeBeyondFourChains) {
                 {At(1.0, 2), At(2.0, 2), At(3.0, 2), At(4.0, 2), At(5.0, 2), prf::ChainProgress{}}),
             "log posteriors 1.0 to 5.0 over 5 chains (on 1/2 of the readings); 5 of 6 chains "
             "reported");
+}
+
+TEST(MappingState, TheChainsWhileTheyRunThenTheAnnealing) {
+  prf::MappingProgress progress;
+  progress.chains = {At(6139.04), At(6131.49)};
+  EXPECT_EQ(MappingState(progress), "log posteriors 6139.0, 6131.5");
+  progress.annealing =
+      prf::AnnealingProgress{.chain = 1, .temperature = 0.25, .log_posterior = 6150.26};
+  EXPECT_EQ(MappingState(progress), "annealing chain 1 at T 0.25, log posterior 6150.3");
 }
 
 }  // namespace

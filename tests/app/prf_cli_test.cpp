@@ -260,9 +260,12 @@ TEST_F(MappingCli, AStoppedRunResumesToTheUninterruptedResult) {
   EXPECT_FALSE(std::filesystem::exists(Work("parts") / "summary.json"));
   r = Run({"prf", "--resume", Work("parts").string()});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("resumed 100000 steps"));
-  // Chains restored at their end never report: only this line says where the run stands.
-  EXPECT_THAT(r.err, HasSubstr("100% restored from the checkpoints\n"));
+  EXPECT_THAT(r.err, HasSubstr("resumed 118000 steps"));  // 18000 of them the annealing's
+  // Chains restored at their end never report: this line says where the run stands, then the
+  // annealing's lines go on from there.
+  EXPECT_THAT(r.err, HasSubstr(" 98% restored from the checkpoints\n"));
+  EXPECT_THAT(r.err, HasSubstr("100% "));
+  EXPECT_THAT(r.err, HasSubstr(", annealing chain "));
   for (const char* file :
        {"posterior.pgm", "map.geojson", "map.pgm", "trace.csv", "point_traces.csv"})
     EXPECT_EQ(testing::ReadAll(Work("parts") / file), testing::ReadAll(Work("whole") / file))

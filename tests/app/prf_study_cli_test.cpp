@@ -141,7 +141,7 @@ TEST_F(PrfStudyCli, AStudyStoppedAfterStepsResumesToTheUninterruptedSummary) {
   EXPECT_EQ(r.out,
             "stopped and checkpointed in 2 of 2 cases (parts/square-lms200/checkpoints, ...); "
             "continue with the same command and --resume\n");
-  EXPECT_THAT(r.err, ContainsRegex("[0-9]+% of the chains' steps, 0/2 cases done"));
+  EXPECT_THAT(r.err, ContainsRegex("[0-9]+% of the PRF steps, 0/2 cases done"));
   EXPECT_THAT(r.err, Not(HasSubstr("case square/")));
   for (const char* folder : {"square-lms200", "square-utm30"})
     for (const char* file : {"chain-0.ckpt", "chain-1.ckpt"})
@@ -165,10 +165,11 @@ TEST_F(PrfStudyCli, AStudyStoppedAfterStepsResumesToTheUninterruptedSummary) {
 
   r = Run(SmallStudy({"--resume", "-o", "parts"}));
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("resumed 24000 steps from the cases' checkpoints\n"));
+  // 4 × 6000 of the chains and 2 × 2000 of the annealing.
+  EXPECT_THAT(r.err, HasSubstr("resumed 28000 steps from the cases' checkpoints\n"));
   EXPECT_THAT(r.err, HasSubstr("case square/lms200 done\n"));
   EXPECT_THAT(r.err, HasSubstr("case square/utm30 done\n"));
-  EXPECT_THAT(r.err, ContainsRegex("100% of the chains' steps, 2/2 cases done, [0-9]+ s\n"));
+  EXPECT_THAT(r.err, ContainsRegex("100% of the PRF steps, 2/2 cases done, [0-9]+ s\n"));
   EXPECT_THAT(r.out, HasSubstr("wrote parts (summary.json, table.md, "
                                "<scene>-<sensor>/{truth,grid,posterior,map}.png)"));
   const json expected = json::parse(testing::ReadAll(Work("whole") / "summary.json"));
@@ -183,7 +184,7 @@ TEST_F(PrfStudyCli, AStudyStoppedAfterStepsResumesToTheUninterruptedSummary) {
     EXPECT_EQ(expected["cases"][k]["prf"]["resumed_steps"], 0) << k;
     resumed_steps += resumed["cases"][k]["prf"]["resumed_steps"].get<std::uint64_t>();
   }
-  EXPECT_EQ(resumed_steps, 24000u);
+  EXPECT_EQ(resumed_steps, 28000u);
   EXPECT_THAT(testing::ReadAll(Work("parts") / "table.md"), HasSubstr("| **all** |"));
   for (const char* folder : {"square-lms200", "square-utm30"}) {
     EXPECT_FALSE(std::filesystem::exists(Work("parts") / folder / "checkpoints")) << folder;

@@ -202,7 +202,7 @@ TEST_F(SonarCli, ASonarStudyStoppedAfterStepsResumesToTheUninterruptedSummary) {
   EXPECT_THAT(r.err, HasSubstr("resumed 3000 steps from the cases' checkpoints\n"));  // 2 × 1500
   EXPECT_THAT(r.err, HasSubstr("case office/pioneer16 done\n"));
   EXPECT_THAT(r.err, HasSubstr("case l-office/pioneer16 done\n"));
-  EXPECT_THAT(r.err, ContainsRegex("100% of the chains' steps, 2/2 cases done, [0-9]+ s\n"));
+  EXPECT_THAT(r.err, ContainsRegex("100% of the PRF steps, 2/2 cases done, [0-9]+ s\n"));
   const json expected = Summary("whole");
   const json resumed = Summary("parts");
   EXPECT_EQ(testing::WithoutSessionKeys(resumed), testing::WithoutSessionKeys(expected));

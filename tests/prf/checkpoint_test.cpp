@@ -1,6 +1,7 @@
 // Checkpoints: the binary encoding refuses damaged data; a saved coloring, sampler and mapping
 // run continue exactly as the originals would have.
 #include <atomic>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <utility>
@@ -20,6 +21,7 @@
 #include <priormap/prf/sampler.hpp>
 
 #include "mapping_testing.hpp"
+#include "testing/ended_process.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap::prf {
@@ -188,6 +190,49 @@ TEST(Checkpoint, AStoppedMappingRunResumesToTheSameResult) {
   MappingSession resume = StoppingSession(dir.path(), 5000);
   resume.resume = true;
   EXPECT_THROW((void)RunMapping(data, options, {}, resume), BinaryFormatError);
+}
+
+// A checkpoint write killed mid-way (SIGKILL, which no handler sees) leaves its temporary file,
+// megabytes that no later write replaces. The next session in the directory removes those of
+// ended processes, and keeps a running process's and other files.
+TEST(Checkpoint, ASessionRemovesTheTemporariesOfKilledCheckpointWrites) {
+  const auto data = RoomData();
+  MappingOptions options;
+  options.sampler.p = 0.5;
+  options.samples = 2000;
+  options.burn_in = 2000;
+  options.chains = 2;
+  options.trace_every = 500;
+  options.anneal_steps = 1000;
+  options.chunk = 500;
+  const MappingData mapping = LaserMappingData(data, options);
+  testing::TempDir dir;
+  ASSERT_FALSE(RunMapping(mapping, options, {}, StoppingSession(dir.path(), 1000)).complete);
+
+  const std::string killed = std::to_string(testing::EndedProcessId());
+  const std::vector<std::string> stale = {".chain-1.ckpt.tmp-" + killed + "-0",
+                                          ".anneal.ckpt.tmp-" + killed + "-7"};
+  const std::vector<std::string> kept = {
+      ".chain-0.ckpt.tmp-1-0",                // process 1 runs: it may be writing it
+      ".summary.json.tmp-" + killed + "-0",   // not a checkpoint's
+      ".chain-01.ckpt.tmp-" + killed + "-0",  // nor is this name
+      ".chain-0.ckpt.tmp-" + killed,          // nor one of a temporary file
+      "chain-0.ckpt.tmp-" + killed + "-0"};
+  for (const std::string& name : stale) testing::WriteAll(dir / name, "half a checkpoint");
+  for (const std::string& name : kept) testing::WriteAll(dir / name, "someone else's");
+  MappingSession resume = StoppingSession(dir.path(), 0);
+  resume.resume = true;
+  const MappingResult result = RunMapping(mapping, options, {}, resume);
+  ASSERT_TRUE(result.complete);
+  EXPECT_EQ(result.resumed_steps, 2u * 1000u);
+  for (const std::string& name : stale) EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
+  for (const std::string& name : kept) EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
+
+  // A fresh run (no --resume) into a directory removes them too.
+  testing::TempDir fresh;
+  testing::WriteAll(fresh / stale.front(), "half a checkpoint");
+  EXPECT_FALSE(RunMapping(mapping, options, {}, StoppingSession(fresh.path(), 500)).complete);
+  EXPECT_FALSE(std::filesystem::exists(fresh / stale.front()));
 }
 
 }  // namespace

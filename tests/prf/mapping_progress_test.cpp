@@ -98,5 +98,100 @@ TEST(MappingProgress, AChainRestoredAtItsEndIsReportedThoughItTakesNoStep) {
             Total(whole.chains[0].counters).proposed + Total(whole.chains[1].counters).proposed);
 }
 
+// Two chains of 6000 steps, then 2000 steps of annealing in 100 stages of 20.
+MappingOptions TwoChainsAnnealed() {
+  MappingOptions options = TwoChains();
+  options.anneal_steps = 2000;
+  return options;
+}
+
+// The annealing's steps are part of the run: the share reaches its end with the annealing's last
+// step, not the chains', and the proposals count them.
+TEST(MappingProgress, TheAnnealingIsInTheShareAndInTheProposals) {
+  const MappingOptions options = TwoChainsAnnealed();
+  ASSERT_EQ(AnnealingSteps(options), 2000u);
+  std::vector<MappingProgress> reports;
+  const MappingResult result = RunMapping(LaserMappingData(RoomData(), options), options,
+                                          [&](const MappingProgress& p) { reports.push_back(p); });
+  ASSERT_TRUE(result.complete);
+  ASSERT_TRUE(result.map);
+  const std::uint64_t chain_steps = 2 * (options.burn_in + options.samples);
+  EXPECT_EQ(result.proposals, chain_steps + 2000);
+  EXPECT_EQ(result.resumed_steps, 0u);
+  EXPECT_GT(result.annealing_time_s, 0.0);
+  // One report per chunk of each chain, then one per chunk of the annealing (a stage each here).
+  ASSERT_EQ(reports.size(), chain_steps / options.chunk + 100);
+  for (std::size_t k = 0; k < reports.size(); ++k) {
+    EXPECT_EQ(reports[k].steps_total, chain_steps + 2000) << "report " << k;
+    if (k > 0) {
+      EXPECT_GT(reports[k].steps_done, reports[k - 1].steps_done) << "report " << k;
+    }
+    // The annealing reports once the chains have all ended, and only then.
+    EXPECT_EQ(reports[k].annealing.has_value(), reports[k].steps_done > chain_steps)
+        << "report " << k;
+  }
+  const MappingProgress& chains_end = reports[chain_steps / options.chunk - 1];
+  EXPECT_EQ(chains_end.steps_done, chain_steps);
+  const MappingProgress& last = reports.back();
+  EXPECT_EQ(last.steps_done, last.steps_total);
+  ASSERT_TRUE(last.annealing);
+  const std::size_t best = result.chains[1].log_posterior > result.chains[0].log_posterior ? 1 : 0;
+  EXPECT_EQ(last.annealing->chain, best);
+  EXPECT_EQ(last.annealing->temperature, options.anneal_final_temperature);
+  EXPECT_EQ(last.annealing->log_posterior, result.map_log_posterior);
+  // The chains stay at their ends; the counters go on with the annealing's moves.
+  for (std::size_t c = 0; c < 2; ++c)
+    EXPECT_EQ(last.chains[c].log_posterior, result.chains[c].log_posterior) << "chain " << c;
+  EXPECT_EQ(Total(last.counters).proposed - Total(chains_end.counters).proposed, 2000u);
+}
+
+// A run stopped in its annealing resumes with the annealing's steps among the restored ones:
+// this session's proposals and the restored steps add up to the whole run's.
+TEST(MappingProgress, AnAnnealingResumedFromItsCheckpointCountsItsStepsAsRestored) {
+  const MappingOptions options = TwoChainsAnnealed();
+  const MappingData data = LaserMappingData(RoomData(), options);
+  const MappingResult whole = RunMapping(data, options, {});
+  ASSERT_TRUE(whole.complete);
+  const testing::TempDir checkpoints;
+  const std::uint64_t per_chain = options.burn_in + options.samples;
+  // 1: 5000 steps a chain; 2: the chains' last 1000 and 1200 of the annealing's 2000 steps.
+  std::uint64_t proposals = 0;
+  for (const bool resume : {false, true}) {
+    MappingSession session = StoppingSession(checkpoints.path(), resume ? 1200 : 5000);
+    session.resume = resume;
+    const MappingResult part = RunMapping(data, options, {}, session);
+    ASSERT_FALSE(part.complete);
+    proposals += part.proposals;
+  }
+  EXPECT_EQ(proposals, 2 * per_chain + 1200);
+  ASSERT_TRUE(std::filesystem::exists(AnnealCheckpointPath(checkpoints.path())));
+
+  std::vector<MappingProgress> reports;
+  MappingSession last = StoppingSession(checkpoints.path(), 0);
+  last.resume = true;
+  const MappingResult result = RunMapping(
+      data, options, [&](const MappingProgress& p) { reports.push_back(p); }, last);
+  ASSERT_TRUE(result.complete);
+  ASSERT_TRUE(result.map && whole.map);
+  EXPECT_EQ(result.map_log_posterior, whole.map_log_posterior);
+  EXPECT_EQ(result.resumed_steps, 2 * per_chain + 1200);
+  EXPECT_EQ(result.proposals, 800u);
+  // First what the checkpoints restored, the annealing's 1200 steps included; then the
+  // annealing's reports, from there to the end.
+  ASSERT_GE(reports.size(), 2u);
+  EXPECT_EQ(reports.front().steps_resumed, 2 * per_chain + 1200);
+  EXPECT_EQ(reports.front().steps_done, reports.front().steps_resumed);
+  EXPECT_FALSE(reports.front().annealing);
+  for (std::size_t k = 0; k < reports.size(); ++k) {
+    EXPECT_EQ(reports[k].steps_total, 2 * per_chain + 2000) << "report " << k;
+    EXPECT_EQ(reports[k].steps_resumed, reports.front().steps_resumed) << "report " << k;
+    if (k > 0) {
+      EXPECT_GT(reports[k].steps_done, reports[k - 1].steps_done) << "report " << k;
+      EXPECT_TRUE(reports[k].annealing) << "report " << k;
+    }
+  }
+  EXPECT_EQ(reports.back().steps_done, reports.back().steps_total);
+}
+
 }  // namespace
 }  // namespace priormap::prf

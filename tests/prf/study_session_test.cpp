@@ -1,10 +1,12 @@
-// Resumable studies (study_session.hpp): the progress of a study's cases, the cases run in
-// parallel that stop each other when one fails, and studies stopped and resumed from their
-// checkpoints that end exactly as the uninterrupted study.
+// Resumable studies (study_session.hpp, study_cases.hpp): the progress of a study's cases, the
+// cases run in parallel that stop each other when one fails, and studies stopped and resumed from
+// their checkpoints that end exactly as the uninterrupted study.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -23,6 +25,7 @@
 #include <priormap/prf/sonar_study.hpp>
 #include <priormap/prf/study_session.hpp>
 
+#include "study_cases.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap::prf {
@@ -251,8 +254,8 @@ TEST(StudySession, CaseFoldersAndSessions) {
   session.resume = true;
   session.stop_after_steps = 1234;
   session.stop = &stop;
-  const StudyCases cases(session);
-  const MappingSession mapping = cases.CaseSession("office", "pioneer16");
+  const StudyCases cases(session, {{"office", "pioneer16"}});
+  const MappingSession mapping = cases.CaseSession({"office", "pioneer16"});
   EXPECT_EQ(mapping.checkpoint_directory, fs::path("/some/study/office-pioneer16/checkpoints"));
   EXPECT_EQ(mapping.checkpoint_every_s, 7.5);
   EXPECT_TRUE(mapping.resume);
@@ -263,39 +266,46 @@ TEST(StudySession, CaseFoldersAndSessions) {
   EXPECT_FALSE(cases.Skip());
 
   session.resume = false;
-  EXPECT_FALSE(cases.CaseSession("office", "pioneer16").resume);
+  EXPECT_FALSE(cases.CaseSession({"office", "pioneer16"}).resume);
 }
 
 TEST(StudySession, SkipFollowsTheStopFlag) {
   std::atomic<bool> stop{false};
   StudySession session;
   session.stop = &stop;
-  const StudyCases cases(session);
+  const StudyCases cases(session, {});
   EXPECT_FALSE(cases.Skip());
   stop = true;
   EXPECT_TRUE(cases.Skip());
 }
 
 TEST(StudySession, AFailingCaseStopsTheOthersAndIsRethrownOnceAllReturned) {
+  if (tbb::this_task_arena::max_concurrency() < 2)
+    GTEST_SKIP() << "the cases run one after the other on one thread";
   const StudySession session;
-  StudyCases cases(session);
+  StudyCases cases(session, {{"square", "lms200"}, {"l-room", "lms200"}});
   std::atomic<bool> other_saw_stop{false};
   std::atomic<bool> other_returned{false};
   std::atomic<int> ran{0};
   const auto start = Clock::now();
   try {
-    cases.Run(2, [&](std::size_t k) {
+    static_cast<void>(cases.Run([&](std::size_t k, const MappingSession& mapping, const auto&) {
       ++ran;
-      if (k == 0) throw std::runtime_error("case 0 failed");
+      if (k == 0) {
+        // Once case 1 has begun: a case not yet begun when one fails does not begin at all.
+        while (ran.load() < 2 && SecondsSince(start) < 5.0)
+          std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        throw std::runtime_error("case 0 failed");
+      }
       // Case 1 runs until the failure reaches it through its session's also_stop (at most 5 s).
-      const MappingSession mapping = cases.CaseSession("square", "lms200");
-      if (mapping.also_stop == nullptr) return;  // (CaseFoldersAndSessions fails)
+      if (mapping.also_stop == nullptr) return true;  // (CaseFoldersAndSessions fails)
       while (!mapping.also_stop->load() && SecondsSince(start) < 5.0)
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       other_saw_stop = mapping.also_stop->load();
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
       other_returned = true;
-    });
+      return false;
+    }));
     ADD_FAILURE() << "the failure was not rethrown";
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "case 0 failed");
@@ -305,6 +315,51 @@ TEST(StudySession, AFailingCaseStopsTheOthersAndIsRethrownOnceAllReturned) {
   EXPECT_TRUE(other_returned.load());  // rethrown only after it returned
   EXPECT_TRUE(cases.Skip());           // a case not yet begun would not begin
   EXPECT_LT(SecondsSince(start), 4.0);
+}
+
+TEST(StudySession, RunGivesEachCaseItsSessionAndProgressAndTellsWhetherAllCompleted) {
+  std::vector<StudyProgress> reports;
+  StudySession session;
+  session.directory = "/some/study";
+  session.progress = [&](const StudyProgress& p) { reports.push_back(p); };
+  std::vector<fs::path> checkpoints(3);
+  std::vector<bool> had_progress(3, false);
+  StudyCases cases(session, {{"square", "lms200"}, {"l-room", "lms200"}, {"office", "pioneer16"}});
+  const bool all = cases.Run([&](std::size_t k, const MappingSession& mapping,
+                                 const std::function<void(const MappingProgress&)>& progress) {
+    checkpoints[k] = mapping.checkpoint_directory;
+    had_progress[k] = static_cast<bool>(progress);
+    return k != 1;  // case 1 stopped
+  });
+  EXPECT_FALSE(all);
+  EXPECT_EQ(checkpoints[0], fs::path("/some/study/square-lms200/checkpoints"));
+  EXPECT_EQ(checkpoints[1], fs::path("/some/study/l-room-lms200/checkpoints"));
+  EXPECT_EQ(checkpoints[2], fs::path("/some/study/office-pioneer16/checkpoints"));
+  EXPECT_EQ(had_progress, std::vector<bool>(3, true));
+  // One report per completed case, named scene/sensor; the stopped case reports nothing.
+  std::vector<std::string> done;
+  for (const StudyProgress& p : reports) done.push_back(p.case_done);
+  std::sort(done.begin(), done.end());
+  EXPECT_EQ(done, (std::vector<std::string>{"office/pioneer16", "square/lms200"}));
+  ASSERT_FALSE(reports.empty());
+  EXPECT_EQ(reports.back().cases_done, 2);
+  EXPECT_EQ(reports.back().cases_total, 3);
+
+  StudyCases complete(session, {{"square", "lms200"}, {"l-room", "lms200"}});
+  EXPECT_TRUE(complete.Run([](std::size_t, const MappingSession&, const auto&) { return true; }));
+}
+
+TEST(StudySession, RunBeginsNoCaseOnceAStopIsAskedFor) {
+  const std::atomic<bool> stop{true};
+  StudySession session;
+  session.stop = &stop;
+  StudyCases cases(session, {{"square", "lms200"}, {"l-room", "lms200"}});
+  std::atomic<int> ran{0};
+  EXPECT_FALSE(cases.Run([&](std::size_t, const MappingSession&, const auto&) {
+    ++ran;
+    return true;
+  }));
+  EXPECT_EQ(ran.load(), 0);
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -368,13 +423,13 @@ TEST(StudySession, AMapStudyResumedAcrossStopsEqualsTheUninterruptedOne) {
     EXPECT_EQ(c.prf.resumed_steps, 2u * 2500u) << c.Name();
   }
   ASSERT_FALSE(reports.empty());
-  // First, what a case's checkpoints restored, before any chunk: 2 chains × 2500 of 2 × 8000 steps,
-  // the other case at 0 yet.
-  EXPECT_DOUBLE_EQ(reports.front().fraction, 5000.0 / 16000.0 / 2.0);
+  // First, what a case's checkpoints restored, before any chunk: 2 chains × 2500 of 2 × 8000
+  // steps and 4000 of annealing, the other case at 0 yet.
+  EXPECT_DOUBLE_EQ(reports.front().fraction, 5000.0 / 20000.0 / 2.0);
   for (std::size_t i = 1; i < reports.size(); ++i)
     EXPECT_GE(reports[i].fraction, reports[i - 1].fraction);
   // Both cases stopped at 5500 steps a chain, neither scored.
-  EXPECT_DOUBLE_EQ(reports.back().fraction, 11000.0 / 16000.0);
+  EXPECT_DOUBLE_EQ(reports.back().fraction, 11000.0 / 20000.0);
   for (const StudyProgress& p : reports) {
     EXPECT_EQ(p.cases_done, 0);
     EXPECT_EQ(p.cases_total, 2);
@@ -397,7 +452,7 @@ TEST(StudySession, AMapStudyResumedAcrossStopsEqualsTheUninterruptedOne) {
   ASSERT_TRUE(resumed.complete);
   ASSERT_EQ(resumed.cases.size(), whole.cases.size());
   for (std::size_t i = 0; i < whole.cases.size(); ++i) {
-    EXPECT_EQ(resumed.cases[i].prf.resumed_steps, 2u * 8000u);
+    EXPECT_EQ(resumed.cases[i].prf.resumed_steps, 2u * 8000u + 2500u);  // the annealing's too
     ExpectSameMapCase(resumed.cases[i], whole.cases[i]);
   }
   ASSERT_EQ(resumed.overall.size(), whole.overall.size());
@@ -405,6 +460,8 @@ TEST(StudySession, AMapStudyResumedAcrossStopsEqualsTheUninterruptedOne) {
     ExpectSameClassification(resumed.overall[m].classification, whole.overall[m].classification,
                              "overall " + whole.overall[m].method);
   ASSERT_FALSE(reports.empty());
+  // First what a case's checkpoints restored, its annealing's 2500 steps included.
+  EXPECT_DOUBLE_EQ(reports.front().fraction, 18500.0 / 20000.0 / 2.0);
   EXPECT_EQ(reports.back().cases_done, 2);
   EXPECT_EQ(reports.back().fraction, 1.0);
   std::set<std::string> done;

@@ -33,6 +33,11 @@ struct ChainSummary;
                                                         std::size_t chain);
 [[nodiscard]] std::filesystem::path AnnealCheckpointPath(const std::filesystem::path& directory);
 
+/// Removes the temporary files of chain and annealing checkpoints in `directory` whose writer is
+/// no longer running (RemoveStaleTemporaryFiles): a write killed mid-way (SIGKILL, a crash)
+/// leaves one, megabytes, that no later write replaces. Returns how many were removed.
+std::size_t RemoveStaleCheckpointTemporaries(const std::filesystem::path& directory);
+
 /// Writes a chain's state atomically: its sampler, the hot replicas of its burn-in's ladder
 /// (none outside one; in one file with the rest, so that they cannot fall out of step) and its
 /// summary (traces and swap counts). `estimates` is null before the chain records.

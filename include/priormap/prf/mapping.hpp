@@ -165,15 +165,29 @@ struct ChainProgress {
   int data_stride = 1;         ///< 1/data_stride of the readings (KeptByThinning); 1: all of them
 };
 
+/// The annealing (MappingOptions::anneal_steps) as it stood at its latest progress report.
+struct AnnealingProgress {
+  std::size_t chain = 0;       ///< the chain it continues, the one that ended highest
+  double temperature = 1.0;    ///< of its latest chunk
+  double log_posterior = 0.0;  ///< on all the readings, untempered
+};
+
 /// Every report shows all the chains, each at its own latest report: a line built from the
 /// reporting chain alone would jump between chains whose log-posteriors differ by their modes.
+/// The steps are those of the chains and of the annealing, so that a run's progress reaches
+/// steps_total when its last step, not its chains' last, is done.
 struct MappingProgress {
-  std::uint64_t steps_done = 0;  ///< over all chains, restored ones included
+  std::uint64_t steps_done = 0;  ///< over all chains and the annealing, restored ones included
+  /// chains × (burn_in + samples), plus the annealing's steps (see AnnealingSteps).
   std::uint64_t steps_total = 0;
   std::uint64_t steps_resumed = 0;  ///< of steps_done, restored from checkpoints
   double seconds = 0.0;
   std::vector<ChainProgress> chains;  ///< one per chain, in chain order
-  MoveCounters counters{};            // summed over the chains' latest reports
+  /// Summed over the chains' latest reports; once the annealing reports, its counters stand for
+  /// its chain's (they go on from them).
+  MoveCounters counters{};
+  /// Set from the annealing's first report this session on (the chains have all ended then).
+  std::optional<AnnealingProgress> annealing;
 };
 
 struct MappingResult {
@@ -189,14 +203,20 @@ struct MappingResult {
   double rhat_log_posterior = 0.0;
   double rhat_point_colours = 0.0;  ///< the largest over the trace points
   double wall_time_s = 0.0;
-  double sampling_time_s = 0.0;
-  /// All chains and their replicas, burn-in included, annealing excluded.
+  double sampling_time_s = 0.0;   ///< the chains' (restoring their checkpoints included)
+  double annealing_time_s = 0.0;  ///< the annealing's (0 without one)
+  /// The steps taken in this session (not those restored from checkpoints): all chains and
+  /// their replicas, burn-in included, and the annealing.
   std::uint64_t proposals = 0;
   std::optional<Coloring> map;  ///< the annealed MAP coloring
   double map_log_posterior = 0.0;
   /// False when the session stopped before the end (the estimates and R̂ are then unset).
   bool complete = true;
-  std::uint64_t resumed_steps = 0;  ///< steps restored from checkpoints, all chains
+  /// Steps restored from checkpoints: all chains' and the annealing's.
+  std::uint64_t resumed_steps = 0;
+
+  /// `proposals` over the seconds they took (the chains' and the annealing's); 0 before any.
+  [[nodiscard]] double ProposalsPerSecond() const;
 };
 
 /// What a run needs of its data, whatever the sensor (laser beams, sonar cones).
@@ -219,6 +239,10 @@ struct MappingData {
   /// likelihood); the empty all-white coloring when unset.
   std::optional<Coloring> start;
 };
+
+/// The steps the annealing takes: options.anneal_steps rounded down to a whole number of its
+/// temperature stages, at least one step per stage (0 without annealing).
+[[nodiscard]] std::uint64_t AnnealingSteps(const MappingOptions& options);
 
 /// The most cells the rasters of a run's window may have at its raster resolution (each chain
 /// keeps several, some 40 bytes a cell in all); the CLI and the Python module refuse finer ones.
