@@ -1,5 +1,6 @@
 // priormap grid: the log-odds occupancy grid of a localized log (the baseline the PRF posterior
 // is compared with), as PNG and as a ROS map_server PGM + YAML pair.
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -57,6 +58,9 @@ void RunGridCommand(const GridCliOptions& o) {
   const Box2 extent = grid::OccupancyGrid::ExtentOf(log, first, end, o.grid);
   if (extent.isEmpty()) throw UserError("the selected scans have no usable reading");
   grid::OccupancyGrid map(extent, o.grid);  // first: a grid too large leaves no directory behind
+  // summary.json is written last: without an earlier run's, a run stopped while writing cannot
+  // pass its mix of old and new files for a complete set.
+  RemoveFiles(o.out, std::array{"summary.json"});
   EnsureDirectory(o.out);
 
   const auto insert_start = std::chrono::steady_clock::now();

@@ -1,5 +1,6 @@
 #include "sonar_grid_command.hpp"
 
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <vector>
@@ -20,6 +21,9 @@ void RunSonarGrid(const Log& log, const std::string& log_path, std::size_t first
   const Box2 extent = grid::SonarGrid::ExtentOf(log, first, end, options);
   if (extent.isEmpty()) throw UserError("the selected rings have no usable reading");
   grid::SonarGrid map(extent, options);  // first: a grid too large leaves no directory behind
+  // summary.json is written last: without an earlier run's, a run stopped while writing cannot
+  // pass its mix of old and new files for a complete set.
+  RemoveFiles(out, std::array{"summary.json"});
   EnsureDirectory(out);
   const auto start = std::chrono::steady_clock::now();
   std::size_t readings = 0;

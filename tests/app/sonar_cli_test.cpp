@@ -305,6 +305,30 @@ TEST_F(SonarCli, RefusesRoboNdRangeLimitsThatWouldTurnNoEchoIntoWalls) {
   EXPECT_EQ(log.scans[0].status[1], BeamStatus::kMaxRange);
 }
 
+// summary.json is a grid's last output: a run that fails (or is stopped) while writing leaves
+// none, so that an earlier run's cannot vouch for the mix of old and new files.
+TEST_F(SonarCli, AGridThatFailsWhileWritingLeavesNoEarlierSummary) {
+  WriteSonarLog("sonar.json");
+  ASSERT_EQ(Run({"simulate", "--scene", "l-room", "--sensor", "lms200", "--log", "--seed", "2",
+                 "-o", "laser.log"})
+                .status,
+            0);
+  for (const char* log : {"sonar.json", "laser.log"}) {
+    const std::string dir = std::string("grid-") + log;
+    const auto first = Run({"grid", "--log", log, "-o", dir});
+    ASSERT_EQ(first.status, 0) << first.err;
+    ASSERT_TRUE(std::filesystem::exists(Work(dir) / "summary.json"));
+    // grid.png is written after grid.pgm; a directory in its place makes it fail.
+    std::filesystem::remove(Work(dir) / "grid.png");
+    std::filesystem::create_directory(Work(dir) / "grid.png");
+    // (Not RunFailing: the run fails after it has begun to write, by design.)
+    const auto failed = Run({"grid", "--log", log, "-o", dir});
+    EXPECT_EQ(failed.status, 1) << log;
+    EXPECT_THAT(failed.err, HasSubstr("grid.png: cannot write: Is a directory")) << log;
+    EXPECT_FALSE(std::filesystem::exists(Work(dir) / "summary.json")) << log;
+  }
+}
+
 TEST_F(SonarCli, GridAndPrfMapASonarLogWhichTheyRecogniseByItself) {
   WriteSonarLog("sonar.json");
   const auto grid = Run({"grid", "--log", "sonar.json", "-o", "grid"});
