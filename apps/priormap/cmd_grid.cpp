@@ -1,10 +1,10 @@
 // priormap grid: the log-odds occupancy grid of a localized log (the baseline the PRF posterior
 // is compared with), as PNG and as a ROS map_server PGM + YAML pair.
-#include <array>
 #include <chrono>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <fmt/format.h>
@@ -60,8 +60,9 @@ void RunGridCommand(const GridCliOptions& o) {
   grid::OccupancyGrid map(extent, o.grid);  // first: a grid too large leaves no directory behind
   // summary.json is written last: without an earlier run's, a run stopped while writing cannot
   // pass its mix of old and new files for a complete set.
-  RemoveFiles(o.out, std::array{"summary.json"});
   EnsureDirectory(o.out);
+  std::error_code ec;  // absent: nothing to do; unremovable: the writes below fail there too
+  std::filesystem::remove(std::filesystem::path(o.out) / "summary.json", ec);
 
   const auto insert_start = std::chrono::steady_clock::now();
   std::size_t beams = 0;

@@ -1,8 +1,8 @@
 #include "sonar_grid_command.hpp"
 
-#include <array>
 #include <chrono>
 #include <filesystem>
+#include <system_error>
 #include <vector>
 
 #include <fmt/format.h>
@@ -23,8 +23,9 @@ void RunSonarGrid(const Log& log, const std::string& log_path, std::size_t first
   grid::SonarGrid map(extent, options);  // first: a grid too large leaves no directory behind
   // summary.json is written last: without an earlier run's, a run stopped while writing cannot
   // pass its mix of old and new files for a complete set.
-  RemoveFiles(out, std::array{"summary.json"});
   EnsureDirectory(out);
+  std::error_code ec;  // absent: nothing to do; unremovable: the writes below fail there too
+  std::filesystem::remove(std::filesystem::path(out) / "summary.json", ec);
   const auto start = std::chrono::steady_clock::now();
   std::size_t readings = 0;
   std::vector<Vec2> sensors;

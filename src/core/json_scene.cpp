@@ -53,8 +53,8 @@ SceneSurface ReadSurface(const JsonNode& node) {
     const double room = kMaxWorldCoordinate - center.cwiseAbs().maxCoeff();
     if (!(radius <= room))
       detail::Fail(radius_node,
-                   fmt::format("expected a radius of at most {} m, which keeps the circle about "
-                               "({}, {}) within {:.0e} m of the origin, got {}",
+                   fmt::format("expected a radius of at most {} m, which keeps x and y of every "
+                               "point of the circle about ({}, {}) within ±{:.0e} m, got {}",
                                room, center.x(), center.y(), kMaxWorldCoordinate, radius));
     surface.shape = Circle{center, radius};
   } else {

@@ -76,13 +76,15 @@ bool StudyCases::Run(const RunCase& run_case) {
           complete = run_case(k, CaseSession(name), tracker_.ForCase(static_cast<int>(k)));
         });
       }
+      // In the try too: the report may throw (stderr closed), like the chains' reports.
+      tracker_.CaseDone(static_cast<int>(k), name.scene + "/" + name.sensor, complete);
     } catch (...) {
+      complete = false;
       const std::lock_guard lock(mutex);
       if (!first) first = std::current_exception();
       failed_ = true;
     }
     if (!complete) all_complete = false;
-    tracker_.CaseDone(static_cast<int>(k), name.scene + "/" + name.sensor, complete);
   });
   if (first) std::rethrow_exception(first);
   return all_complete;

@@ -54,6 +54,8 @@ constexpr std::size_t kMaxNormalHalfWindow = 16;
 // that line's position at its bearing.
 constexpr std::size_t kSpikeWindowFactor = 2;
 constexpr double kSpikeLineSigmas = 3.0;
+// RemoveSpikes passes at most (each after the last one's removals; 1-2 suffice in practice).
+constexpr int kSpikePasses = 3;
 
 // Total least squares lines through runs of consecutive points, from prefix sums of the
 // weighted moments (O(1) per window).
@@ -786,8 +788,8 @@ MapScan Engine::Run() {
   // Points that cannot form a region are outliers from the start, and so are spikes.
   RemoveLonelyPoints(topology);
   // Again without the spikes found: a spike among another's neighbours waits for its removal.
-  for (int pass = 0; pass < 3 && RemoveSpikes(topology); ++pass) {
-  }
+  for (int pass = 0; pass < kSpikePasses; ++pass)
+    if (!RemoveSpikes(topology)) break;
 
   InnerResult solution;
   Topology solved;

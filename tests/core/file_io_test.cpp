@@ -447,7 +447,7 @@ TEST(FileIo, StaleTemporaryFilesOfEndedWritersAreRemoved) {
 
 // This process's writes in progress keep their temporary files, from the same thread or another,
 // while the cleanup runs again and again: every write completes.
-TEST(FileIo, TheStaleCleanupKeepsThisProcesssWritesInProgress) {
+TEST(FileIo, TheStaleCleanupKeepsThisProcessesWritesInProgress) {
   const testing::TempDir dir;
   const auto any = [](std::string_view) { return true; };
   WriteFileAtomically(dir / "a.txt", [&](const fs::path& path) {

@@ -451,8 +451,9 @@ TEST(JsonMalformed, ASceneBeyondTheWorldIsReportedWhereItLeavesIt) {
                           "  {\"type\": \"circle\", \"center\": [9e8, 1], \"radius\": 2e8}]}"),
               ElementsAre(DiagnosticAt(2, 52,
                                        "expected a radius of at most 100000000 m, which keeps "
-                                       "the circle about (900000000, 1) within 1e+09 m of the "
-                                       "origin, got 200000000 (at /surfaces/0/radius)")));
+                                       "x and y of every point of the circle about (900000000, "
+                                       "1) within ±1e+09 m, got 200000000 (at "
+                                       "/surfaces/0/radius)")));
   EXPECT_THAT(SceneErrors("{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [],\n"
                           " \"default_pose\": [0, 5e9, 0]}"),
               ElementsAre(DiagnosticAt(2, 22, "got 5000000000 (at /default_pose/1)")));

@@ -323,19 +323,19 @@ TEST(StudySession, RunGivesEachCaseItsSessionAndProgressAndTellsWhetherAllComple
   session.directory = "/some/study";
   session.progress = [&](const StudyProgress& p) { reports.push_back(p); };
   std::vector<fs::path> checkpoints(3);
-  std::vector<bool> had_progress(3, false);
+  std::vector<char> had_progress(3, 0);  // bytes: written from concurrent cases
   StudyCases cases(session, {{"square", "lms200"}, {"l-room", "lms200"}, {"office", "pioneer16"}});
   const bool all = cases.Run([&](std::size_t k, const MappingSession& mapping,
                                  const std::function<void(const MappingProgress&)>& progress) {
     checkpoints[k] = mapping.checkpoint_directory;
-    had_progress[k] = static_cast<bool>(progress);
+    had_progress[k] = progress ? 1 : 0;
     return k != 1;  // case 1 stopped
   });
   EXPECT_FALSE(all);
   EXPECT_EQ(checkpoints[0], fs::path("/some/study/square-lms200/checkpoints"));
   EXPECT_EQ(checkpoints[1], fs::path("/some/study/l-room-lms200/checkpoints"));
   EXPECT_EQ(checkpoints[2], fs::path("/some/study/office-pioneer16/checkpoints"));
-  EXPECT_EQ(had_progress, std::vector<bool>(3, true));
+  EXPECT_EQ(had_progress, std::vector<char>(3, 1));
   // One report per completed case, named scene/sensor; the stopped case reports nothing.
   std::vector<std::string> done;
   for (const StudyProgress& p : reports) done.push_back(p.case_done);
