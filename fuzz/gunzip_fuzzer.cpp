@@ -4,7 +4,8 @@
 // inflate; every other reader). ReadWholeFile promises ReadFileText's contract, so besides
 // crashes and sanitizer reports it checks that
 //  - a failure is one diagnostic naming the file, and both readers fail on the same inputs
-//    (corrupt or truncated members, bytes after the last member that do not start another);
+//    (corrupt or truncated members, bytes after the last member that do not start another),
+//    but for one leniency of libdeflate's known upstream (ReadBoth);
 //  - both give the same bytes, and bytes that are not gzip data come back unchanged;
 //  - what they inflate, written by the writer (WriteTextFileAtomically to a .gz name), reads
 //    back the same through both.
@@ -51,6 +52,13 @@ bool ReadBoth(const std::filesystem::path& path, std::string* bytes) {
   const priormap::Result<std::string> text = priormap::ReadFileText(path);
   if (!whole.ok()) CheckFailure(whole.diagnostics(), path.string());
   if (!text.ok()) CheckFailure(text.diagnostics(), path.string());
+  // The one disagreement known upstream, not ours to mend: libdeflate 1.14 (Debian 12's)
+  // inflates some members that zlib refuses as "invalid literal/length code" (reported as
+  // ebiggers/libdeflate#288; e.g. the seed libdeflate_lenient_literal_length.gz). Both check the
+  // member's CRC and size, so what libdeflate gives is what was compressed.
+  if (whole.ok() && !text.ok() &&
+      text.error().find("(invalid literal/length code)") != std::string::npos)
+    return false;
   Check(whole.ok() == text.ok(), "libdeflate and zlib refuse the same data", Describe(whole, text));
   if (!whole.ok()) return false;
   Check(whole.value().view() == text.value(), "libdeflate and zlib inflate the same bytes");

@@ -10,7 +10,6 @@
 
 #include <priormap/core/csm_io.hpp>
 #include <priormap/core/file_io.hpp>
-#include <priormap/core/world_bounds.hpp>
 
 #include "json_document.hpp"
 
@@ -122,11 +121,9 @@ std::optional<Se2> ReadPose(const JsonNode& object, const char* key) {
     detail::Fail(*node, fmt::format("expected \"{}\" as [x, y, theta] of finite numbers, or "
                                     "[null, null, null] when unknown",
                                     key));
-  for (std::size_t k = 0; k < 2; ++k)
-    if (!IsWithinWorld(v[k]))
-      detail::Fail(detail::Element(*node, k),
-                   ExpectedWorldCoordinate(fmt::format("\"{}\" {}", key, kAxes[k]),
-                                           fmt::format("{}", v[k])));
+  for (std::size_t k = 0; k < 2; ++k)  // finite now: only the world's bound is left to check
+    (void)detail::WorldCoordinate(detail::Element(*node, k),
+                                  fmt::format("\"{}\" {}", key, kAxes[k]));
   return Se2(v[0], v[1], v[2]);
 }
 
