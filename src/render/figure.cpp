@@ -2,7 +2,6 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
-#include <unordered_set>
 
 #include <Eigen/Eigenvalues>
 
@@ -23,6 +22,10 @@ constexpr double kTitleFont = 14.0;
 // Device coordinates beyond this are far outside any figure, and near where Cairo's 24.8
 // fixed-point coordinates wrap.
 constexpr double kFarOutsidePx = 1e6;
+// Above this many points, Figure::Points draws a raster layer instead of one arc per point.
+constexpr std::size_t kMaxVectorPoints = 20000;
+constexpr double kMaskScale = 2.0;
+constexpr double kMaxMaskPixels = 16e6;
 
 struct Margins {
   double left, right, top, bottom;
@@ -68,6 +71,58 @@ struct Figure::Impl {
     return device;
   }
   cairo_t* cr() const { return canvas->cr(); }
+
+  // A log's millions of points, each kept as an arc, cost the recorded drawing half a gigabyte
+  // and an SVG tens of megabytes. Drawn into one coverage mask of the figure at kMaskScale times
+  // its resolution they cost a few megabytes whatever their number, and look the same in a PNG.
+  void PointsAsMask(std::span<const Vec2> points, const Color& color, double radius_px) const {
+    const double mask_scale = MaskScale();
+    const int width = static_cast<int>(std::ceil(canvas->width() * mask_scale));
+    const int height = static_cast<int>(std::ceil(canvas->height() * mask_scale));
+    cairo_surface_t* mask = cairo_image_surface_create(CAIRO_FORMAT_A8, width, height);
+    cairo_t* m = cairo_create(mask);
+    // Points within a quarter of a mask pixel of one drawn look the same: drawing each again
+    // would only cost time (a log's points mostly fall on walls already drawn).
+    constexpr std::size_t kCellsPerPixel = 4;  // along each axis
+    const std::size_t row = kCellsPerPixel * static_cast<std::size_t>(width);
+    std::vector<bool> drawn(row * kCellsPerPixel * static_cast<std::size_t>(height));
+    // Filled in batches: one path of millions of arcs would itself take gigabytes.
+    constexpr std::size_t kBatch = 4096;
+    std::size_t pending = 0;
+    const double radius = radius_px * mask_scale;
+    for (const Vec2& p : points) {
+      const Vec2 d = ToDevice(p) * mask_scale;
+      if (!(d.x() >= 0.0 && d.y() >= 0.0 && d.x() < width && d.y() < height))
+        continue;  // also leaves out NaN; a point's disc beyond the figure's edge is not seen
+      const std::size_t cell = static_cast<std::size_t>(kCellsPerPixel * d.y()) * row +
+                               static_cast<std::size_t>(kCellsPerPixel * d.x());
+      if (drawn[cell]) continue;
+      drawn[cell] = true;
+      cairo_new_sub_path(m);
+      cairo_arc(m, d.x(), d.y(), radius, 0.0, 2 * M_PI);
+      if (++pending == kBatch) {
+        cairo_fill(m);
+        pending = 0;
+      }
+    }
+    cairo_fill(m);
+    cairo_destroy(m);
+    cairo_surface_flush(mask);
+    cairo_t* c = cr();
+    cairo_save(c);
+    detail::SetColor(c, color);
+    cairo_scale(c, 1.0 / mask_scale, 1.0 / mask_scale);
+    cairo_mask_surface(c, mask, 0.0, 0.0);
+    cairo_restore(c);
+    cairo_surface_destroy(mask);  // the recording keeps its own reference
+  }
+
+  // Twice the figure's resolution, so that a zoomed SVG or PDF stays sharp, unless that would
+  // exceed kMaxMaskPixels (wide figures).
+  double MaskScale() const {
+    const double pixels = canvas->width() * canvas->height();
+    return std::clamp(std::sqrt(kMaxMaskPixels / pixels), 1.0, kMaskScale);
+  }
 
   void ClipToPlot() const {
     cairo_reset_clip(cr());
@@ -216,18 +271,15 @@ Vec2 Figure::ToDevice(const Vec2& world) const {
 }
 
 void Figure::Points(std::span<const Vec2> points, const Color& color, double radius_px) {
+  if (points.size() > kMaxVectorPoints) {
+    impl_->PointsAsMask(points, color, radius_px);
+    return;
+  }
   cairo_t* c = impl_->cr();
   detail::SetColor(c, color);
-  // Points closer than a quarter pixel look the same; a log of millions of points would otherwise
-  // keep one arc each in the recorded drawing (gigabytes).
-  std::unordered_set<std::uint64_t> drawn;
   for (const Vec2& p : points) {
     const Vec2 d = impl_->ToDevice(p);
     if (!(d.cwiseAbs().maxCoeff() < kFarOutsidePx)) continue;  // also leaves out NaN
-    const auto quarter_pixel = [](double v) {
-      return static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::lround(4.0 * v)));
-    };
-    if (!drawn.insert(quarter_pixel(d.x()) << 32 | quarter_pixel(d.y())).second) continue;
     cairo_new_sub_path(c);
     cairo_arc(c, d.x(), d.y(), radius_px, 0.0, 2 * M_PI);
   }

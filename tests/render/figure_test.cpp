@@ -1,6 +1,9 @@
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -458,6 +461,70 @@ TEST(Figure, PointsAndLinesUseTheirColours) {
   EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({3.0, 3.0})), ToRgba(green)));
   EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2.0, 2.0}) + Vec2(0.5, 0.0)), ToRgba(magenta)));
   EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2.0, 3.0})), kWhite));
+}
+
+// Points scattered over the world as a log's are: on a few walls, with noise (deterministic).
+std::vector<Vec2> WallPoints(std::size_t count, double size) {
+  std::vector<Vec2> points;
+  points.reserve(count);
+  std::uint64_t state = 12345;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
+  for (std::size_t i = 0; i < count; ++i) {
+    const double t = uniform() * size;
+    const double wall = std::floor(uniform() * 4.0) / 4.0 * size + 0.1;
+    const Vec2 p = i % 2 == 0 ? Vec2(t, wall) : Vec2(wall, t);
+    points.push_back(p + 0.02 * Vec2(uniform() - 0.5, uniform() - 0.5));
+  }
+  return points;
+}
+
+// Above 20,000 points a Points call draws them as a raster layer; a PNG must not tell.
+TEST(Figure, ManyPointsLookTheSameAsFewPointsInAPng) {
+  const TempDir dir;
+  const std::vector<Vec2> points = WallPoints(30000, 4.0);
+  const Color blue{0.2, 0.4, 0.8};
+  Figure raster(World(0, 0, 4, 4), Plain());
+  raster.Points(points, blue, 1.5);
+  raster.Save(dir / "raster.png");
+  Figure vector(World(0, 0, 4, 4), Plain());
+  const std::span<const Vec2> all(points);
+  for (std::size_t first = 0; first < all.size(); first += 10000)
+    vector.Points(all.subspan(first, 10000), blue, 1.5);
+  vector.Save(dir / "vector.png");
+
+  const PngImage a(dir / "raster.png"), b(dir / "vector.png");
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_EQ(a.width(), b.width());
+  ASSERT_EQ(a.height(), b.height());
+  // The raster layer's antialiased edges differ by a shade; no pixel may be drawn in one and
+  // blank in the other (white and the points' colour differ by 204 in red), and the ink agrees.
+  double ink_raster = 0.0, ink_vector = 0.0;
+  int worst = 0;
+  for (int y = 0; y < a.height(); ++y) {
+    for (int x = 0; x < a.width(); ++x) {
+      ink_raster += 255 - a.At(x, y).r;
+      ink_vector += 255 - b.At(x, y).r;
+      worst = std::max(worst, std::abs(a.At(x, y).r - b.At(x, y).r));
+    }
+  }
+  ASSERT_GT(ink_vector, 5000 * 204.0) << "the points cover part of the figure";
+  EXPECT_NEAR(ink_raster / ink_vector, 1.0, 0.05);
+  EXPECT_LT(worst, 96);
+}
+
+// A log's million points made a 50 MB SVG when each was an arc; as a raster layer its size
+// follows the figure's, not the points'.
+TEST(Figure, AnSvgOfAMillionPointsStaysSmall) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 20, 20), Plain(800));
+  figure.Points(WallPoints(1000000, 20.0), palette::kBlue, 1.5);
+  figure.Save(dir / "points.svg");
+  figure.Save(dir / "points.pdf");
+  EXPECT_LT(fs::file_size(dir / "points.svg"), 2'000'000u);
+  EXPECT_LT(fs::file_size(dir / "points.pdf"), 2'000'000u);
 }
 
 // A ray a million times longer than the figure keeps its direction (Cairo's fixed-point device

@@ -44,6 +44,9 @@ class Figure {
   Figure(Figure&&) noexcept;
   Figure& operator=(Figure&&) noexcept;
 
+  /// Discs of `radius_px`. More than 20,000 points (a log's) are drawn as one raster layer at
+  /// twice the figure's resolution, so that their number does not set the memory, time and
+  /// SVG/PDF size; a PNG looks the same either way.
   void Points(std::span<const Vec2> points, const Color& color, double radius_px = 1.5);
   void Line(const Vec2& a, const Vec2& b, const LineStyle& style);
   void Polyline(std::span<const Vec2> points, bool closed, const LineStyle& style);
