@@ -1,14 +1,15 @@
 // libFuzzer harness for the chain checkpoints `priormap prf --resume DIR` reads
-// (LoadChainCheckpoint: DIR/checkpoints/chain-K.ckpt), past the seal and the run's fingerprint
-// that guard whole files, so that damaged or hostile data reach the loader: the input is the
-// payload after the fingerprint, sealed by the harness as the writer seals it. The run is a
-// small laser run of one chain with a two-replica ladder through its burn-in; at start the
-// harness runs it to a checkpoint to learn the seal's kind and version and the fingerprint (with
-// PRIORMAP_FUZZ_WRITE_SEEDS=DIR it also writes the payloads of checkpoints taken in the burn-in
-// and while recording there: the seed corpus). Besides crashes and sanitizer reports it checks
-// that a refused checkpoint is a BinaryFormatError (what the command reports as "cannot
-// resume"), never another exception, and that a chain loaded is valid (its coloring, replicas in
-// step, swap counts) and saves to a checkpoint that loads back and saves to the same bytes.
+// (LoadChainCheckpoint: DIR/checkpoints/chain-K.ckpt), past the seal, the run's fingerprint and
+// the chain's index that guard whole files, so that damaged or hostile data reach the loader:
+// the input is the payload after the fingerprint and the index, sealed by the harness as the
+// writer seals it. The run is a small laser run of one chain with a two-replica ladder through
+// its burn-in; at start the harness runs it to a checkpoint to learn the seal's kind and version,
+// the fingerprint and the index (with PRIORMAP_FUZZ_WRITE_SEEDS=DIR it also writes the payloads
+// of checkpoints taken in the burn-in and while recording there: the seed corpus). Besides
+// crashes and sanitizer reports it checks that a refused checkpoint is a BinaryFormatError (what
+// the command reports as "cannot resume"), never another exception, and that a chain loaded is
+// valid (its coloring, replicas in step, swap counts) and saves to a checkpoint that loads back
+// and saves to the same bytes.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -83,8 +84,9 @@ struct Run {
   priormap::prf::MappingData data = priormap::prf::LaserMappingData(Room(), options);
   std::string kind;  // the seal's kind and version, as the writer seals
   std::uint32_t version = 0;
-  std::string fingerprint;  // the payload's first 8 bytes
-  // The payloads (after the fingerprint) of the checkpoints the run wrote, with short random
+  // The payload's first 16 bytes: the run's fingerprint and the chain's index (0).
+  std::string stamp;
+  // The payloads (after the stamp) of the checkpoints the run wrote, with short random
   // generator states: the seed corpus.
   std::vector<std::string> seed_payloads;
 };
@@ -99,7 +101,7 @@ std::string CheckpointAfter(const Run& run, std::uint64_t steps, const fs::path&
   return priormap::fuzz::ReadBytes(priormap::prf::ChainCheckpointPath(dir, 0));
 }
 
-constexpr std::size_t kKindSize = 8, kHeaderSize = 8 + 4 + 8 + 8;
+constexpr std::size_t kKindSize = 8, kHeaderSize = 8 + 4 + 8 + 8, kStampSize = 8 + 8;
 
 // `payload` with each random generator's state (a Mersenne Twister's 312 words and index as
 // text, some 6 KB: a string of digits and spaces after its length) replaced by a short valid
@@ -129,13 +131,13 @@ const Run& SetUp() {
     // In the burn-in (with the hot replica) and while recording.
     for (const std::uint64_t steps : {std::uint64_t{20}, std::uint64_t{60}}) {
       const std::string sealed = CheckpointAfter(r, steps, dir);
-      Check(sealed.size() >= kHeaderSize + 8, "the run writes a checkpoint");
+      Check(sealed.size() >= kHeaderSize + kStampSize, "the run writes a checkpoint");
       r.kind = sealed.substr(0, kKindSize);
       std::memcpy(&r.version, sealed.data() + kKindSize, sizeof r.version);
-      r.fingerprint = sealed.substr(kHeaderSize, 8);
+      r.stamp = sealed.substr(kHeaderSize, kStampSize);
       Check(priormap::SealBinary(r.kind, r.version, sealed.substr(kHeaderSize)) == sealed,
             "the harness seals a checkpoint as the writer does");
-      r.seed_payloads.push_back(ShortenGeneratorStates(sealed.substr(kHeaderSize + 8)));
+      r.seed_payloads.push_back(ShortenGeneratorStates(sealed.substr(kHeaderSize + kStampSize)));
     }
     fs::remove_all(dir);
     return r;
@@ -157,9 +159,9 @@ std::optional<Loaded> Load(const Run& run, std::string_view sealed, const std::s
       std::make_unique<PosteriorEstimates>(run.data.window, run.options.raster_resolution);
   loaded.summary.point_traces.assign(run.data.trace_points.size(), {});
   std::uint64_t fingerprint = 0;
-  std::memcpy(&fingerprint, run.fingerprint.data(), sizeof fingerprint);
+  std::memcpy(&fingerprint, run.stamp.data(), sizeof fingerprint);
   try {
-    loaded.chain = priormap::prf::LoadChainCheckpoint(path, fingerprint, run.data.window,
+    loaded.chain = priormap::prf::LoadChainCheckpoint(path, fingerprint, 0, run.data.window,
                                                       run.options, run.data.make_data_term,
                                                       loaded.estimates.get(), &loaded.summary);
   } catch (const priormap::BinaryFormatError&) {
@@ -176,8 +178,8 @@ std::string Save(const Run& run, const Loaded& loaded, const std::string& name) 
   std::vector<const PrfSampler*> hot;
   for (const auto& replica : loaded.chain.hot) hot.push_back(replica.get());
   std::uint64_t fingerprint = 0;
-  std::memcpy(&fingerprint, run.fingerprint.data(), sizeof fingerprint);
-  priormap::prf::SaveChainCheckpoint(path, fingerprint, *loaded.chain.sampler, hot,
+  std::memcpy(&fingerprint, run.stamp.data(), sizeof fingerprint);
+  priormap::prf::SaveChainCheckpoint(path, fingerprint, 0, *loaded.chain.sampler, hot,
                                      loaded.chain.recording ? loaded.estimates.get() : nullptr,
                                      loaded.summary);
   return priormap::fuzz::ReadBytes(path);
@@ -192,8 +194,8 @@ extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
   const char* seeds = std::getenv("PRIORMAP_FUZZ_WRITE_SEEDS");
   for (std::size_t k = 0; k < run.seed_payloads.size(); ++k) {
     const std::string& payload = run.seed_payloads[k];
-    const std::optional<Loaded> loaded = Load(
-        run, priormap::SealBinary(run.kind, run.version, run.fingerprint + payload), "seed.ckpt");
+    const std::optional<Loaded> loaded =
+        Load(run, priormap::SealBinary(run.kind, run.version, run.stamp + payload), "seed.ckpt");
     Check(loaded.has_value(), "a seed loads");
     // The first in the burn-in, with its hot replica; the second recording.
     Check(loaded->chain.hot.size() == (k == 0 ? 1 : 0) && loaded->chain.recording == (k == 1),
@@ -207,8 +209,7 @@ extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const Run& run = SetUp();
-  const std::string payload =
-      run.fingerprint + std::string(reinterpret_cast<const char*>(data), size);
+  const std::string payload = run.stamp + std::string(reinterpret_cast<const char*>(data), size);
   const std::optional<Loaded> loaded =
       Load(run, priormap::SealBinary(run.kind, run.version, payload), "chain-0.ckpt");
   if (!loaded) return 0;

@@ -233,6 +233,20 @@ std::vector<fs::path> RemoveStaleTemporaryFiles(
   return removed;
 }
 
+namespace {
+
+// A write of `path` killed mid-way (SIGKILL, a crash: no handler runs) left its temporary file
+// beside it, named with the killed writer's PID, so that no later write replaces it; this write
+// replaces what that one was writing. Only `path`'s: the directory may hold the user's files, and
+// other outputs' temporaries of a writer that still runs.
+void RemoveStaleTemporariesOf(const fs::path& path, const fs::path& directory) {
+  const std::string name = path.filename().string();
+  (void)RemoveStaleTemporaryFiles(directory,
+                                  [&](std::string_view output) { return output == name; });
+}
+
+}  // namespace
+
 Result<std::string> ReadFileText(const fs::path& path) {
   const std::string name = path.string();
   std::error_code ec;
@@ -275,6 +289,7 @@ void WriteFileAtomically(const fs::path& named, const std::function<void(const f
     throw IoError(fmt::format("{}: cannot write: directory {} does not exist", path.string(),
                               directory.string()));
   }
+  RemoveStaleTemporariesOf(path, directory);
   const fs::path temporary = TemporarySibling(path);
   const TemporaryRegistration registration(temporary.string());
   try {

@@ -13,7 +13,8 @@ namespace {
 // 2: the coloring statistics of the orientation prior, the black area of the free-space one.
 // 3: a chain's burn-in replicas and swap counts.
 // 4: the counters of the edge shift; delayed acceptance's screened-out counts.
-constexpr std::uint32_t kFormatVersion = 4;
+// 5: which chain a chain checkpoint holds.
+constexpr std::uint32_t kFormatVersion = 5;
 constexpr std::string_view kChainKind = "PRFCHAIN";
 constexpr std::string_view kAnnealKind = "PRFANNEA";
 
@@ -53,6 +54,15 @@ BinaryReader OpenPayload(std::string_view bytes, std::string_view kind,
         "{}: a checkpoint of another run (its log selection or options differ from this one's)",
         what));
   return in;
+}
+
+// The chains of a run differ only in their seeds, so a checkpoint swapped with another chain's,
+// or copied over it, would pass every other check and continue as a duplicate chain.
+void RequireChain(std::uint64_t held, std::size_t expected, const std::filesystem::path& path) {
+  if (held != expected)
+    throw BinaryFormatError(fmt::format(
+        "{}: a checkpoint of chain {}, expected chain {} (checkpoints swapped or copied?)",
+        path.string(), held, expected));
 }
 
 void WriteSealed(const std::filesystem::path& path, std::string_view kind,
@@ -174,10 +184,12 @@ std::size_t RemoveStaleCheckpointTemporaries(const std::filesystem::path& direct
 }
 
 void SaveChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
-                         const PrfSampler& sampler, std::span<const PrfSampler* const> hot,
+                         std::size_t chain, const PrfSampler& sampler,
+                         std::span<const PrfSampler* const> hot,
                          const PosteriorEstimates* estimates, const ChainSummary& summary) {
   BinaryWriter out;
   out.Put(fingerprint);
+  out.Put<std::uint64_t>(chain);
   sampler.Save(out);
   out.Put<std::uint64_t>(hot.size());
   for (const PrfSampler* replica : hot) replica->Save(out);
@@ -195,11 +207,13 @@ void SaveChainCheckpoint(const std::filesystem::path& path, std::uint64_t finger
 }
 
 LoadedChain LoadChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
-                                const Window& window, const MappingOptions& options,
+                                std::size_t expected_chain, const Window& window,
+                                const MappingOptions& options,
                                 const std::function<std::unique_ptr<DataTerm>()>& make_data,
                                 PosteriorEstimates* estimates, ChainSummary* summary) {
   const std::string bytes = ReadWhole(path);
   BinaryReader in = OpenPayload(bytes, kChainKind, path, fingerprint);
+  RequireChain(in.Get<std::uint64_t>(), expected_chain, path);
   LoadedChain chain;
   chain.sampler = PrfSampler::Load(in, window, options.cell_size, options.sampler, make_data());
   // K − 1: the most hot replicas, and the pairs of adjacent rungs.

@@ -260,7 +260,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     const auto path = ChainCheckpointPath(checkpoints, c);
     if (session.resume && std::filesystem::exists(path)) {
       LoadedChain loaded =
-          LoadChainCheckpoint(path, fingerprint, result.window, options, make_likelihood,
+          LoadChainCheckpoint(path, fingerprint, c, result.window, options, make_likelihood,
                               estimates[c].get(), &result.chains[c]);
       const std::uint64_t steps = loaded.sampler->steps();
       if (steps > options.burn_in + options.samples)
@@ -371,7 +371,7 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     const auto checkpoint = [&](bool now) {
       if (checkpoints.empty()) return;
       if (!now && Seconds(last_checkpoint) < session.checkpoint_every_s) return;
-      SaveChainCheckpoint(ChainCheckpointPath(checkpoints, c), fingerprint, chain(),
+      SaveChainCheckpoint(ChainCheckpointPath(checkpoints, c), fingerprint, c, chain(),
                           ladder ? ladder->hot() : std::vector<const PrfSampler*>{},
                           recording[c] ? estimates[c].get() : nullptr, summary);
       last_checkpoint = Clock::now();

@@ -10,6 +10,7 @@
 #include <string>
 #include <sys/wait.h>
 #include <system_error>
+#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -22,6 +23,7 @@
 #include <priormap/prf/rhat.hpp>
 
 #include "cli_fixture.hpp"
+#include "testing/ended_process.hpp"
 #include "testing/temp_dir.hpp"
 
 namespace priormap {
@@ -492,6 +494,27 @@ TEST_F(MappingCli, GridWritesTheMapAndASummary) {
   const json summary = json::parse(testing::ReadAll(Work("grid") / "summary.json"));
   EXPECT_GT(summary["beams"].get<int>(), 1000);
   EXPECT_GT(summary["beams_per_second"].get<double>(), 0.0);
+}
+
+// A run killed by SIGKILL (no handler runs) leaves the temporaries of the outputs it was
+// writing in its -o DIR. The next command writing there removes those of its own outputs whose
+// process has ended; a running process's, and the user's files, stay.
+TEST_F(MappingCli, GridRemovesTheStaleTemporariesOfItsOutputsOnly) {
+  std::filesystem::create_directory(Work("grid"));
+  const std::string ended = std::to_string(testing::EndedProcessId());
+  const std::vector<std::string> stale = {".summary.json.tmp-" + ended + "-0",
+                                          ".grid.png.tmp-" + ended + "-3"};
+  const std::vector<std::string> kept = {
+      ".summary.json.tmp-" + std::to_string(::getpid()) + "-0",  // this test runs
+      ".notes.txt.tmp-" + ended + "-0", "notes.txt"};
+  for (const std::string& name : stale) testing::WriteAll(Work("grid") / name, "half written");
+  for (const std::string& name : kept) testing::WriteAll(Work("grid") / name, "kept");
+  const auto r = Run({"grid", "--log", "room.log", "--resolution", "0.05", "-o", "grid"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const std::string& name : stale)
+    EXPECT_FALSE(std::filesystem::exists(Work("grid") / name)) << name;
+  for (const std::string& name : kept)
+    EXPECT_TRUE(std::filesystem::exists(Work("grid") / name)) << name;
 }
 
 // The laser grid maps laser scans only, refuses a log with nothing to map and a grid too large

@@ -482,5 +482,36 @@ TEST(FileIo, TheStaleCleanupKeepsThisProcessesWritesInProgress) {
   EXPECT_EQ(testing::FilesIn(dir.path()).size(), 5u);
 }
 
+// Outputs other than checkpoints have no session start that knows their names: writing a file
+// removes the temporaries that killed writes of that same file left, and nothing else (the
+// directory may hold the user's own files, and other writers' temporaries).
+TEST(FileIo, AWriteRemovesTheStaleTemporariesOfItsOwnFileOnly) {
+  const testing::TempDir dir;
+  const std::string ended = std::to_string(testing::EndedProcessId());
+  const std::string stale = ".summary.json.tmp-" + ended + "-0";
+  const std::vector<std::string> kept = {
+      ".summary.json.tmp-1-0",  // process 1 runs: it may be writing it
+      ".summary.json.tmp-" + std::to_string(::getppid()) + "-2",  // so does this test's parent
+      ".trace.csv.tmp-" + ended + "-0",  // another output's: removed when it is written
+      ".notes.txt.tmp-" + ended + "-0",  // the user's
+      "notes.txt"};
+  testing::WriteAll(dir / stale, "half a summary");
+  for (const std::string& name : kept) testing::WriteAll(dir / name, "kept");
+  WriteTextFileAtomically(dir / "summary.json", "{}\n");
+  std::vector<std::string> left = kept;
+  left.push_back("summary.json");
+  EXPECT_THAT(testing::FilesIn(dir.path()), ::testing::UnorderedElementsAreArray(left));
+
+  // Written through a link, the file is the link's target, whose temporaries lie beside it.
+  const testing::TempDir other;
+  testing::WriteAll(other / stale, "half a summary");
+  fs::create_symlink(other / "summary.json", dir / "linked.json");
+  const std::string linked_stale = ".linked.json.tmp-" + ended + "-0";
+  testing::WriteAll(dir / linked_stale, "kept: the link is never written in place");
+  WriteTextFileAtomically(dir / "linked.json", "{}\n");
+  EXPECT_THAT(testing::FilesIn(other.path()), ::testing::UnorderedElementsAre("summary.json"));
+  EXPECT_TRUE(fs::exists(dir / linked_stale));
+}
+
 }  // namespace
 }  // namespace priormap

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -190,6 +191,88 @@ TEST(Checkpoint, AStoppedMappingRunResumesToTheSameResult) {
   MappingSession resume = StoppingSession(dir.path(), 5000);
   resume.resume = true;
   EXPECT_THROW((void)RunMapping(data, options, {}, resume), BinaryFormatError);
+}
+
+// Checkpoints swapped, or one copied over another (by a script that moves runs around), would
+// continue one chain's state as another's: two identical chains, whose R-hat means nothing.
+TEST(Checkpoint, AChainCheckpointOfAnotherChainIsRefused) {
+  const auto data = RoomData();
+  MappingOptions options;
+  options.sampler.p = 0.5;
+  options.samples = 2000;
+  options.burn_in = 2000;
+  options.chains = 3;
+  options.trace_every = 500;
+  options.chunk = 500;
+  const MappingData mapping = LaserMappingData(data, options);
+  testing::TempDir dir;
+  ASSERT_FALSE(RunMapping(mapping, options, {}, StoppingSession(dir.path(), 1000)).complete);
+  const auto chain_path = [&](std::size_t c) { return ChainCheckpointPath(dir.path(), c); };
+  const std::string first = testing::ReadAll(chain_path(0));
+  const std::string second = testing::ReadAll(chain_path(1));
+  const auto refusal = [&] {
+    MappingSession resume = StoppingSession(dir.path(), 0);
+    resume.resume = true;
+    try {
+      (void)RunMapping(mapping, options, {}, resume);
+    } catch (const BinaryFormatError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+
+  testing::WriteAll(chain_path(0), second);
+  testing::WriteAll(chain_path(1), first);
+  const std::string swapped = refusal();
+  EXPECT_THAT(
+      swapped,
+      ::testing::AnyOf(
+          HasSubstr(chain_path(0).string() + ": a checkpoint of chain 1, expected chain 0"),
+          HasSubstr(chain_path(1).string() + ": a checkpoint of chain 0, expected chain 1")));
+
+  testing::WriteAll(chain_path(0), first);
+  const std::string copied = refusal();
+  EXPECT_THAT(copied,
+              HasSubstr(chain_path(1).string() + ": a checkpoint of chain 0, expected chain 1"));
+
+  // Put back, the checkpoints resume.
+  testing::WriteAll(chain_path(1), second);
+  EXPECT_EQ(refusal(), "accepted");
+}
+
+// A checkpoint of an earlier format version is refused as such, not misread.
+TEST(Checkpoint, AChainCheckpointOfAnEarlierVersionIsRefused) {
+  const auto data = RoomData();
+  MappingOptions options;
+  options.sampler.p = 0.5;
+  options.samples = 1000;
+  options.burn_in = 1000;
+  options.chains = 1;
+  options.trace_every = 500;
+  options.chunk = 500;
+  const MappingData mapping = LaserMappingData(data, options);
+  testing::TempDir dir;
+  ASSERT_FALSE(RunMapping(mapping, options, {}, StoppingSession(dir.path(), 500)).complete);
+  const std::filesystem::path path = ChainCheckpointPath(dir.path(), 0);
+  const std::string bytes = testing::ReadAll(path);
+  // The version is the 32-bit word after the 8-character kind (SealBinary's header).
+  const auto version =
+      BinaryReader(std::string_view(bytes).substr(8), "header").Get<std::uint32_t>();
+  // 4: the last version whose chain checkpoints did not say which chain they hold.
+  constexpr std::uint32_t kEarlier = 4;
+  ASSERT_GT(version, kEarlier);
+  testing::WriteAll(path, SealBinary("PRFCHAIN", kEarlier,
+                                     UnsealBinary(bytes, "PRFCHAIN", version, path.string())));
+  MappingSession resume = StoppingSession(dir.path(), 0);
+  resume.resume = true;
+  try {
+    (void)RunMapping(mapping, options, {}, resume);
+    ADD_FAILURE() << "an earlier version's checkpoint was accepted";
+  } catch (const BinaryFormatError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(fmt::format("{}: version {} of the PRFCHAIN format, this "
+                                                "build reads {}",
+                                                path.string(), kEarlier, version)));
+  }
 }
 
 // A checkpoint write killed mid-way (SIGKILL, which no handler sees) leaves its temporary file,

@@ -27,8 +27,9 @@ class IoError : public std::runtime_error {
 /// Calls `write(temporary_path)`, which must create that file, then renames it to `path`, so
 /// readers never see a half-written file and a failure leaves any previous `path` untouched.
 /// The temporary file lives next to `path`. A `path` that is a symbolic link is written through
-/// to the file it names, and a file replaced keeps its permissions. Throws IoError; exceptions
-/// from `write` propagate after the temporary file is removed.
+/// to the file it names, and a file replaced keeps its permissions. First removes the stale
+/// temporary files of earlier writes of that file (RemoveStaleTemporaryFiles), and only those.
+/// Throws IoError; exceptions from `write` propagate after the temporary file is removed.
 void WriteFileAtomically(const std::filesystem::path& path,
                          const std::function<void(const std::filesystem::path&)>& write);
 

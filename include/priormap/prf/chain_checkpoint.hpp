@@ -40,9 +40,11 @@ std::size_t RemoveStaleCheckpointTemporaries(const std::filesystem::path& direct
 
 /// Writes a chain's state atomically: its sampler, the hot replicas of its burn-in's ladder
 /// (none outside one; in one file with the rest, so that they cannot fall out of step) and its
-/// summary (traces and swap counts). `estimates` is null before the chain records.
+/// summary (traces and swap counts), stamped with the run's `fingerprint` and the `chain`'s
+/// index. `estimates` is null before the chain records.
 void SaveChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
-                         const PrfSampler& sampler, std::span<const PrfSampler* const> hot,
+                         std::size_t chain, const PrfSampler& sampler,
+                         std::span<const PrfSampler* const> hot,
                          const PosteriorEstimates* estimates, const ChainSummary& summary);
 
 struct LoadedChain {
@@ -52,12 +54,13 @@ struct LoadedChain {
 };
 
 /// Restores a chain saved by SaveChainCheckpoint into `estimates` and `summary`, each sampler
-/// with a data term from `make_data`. BinaryFormatError when the file is damaged or of another
-/// run.
+/// with a data term from `make_data`. BinaryFormatError when the file is damaged, of another
+/// run, or of a chain other than `chain` (swapped with, or copied over, another chain's file).
 [[nodiscard]] LoadedChain LoadChainCheckpoint(
-    const std::filesystem::path& path, std::uint64_t fingerprint, const Window& window,
-    const MappingOptions& options, const std::function<std::unique_ptr<DataTerm>()>& make_data,
-    PosteriorEstimates* estimates, ChainSummary* summary);
+    const std::filesystem::path& path, std::uint64_t fingerprint, std::size_t chain,
+    const Window& window, const MappingOptions& options,
+    const std::function<std::unique_ptr<DataTerm>()>& make_data, PosteriorEstimates* estimates,
+    ChainSummary* summary);
 
 /// The annealing chain: which chain it started from, and its sampler.
 void SaveAnnealCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,
