@@ -38,7 +38,7 @@ void ProposalsPerSecond(benchmark::State& state, std::size_t end_scan, std::size
   }
   auto selected = SelectBeams(
       *log, {.first_scan = 0, .end_scan = end_scan, .beam_step = beam_step, .max_range = 20.0});
-  auto data = std::make_shared<const LaserData>(std::get<LaserData>(std::move(selected)));
+  auto data = std::make_shared<const LaserData>(std::move(selected).value());
   SamplerOptions options;
   options.p = 0.1;
   PrfSampler sampler(Coloring(WindowAround(*data, 1.0), kCellSize), options, 1,

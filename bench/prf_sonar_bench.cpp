@@ -60,7 +60,7 @@ void ProposalsPerSecond(benchmark::State& state, const Log& log, double max_rang
                         const SonarModel& model = {}, int screen_stride = 1) {
   auto selected =
       SelectSonarReadings(log, {.first_scan = 0, .end_scan = std::nullopt, .max_range = max_range});
-  auto data = std::make_shared<const SonarData>(std::get<SonarData>(std::move(selected)));
+  auto data = std::make_shared<const SonarData>(std::move(selected).value());
   SamplerOptions options;
   options.p = 0.1;
   options.screen_stride = screen_stride;

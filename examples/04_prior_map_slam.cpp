@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
 #include <string>
+#include <vector>
 
 #include <priormap/slam/prior_map_slam.hpp>
 #include <priormap/slam/study.hpp>
@@ -28,32 +28,23 @@ Outcome Filter(const slam::UrbanWorld& world, const slam::UrbanRun& run, bool us
   options.use_prior_map = use_prior_map;
   // The truth only labels the relations as right or wrong; the filter does not look at it.
   const slam::RelationTruth truth = slam::TruthOf(world, run);
-  const slam::SlamInput& in = run.input;
-  slam::PriorMapSlam filter(in.initial_pose, in.start_time, in.motion_noise, in.sensor_noise,
-                            &run.prior_map, options, &truth);
-  // The sliding window drops landmarks a few seconds after they were last seen, so the map is
-  // read off the state after each frame: every landmark at its last estimate.
-  std::map<int, priormap::Vec2> landmarks;
-  double pose_sq = 0.0;
-  std::size_t step = 0;
-  for (std::size_t f = 0; f < in.frames.size(); ++f) {
-    // Frame f is taken after world.frame_steps[f] control steps (RunSlam merges by time).
-    while (step < static_cast<std::size_t>(world.frame_steps[f])) filter.Predict(in.motion[step++]);
-    const slam::FrameRecord record = filter.Observe(in.frames[f]);
-    pose_sq += (record.estimate.translation() - run.frame_truth[f].translation()).squaredNorm();
-    // Finish() reports the landmarks in the state by their observation ids (the state's blocks
-    // are numbered apart: a landmark seen again after the window dropped it is a new block).
-    for (const slam::LandmarkEstimate& landmark : filter.Finish().landmarks)
-      landmarks[landmark.id] = landmark.position;
-  }
   Outcome out;
-  out.rms_position = std::sqrt(pose_sq / static_cast<double>(in.frames.size()));
+  out.result = slam::RunSlam(run.input, &run.prior_map, options, &truth);
+  const std::vector<slam::FrameRecord>& frames = out.result.frames;
+  double pose_sq = 0.0;
+  for (std::size_t f = 0; f < frames.size(); ++f)
+    pose_sq += (frames[f].estimate.translation() - run.frame_truth[f].translation()).squaredNorm();
+  out.rms_position = std::sqrt(pose_sq / static_cast<double>(frames.size()));
+  // The sliding window drops landmarks a few seconds after they were last seen; the map keeps
+  // each at its last estimate, by its observation id (the beacon's index).
+  const std::vector<slam::MappedLandmark>& map = out.result.all_landmarks;
   double landmark_sq = 0.0;
-  for (const auto& [id, estimate] : landmarks)
-    landmark_sq += (estimate - world.beacons[static_cast<std::size_t>(id)].position).squaredNorm();
-  out.landmarks = landmarks.size();
-  out.rms_landmark = std::sqrt(landmark_sq / static_cast<double>(landmarks.size()));
-  out.result = filter.Finish();
+  for (const slam::MappedLandmark& landmark : map) {
+    const auto beacon = static_cast<std::size_t>(landmark.estimate.id);
+    landmark_sq += (landmark.estimate.position - world.beacons[beacon].position).squaredNorm();
+  }
+  out.landmarks = map.size();
+  out.rms_landmark = std::sqrt(landmark_sq / static_cast<double>(map.size()));
   return out;
 }
 

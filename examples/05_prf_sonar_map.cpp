@@ -7,15 +7,15 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <variant>
+#include <utility>
 #include <vector>
 
-#include <priormap/core/observed_area.hpp>
 #include <priormap/core/scene_truth.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 #include <priormap/grid/sonar_grid.hpp>
 #include <priormap/prf/map_scores.hpp>
 #include <priormap/prf/sonar_mapping.hpp>
+#include <priormap/prf/sonar_observed_area.hpp>
 #include <priormap/render/prf_figures.hpp>
 
 namespace prf = priormap::prf;
@@ -37,11 +37,11 @@ int main(int argc, char** argv) {
   prf::SonarSelection selection;
   selection.max_range = sensor.max_range;
   auto selected = prf::SelectSonarReadings(log, selection);
-  if (auto* why = std::get_if<std::string>(&selected)) {
-    std::fprintf(stderr, "%s\n", why->c_str());
+  if (!selected) {
+    std::fprintf(stderr, "%s\n", selected.error().c_str());
     return 1;
   }
-  const auto data = std::make_shared<const prf::SonarData>(std::get<prf::SonarData>(selected));
+  const auto data = std::make_shared<const prf::SonarData>(std::move(selected).value());
 
   prf::MappingOptions options;
   options.burn_in = steps;
@@ -60,17 +60,15 @@ int main(int argc, char** argv) {
                                  {.resolution = 0.05, .max_range = data->max_range});
   for (const priormap::Scan& ring : log.scans) grid.Insert(ring);
 
-  // Score both at the cells of the PRF's raster that some ring could see (geometrically, all
-  // round within the sonar's range), against the scene's true free space.
-  std::vector<priormap::SensorView> views;
+  // Score both at the cells of the PRF's raster that some cone could see (geometrically: a fan
+  // of rays across each cone, to the first true wall), against the scene's true free space, as
+  // `priormap prf sonar-study` does. The gaps between a ring's cones are not scored: no reading
+  // could tell anything there.
   std::vector<priormap::Vec2> positions;
-  for (const priormap::Scan& ring : log.scans) {
-    views.push_back({.pose = ring.pose, .max_range = data->max_range});
-    positions.push_back(ring.pose.translation());
-  }
+  for (const priormap::Scan& ring : log.scans) positions.push_back(ring.pose.translation());
   const priormap::SceneTruth truth(*scene, positions);
-  const prf::EvaluationRaster evaluation = prf::MakeEvaluationRaster(
-      posterior.raster, truth, priormap::ObservedArea(*scene, views, /*band=*/0.1));
+  const prf::EvaluationRaster evaluation =
+      prf::MakeSonarEvaluationRaster(posterior.raster, truth, *scene, *data);
   const prf::ClassificationScore prf_score =
       prf::ScoreClassification(prf::Flatten(posterior.black_fraction, posterior.raster), evaluation)
           .observed;

@@ -260,12 +260,10 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
           fmt::format("--sigma {} is the laser beam model's noise: a sonar run takes "
                       "its noise from the sonar model (--sonar-model)",
                       o.mapping.model.sigma));
-    auto selected = prf::SelectSonarReadings(log, {.first_scan = o.selection.first_scan,
-                                                   .end_scan = o.selection.end_scan,
-                                                   .max_range = o.selection.max_range});
-    if (auto* problem = std::get_if<std::string>(&selected)) throw UserError(*problem);
-    const auto sonar =
-        std::make_shared<const prf::SonarData>(std::get<prf::SonarData>(std::move(selected)));
+    const auto sonar = std::make_shared<const prf::SonarData>(
+        ValueOrThrow(prf::SelectSonarReadings(log, {.first_scan = o.selection.first_scan,
+                                                    .end_scan = o.selection.end_scan,
+                                                    .max_range = o.selection.max_range})));
     const prf::SonarModel model = o.sonar_model.empty()
                                       ? prf::SonarModel{}
                                       : ValueOrThrow(prf::ReadSonarModel(o.sonar_model));
@@ -278,10 +276,8 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
   if (!o.sonar_model.empty())
     throw UserError("--sonar-model " + o.sonar_model +
                     " is for sonar rings; this run maps laser beams");
-  auto selected = prf::SelectBeams(log, o.selection);
-  if (auto* problem = std::get_if<std::string>(&selected)) throw UserError(*problem);
   const auto laser =
-      std::make_shared<const prf::LaserData>(std::get<prf::LaserData>(std::move(selected)));
+      std::make_shared<const prf::LaserData>(ValueOrThrow(prf::SelectBeams(log, o.selection)));
   if (const std::string problem = o.mapping.model.Problem(); !problem.empty())
     throw UserError("laser model: " + problem);
   d.mapping = prf::LaserMappingData(laser, o.mapping);

@@ -62,9 +62,8 @@ py::dict PrfMap(const Doubles& poses, const Doubles& ranges, const Doubles& angl
   selection.beam_step = beam_step;
   if (std::isfinite(max_range)) selection.max_range = max_range;
   auto selected = prf::SelectBeams(log, selection);
-  if (auto* problem = std::get_if<std::string>(&selected)) throw std::invalid_argument(*problem);
-  const auto data =
-      std::make_shared<const prf::LaserData>(std::get<prf::LaserData>(std::move(selected)));
+  if (!selected) throw std::invalid_argument(selected.diagnostics().front().message);
+  const auto data = std::make_shared<const prf::LaserData>(std::move(selected).value());
   prf::MappingOptions options;
   options.sampler.p = p;
   options.samples = samples;

@@ -6,13 +6,15 @@
 
 namespace priormap::prf {
 
-std::variant<LaserData, std::string> SelectBeams(const Log& log, const LaserSelection& selection) {
+// A selection is options, not a file: its diagnostics have no position.
+Result<LaserData> SelectBeams(const Log& log, const LaserSelection& selection) {
   const std::size_t end = std::min(selection.end_scan.value_or(log.scans.size()), log.scans.size());
   if (selection.first_scan >= end)
-    return fmt::format("the scan range {}:{} selects no scan (the log has {})",
-                       selection.first_scan, end, log.scans.size());
-  if (selection.beam_step == 0) return std::string("the beam step must be at least 1");
-  if (!(selection.max_range > 0.0)) return std::string("the max range must be positive");
+    return Diagnostic{"", 0, 0,
+                      fmt::format("the scan range {}:{} selects no scan (the log has {})",
+                                  selection.first_scan, end, log.scans.size())};
+  if (selection.beam_step == 0) return Diagnostic{"", 0, 0, "the beam step must be at least 1"};
+  if (!(selection.max_range > 0.0)) return Diagnostic{"", 0, 0, "the max range must be positive"};
   LaserData data;
   // One R for all beams, so that every max reading means the same "nothing within R".
   data.max_range = selection.max_range;
@@ -37,7 +39,7 @@ std::variant<LaserData, std::string> SelectBeams(const Log& log, const LaserSele
     }
     if (used) data.sensors.push_back(scan.pose.translation());
   }
-  if (data.beams.empty()) return std::string("the selected scans hold no usable reading");
+  if (data.beams.empty()) return Diagnostic{"", 0, 0, "the selected scans hold no usable reading"};
   return data;
 }
 

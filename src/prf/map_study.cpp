@@ -140,9 +140,8 @@ MapStudyCase RunMapStudyCase(const Scene& scene, const RangeSensor& sensor,
   selection.beam_step = options.beam_step;
   selection.max_range = options.max_range;
   auto selected = SelectBeams(log, selection);
-  PRIORMAP_CHECK(std::holds_alternative<LaserData>(selected),
-                 "the simulated scans of " + c.Name() + " hold no usable reading");
-  c.data = std::make_shared<const LaserData>(std::get<LaserData>(std::move(selected)));
+  PRIORMAP_CHECK(selected.ok(), "the simulated scans of " + c.Name() + " hold no usable reading");
+  c.data = std::make_shared<const LaserData>(std::move(selected).value());
 
   // The truth, where it was observed, and which cells the beams reach.
   MappingOptions mapping = options.mapping;

@@ -7,13 +7,14 @@
 
 namespace priormap::prf {
 
-std::variant<SonarData, std::string> SelectSonarReadings(const Log& log,
-                                                         const SonarSelection& selection) {
+// A selection is options, not a file: its diagnostics have no position.
+Result<SonarData> SelectSonarReadings(const Log& log, const SonarSelection& selection) {
   const std::size_t end = std::min(selection.end_scan.value_or(log.scans.size()), log.scans.size());
   if (selection.first_scan >= end)
-    return fmt::format("the scan range {}:{} selects no scan (the log has {})",
-                       selection.first_scan, end, log.scans.size());
-  if (!(selection.max_range > 0.0)) return std::string("the max range must be positive");
+    return Diagnostic{"", 0, 0,
+                      fmt::format("the scan range {}:{} selects no scan (the log has {})",
+                                  selection.first_scan, end, log.scans.size())};
+  if (!(selection.max_range > 0.0)) return Diagnostic{"", 0, 0, "the max range must be positive"};
   SonarData data;
   // One R for all readings, so that every max reading means the same "no echo within R".
   data.max_range = selection.max_range;
@@ -24,8 +25,9 @@ std::variant<SonarData, std::string> SelectSonarReadings(const Log& log,
     data.max_range = std::min(data.max_range, log.scans[k].max_range);
   }
   if (!any_ring)
-    return fmt::format("the scans {}:{} hold no sonar ring (is this a laser log?)",
-                       selection.first_scan, end);
+    return Diagnostic{"", 0, 0,
+                      fmt::format("the scans {}:{} hold no sonar ring (is this a laser log?)",
+                                  selection.first_scan, end)};
   for (std::size_t k = selection.first_scan; k < end; ++k) {
     const Scan& scan = log.scans[k];
     if (!scan.sonar || !scan.pose.IsFinite()) continue;
@@ -49,7 +51,8 @@ std::variant<SonarData, std::string> SelectSonarReadings(const Log& log,
       data.readings.push_back(reading);
     }
   }
-  if (data.readings.empty()) return std::string("the selected rings hold no usable reading");
+  if (data.readings.empty())
+    return Diagnostic{"", 0, 0, "the selected rings hold no usable reading"};
   return data;
 }
 

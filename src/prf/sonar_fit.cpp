@@ -197,8 +197,8 @@ std::variant<std::vector<SonarFitReading>, std::string> ViewsOfScene(
     const Log& log, const Scene& scene, double max_range, double margin, double cell_size) {
   auto selected =
       SelectSonarReadings(log, {.first_scan = 0, .end_scan = std::nullopt, .max_range = max_range});
-  if (auto* problem = std::get_if<std::string>(&selected)) return *problem;
-  auto data = std::make_shared<const SonarData>(std::get<SonarData>(std::move(selected)));
+  if (!selected) return selected.diagnostics().front().message;
+  auto data = std::make_shared<const SonarData>(std::move(selected).value());
   std::vector<Vec2> seeds = scene.waypoints;
   for (const Scan& scan : log.scans)
     if (scan.sonar && scan.pose.translation().allFinite()) seeds.push_back(scan.pose.translation());

@@ -2,7 +2,6 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
-#include <map>
 #include <utility>
 #include <vector>
 
@@ -11,13 +10,13 @@
 #include <priormap/core/binary_io.hpp>
 #include <priormap/core/check.hpp>
 #include <priormap/core/rng.hpp>
-#include <priormap/core/scene_ray_caster.hpp>
 #include <priormap/core/scene_truth.hpp>
 #include <priormap/core/simulate.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 #include <priormap/prf/point_buckets.hpp>
 #include <priormap/prf/scene_coloring.hpp>
 #include <priormap/prf/sonar_mapping.hpp>
+#include <priormap/prf/sonar_observed_area.hpp>
 #include <priormap/prf/sonar_study.hpp>
 
 #include "study_cases.hpp"
@@ -31,49 +30,8 @@ double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
 
-// What the cones could see, found with a fan of rays per cone: the evaluation raster's
-// observation and coverage, and the points of the true walls that the rays met.
-struct ConeFans {
-  std::map<int, std::vector<Vec2>> wall_hits;  // by the scene primitive's region
-};
-
-ConeFans MarkCones(const SonarData& data, const SceneRayCaster& caster,
-                   const SonarStudyOptions& options, EvaluationRaster* raster) {
-  ConeFans fans;
-  const CellGrid& grid = raster->grid;
-  const double step = 0.5 * options.resolution;
-  const Box2 box(grid.origin, grid.origin + Vec2(grid.nx * grid.cell.x(), grid.ny * grid.cell.y()));
-  const auto mark = [&](const Vec2& p, Observation what, bool covered) {
-    if (!box.contains(p)) return;
-    const auto i = static_cast<std::size_t>(grid.CellOf(p));
-    if (what == Observation::kVisible ||
-        (what == Observation::kBehindSurface && raster->observation[i] == Observation::kUnseen))
-      raster->observation[i] = what;
-    if (covered) raster->covered[i] = 1;
-  };
-  const int rays = options.rays_per_cone;
-  for (const SonarReading& r : data.readings) {
-    const double axis = std::atan2(r.cone.axis.y(), r.cone.axis.x());
-    const double reach = r.max_reading ? r.cone.max_range : r.range;
-    for (int k = 0; k < rays; ++k) {
-      const double angle =
-          axis + r.cone.half_spread * (rays > 1 ? 2.0 * k / (rays - 1) - 1.0 : 0.0);
-      const Vec2 u(std::cos(angle), std::sin(angle));
-      const auto hit = caster.Cast({.origin = r.cone.origin, .angle = angle}, r.cone.max_range);
-      const double seen = hit ? hit->range : r.cone.max_range;
-      for (double t = 0.0; t <= seen; t += step)
-        mark(r.cone.origin + t * u, Observation::kVisible, t <= reach);
-      if (!hit) continue;
-      for (double t = seen + step; t <= seen + options.band; t += step)
-        mark(r.cone.origin + t * u, Observation::kBehindSurface, false);
-      fans.wall_hits[hit->region].push_back(r.cone.origin + seen * u);
-    }
-  }
-  return fans;
-}
-
 // The seen part of each true wall (segment): its points with a ray's hit on it within `gap`.
-std::vector<SeenWall> SeenWalls(const Scene& scene, const ConeFans& fans, double spacing,
+std::vector<SeenWall> SeenWalls(const Scene& scene, const ConeWallHits& wall_hits, double spacing,
                                 double gap) {
   std::vector<SeenWall> walls;
   for (const ScenePrimitive& primitive : scene.Primitives()) {
@@ -81,8 +39,8 @@ std::vector<SeenWall> SeenWalls(const Scene& scene, const ConeFans& fans, double
     if (segment == nullptr) continue;
     SeenWall wall;
     wall.length = segment->Length();
-    const auto hits = fans.wall_hits.find(primitive.region);
-    if (hits != fans.wall_hits.end()) {
+    const auto hits = wall_hits.find(primitive.region);
+    if (hits != wall_hits.end()) {
       const PointBuckets near(hits->second, gap);
       const int n = std::max(1, static_cast<int>(std::ceil(wall.length / spacing)));
       for (int k = 0; k < n; ++k) {
@@ -149,9 +107,8 @@ SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& op
   SonarSelection selection;
   selection.max_range = options.sensor.max_range;
   auto selected = SelectSonarReadings(log, selection);
-  PRIORMAP_CHECK(std::holds_alternative<SonarData>(selected),
-                 "the simulated rings of " + scene.name + " hold no usable reading");
-  auto data = std::make_shared<const SonarData>(std::get<SonarData>(std::move(selected)));
+  PRIORMAP_CHECK(selected.ok(), "the simulated rings of " + scene.name + " hold no usable reading");
+  auto data = std::make_shared<const SonarData>(std::move(selected).value());
   c.readings = data->readings.size();
   c.max_readings =
       static_cast<std::size_t>(std::count_if(data->readings.begin(), data->readings.end(),
@@ -179,21 +136,19 @@ SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& op
     PRIORMAP_CHECK(!options.start_at_truth, "scene " + scene.name + " has no true coloring: " +
                                                 std::get<std::string>(true_map));
   }
-  c.evaluation.grid = evaluation_grid;
-  const auto n = static_cast<std::size_t>(evaluation_grid.NumCells());
-  c.evaluation.truth_black.resize(n);
-  c.evaluation.observation.assign(n, Observation::kUnseen);
-  c.evaluation.covered.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    c.evaluation.truth_black[i] =
-        truth.Occupied(evaluation_grid.Centre(static_cast<int>(i))) ? 1 : 0;
-  const SceneRayCaster caster(scene);
-  const ConeFans fans = MarkCones(*data, caster, options, &c.evaluation);
+  ConeWallHits wall_hits;
+  c.evaluation = MakeSonarEvaluationRaster(
+      evaluation_grid, truth, scene, *data,
+      {.rays_per_cone = options.rays_per_cone,
+       .band = options.band,
+       // The study's published scores were marked every half of the nominal resolution.
+       .mark_step = 0.5 * options.resolution},
+      &wall_hits);
   // Neighbouring rays of a fan are at most this far apart on a wall within R.
   const double gap = options.sensor.max_range * 2.0 * data->readings.front().cone.half_spread /
                          (options.rays_per_cone - 1) +
                      options.walls.spacing;
-  const std::vector<SeenWall> walls = SeenWalls(scene, fans, options.walls.spacing, gap);
+  const std::vector<SeenWall> walls = SeenWalls(scene, wall_hits, options.walls.spacing, gap);
 
   // Both maps from the same readings.
   const auto grid_start = Clock::now();

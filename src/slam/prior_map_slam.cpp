@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <unordered_map>
 
@@ -72,6 +73,7 @@ struct PriorMapSlam::Impl {
 
   std::unordered_map<int, Landmark> landmarks;  // by state id
   std::unordered_map<int, int> state_id_of;     // external id -> state id (in the state now)
+  std::map<int, MappedLandmark> mapped;         // by external id: every landmark created
   int next_state_id = 0;
   int next_external_id = 0;  // nearest neighbour: ids given to new landmarks
   SlamResult result;
@@ -427,6 +429,7 @@ struct PriorMapSlam::Impl {
       record.accepted = static_cast<int>(accepted.size());
     }
     SlideWindow();
+    MapLandmarksInState();
 
     record.time = time;
     record.estimate = state.pose();
@@ -445,13 +448,30 @@ struct PriorMapSlam::Impl {
     return record;
   }
 
+  [[nodiscard]] LandmarkEstimate EstimateOf(const StateBlock& landmark) const {
+    return {landmarks.at(landmark.id).external, state.mean().segment<2>(landmark.offset),
+            state.covariance().block<2, 2>(landmark.offset, landmark.offset)};
+  }
+
+  // After each frame, so that a landmark the window drops keeps the estimate it had in the
+  // last frame that ended with it in the state (the frame records count it there).
+  void MapLandmarksInState() {
+    for (const StateBlock& block : state.blocks()) {
+      if (block.kind != BlockKind::kLandmark) continue;
+      const LandmarkEstimate estimate = EstimateOf(block);
+      mapped[estimate.id] = {.estimate = estimate, .last_time = time};
+    }
+  }
+
   SlamResult Finish() const {
     SlamResult out = result;
+    for (auto [id, landmark] : mapped) {
+      landmark.in_state = state_id_of.contains(id);
+      out.all_landmarks.push_back(landmark);
+    }
     for (const StateBlock& block : state.blocks()) {
       if (block.kind == BlockKind::kLandmark) {
-        out.landmarks.push_back({landmarks.at(block.id).external,
-                                 state.mean().segment<2>(block.offset),
-                                 state.covariance().block<2, 2>(block.offset, block.offset)});
+        out.landmarks.push_back(EstimateOf(block));
       } else {
         out.segments.push_back({block.id, state.mean().segment<2>(block.offset),
                                 state.mean().segment<2>(block.offset + 2),

@@ -211,14 +211,18 @@ std::string SlamMapGeoJson(const SlamResult& result) {
     }
   }
   OrderedJson features = OrderedJson::array();
-  for (const LandmarkEstimate& landmark : result.landmarks) {
+  // The whole map, not only the window's landmarks: a run's map is what the drive saw.
+  for (const MappedLandmark& mapped : result.all_landmarks) {
+    const LandmarkEstimate& landmark = mapped.estimate;
     const Mat2& P = landmark.covariance;
     const auto it = related.find(landmark.id);
     OrderedJson properties = {
         {"kind", "landmark"},
         {"id", landmark.id},
         {"covariance", {NumberToJson(P(0, 0)), NumberToJson(P(0, 1)), NumberToJson(P(1, 1))}},
-        {"segments", it == related.end() ? std::vector<int>() : it->second}};
+        {"segments", it == related.end() ? std::vector<int>() : it->second},
+        {"in_state", mapped.in_state},
+        {"last_time", NumberToJson(mapped.last_time)}};
     features.push_back(
         {{"type", "Feature"},
          {"geometry", {{"type", "Point"}, {"coordinates", PointToJson(landmark.position)}}},

@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/log_io.hpp>
@@ -84,8 +85,8 @@ Log TwoScanLog() {
 TEST(SelectBeams, DropsInvalidReadingsAndCapsTheMaxRange) {
   const auto selected = SelectBeams(
       TwoScanLog(), {.first_scan = 1, .end_scan = std::nullopt, .beam_step = 1, .max_range = 8.0});
-  ASSERT_TRUE(std::holds_alternative<LaserData>(selected));
-  const LaserData& data = std::get<LaserData>(selected);
+  ASSERT_TRUE(selected.ok()) << selected.error();
+  const LaserData& data = selected.value();
   EXPECT_EQ(data.max_range, 8.0);
   ASSERT_EQ(data.sensors.size(), 1u);
   EXPECT_EQ(data.sensors[0], Vec2(1.0, 0.0));
@@ -99,8 +100,11 @@ TEST(SelectBeams, DropsInvalidReadingsAndCapsTheMaxRange) {
 TEST(SelectBeams, ExplainsAnEmptySelection) {
   const auto selected = SelectBeams(
       TwoScanLog(), {.first_scan = 2, .end_scan = std::nullopt, .beam_step = 1, .max_range = 8.0});
-  ASSERT_TRUE(std::holds_alternative<std::string>(selected));
-  EXPECT_NE(std::get<std::string>(selected).find("selects no scan"), std::string::npos);
+  ASSERT_FALSE(selected.ok());
+  ASSERT_EQ(selected.diagnostics().size(), 1u);
+  const Diagnostic& why = selected.diagnostics().front();
+  EXPECT_EQ(why.Location(), "") << "a selection is not a file: no position to give";
+  EXPECT_THAT(why.message, ::testing::HasSubstr("the scan range 2:2 selects no scan"));
 }
 
 // One beam from (0.2, 0.5) along +x in the unit square.
@@ -198,8 +202,8 @@ TEST(LaserLikelihood, IncrementalEqualsRecomputedOnASimulatedLog) {
   const Log log = SimulateLog(scene, sensor, trajectory, 7);
   const auto selected = SelectBeams(
       log, {.first_scan = 0, .end_scan = std::nullopt, .beam_step = 4, .max_range = 8.0});
-  ASSERT_TRUE(std::holds_alternative<LaserData>(selected));
-  auto data = std::make_shared<const LaserData>(std::get<LaserData>(selected));
+  ASSERT_TRUE(selected.ok()) << selected.error();
+  auto data = std::make_shared<const LaserData>(selected.value());
   ExpectIncrementalEqualsRecomputed(data, 0.5, 1.0, 20000, 2000, 1);
   // Hot: many more moves accepted, much more structure.
   ExpectIncrementalEqualsRecomputed(data, 0.5, 20.0, 20000, 2000, 2);
@@ -213,8 +217,8 @@ TEST(LaserLikelihood, IncrementalEqualsRecomputedAfter100kMovesOnARealLog) {
   // About the paper's 5,550 measurements: 185 scans, every 6th beam.
   const auto selected = SelectBeams(
       log.value(), {.first_scan = 0, .end_scan = 185, .beam_step = 6, .max_range = 20.0});
-  ASSERT_TRUE(std::holds_alternative<LaserData>(selected));
-  auto data = std::make_shared<const LaserData>(std::get<LaserData>(selected));
+  ASSERT_TRUE(selected.ok()) << selected.error();
+  auto data = std::make_shared<const LaserData>(selected.value());
   EXPECT_NEAR(static_cast<double>(data->beams.size()), 5550.0, 100.0);
   ExpectIncrementalEqualsRecomputed(data, 0.1, 1.0, 100000, 10000, 3);
   ExpectIncrementalEqualsRecomputed(data, 0.1, 10.0, 100000, 10000, 4);

@@ -20,7 +20,7 @@ inline std::shared_ptr<const LaserData> RoomData() {
   const Log log = SimulateLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, 0.5, 1.0), 3);
   auto data = SelectBeams(
       log, {.first_scan = 0, .end_scan = std::nullopt, .beam_step = 8, .max_range = 8.0});
-  return std::make_shared<const LaserData>(std::get<LaserData>(std::move(data)));
+  return std::make_shared<const LaserData>(std::move(data).value());
 }
 
 // The sessions of RunInSessions, checkpointed in `directory`: each stops after `steps` steps

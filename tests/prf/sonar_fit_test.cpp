@@ -286,7 +286,8 @@ TEST(SonarFit, ViewsOfASimulatedOfficeLogPairEachReadingWithWhatItsConeSees) {
   const auto& readings = std::get<std::vector<SonarFitReading>>(views);
   const auto selected =
       SelectSonarReadings(log, {.first_scan = 0, .end_scan = std::nullopt, .max_range = kMaxRange});
-  const SonarData& data = std::get<SonarData>(selected);
+  ASSERT_TRUE(selected.ok()) << selected.error();
+  const SonarData& data = selected.value();
   ASSERT_EQ(readings.size(), data.readings.size());
   ASSERT_GT(readings.size(), 100u);
   std::size_t with_features = 0;

@@ -7,6 +7,7 @@
 #include <memory>
 #include <numbers>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/robond_sonar_io.hpp>
@@ -55,8 +56,8 @@ Log MixedLog() {
 TEST(SelectSonarReadings, TakesTheRingsConesAndSkipsLaserScansAndInvalidReadings) {
   const auto selected = SelectSonarReadings(
       MixedLog(), {.first_scan = 0, .end_scan = std::nullopt, .max_range = 3.5});
-  ASSERT_TRUE(std::holds_alternative<SonarData>(selected)) << std::get<std::string>(selected);
-  const SonarData& data = std::get<SonarData>(selected);
+  ASSERT_TRUE(selected.ok()) << selected.error();
+  const SonarData& data = selected.value();
   EXPECT_EQ(data.max_range, 3.5);
   ASSERT_EQ(data.readings.size(), 3u);  // the first ring's NaN is left out
   const SonarReading& first = data.readings[0];
@@ -74,8 +75,10 @@ TEST(SelectSonarReadings, TakesTheRingsConesAndSkipsLaserScansAndInvalidReadings
   Log laser_only = MixedLog();
   laser_only.scans.resize(1);
   const auto none = SelectSonarReadings(laser_only, {});
-  ASSERT_TRUE(std::holds_alternative<std::string>(none));
-  EXPECT_NE(std::get<std::string>(none).find("no sonar ring"), std::string::npos);
+  ASSERT_FALSE(none.ok());
+  ASSERT_EQ(none.diagnostics().size(), 1u);
+  EXPECT_EQ(none.diagnostics().front().Location(), "") << "a selection is not a file";
+  EXPECT_THAT(none.diagnostics().front().message, ::testing::HasSubstr("no sonar ring"));
 }
 
 // One cone from (0.2, 0.5) along +x, 30 deg wide, in the unit square.
@@ -180,11 +183,11 @@ void ExpectIncrementalEqualsRecomputed(std::shared_ptr<const SonarData> data, do
 std::shared_ptr<const SonarData> Selected(const Log& log, double max_range) {
   const auto selected =
       SelectSonarReadings(log, {.first_scan = 0, .end_scan = std::nullopt, .max_range = max_range});
-  if (const auto* problem = std::get_if<std::string>(&selected)) {
-    ADD_FAILURE() << *problem;
+  if (!selected) {
+    ADD_FAILURE() << selected.error();
     return nullptr;
   }
-  return std::make_shared<const SonarData>(std::get<SonarData>(selected));
+  return std::make_shared<const SonarData>(selected.value());
 }
 
 // Simulated pioneer16 rings along the office's trajectory (0.5 m/s, 2 rings/s), R = 5 m.

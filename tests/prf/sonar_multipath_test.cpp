@@ -173,8 +173,8 @@ TEST(SonarMultipath, EqualsTheSimulatorsMultipathReadingsInTheTrueMap) {
       SimulateSonarLog(scene, sensor, TrajectoryFromWaypoints(scene.waypoints, 0.5, 2.0), 11);
   const auto selected = SelectSonarReadings(
       log, {.first_scan = 0, .end_scan = std::nullopt, .max_range = sensor.max_range});
-  ASSERT_TRUE(std::holds_alternative<SonarData>(selected));
-  const auto data = std::make_shared<const SonarData>(std::get<SonarData>(selected));
+  ASSERT_TRUE(selected.ok()) << selected.error();
+  const auto data = std::make_shared<const SonarData>(selected.value());
   std::vector<Vec2> seeds = scene.waypoints;
   for (const Vec2& s : data->sensors) seeds.push_back(s);
   // A window around the whole building, so that every mirrored path stays inside it.

@@ -1,5 +1,7 @@
 // The filter on small worlds whose answers are known, and on the urban study's data.
 #include <limits>
+#include <map>
+#include <set>
 
 #include <Eigen/Eigenvalues>
 #include <gmock/gmock.h>
@@ -252,6 +254,50 @@ TEST_F(UrbanRunTest, SlidingWindowDropsLandmarksUnseenForItsLength) {
   EXPECT_EQ(all.landmarks.size(), seen.size());
   EXPECT_LT(windowed.landmarks.size(), all.landmarks.size() / 4);
   EXPECT_GT(windowed.landmarks_created, seen.size());  // re-initialised when seen again
+}
+
+TEST_F(UrbanRunTest, EveryLandmarkIsMappedAtItsEstimateInTheLastFrameThatKeptIt) {
+  const SlamInput& input = run_->input;
+  PriorMapSlam slam(input.initial_pose, input.start_time, input.motion_noise, input.sensor_noise,
+                    &run_->prior_map, SlamOptions{});
+  // What a user could read off the state after each frame, by landmark id.
+  std::map<int, MappedLandmark> expected;
+  std::size_t f = 0;
+  for (const MotionStep& step : input.motion) {
+    slam.Predict(step);
+    while (f < input.frames.size() && input.frames[f].time <= step.time + 1e-9) {
+      const double time = slam.Observe(input.frames[f++]).time;
+      for (const LandmarkEstimate& l : slam.Finish().landmarks)
+        expected[l.id] = {.estimate = l, .last_time = time};
+    }
+  }
+  const SlamResult result = slam.Finish();
+  for (const LandmarkEstimate& l : result.landmarks) expected.at(l.id).in_state = true;
+
+  ASSERT_EQ(result.all_landmarks.size(), expected.size());
+  std::size_t dropped = 0;
+  auto want = expected.begin();
+  for (const MappedLandmark& got : result.all_landmarks) {
+    const int id = want->first;
+    EXPECT_EQ(got.estimate.id, id);
+    EXPECT_EQ(got.estimate.position, want->second.estimate.position) << "landmark " << id;
+    EXPECT_EQ(got.estimate.covariance, want->second.estimate.covariance) << "landmark " << id;
+    EXPECT_EQ(got.last_time, want->second.last_time) << "landmark " << id;
+    EXPECT_EQ(got.in_state, want->second.in_state) << "landmark " << id;
+    if (!got.in_state) {
+      ++dropped;
+      EXPECT_LT(got.last_time, result.frames.back().time) << "landmark " << id;
+    }
+    ++want;
+  }
+  // Most were dropped by the window (so the comparison above is mostly about them), and every
+  // beacon the drive saw is mapped.
+  EXPECT_GT(dropped, 3 * result.landmarks.size());
+  std::set<int> seen;
+  for (const ObservationFrame& frame : input.frames) {
+    for (const RangeBearing& z : frame.observations) seen.insert(z.id);
+  }
+  EXPECT_EQ(expected.size(), seen.size());
 }
 
 TEST(RunSlam, AFrameAtAnIncrementsStartIsObservedBeforeIt) {

@@ -88,6 +88,13 @@ RunTrace MakeTrace(double offset) {
   result.building_relations = 1;
   result.landmarks = {{.id = 3, .position = Vec2(1.0, 2.0), .covariance = Mat2::Identity()},
                       {.id = 5, .position = Vec2(-1.0, 0.5), .covariance = 2 * Mat2::Identity()}};
+  // Landmark 4 was dropped by the window after the first frame.
+  result.all_landmarks = {
+      {.estimate = result.landmarks[0], .last_time = 0.2, .in_state = true},
+      {.estimate = {.id = 4, .position = Vec2(7.0, 8.0), .covariance = 3 * Mat2::Identity()},
+       .last_time = 0.0,
+       .in_state = false},
+      {.estimate = result.landmarks[1], .last_time = 0.2, .in_state = true}};
   result.segments = {
       {.segment = 7, .a = Vec2(0, 0), .b = Vec2(4, 0), .covariance = Mat4::Identity()}};
   result.landmarks_created = 9;
@@ -250,7 +257,7 @@ TEST(SlamRunIo, TrajectoryCsvHasThePoseAndTheCovariancesUniqueEntries) {
   EXPECT_EQ(std::stod(cells[9]), frame.covariance(2, 2));
 }
 
-TEST(SlamRunIo, MapGeoJsonHasALandmarkPointPerLandmarkAndALinePerSegment) {
+TEST(SlamRunIo, MapGeoJsonHasAPointPerLandmarkEverMappedAndALinePerSegment) {
   const std::string json = SlamMapGeoJson(MakeTrace(0.0).result);
   EXPECT_THAT(json, HasSubstr("\"type\": \"FeatureCollection\""));
   const auto count = [&](const std::string& what) {
@@ -259,10 +266,13 @@ TEST(SlamRunIo, MapGeoJsonHasALandmarkPointPerLandmarkAndALinePerSegment) {
       ++n;
     return n;
   };
-  EXPECT_EQ(count("\"type\":\"Point\""), 2u);
+  EXPECT_EQ(count("\"type\":\"Point\""), 3u);
   EXPECT_EQ(count("\"type\":\"LineString\""), 1u);
   EXPECT_THAT(json, HasSubstr("\"kind\":\"landmark\",\"id\":3,\"covariance\":[1.0,0.0,1.0],"
-                              "\"segments\":[7,4,5]"));
+                              "\"segments\":[7,4,5],\"in_state\":true,\"last_time\":0.2"));
+  EXPECT_THAT(json, HasSubstr("\"coordinates\":[7.0,8.0]},\"properties\":{\"kind\":\"landmark\","
+                              "\"id\":4,\"covariance\":[3.0,0.0,3.0],\"segments\":[],"
+                              "\"in_state\":false,\"last_time\":0.0"));
   EXPECT_THAT(json, HasSubstr("\"kind\":\"segment\",\"segment\":7"));
 }
 

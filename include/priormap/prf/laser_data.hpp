@@ -5,10 +5,9 @@
 
 #include <cstddef>
 #include <optional>
-#include <string>
-#include <variant>
 #include <vector>
 
+#include <priormap/core/diagnostic.hpp>
 #include <priormap/core/log.hpp>
 #include <priormap/core/types.hpp>
 #include <priormap/prf/window.hpp>
@@ -41,9 +40,9 @@ struct LaserSelection {
 /// The beams of log.scans[first_scan, end_scan). Invalid readings (NaN, below min range,
 /// flagged) and scans without a finite pose are left out. R is the smallest of
 /// selection.max_range and the scans' own max ranges; readings at or above it become max-range
-/// readings. Returns a message when the selection is empty or out of range.
-[[nodiscard]] std::variant<LaserData, std::string> SelectBeams(const Log& log,
-                                                               const LaserSelection& selection);
+/// readings. Fails, with a diagnostic that has no file position (the selection is not a file),
+/// when the selection is empty or out of range.
+[[nodiscard]] Result<LaserData> SelectBeams(const Log& log, const LaserSelection& selection);
 
 /// The smallest window holding every sensor and every reading's end point, grown by `margin`
 /// on each side.

@@ -7,7 +7,7 @@
 ///   - walls: how far a polygonal map's edges lie from the true walls, and how much of the seen
 ///     true walls they recover.
 /// Nothing here knows the sensor or the mapping method: a sonar map is scored the same way, with
-/// its own coverage (MarkCoverage over its cones' cells).
+/// its own observed area and coverage (MakeSonarEvaluationRaster, sonar_observed_area.hpp).
 
 #include <cstdint>
 #include <limits>

@@ -9,9 +9,10 @@
 /// derived from the seed and its name), so cases run in parallel (oneTBB) and a case gives the
 /// same numbers alone or in any study.
 ///
-/// The truth and the scores know no sensor model: a sonar comparison (issue 7) plugs in at the
-/// same seams, with a SensorView per sonar pose, a MarkCoverage over its cones' cells, its grid's
-/// raster through SampleAtCentres and its MappingData through RunMapping.
+/// The truth and the scores know no sensor model: the sonar comparison (sonar_study.hpp) plugs in
+/// at the same seams, with the observed area and coverage of its cones
+/// (MakeSonarEvaluationRaster), its grid's raster through SampleAtCentres and its MappingData
+/// through RunMapping.
 
 #include <cstdint>
 #include <functional>

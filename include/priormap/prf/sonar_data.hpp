@@ -5,10 +5,9 @@
 
 #include <cstddef>
 #include <optional>
-#include <string>
-#include <variant>
 #include <vector>
 
+#include <priormap/core/diagnostic.hpp>
 #include <priormap/core/log.hpp>
 #include <priormap/core/types.hpp>
 #include <priormap/prf/window.hpp>
@@ -47,10 +46,10 @@ struct SonarSelection {
 /// The readings of the sonar rings (scans with `sonar` fields) among log.scans[first_scan,
 /// end_scan); other scans are passed over. Invalid readings (NaN, below min range) and rings
 /// without a finite pose are left out. R is the smallest of selection.max_range and the rings'
-/// own max ranges; readings at or above it become max-range readings. Returns a message when
-/// the selection holds no sonar reading.
-[[nodiscard]] std::variant<SonarData, std::string> SelectSonarReadings(
-    const Log& log, const SonarSelection& selection);
+/// own max ranges; readings at or above it become max-range readings. Fails, with a diagnostic
+/// that has no file position, when the selection holds no sonar reading.
+[[nodiscard]] Result<SonarData> SelectSonarReadings(const Log& log,
+                                                    const SonarSelection& selection);
 
 /// The smallest window holding every sensor and every reading's arc (the cone's far edge at
 /// the reading), grown by `margin` on each side.

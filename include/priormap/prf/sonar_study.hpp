@@ -5,7 +5,8 @@
 /// the cones could see: classification (map_scores.hpp), walls missed and boundary sharpness
 /// of their 0.5 contours (contour_scores.hpp).
 ///
-/// The observed area is geometric: a fan of rays across each cone, each followed to the first
+/// The observed area is geometric (MakeSonarEvaluationRaster, sonar_observed_area.hpp): a fan
+/// of rays across each cone, each followed to the first
 /// true surface within R, marks the cells it crosses as visible and the `band` behind that
 /// surface as behind it; the cells a reading says something about (inside its cone up to the
 /// reading, or R) are its covered cells. A case is a pure function of its scene, the options

@@ -133,6 +133,14 @@ struct LandmarkEstimate {
   Mat2 covariance = Mat2::Zero();
 };
 
+/// A landmark of the whole map the filter built: the sliding window drops landmarks from the
+/// state, not from the map.
+struct MappedLandmark {
+  LandmarkEstimate estimate;  ///< after the last frame that ended with it in the state
+  double last_time = 0.0;     ///< that frame's time, s
+  bool in_state = false;      ///< still in the state at the end (`estimate` is in `landmarks`)
+};
+
 struct SegmentEstimate {
   int segment = -1;
   Vec2 a = Vec2::Zero(), b = Vec2::Zero();
@@ -149,7 +157,11 @@ struct SlamResult {
   std::vector<FrameRecord> frames;
   std::vector<RelationRecord> relations;
   std::vector<LandmarkEstimate> landmarks;  ///< in the state at the end
-  std::vector<SegmentEstimate> segments;    ///< in the state at the end
+  /// Every landmark id the filter created, ascending, at its last estimate: the map to score
+  /// against the truth. With known ids, a landmark the window dropped and then saw again is
+  /// created anew (see `landmarks_created`) but mapped once, at its latest estimate.
+  std::vector<MappedLandmark> all_landmarks;
+  std::vector<SegmentEstimate> segments;  ///< in the state at the end
   InferenceStats inference;
   std::size_t rejected_updates = 0;    ///< innovation covariance not positive definite
   std::size_t building_relations = 0;  ///< of `relations`, those to some wall of a building

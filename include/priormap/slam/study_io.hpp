@@ -4,8 +4,9 @@
 ///  - a study: `summary.json` ("priormap.slam_study"), `runs/with_prior_run_NN.csv` and
 ///    `runs/without_prior_run_NN.csv` (one row per frame) and `relations.csv` (every relation
 ///    applied in the runs with the prior map);
-///  - a run: `trajectory.csv` (pose and its covariance per frame), `map.geojson` (landmarks and
-///    segments in the state at the end), `relations.csv` and `summary.json` ("priormap.slam_run").
+///  - a run: `trajectory.csv` (pose and its covariance per frame), `map.geojson` (every landmark
+///    created, at its last estimate, and the segments in the state at the end), `relations.csv`
+///    and `summary.json` ("priormap.slam_run").
 /// Numbers are written so that they read back to the same double; NaN is an empty CSV cell and
 /// null in JSON. Every file is written atomically (a failure leaves any previous one intact).
 
@@ -62,10 +63,12 @@ struct SlamRunInfo {
 /// cov_yy, cov_ytheta, cov_thetatheta (m^2, m rad, rad^2); one row per frame.
 [[nodiscard]] std::string TrajectoryCsv(const SlamResult& result);
 
-/// A GeoJSON FeatureCollection in the prior map's metric frame: each landmark in the state at
-/// the end as a Point {kind: "landmark", id, covariance [xx, xy, yy], segments: the segments
-/// of its applied relations}; each segment in the state as a LineString {kind: "segment",
-/// segment: its index in the prior map, covariance: the 4x4 of (ax, ay, bx, by), row-major}.
+/// A GeoJSON FeatureCollection in the prior map's metric frame: each landmark of
+/// `result.all_landmarks` as a Point at its last estimate {kind: "landmark", id, covariance [xx,
+/// xy, yy], segments: the segments of its applied relations, in_state: still in the state at
+/// the end, last_time: the time of that estimate, s}; each segment in the state as a LineString
+/// {kind: "segment", segment: its index in the prior map, covariance: the 4x4 of (ax, ay, bx,
+/// by), row-major}.
 [[nodiscard]] std::string SlamMapGeoJson(const SlamResult& result);
 
 /// landmark, segment, time, flagged, flagged_time, correct, spurious_segment (the last two
