@@ -227,6 +227,13 @@ void EnsureDirectory(const std::filesystem::path& directory) {
         fmt::format("cannot create directory {}: {}", directory.string(), ec.message()));
 }
 
+void EnsureDirectoryWithoutLastFile(const std::filesystem::path& directory,
+                                    std::string_view last_file) {
+  EnsureDirectory(directory);
+  std::error_code ec;  // absent: nothing to do; unremovable: the run's writes fail there too
+  std::filesystem::remove(directory / last_file, ec);
+}
+
 Progress::Progress(std::size_t total, std::string unit)
     : total_(std::max<std::size_t>(total, 1)),
       unit_(std::move(unit)),

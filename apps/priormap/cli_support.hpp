@@ -9,6 +9,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -116,6 +117,12 @@ void RemoveFiles(const std::filesystem::path& directory, std::span<const char* c
 
 /// Creates `directory` (and parents) when missing; throws UserError when that fails.
 void EnsureDirectory(const std::filesystem::path& directory);
+
+/// EnsureDirectory, then removes an earlier run's `last_file` there: the file a run writes last,
+/// so that a run stopped or failed while writing cannot pass its mix of old and new files off as
+/// a complete set.
+void EnsureDirectoryWithoutLastFile(const std::filesystem::path& directory,
+                                    std::string_view last_file);
 
 /// A progress bar on stderr, redrawn at most every percent on a terminal; elsewhere (CI logs,
 /// files) a line every 10 %. Step() may be called from several threads.

@@ -58,11 +58,7 @@ void RunGridCommand(const GridCliOptions& o) {
   const Box2 extent = grid::OccupancyGrid::ExtentOf(log, first, end, o.grid);
   if (extent.isEmpty()) throw UserError("the selected scans have no usable reading");
   grid::OccupancyGrid map(extent, o.grid);  // first: a grid too large leaves no directory behind
-  // summary.json is written last: without an earlier run's, a run stopped while writing cannot
-  // pass its mix of old and new files for a complete set.
-  EnsureDirectory(o.out);
-  std::error_code ec;  // absent: nothing to do; unremovable: the writes below fail there too
-  std::filesystem::remove(std::filesystem::path(o.out) / "summary.json", ec);
+  EnsureDirectoryWithoutLastFile(o.out, "summary.json");
 
   const auto insert_start = std::chrono::steady_clock::now();
   std::size_t beams = 0;

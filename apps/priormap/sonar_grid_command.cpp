@@ -21,11 +21,7 @@ void RunSonarGrid(const Log& log, const std::string& log_path, std::size_t first
   const Box2 extent = grid::SonarGrid::ExtentOf(log, first, end, options);
   if (extent.isEmpty()) throw UserError("the selected rings have no usable reading");
   grid::SonarGrid map(extent, options);  // first: a grid too large leaves no directory behind
-  // summary.json is written last: without an earlier run's, a run stopped while writing cannot
-  // pass its mix of old and new files for a complete set.
-  EnsureDirectory(out);
-  std::error_code ec;  // absent: nothing to do; unremovable: the writes below fail there too
-  std::filesystem::remove(std::filesystem::path(out) / "summary.json", ec);
+  EnsureDirectoryWithoutLastFile(out, "summary.json");
   const auto start = std::chrono::steady_clock::now();
   std::size_t readings = 0;
   std::vector<Vec2> sensors;
