@@ -27,10 +27,14 @@ struct PlotOptions {
   std::optional<double> max_range;
 };
 
-// Cairo draws in 24.8 fixed point: a world (or a range) beyond the readers' bound on world
-// coordinates cannot be drawn. The readers refuse poses and scene points beyond it; a reading
-// can still end there.
-constexpr double kLargestDrawable = kMaxWorldCoordinate;  // m
+// Cairo draws in 24.8 fixed point: a world (or a range) far beyond the readers' bound on world
+// coordinates cannot be drawn. The readers refuse, at their field, positions beyond it and
+// returns (and true ranges) longer than it, so that what they read is drawable: a return's
+// point lies within a pose, a transducer offset (at most sqrt(2) times the bound) and its range.
+// No-return readings are drawn by their status, as rays to the max range, never by their value.
+// These checks only guard against what a reader would let through.
+constexpr double kLongestDrawableRange = kMaxWorldCoordinate;  // m
+constexpr double kLargestDrawable = 4 * kMaxWorldCoordinate;   // m
 
 bool IsDrawable(const Box2& box) {
   return box.isEmpty() || (box.min().cwiseAbs().maxCoeff() <= kLargestDrawable &&
@@ -93,7 +97,7 @@ void PlotRanges(const Log& log, const PlotOptions& o, bool residuals) {
   }
   for (const std::vector<double>* values : {&measured.y, &truth.y}) {
     for (const double v : *values) {
-      if (std::isfinite(v) && std::abs(v) > kLargestDrawable) {
+      if (std::isfinite(v) && std::abs(v) > kLongestDrawableRange) {
         throw UserError(
             fmt::format("{}: scan {} has a range of {} m, too large to draw", o.input, k, v));
       }

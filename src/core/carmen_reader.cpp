@@ -68,6 +68,8 @@ class FieldReader {
       : tokens_(tokens), record_(record), line_length_(line_length) {}
 
   std::size_t remaining() const { return tokens_.size() - next_; }
+  std::size_t next_index() const { return next_; }
+  const Token& token(std::size_t index) const { return tokens_[index]; }
   int next_col() const { return next_ < tokens_.size() ? tokens_[next_].col : line_length_ + 1; }
 
   double Number(std::string_view what) {
@@ -241,7 +243,7 @@ class CarmenParser {
                         "no CARMEN records found: expected lines starting with FLASER, RLASER, "
                         "ROBOTLASER1, ODOM, TRUEPOS or PARAM"};
     }
-    if (std::optional<Diagnostic> problem = FinishScans()) return *problem;
+    if (std::vector<Diagnostic> problems = FinishScans(); !problems.empty()) return problems;
     return std::move(log_);
   }
 
@@ -286,6 +288,7 @@ class CarmenParser {
   }
 
   void ParseLine(std::string_view line, int line_number) {
+    line_number_ = line_number;
     Tokenize(line, tokens_);  // one buffer for every line: no allocation per line
     const std::vector<Token>& tokens = tokens_;
     if (tokens.empty()) return;
@@ -322,10 +325,24 @@ class CarmenParser {
   }
 
   std::vector<double> Readings(FieldReader& fields, long long n) {
+    const std::size_t first = fields.next_index();
     std::vector<double> ranges(static_cast<std::size_t>(n));
     if (!fields.TryNumbers(ranges.data(), ranges.size(), false))
       for (double& r : ranges) r = fields.Number("a range reading");
+    NoteOverlongReadings(fields, first, ranges);
     return ranges;
+  }
+
+  // A reading longer than any return may be is an error only if it is a return, which the max
+  // range, known once every scan is read, decides; until then its place is kept (there are
+  // few: one is an error or a no-return sentinel).
+  void NoteOverlongReadings(const FieldReader& fields, std::size_t first,
+                            const std::vector<double>& ranges) {
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+      if (IsReturnWithinWorld(ranges[i]) || !std::isfinite(ranges[i])) continue;
+      const Token& t = fields.token(first + i);
+      overlong_.push_back({log_.scans.size(), i, line_number_, t.col, QuoteForMessage(t.text)});
+    }
   }
 
   void ParseOldLaser(FieldReader& fields, std::string_view type) {
@@ -450,8 +467,9 @@ class CarmenParser {
   // Max range, per scan: the record's own (ROBOTLASER1 carries one), else the no-return
   // sentinel detected among the scans without their own (FLASER/RLASER carry none), else none
   // (+inf); the caller's where it is shorter, or where there is none: a longer one would make
-  // the no-return readings walls. Detection needs every reading, so statuses are set last.
-  std::optional<Diagnostic> FinishScans() {
+  // the no-return readings walls. Detection needs every reading, so statuses are set last, and
+  // so are the returns checked against the world's bound.
+  std::vector<Diagnostic> FinishScans() {
     // The scans' readings in place: a copy of them all is megabytes of fresh pages.
     std::vector<std::span<const double>> readings;
     readings.reserve(log_.scans.size());
@@ -466,18 +484,34 @@ class CarmenParser {
         // A minimum range the caller chose at or beyond the sensor's reach leaves no reading
         // that could be valid; else (a caller's max range <= 0) the scan has no known reach.
         if (options_.min_range > 0.0)
-          return Diagnostic{
+          return {Diagnostic{
               name_, 0, 0,
               fmt::format("the minimum range {} m is not below the max range {} m of scan {} "
                           "(its record's, the detected or the given one): no reading could be "
                           "valid",
-                          options_.min_range, scan.max_range, k)};
+                          options_.min_range, scan.max_range, k)}};
         scan.max_range = kInf;
       }
       scan.ClassifyAll();
     }
     log_.pose_source = options_.pose_source;
-    return std::nullopt;
+    return OverlongReturns();
+  }
+
+  // At the reading, like a position beyond the world at its coordinate.
+  std::vector<Diagnostic> OverlongReturns() {
+    std::vector<Diagnostic> diagnostics;
+    for (const OverlongReading& r : overlong_) {
+      const Scan& scan = log_.scans[r.scan];
+      if (!scan.IsValid(r.index)) continue;
+      diagnostics.push_back({name_, r.line, r.col,
+                             ExpectedReturnWithinWorld("a range reading", r.text, scan.max_range)});
+      if (static_cast<int>(diagnostics.size()) >= std::max(options_.max_diagnostics, 1)) {
+        diagnostics.push_back({name_, r.line, 0, "too many errors; stopped reading"});
+        break;
+      }
+    }
+    return diagnostics;
   }
 
   const std::string& name_;
@@ -485,6 +519,13 @@ class CarmenParser {
   CarmenReadStats& stats_;
   Log log_;
   std::vector<std::optional<double>> own_max_ranges_;
+  struct OverlongReading {
+    std::size_t scan, index;
+    int line, col;
+    std::string text;  // quoted for messages
+  };
+  std::vector<OverlongReading> overlong_;
+  int line_number_ = 0;
   std::vector<Diagnostic> diagnostics_;
   std::vector<Token> tokens_;
   std::string last_type_;

@@ -10,6 +10,7 @@
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 namespace priormap {
 namespace {
@@ -197,22 +198,64 @@ std::string Counted(std::size_t n, std::string_view what, std::string_view unit,
 
 }  // namespace
 
+namespace {
+
+// The max range each scan reads back with, as the reader finds it: a ROBOTLASER1 line's own
+// (when positive), else the one detected from the lines without one (`detected`, +inf for none).
+struct ReadBackMaxRanges {
+  std::vector<bool> as_flaser;
+  std::vector<std::optional<double>> own;
+  double detected = std::numeric_limits<double>::infinity();
+
+  explicit ReadBackMaxRanges(const Log& log) {
+    std::vector<std::span<const double>> without_own;
+    for (const Scan& scan : log.scans) {
+      as_flaser.push_back(WrittenAsFlaser(scan));
+      const double written = WrittenMaxRange(scan);
+      own.push_back(!as_flaser.back() && written > 0.0 ? std::optional<double>(written)
+                                                       : std::nullopt);
+      if (!own.back()) without_own.emplace_back(scan.ranges);
+    }
+    detected = DetectMaxRangeSentinel(without_own).value_or(detected);
+  }
+
+  [[nodiscard]] double of(std::size_t k) const { return own[k].value_or(detected); }
+};
+
+// A no-return reading longer than any return may be (world_bounds.hpp) is kept by the reader
+// only if it reads back as a no-return: a FLASER line has no field for its max range, and the
+// one detected may be longer or none, making it a return that the reader refuses.
+void RequireNoOverlongReturnReadBack(const Log& log) {
+  bool any = false;
+  for (const Scan& scan : log.scans)
+    any = any || std::ranges::any_of(scan.ranges, [](double r) {
+            return std::isfinite(r) && !IsReturnWithinWorld(r);
+          });
+  if (!any) return;
+  const ReadBackMaxRanges max_ranges(log);
+  const CarmenReadOptions read_back;
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    const std::vector<double>& ranges = log.scans[k].ranges;
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+      if (IsReturnWithinWorld(ranges[i]) ||
+          ClassifyReading(ranges[i], read_back.min_range, max_ranges.of(k)) != BeamStatus::kValid)
+        continue;
+      throw IoError(fmt::format(
+          "cannot write the log as CARMEN: scan {}: reading {} = {} m would read back as a return "
+          "(below the max range {} m that the reader would find), beyond {:.0e} m, which the "
+          "reader refuses; write priormap JSON, which keeps the max range",
+          k, i, ranges[i], max_ranges.of(k), kMaxWorldCoordinate));
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> CarmenLosses(const Log& log) {
   const CarmenReadOptions read_back;
-  // The max range each scan reads back with, as the reader finds it: a ROBOTLASER1 line's own
-  // (when positive), else the one detected from the lines without one.
-  std::vector<bool> as_flaser;
-  std::vector<std::optional<double>> own_max_range;
-  std::vector<std::span<const double>> without_own;
-  for (const Scan& scan : log.scans) {
-    as_flaser.push_back(WrittenAsFlaser(scan));
-    const double written = WrittenMaxRange(scan);
-    own_max_range.push_back(!as_flaser.back() && written > 0.0 ? std::optional<double>(written)
-                                                               : std::nullopt);
-    if (!own_max_range.back()) without_own.emplace_back(scan.ranges);
-  }
-  const double detected =
-      DetectMaxRangeSentinel(without_own).value_or(std::numeric_limits<double>::infinity());
+  const ReadBackMaxRanges max_ranges(log);
+  const std::vector<bool>& as_flaser = max_ranges.as_flaser;
+  const double detected = max_ranges.detected;
   std::size_t other_sigma = 0, precision = 0, truth = 0, odometry = 0, min_range = 0, max_range = 0,
               status = 0;
   for (std::size_t k = 0; k < log.scans.size(); ++k) {
@@ -224,7 +267,7 @@ std::vector<std::string> CarmenLosses(const Log& log) {
     // ODOM records, where the log has them, carry the odometry that ROBOTLASER1 lines cannot.
     if (scan.odom_pose && !as_flaser[k] && log.odometry.empty()) ++odometry;
     if (scan.min_range != read_back.min_range) ++min_range;
-    const double read_max_range = own_max_range[k].value_or(detected);
+    const double read_max_range = max_ranges.of(k);
     if (read_max_range != scan.max_range) ++max_range;
     for (std::size_t i = 0; i < scan.size(); ++i)
       if (scan.status[i] != ClassifyReading(scan.ranges[i], read_back.min_range, read_max_range))
@@ -300,6 +343,10 @@ std::string FormatCarmenLog(const Log& log) {
       }
     }
   }
+  // After the records, whose checks say what a CARMEN line cannot hold (a non-finite pose).
+  if (const auto beyond = log.FirstBeyondWorld())
+    throw IoError(CannotWriteBeyondWorld("the log", *beyond));
+  RequireNoOverlongReturnReadBack(log);
   return out;
 }
 

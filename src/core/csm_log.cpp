@@ -10,6 +10,7 @@
 
 #include <priormap/core/csm_io.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 #include "json_document.hpp"
 
@@ -206,6 +207,12 @@ CsmScan ReadScan(const JsonNode& root, const CsmReadOptions& options) {
         scan.status[i] = BeamStatus::kInvalid;
     }
   }
+  // At the reading, like a position beyond the world at its coordinate; only once the statuses
+  // are known, as a reading flagged invalid or a no-return one is kept whatever its value.
+  if (const std::optional<std::size_t> i = scan.FirstReturnBeyondWorld())
+    detail::Fail(detail::Element(readings, *i),
+                 ExpectedReturnWithinWorld("an element of \"readings\"",
+                                           fmt::format("{}", scan.ranges[*i]), scan.max_range));
 
   if (const auto stamp = detail::OptionalMember(root, "timestamp");
       stamp && !stamp->value.is_null()) {

@@ -8,6 +8,7 @@
 
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/json_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 #include "json_document.hpp"
 
@@ -377,6 +378,21 @@ std::optional<CarmenRecordFields> ReadCarmenRecord(const JsonNode& record) {
   return c;
 }
 
+// At the reading, like a position beyond the world at its coordinate; only once the statuses
+// are known, as a no-return reading is kept whatever its value. A true range is the distance
+// to a surface of the simulated scene, whatever the reading's status.
+void RefuseReturnsBeyondWorld(const Scan& scan, const JsonNode& node, const JsonNode& ranges) {
+  if (const std::optional<std::size_t> i = scan.FirstReturnBeyondWorld())
+    detail::Fail(detail::Element(ranges, *i),
+                 ExpectedReturnWithinWorld("an element of \"ranges\"",
+                                           fmt::format("{}", scan.ranges[*i]), scan.max_range));
+  if (const std::optional<std::size_t> i = scan.FirstTrueRangeBeyondWorld())
+    detail::Fail(detail::Element(detail::Member(node, "true_range"), *i),
+                 fmt::format("expected an element of \"true_range\" in metres, at most {:.0e}, "
+                             "or null where nothing was hit, got {}",
+                             kMaxWorldCoordinate, scan.truth->range[*i]));
+}
+
 Scan ReadScan(const JsonNode& node) {
   detail::RequireObject(node, "a scan");
   detail::RefuseUnknownMembers(node, kScanKeys, "a scan");
@@ -445,6 +461,7 @@ Scan ReadScan(const JsonNode& node) {
         detail::Fail(*member, "inconsistent scan: " + problem);
     detail::Fail(node, "inconsistent scan: " + problem);
   }
+  RefuseReturnsBeyondWorld(scan, node, ranges);
   return scan;
 }
 
@@ -536,10 +553,14 @@ OrderedJson DocumentHeader(const char* format) {
 }  // namespace
 
 std::string FormatJsonScan(const Scan& scan) {
+  if (const auto beyond = scan.FirstBeyondWorld())
+    throw IoError(CannotWriteBeyondWorld("the scan", *beyond));
   return detail::DumpOneMemberPerLine(ScanToJson(scan, DocumentHeader("priormap.scan")));
 }
 
 std::string FormatJsonLog(const Log& log) {
+  if (const auto beyond = log.FirstBeyondWorld())
+    throw IoError(CannotWriteBeyondWorld("the log", *beyond));
   OrderedJson header = DocumentHeader("priormap.log");
   header["pose_source"] = ToString(log.pose_source);
   std::string out = detail::Dump(header);

@@ -29,6 +29,21 @@ std::vector<Vec2> ReadPoints(const JsonNode& node, std::string_view what) {
   return points;
 }
 
+// Why a circle of `radius` about `center` reaches beyond the world, `room` being what is left
+// between the centre and the bound (>= 0, as the centre is within it).
+std::string CircleBeyondWorld(const Vec2& center, double radius, double room) {
+  // A centre on the bound leaves no positive radius to ask for: the centre must move.
+  if (room <= 0.0)
+    return fmt::format(
+        "the circle about ({}, {}) cannot lie within ±{:.0e} m in x and y with any radius, as its "
+        "centre is on that bound: move the centre inwards by at least the radius {}",
+        center.x(), center.y(), kMaxWorldCoordinate, radius);
+  return fmt::format(
+      "expected a radius of at most {} m, which keeps x and y of every point of the circle "
+      "about ({}, {}) within ±{:.0e} m, got {}",
+      room, center.x(), center.y(), kMaxWorldCoordinate, radius);
+}
+
 SceneSurface ReadSurface(const JsonNode& node) {
   detail::RequireObject(node, "a surface");
   SceneSurface surface;
@@ -50,12 +65,8 @@ SceneSurface ReadSurface(const JsonNode& node) {
       detail::Fail(radius_node, fmt::format("radius must be positive, got {}", radius));
     // The whole circle within the world, as every point of a scene: its bounds are drawn and
     // gridded like the points'.
-    const double room = kMaxWorldCoordinate - center.cwiseAbs().maxCoeff();
-    if (!(radius <= room))
-      detail::Fail(radius_node,
-                   fmt::format("expected a radius of at most {} m, which keeps x and y of every "
-                               "point of the circle about ({}, {}) within ±{:.0e} m, got {}",
-                               room, center.x(), center.y(), kMaxWorldCoordinate, radius));
+    const double room = LargestRadiusWithinWorld(center.x(), center.y());
+    if (!(radius <= room)) detail::Fail(radius_node, CircleBeyondWorld(center, radius, room));
     surface.shape = Circle{center, radius};
   } else {
     detail::Fail(
@@ -94,6 +105,8 @@ Scene ReadScene(const JsonNode& root) {
 }  // namespace
 
 std::string FormatJsonScene(const Scene& scene) {
+  if (const auto beyond = scene.FirstBeyondWorld())
+    throw IoError(CannotWriteBeyondWorld("the scene", *beyond));
   OrderedJson j;
   j["format"] = "priormap.scene";
   j["version"] = kVersion;

@@ -2,6 +2,7 @@
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/log.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 namespace priormap {
 
@@ -43,6 +44,25 @@ std::vector<Log::RecordRef> Log::RecordOrder() const {
   for (std::size_t i = 0; i < true_poses.size(); ++i) refs.push_back({RecordKind::kTruePose, i});
   for (std::size_t i = 0; i < params.size(); ++i) refs.push_back({RecordKind::kParam, i});
   return refs;
+}
+
+std::optional<std::string> Log::FirstBeyondWorld() const {
+  for (std::size_t k = 0; k < scans.size(); ++k)
+    if (const auto beyond = scans[k].FirstBeyondWorld())
+      return fmt::format("scan {}: {}", k, *beyond);
+  for (std::size_t k = 0; k < odometry.size(); ++k) {
+    const Se2& p = odometry[k].pose;
+    if (const auto beyond = CoordinateBeyondWorld("pose", p.x(), p.y()))
+      return fmt::format("odometry record {}: {}", k, *beyond);
+  }
+  for (std::size_t k = 0; k < true_poses.size(); ++k) {
+    for (const auto& [field, p] :
+         {std::pair<const char*, const Se2&>{"true_pose", true_poses[k].true_pose},
+          {"odom_pose", true_poses[k].odom_pose}})
+      if (const auto beyond = CoordinateBeyondWorld(field, p.x(), p.y()))
+        return fmt::format("true pose record {}: {}", k, *beyond);
+  }
+  return std::nullopt;
 }
 
 std::vector<std::string> Log::Problems() const {

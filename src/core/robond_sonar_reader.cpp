@@ -157,6 +157,12 @@ Log Parse(std::string_view measurements, const std::string& measurements_name,
     }
     scan.ClassifyAll();
     scan.sonar.emplace().spread = options.spread;
+    // At the reading, like a position beyond the world at its coordinate (a caller's no-echo
+    // value beyond the bound lets a return be that long).
+    if (const std::optional<std::size_t> i = scan.FirstReturnBeyondWorld())
+      Fail(measurements_name, z_lines[k].number, z.col(1 + *i),
+           ExpectedReturnWithinWorld("a range", fmt::format("{} mm", scan.ranges[*i] * 1000.0),
+                                     scan.max_range));
     log.scans.push_back(std::move(scan));
   }
   return log;

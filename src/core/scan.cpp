@@ -6,6 +6,7 @@
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/scan.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 namespace priormap {
 
@@ -64,6 +65,41 @@ Vec2 Scan::PointInSensorFrame(std::size_t i) const {
 
 Vec2 Scan::PointInWorld(std::size_t i) const {
   return pose.Transform(PointInSensorFrame(i));
+}
+
+std::optional<std::string> Scan::FirstBeyondWorld() const {
+  const auto pose_beyond = [](std::string_view field, const std::optional<Se2>& p) {
+    return p ? CoordinateBeyondWorld(field, p->x(), p->y()) : std::nullopt;
+  };
+  if (auto beyond = pose_beyond("pose", pose)) return beyond;
+  if (auto beyond = pose_beyond("robot_pose", robot_pose)) return beyond;
+  if (auto beyond = pose_beyond("odom_pose", odom_pose)) return beyond;
+  if (sonar) {
+    for (std::size_t i = 0; i < sonar->origins.size(); ++i) {
+      const Vec2& o = sonar->origins[i];
+      if (auto beyond = CoordinateBeyondWorld(fmt::format("sonar origin {}", i), o.x(), o.y()))
+        return beyond;
+    }
+  }
+  if (const std::optional<std::size_t> i = FirstReturnBeyondWorld())
+    return fmt::format("reading {} = {} m, a return (below max_range {} m)", *i, ranges[*i],
+                       max_range);
+  if (const std::optional<std::size_t> i = FirstTrueRangeBeyondWorld())
+    return fmt::format("true_range {} = {} m", *i, truth->range[*i]);
+  return std::nullopt;
+}
+
+std::optional<std::size_t> Scan::FirstReturnBeyondWorld() const {
+  for (std::size_t i = 0; i < std::min(size(), status.size()); ++i)
+    if (status[i] == BeamStatus::kValid && !IsReturnWithinWorld(ranges[i])) return i;
+  return std::nullopt;
+}
+
+std::optional<std::size_t> Scan::FirstTrueRangeBeyondWorld() const {
+  if (!truth) return std::nullopt;
+  for (std::size_t i = 0; i < truth->range.size(); ++i)
+    if (std::isfinite(truth->range[i]) && !IsReturnWithinWorld(truth->range[i])) return i;
+  return std::nullopt;
 }
 
 void Scan::ClassifyAll() {

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <priormap/core/scene.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 namespace priormap {
 namespace {
@@ -66,6 +67,47 @@ std::vector<std::string> SceneSurface::Problems() const {
     }
   }
   return problems;
+}
+
+namespace {
+
+std::optional<std::string> SurfaceBeyondWorld(const SceneSurface& surface) {
+  if (const auto* polyline = std::get_if<Polyline>(&surface.shape)) {
+    for (std::size_t i = 0; i < polyline->points.size(); ++i) {
+      const Vec2& p = polyline->points[i];
+      if (auto beyond = CoordinateBeyondWorld(fmt::format("point {}", i), p.x(), p.y()))
+        return beyond;
+    }
+    return std::nullopt;
+  }
+  // The whole circle, as the reader wants it: its far side from the origin too.
+  const Circle& circle = std::get<Circle>(surface.shape);
+  const Vec2& c = circle.center;
+  if (auto beyond = CoordinateBeyondWorld("the circle centre", c.x(), c.y())) return beyond;
+  if (!(circle.radius <= LargestRadiusWithinWorld(c.x(), c.y())))
+    return fmt::format(
+        "the circle of radius {} about ({}, {}) (a radius of at most {} keeps it "
+        "within)",
+        circle.radius, c.x(), c.y(), LargestRadiusWithinWorld(c.x(), c.y()));
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<std::string> Scene::FirstBeyondWorld() const {
+  for (std::size_t s = 0; s < surfaces.size(); ++s)
+    if (const auto beyond = SurfaceBeyondWorld(surfaces[s]))
+      return fmt::format("surface {}: {}", s, *beyond);
+  if (default_pose) {
+    if (auto beyond = CoordinateBeyondWorld("default_pose", default_pose->x(), default_pose->y()))
+      return beyond;
+  }
+  for (std::size_t i = 0; i < waypoints.size(); ++i) {
+    const Vec2& p = waypoints[i];
+    if (auto beyond = CoordinateBeyondWorld(fmt::format("waypoint {}", i), p.x(), p.y()))
+      return beyond;
+  }
+  return std::nullopt;
 }
 
 std::vector<std::string> Scene::Problems() const {

@@ -1,6 +1,7 @@
 #include <cmath>
 
 #include <priormap/core/segment.hpp>
+#include <priormap/core/world_bounds.hpp>
 #include <priormap/render/scene_drawing.hpp>
 
 namespace priormap::render {
@@ -85,8 +86,10 @@ Box2 ScanBounds(const Scan& scan) {
   for (std::size_t i = 0; i < scan.size(); ++i) {
     if (scan.IsValid(i)) box.extend(scan.PointInWorld(i));
   }
-  // With no echo at all, the max-range rays are all there is to show.
-  if (scan.NumValid() == 0 && std::isfinite(scan.max_range)) {
+  // With no echo at all, the max-range rays are all there is to show; unless the max range is
+  // longer than any return may be (world_bounds.hpp), a finite stand-in for "none": such rays
+  // are drawn, clipped, but cannot size the figure.
+  if (scan.NumValid() == 0 && IsReturnWithinWorld(scan.max_range)) {
     for (std::size_t i = 0; i < scan.size(); ++i)
       if (scan.status[i] == BeamStatus::kMaxRange) box.extend(MaxRangeRay(scan, i).b);
   }

@@ -591,23 +591,55 @@ TEST_F(Cli, OutputIntoAMissingDirectoryIsAnError) {
   EXPECT_THAT(Fails({"convert", "s.json", "-o", "nowhere/s.log"}).err, HasSubstr("nowhere"));
 }
 
-TEST_F(Cli, PlotRefusesToOverwriteItsInputAndWorldsTooLargeToDraw) {
+TEST_F(Cli, PlotRefusesToOverwriteItsInput) {
   Ok({"simulate", "-o", "s.json"});
   const std::string scan = ReadAll(Work("s.json"));
   fs::copy_file(Work("s.json"), Work("s.svg"));
   EXPECT_THAT(Fails({"plot", "s.svg", "-o", "s.svg"}).err,
               HasSubstr("one would overwrite the other"));
-  // Readings that end beyond the world (its poses cannot: the readers refuse them).
-  WriteAll(Work("far.json"), R"({"format":"priormap.scan","version":1,"pose":[0,0,0],)"
-                             R"("angles":[-0.5,0.5],"ranges":[1e308,1]})");
-  EXPECT_THAT(Fails({"plot", "far.json", "-o", "far.png"}).err,
-              HasSubstr("far.json: poses or readings lie beyond 1e+09 m of the origin, too far "
-                        "to draw"));
-  WriteAll(Work("long.json"), R"({"format":"priormap.scan","version":1,"pose":[0,0,0],)"
-                              R"("angles":[-0.5,0.5],"ranges":[1.79e308,1]})");
-  EXPECT_THAT(Fails({"plot", "long.json", "--kind", "ranges", "-o", "long.png"}).err,
-              HasSubstr("too large to draw"));
   EXPECT_EQ(ReadAll(Work("s.json")), scan);
+}
+
+// A reading of 1e300 in a log without a max range was accepted, and `plot` alone refused the log,
+// "too far to draw", naming no line: every command now gets the reader's error at the reading.
+// A no-return (at or above the max range) is kept as read and drawn by its status, as a ray to
+// the max range.
+TEST_F(Cli, AReturnBeyondTheWorldIsReportedAtItsReadingAndANoReturnIsDrawn) {
+  WriteAll(Work("far.log"), "FLASER 3 1 1e300 2 0 0 0 0 0 0\n");
+  WriteAll(Work("far.json"), R"({"format":"priormap.scan","version":1,"pose":[0,0,0],)"
+                             R"("angles":[-0.5,0,0.5],"ranges":[1,1e300,2]})");
+  const std::map<std::string, std::string> located = {
+      {"far.log",
+       "priormap: error: far.log:1:12: expected a range reading in metres, at most 1e+09 for a "
+       "return or at or above the max range (inf m) for no return, got '1e300'"},
+      {"far.json",
+       "priormap: error: far.json:1:88: expected an element of \"ranges\" in metres, at most "
+       "1e+09 for a return or at or above the max range (inf m) for no return, got 1e+300 (at "
+       "/ranges/1)"}};
+  for (const auto& [log, message] : located) {
+    for (const std::vector<std::string>& args :
+         {std::vector<std::string>{"plot", log, "-o", "far.png"},
+          {"plot", log, "--kind", "ranges", "-o", "far.png"},
+          {"grid", "--log", log, "-o", "grid"},
+          {"convert", log, "-o", "out.json"}}) {
+      const RunResult r = Fails(args);
+      EXPECT_THAT(r.err, HasSubstr(message)) << args[0];
+      EXPECT_THAT(r.err, Not(HasSubstr("too far to draw"))) << args[0];
+    }
+  }
+  EXPECT_FALSE(fs::exists(Work("far.png")));
+  // The same readings as no-returns: the caller's max range, the scan's own, and one so long
+  // (a stand-in for none) that its rays cannot size the figure.
+  Ok({"plot", "far.log", "--max-range", "80", "-o", "carmen.png"});
+  WriteAll(Work("own.json"), R"({"format":"priormap.scan","version":1,"pose":[0,0,0],)"
+                             R"("max_range":30,"angles":[-0.5,0,0.5],"ranges":[1,1e300,2]})");
+  WriteAll(Work("none.json"), R"({"format":"priormap.scan","version":1,"pose":[0,0,0],)"
+                              R"("max_range":1e20,"angles":[-0.5,0.5],"ranges":[2e20,3e20]})");
+  for (const std::string name : {"own", "none"}) {
+    Ok({"plot", name + ".json", "-o", name + ".png"});
+    Ok({"plot", name + ".json", "--kind", "ranges", "-o", name + "-ranges.png"});
+    EXPECT_GT(fs::file_size(Work(name + ".png")), 0U) << name;
+  }
 }
 
 // A finite but absurd pose made each command fail later, with a grid or a window too large to

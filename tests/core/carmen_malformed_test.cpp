@@ -155,6 +155,54 @@ TEST(CarmenMalformed, PositionsUpToTheWorldsBoundAndAnyThetaAreRead) {
   EXPECT_EQ(log.value().odometry.at(0).pose.y(), 1e9);
 }
 
+// A reading of 1e300 in a log without a max range was read as a return 1e300 m away, and only
+// `priormap plot` refused the log, naming no line: it is reported at the reading, once the max
+// range (detected from the whole log) says it is a return.
+TEST(CarmenMalformed, AReturnLongerThanTheWorldsBoundIsReportedAtTheReading) {
+  EXPECT_THAT(ParseErrors("FLASER 3 1 1e300 2 0 0 0 0 0 0\n"
+                          "ROBOTLASER1 0 -1.5 3 0.01 1e301 0.01 0 3 1 1e300 -3 0 0 0 0 0 0 0 0 "
+                          "0 0 0 0\n"),
+              ElementsAre(DiagnosticAt(kName, 1, 12,
+                                       "expected a range reading in metres, at most 1e+09 for a "
+                                       "return or at or above the max range (inf m) for no "
+                                       "return, got '1e300'"),
+                          DiagnosticAt(kName, 2, 44,
+                                       "at or above the max range (1e+301 m) for no return, got "
+                                       "'1e300'")));
+  // Just beyond the bound; the bound itself is a return.
+  EXPECT_THAT(ParseErrors("FLASER 2 1000000000.5 1e9 0 0 0 0 0 0\n"),
+              ElementsAre(DiagnosticAt(kName, 1, 10, "got '1000000000.5'")));
+}
+
+TEST(CarmenMalformed, LongReturnsStopAtMaxDiagnosticsLikeOtherErrors) {
+  CarmenReadOptions options;
+  options.max_diagnostics = 2;
+  EXPECT_THAT(
+      ParseErrors("FLASER 1 2e9 0 0 0 0 0 0\nFLASER 1 3e9 0 0 0 0 0 0\n"
+                  "FLASER 1 4e9 0 0 0 0 0 0\n",
+                  options),
+      ElementsAre(DiagnosticAt(kName, 1, 10, "got '2e9'"), DiagnosticAt(kName, 2, 10, "got '3e9'"),
+                  DiagnosticAt(kName, 2, 0, "too many errors; stopped reading")));
+}
+
+// A no-return says nothing of where a surface is: at or above the max range (the record's, or
+// the caller's), any value is kept as read, as for a sensor's no-echo sentinel.
+TEST(CarmenMalformed, ANoReturnReadingBeyondTheWorldsBoundIsKeptAsRead) {
+  const Result<Log> own = ParseCarmenLog(
+      "ROBOTLASER1 0 -1.5 3 0.01 80 0.01 0 3 1 1e300 3 0 0 0 0 0 0 0 0 0 0 0 0\n", kName);
+  ASSERT_TRUE(own.ok()) << own.error();
+  EXPECT_EQ(own.value().scans.at(0).ranges.at(1), 1e300);
+  EXPECT_EQ(own.value().scans.at(0).status.at(1), BeamStatus::kMaxRange);
+  CarmenReadOptions options;
+  options.max_range = 80.0;
+  const Result<Log> given = ParseCarmenLog("FLASER 3 1 1e300 2 0 0 0 0 0 0\n", kName, options);
+  ASSERT_TRUE(given.ok()) << given.error();
+  EXPECT_EQ(given.value().scans.at(0).ranges.at(1), 1e300);
+  EXPECT_EQ(given.value().scans.at(0).status.at(1), BeamStatus::kMaxRange);
+  // Readings that are not measurements are no returns either.
+  EXPECT_TRUE(ParseCarmenLog("FLASER 2 -1e300 inf 0 0 0 0 0 0\n", kName).ok());
+}
+
 TEST(CarmenMalformed, OdometryWithTooFewFieldsEndsEarly) {
   // The column is one past the end of the line: where the missing field should be.
   ExpectLineError("ODOM 1 2 3 0 0", 15, "ODOM record ends early: expected accel");

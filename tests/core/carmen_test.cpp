@@ -689,6 +689,47 @@ TEST(Carmen, WriterRefusesWhatACarmenLineCannotHold) {
   EXPECT_NO_THROW((void)FormatCarmenLog(log));
 }
 
+// A program could build a log with a position of 1e300 and write it, making a file that the
+// reader refuses: the writer refuses it, naming the record and field, and writes nothing.
+TEST(Carmen, WriterRefusesWhatTheReaderWouldAndKeepsTheOldFile) {
+  Log log = BuiltLog();
+  log.scans[0].pose = Se2(1e300, 0, 0);
+  ExpectRefused(log, "cannot write the log: scan 0: pose x = 1e+300, beyond 1e+09 m in magnitude");
+  log = BuiltLog();
+  log.odometry[0].pose = Se2(0, -2e9, 0);
+  ExpectRefused(log, "odometry record 0: pose y = -2000000000");
+  log = BuiltLog();
+  log.true_poses[0].true_pose = Se2(1.5e9, 0, 0);
+  ExpectRefused(log, "true pose record 0: true_pose x = 1500000000");
+  log = BuiltLog();
+  log.scans[0].max_range = kInf;
+  log.scans[0].ranges[1] = 1e300;  // a return
+  log.scans[0].ClassifyAll();
+  ExpectRefused(log, "scan 0: reading 1 = 1e+300 m, a return (below max_range inf m)");
+  const testing::TempDir dir;
+  testing::WriteAll(dir / "log.log", "old");
+  EXPECT_THROW(WriteCarmenLog(log, dir / "log.log"), IoError);
+  EXPECT_EQ(testing::ReadAll(dir / "log.log"), "old");
+  EXPECT_EQ(testing::FilesIn(dir.path()), std::vector<std::string>{"log.log"});
+}
+
+// A no-return of 1e300 m is kept by the reader, but a FLASER line cannot hold its max range: read
+// back, it would be a return, which the reader refuses. ROBOTLASER1 holds the max range.
+TEST(Carmen, WriterRefusesANoReturnBeyondTheWorldThatWouldReadBackAsAReturn) {
+  Log log = BuiltLog();
+  log.scans[0].max_range = 30.0;
+  log.scans[0].ranges[1] = 1e300;
+  log.scans[0].ClassifyAll();
+  ASSERT_EQ(log.scans[0].status[1], BeamStatus::kMaxRange);
+  ExpectRefused(log,
+                "cannot write the log as CARMEN: scan 0: reading 1 = 1e+300 m would read back as "
+                "a return (below the max range inf m that the reader would find)");
+  log.scans[0].channel = "ROBOTLASER1";
+  const Log again = Parse(FormatCarmenLog(log));
+  EXPECT_EQ(again.scans.at(0).ranges.at(1), 1e300);
+  EXPECT_EQ(again.scans.at(0).status.at(1), BeamStatus::kMaxRange);
+}
+
 TEST(Carmen, ReadsGzipCompressedLogs) {
   const testing::TempDir dir;
   WriteTextFileAtomically(dir / "log.gz", kEveryRecordType);
@@ -723,6 +764,11 @@ RC_GTEST_PROP(Carmen, FormatInvertsParseForRandomLogs, ()) {
   // Positions within the world, as the reader requires: any finite number folded into it.
   const auto coordinate = rc::gen::map(
       finite, [](double v) { return IsWithinWorld(v) ? v : std::fmod(v, kMaxWorldCoordinate); });
+  // Readings too, as the reader refuses a return longer than the world's bound (a longer
+  // no-return reading is kept as read: CarmenMalformed tests it).
+  const auto reading = rc::gen::map(number, [](double v) {
+    return IsReturnWithinWorld(v) || !std::isfinite(v) ? v : std::fmod(v, kMaxWorldCoordinate);
+  });
   std::ostringstream text;
   text.precision(17);
   const int records = *rc::gen::inRange(1, 8);
@@ -739,7 +785,7 @@ RC_GTEST_PROP(Carmen, FormatInvertsParseForRandomLogs, ()) {
         const std::size_t n =
             *rc::gen::elementOf(std::vector<std::size_t>{0, 1, 3, 180, 181, 360, 361});
         text << *rc::gen::element<std::string>("FLASER", "RLASER") << ' ' << n;
-        for (std::size_t i = 0; i < n; ++i) text << ' ' << *number;
+        for (std::size_t i = 0; i < n; ++i) text << ' ' << *reading;
         pose();
         pose();
         timestamps();
@@ -753,7 +799,7 @@ RC_GTEST_PROP(Carmen, FormatInvertsParseForRandomLogs, ()) {
              << *finite << ' '
              << *rc::gen::map(rc::gen::inRange(1, 1000), [](int v) { return v / 1000.0; }) << ' '
              << *number << ' ' << *number << ' ' << *rc::gen::inRange(0, 3) << ' ' << n;
-        for (std::size_t i = 0; i < n; ++i) text << ' ' << *number;
+        for (std::size_t i = 0; i < n; ++i) text << ' ' << *reading;
         text << ' ' << m;
         for (std::size_t i = 0; i < m; ++i) text << ' ' << *number;
         pose();

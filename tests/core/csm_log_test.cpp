@@ -433,6 +433,27 @@ TEST(CsmLogMalformed, APositionBeyondTheWorldIsReportedAtTheCoordinate) {
               ElementsAre(DiagnosticAt(9, 16, "expected \"estimate\" x in metres")));
 }
 
+// A valid reading of 1e300 was read as a return 1e300 m away, and only `priormap plot` refused
+// the file, naming no position: it is reported at the reading. Flagged invalid or at or above
+// the caller's max range, it is kept as read.
+TEST(CsmLogMalformed, AReturnLongerThanTheWorldsBoundIsReportedAtTheReading) {
+  EXPECT_THAT(Errors(Document("readings", "[1, 1e300, 3]")),
+              ElementsAre(DiagnosticAt(6, 19,
+                                       "expected an element of \"readings\" in metres, at most "
+                                       "1e+09 for a return or at or above the max range (inf m) "
+                                       "for no return, got 1e+300 (at /readings/1)")));
+  std::string flagged_document = Document("readings", "[1, 1e300, 3]");
+  flagged_document.replace(flagged_document.find("[1, 1, 1]"), 9, "[1, 0, 1]");
+  const Log flagged = Parse(flagged_document);
+  ASSERT_EQ(flagged.scans.size(), 1U);
+  EXPECT_EQ(flagged.scans[0].ranges[1], 1e300);
+  CsmReadOptions options;
+  options.max_range = 30.0;
+  const Log beyond = Parse(Document("readings", "[1, 1e300, 3]"), options);
+  ASSERT_EQ(beyond.scans.size(), 1U);
+  EXPECT_EQ(beyond.scans[0].status[1], BeamStatus::kMaxRange);
+}
+
 TEST(CsmLogMalformed, BadSigmaOrTimestamp) {
   EXPECT_THAT(Errors(Document("valid", "[1, 1, 1], \"readings_sigma\": [0.1, -0.1, 0.1]")),
               ElementsAre(DiagnosticAt(7, 47,

@@ -376,6 +376,14 @@ RC_GTEST_PROP(JsonIo, RandomScansRoundTrip, ()) {
     c.side_safety_dist = *number;
     c.turn_axis = *number;
   }
+  // Returns (and true ranges) within the world's bound, as the reader requires: any longer one
+  // folded into it. A no-return reading keeps any value.
+  const auto fold = [](double& v) {
+    if (std::isfinite(v) && !IsReturnWithinWorld(v)) v = std::fmod(v, kMaxWorldCoordinate);
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    if (scan.status[i] == BeamStatus::kValid) fold(scan.ranges[i]);
+  if (scan.truth) std::ranges::for_each(scan.truth->range, fold);
   RC_PRE(scan.Problems().empty());
   const std::string text = FormatJsonScan(scan);
   RC_LOG() << text;
@@ -405,6 +413,83 @@ TEST(JsonIo, WriteThenReadLogFiles) {
   const Result<Log> scan = ReadJsonLog(dir / "scan.json");
   ASSERT_TRUE(scan.ok()) << scan.error();
   EXPECT_TRUE(SameScan(scan.value().scans.at(0), RichScan()));
+}
+
+// A program could build a log or a scene with a position of 1e300 and write it, making a file
+// that the readers refuse: the writers refuse it, naming the record and field, before writing
+// anything, so that an existing file is kept as it was.
+TEST(JsonIo, WritersRefuseWhatTheReadersWouldAndKeepTheOldFile) {
+  const testing::TempDir dir;
+  testing::WriteAll(dir / "log.json", "old");
+  const auto expect_refused = [&](const Log& log, const std::string& message_part) {
+    try {
+      WriteJsonLog(log, dir / "log.json");
+      ADD_FAILURE() << "expected IoError containing: " << message_part;
+    } catch (const IoError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(message_part));
+    }
+    EXPECT_EQ(testing::ReadAll(dir / "log.json"), "old");
+    EXPECT_EQ(testing::FilesIn(dir.path()), std::vector<std::string>{"log.json"});
+  };
+  Log log = RichLog();
+  log.scans[1].pose = Se2(1e300, 0, 0);
+  expect_refused(log, "cannot write the log: scan 1: pose x = 1e+300, beyond 1e+09 m in magnitude");
+  log = RichLog();
+  log.scans[2].robot_pose = Se2(0, -2e9, 0);
+  expect_refused(log, "scan 2: robot_pose y = -2000000000");
+  log = RichLog();
+  log.scans[1].ranges[7] = 1e300;  // a return: the scan has no max range
+  log.scans[1].ClassifyAll();
+  expect_refused(log, "scan 1: reading 7 = 1e+300 m, a return (below max_range inf m)");
+  log = RichLog();
+  log.odometry[1].pose = Se2(0, kNaN, 0);
+  expect_refused(log, "odometry record 1: pose y = nan");
+  log = RichLog();
+  log.true_poses[0].odom_pose = Se2(-kInf, 0, 0);
+  expect_refused(log, "true pose record 0: odom_pose x = -inf");
+  // A no-return reading is written whatever its value, and read back.
+  log = RichLog();
+  log.scans[1].max_range = 30.0;
+  log.scans[1].ranges[7] = 1e300;
+  log.scans[1].ClassifyAll();
+  WriteJsonLog(log, dir / "log.json");
+  const Result<Log> read = ReadJsonLog(dir / "log.json");
+  ASSERT_TRUE(read.ok()) << read.error();
+  EXPECT_TRUE(SameLog(read.value(), log));
+
+  Scan scan = FlaserScan(3);
+  scan.odom_pose = Se2(3e9, 0, 0);
+  EXPECT_THROW(WriteJsonScan(scan, dir / "scan.json"), IoError);
+  EXPECT_FALSE(std::filesystem::exists(dir / "scan.json"));
+}
+
+TEST(JsonIo, SceneWriterRefusesWhatTheReaderWouldAndKeepsTheOldFile) {
+  const testing::TempDir dir;
+  testing::WriteAll(dir / "scene.json", "old");
+  const auto expect_refused = [&](const Scene& scene, const std::string& message_part) {
+    try {
+      WriteJsonScene(scene, dir / "scene.json");
+      ADD_FAILURE() << "expected IoError containing: " << message_part;
+    } catch (const IoError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(message_part));
+    }
+    EXPECT_EQ(testing::ReadAll(dir / "scene.json"), "old");
+    EXPECT_EQ(testing::FilesIn(dir.path()), std::vector<std::string>{"scene.json"});
+  };
+  Scene scene = *BuiltinScene("l-room");
+  std::get<Polyline>(scene.surfaces[0].shape).points[1].y() = 1e300;
+  expect_refused(scene, "cannot write the scene: surface 0: point 1 y = 1e+300");
+  scene = *BuiltinScene("two-circles");
+  std::get<Circle>(scene.surfaces[1].shape).center = Vec2(-1e9 + 0.25, 0);  // radius 0.35
+  expect_refused(scene,
+                 "surface 1: the circle of radius 0.35 about (-999999999.75, 0) (a radius of at "
+                 "most 0.25 keeps it within), beyond 1e+09 m in magnitude");
+  scene = *BuiltinScene("square");
+  scene.default_pose = Se2(0, 5e9, 0);
+  expect_refused(scene, "default_pose y = 5000000000");
+  scene = *BuiltinScene("square");
+  scene.waypoints = {{0, 0}, {-1e20, 0}};
+  expect_refused(scene, "waypoint 1 x = -1e+20");
 }
 
 TEST(JsonIo, WriteLogChoosesTheFormat) {

@@ -233,6 +233,43 @@ TEST(JsonMalformed, APositionBeyondTheWorldIsReportedAtTheCoordinate) {
   EXPECT_TRUE(ParseJsonLog(ScanDocument("pose", "[1e9, -1e9, 1e300]"), kName).ok());
 }
 
+// A reading of 1e300 in a scan without a max range was read as a return 1e300 m away, and only
+// `priormap plot` refused the file, naming no position: it is reported at the reading.
+TEST(JsonMalformed, AReturnLongerThanTheWorldsBoundIsReportedAtTheReading) {
+  EXPECT_THAT(LogErrors(ScanDocument("ranges", "[1, 1e300, 3]")),
+              ElementsAre(DiagnosticAt(6, 17,
+                                       "expected an element of \"ranges\" in metres, at most "
+                                       "1e+09 for a return or at or above the max range (inf m) "
+                                       "for no return, got 1e+300 (at /ranges/1)")));
+  EXPECT_THAT(LogErrors(ScanDocument("ranges", "[1, 2, 1.5e9], \"max_range\": 2e9")),
+              ElementsAre(DiagnosticAt(6, 20, "(2000000000 m) for no return, got 1500000000")));
+  // The simulator's truth is a distance to a surface too (null where nothing was hit).
+  EXPECT_THAT(LogErrors(ScanDocument("ranges",
+                                     "[1, 2, 3], \"true_range\": [1, null, -2e9], "
+                                     "\"true_alpha\": [0, 0, 0], \"true_surface\": "
+                                     "[0, 0, 0], \"true_region\": [0, 0, 0]")),
+              ElementsAre(DiagnosticAt(6, 48,
+                                       "expected an element of \"true_range\" in metres, at most "
+                                       "1e+09, or null where nothing was hit, got -2000000000 (at "
+                                       "/true_range/2)")));
+}
+
+// A no-return (at or above the max range) or a reading flagged invalid says nothing of where a
+// surface is: any value is kept as read.
+TEST(JsonMalformed, AReadingBeyondTheWorldsBoundThatIsNoReturnIsKeptAsRead) {
+  for (const std::string ranges :
+       {"[1, 1e300, 3], \"max_range\": 30", "[1, 1e300, 3], \"max_range\": 1e300",
+        "[1, 1e300, 3], \"status\": [\"valid\", \"invalid\", \"valid\"]",
+        "[1, 1e300, 3], \"status\": [\"valid\", \"max_range\", \"valid\"]"}) {
+    const Result<Log> log = ParseJsonLog(ScanDocument("ranges", ranges), kName);
+    ASSERT_TRUE(log.ok()) << log.error();
+    EXPECT_EQ(log.value().scans.at(0).ranges.at(1), 1e300) << ranges;
+    EXPECT_FALSE(log.value().scans.at(0).IsValid(1)) << ranges;
+  }
+  // The bound itself is a return.
+  EXPECT_TRUE(ParseJsonLog(ScanDocument("ranges", "[1, 1e9, 3]"), kName).ok());
+}
+
 TEST(JsonMalformed, InconsistentScanIsReportedAtTheMemberItIsAbout) {
   EXPECT_THAT(LogErrors(ScanDocument("angles", "[0, 1, 0.5]")),
               ElementsAre(DiagnosticAt(5, 13,
@@ -454,6 +491,14 @@ TEST(JsonMalformed, ASceneBeyondTheWorldIsReportedWhereItLeavesIt) {
                                        "x and y of every point of the circle about (900000000, "
                                        "1) within ±1e+09 m, got 200000000 (at "
                                        "/surfaces/0/radius)")));
+  // A centre on the bound leaves no radius to ask for ("at most 0 m"): the centre must move.
+  EXPECT_THAT(SceneErrors("{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [\n"
+                          "  {\"type\": \"circle\", \"center\": [1, -1e9], \"radius\": 2}]}"),
+              ElementsAre(DiagnosticAt(2, 53,
+                                       "the circle about (1, -1000000000) cannot lie within "
+                                       "±1e+09 m in x and y with any radius, as its centre is on "
+                                       "that bound: move the centre inwards by at least the "
+                                       "radius 2 (at /surfaces/0/radius)")));
   EXPECT_THAT(SceneErrors("{\"format\": \"priormap.scene\", \"version\": 1, \"surfaces\": [],\n"
                           " \"default_pose\": [0, 5e9, 0]}"),
               ElementsAre(DiagnosticAt(2, 22, "got 5000000000 (at /default_pose/1)")));

@@ -284,12 +284,15 @@ TEST(LogReading, NumbersAreWhatFromCharsMakesOfThem) {
   ASSERT_GT(numbers.size(), 19000U);
   // Each number as a reading, where a finite one is required (timestamps) as the logger's
   // timestamp when it is finite, and where a world coordinate is (poses) as the laser's x when
-  // it is one.
+  // it is one. The record's max range at the bound on returns makes the longer readings
+  // no-returns, which are kept as read (a FLASER line has none, and the one detected among
+  // these numbers would be no bound).
   std::string text;
   for (const std::string& s : numbers) {
     const std::string finite = std::isfinite(*FromChars(s)) ? s : "0";
     const std::string coordinate = IsWithinWorld(*FromChars(s)) ? s : "0";
-    text += "FLASER 1 " + s + " " + coordinate + " 0 0 0 0 0 1 nohost " + finite + "\n";
+    text += "ROBOTLASER1 0 0 0 0 1e9 0 0 1 " + s + " 0 " + coordinate +
+            " 0 0 0 0 0 0 0 0 0 0 1 nohost " + finite + "\n";
   }
   const Log log = Parsed(text);
   ASSERT_EQ(log.scans.size(), numbers.size());

@@ -177,6 +177,27 @@ TEST(RoboNdSonar, ReportsBadLinesAtFileLineAndColumn) {
   EXPECT_TRUE(ParseRoboNdSonar(good_z, "m.txt", "100 1e12 -1e12 0\n", "p.txt").ok());
 }
 
+// The sensor's no-echo code (5110 mm) keeps returns short; a caller's no-echo value beyond the
+// world's bound would let a return of 1e300 mm through, as the laser readers did: it is refused
+// at the reading, and a no-echo reading is kept whatever its value.
+TEST(RoboNdSonar, AReturnLongerThanTheWorldsBoundIsReportedAtTheReading) {
+  using testing::DiagnosticAt;
+  RoboNdSonarOptions options;
+  options.no_echo_mm = 1e300;
+  const Result<Log> read =
+      ParseRoboNdSonar("100 1 2 3 4 5 2e12 7 8\n", "m.txt", "100 0 0 0\n", "p.txt", options);
+  EXPECT_THAT(read.diagnostics(),
+              ElementsAre(DiagnosticAt("m.txt", 1, 15,
+                                       "expected a range in metres, at most 1e+09 for a return or "
+                                       "at or above the max range (1e+297 m) for no return, got "
+                                       "2000000000000 mm")));
+  options.no_echo_mm = 5110.0;
+  const Result<Log> no_echo =
+      ParseRoboNdSonar("100 1 2 3 4 5 2e12 7 8\n", "m.txt", "100 0 0 0\n", "p.txt", options);
+  ASSERT_TRUE(no_echo.ok()) << no_echo.error();
+  EXPECT_EQ(no_echo.value().scans.at(0).ranges.at(5), 2e9);
+}
+
 TEST(RoboNdSonar, RejectsRangeLimitsThatLeaveNoReadingValid) {
   const std::string z = "100 1 2 3 4 5 6 7 8\n";
   const std::string p = "100 0 0 0\n";

@@ -52,7 +52,8 @@ struct CarmenReadStats {
 
 /// Writes `log` as CARMEN text. Scans whose angles follow the FLASER convention above are
 /// written as their channel (FLASER/RLASER); any other scan as ROBOTLASER1. Non-finite
-/// readings are written as "nan".
+/// readings are written as "nan". Throws IoError for what a CARMEN line cannot hold or the
+/// reader would refuse, such as a position beyond the world (Log::FirstBeyondWorld).
 [[nodiscard]] std::string FormatCarmenLog(const Log& log);
 
 /// FormatCarmenLog, written atomically (gzip-compressed when `path` ends in .gz).

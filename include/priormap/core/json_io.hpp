@@ -12,7 +12,9 @@
 
 namespace priormap {
 
-/// A scan document {"format": "priormap.scan", ...}.
+/// A scan document {"format": "priormap.scan", ...}. The Format and Write functions throw
+/// IoError, writing nothing, for what the readers would refuse: a position beyond the world or
+/// a return ending beyond it (Scan/Log/Scene::FirstBeyondWorld, world_bounds.hpp).
 [[nodiscard]] std::string FormatJsonScan(const Scan& scan);
 /// A log document {"format": "priormap.log", ...}.
 [[nodiscard]] std::string FormatJsonLog(const Log& log);

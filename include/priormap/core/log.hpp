@@ -70,6 +70,11 @@ struct Log {
   [[nodiscard]] std::vector<RecordRef> RecordOrder() const;
   /// Empty when consistent; otherwise what is wrong (scan problems prefixed by "scan K: ").
   [[nodiscard]] std::vector<std::string> Problems() const;
+  /// The first position of the log beyond the world (world_bounds.hpp), named by record and
+  /// field ("scan 3: pose x = 1e+300", "odometry record 0: pose y = inf"; scans as in
+  /// Scan::FirstBeyondWorld), or nullopt. Writers refuse such a log: the readers would refuse
+  /// the file.
+  [[nodiscard]] std::optional<std::string> FirstBeyondWorld() const;
 };
 
 }  // namespace priormap

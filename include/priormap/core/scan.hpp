@@ -123,6 +123,17 @@ struct Scan {
   [[nodiscard]] Vec2 PointInSensorFrame(std::size_t i) const;
   /// Reading i as a point in the world frame.
   [[nodiscard]] Vec2 PointInWorld(std::size_t i) const;
+  /// The first return (a valid reading) longer than kMaxWorldCoordinate (IsReturnWithinWorld,
+  /// world_bounds.hpp), if any: readers refuse it at its field. Readings of other status are
+  /// never one: a no-return reading is kept whatever its value.
+  [[nodiscard]] std::optional<std::size_t> FirstReturnBeyondWorld() const;
+  /// The same for the ground truth: the first finite true range longer than the bound.
+  [[nodiscard]] std::optional<std::size_t> FirstTrueRangeBeyondWorld() const;
+  /// The first value of the scan beyond the world's bound, named ("pose x = 1e+300", "reading 4
+  /// = 1e+300 m, a return (below max_range inf m)"): poses, sonar origins, returns
+  /// (FirstReturnBeyondWorld), then true ranges; nullopt when there is none. Writers refuse such a
+  /// scan.
+  [[nodiscard]] std::optional<std::string> FirstBeyondWorld() const;
   /// Sets every status from the reading's value (ClassifyReading).
   void ClassifyAll();
   /// Empty when consistent; otherwise what is wrong (sizes differ, angles not increasing,

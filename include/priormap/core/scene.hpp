@@ -48,6 +48,12 @@ struct Scene {
   /// Empty when the scene is usable; otherwise what is wrong, surface problems prefixed by
   /// "surface K: ".
   [[nodiscard]] std::vector<std::string> Problems() const;
+  /// The first position of the scene beyond the world (world_bounds.hpp), named ("surface 2:
+  /// point 0 x = 1e+300", "surface 0: the circle of radius 3 about (1e+09, 0) (...)",
+  /// "default_pose y = ...", "waypoint 3 x = ..."), or nullopt; a circle must lie within the
+  /// world whole (LargestRadiusWithinWorld). Writers refuse such a scene: the reader would refuse
+  /// the file.
+  [[nodiscard]] std::optional<std::string> FirstBeyondWorld() const;
 };
 
 /// Names of the built-in scenes: square, rectangle, circle, two-circles, l-room, corridor,

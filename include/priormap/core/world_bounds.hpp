@@ -1,7 +1,9 @@
 #pragma once
-/// How far from the origin the positions priormap reads may lie.
+/// How far from the origin the positions priormap reads may lie, and how long a return may be.
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -19,8 +21,38 @@ inline constexpr double kMaxWorldCoordinate = 1e9;
   return std::abs(coordinate) <= kMaxWorldCoordinate;
 }
 
+/// The largest radius of a circle about (x, y), a point within the world, that keeps x and y of
+/// every point of the circle within kMaxWorldCoordinate: the one rule of the scene reader and
+/// writer, so that whatever one accepts the other does.
+[[nodiscard]] inline double LargestRadiusWithinWorld(double x, double y) {
+  return kMaxWorldCoordinate - std::max(std::abs(x), std::abs(y));
+}
+
 /// The readers' message for a coordinate beyond kMaxWorldCoordinate: "expected `what` in metres
 /// of a local frame, at most 1e+09 in magnitude, got `got`".
 [[nodiscard]] std::string ExpectedWorldCoordinate(std::string_view what, std::string_view got);
+
+/// Whether `range` (a return: a distance to a surface, m) is at most kMaxWorldCoordinate. Like a
+/// coordinate, a return of 1e300 m is an error in the file; the bound keeps every point a return
+/// gives within a few times kMaxWorldCoordinate of the origin, so that it can be gridded and
+/// drawn. A no-return reading (at or above the max range) has no bound: it is kept as read.
+[[nodiscard]] inline bool IsReturnWithinWorld(double range) {
+  return std::abs(range) <= kMaxWorldCoordinate;
+}
+
+/// The readers' message for a return (a reading below the scan's `max_range`) longer than
+/// kMaxWorldCoordinate: "expected `what` in metres, at most 1e+09 for a return or at or above
+/// the max range (`max_range` m) for no return, got `got`".
+[[nodiscard]] std::string ExpectedReturnWithinWorld(std::string_view what, std::string_view got,
+                                                    double max_range);
+
+/// For writers, which refuse what the readers would: "`field` x = 1e+300" when x (or else y) is
+/// beyond kMaxWorldCoordinate or not finite; nullopt when both are within the world.
+[[nodiscard]] std::optional<std::string> CoordinateBeyondWorld(std::string_view field, double x,
+                                                               double y);
+
+/// The writers' message for a value that the readers would refuse: "cannot write `what`:
+/// `beyond`, beyond 1e+09 m in magnitude, ...".
+[[nodiscard]] std::string CannotWriteBeyondWorld(std::string_view what, std::string_view beyond);
 
 }  // namespace priormap

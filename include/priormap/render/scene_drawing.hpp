@@ -25,7 +25,7 @@ void DrawScan(Figure& figure, const Scan& scan, const ScanStyle& style = {});
 void DrawLog(Figure& figure, const Log& log, int stride = 1);
 
 /// World bounding box of a scan's valid readings and its pose (and of its max-range rays when it
-/// has no valid reading).
+/// has no valid reading and its max range is one a return could have, world_bounds.hpp).
 [[nodiscard]] Box2 ScanBounds(const Scan& scan);
 /// World bounding box of all valid readings and poses of a log.
 [[nodiscard]] Box2 LogBounds(const Log& log);
