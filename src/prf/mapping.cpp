@@ -161,9 +161,10 @@ MappingResult RunMapping(std::shared_ptr<const LaserData> data, const MappingOpt
   return RunMapping(LaserMappingData(std::move(data), options), options, progress, session);
 }
 
-MappingResult RunMapping(const MappingData& data, const MappingOptions& run_options,
-                         const std::function<void(const MappingProgress&)>& progress,
-                         const MappingSession& session) {
+namespace {
+
+// The contracts of the options and the data, checked before anything runs.
+void CheckRunOptions(const MappingData& data, const MappingOptions& run_options) {
   PRIORMAP_CHECK(run_options.chains >= 1, "at least one chain");
   PRIORMAP_CHECK(
       run_options.burn_in_temperature >= 1.0 && std::isfinite(run_options.burn_in_temperature),
@@ -189,127 +190,235 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
                  "these data offer no thinned data term to screen moves with");
   PRIORMAP_CHECK(run_options.trace_every >= 1 && run_options.chunk >= 1,
                  "positive trace and chunk");
-  // The ladder's temperatures (GeometricLadder checks the count and the top).
-  const std::vector<double> ladder_temperatures =
+}
+
+// The ladder's temperatures (GeometricLadder checks the count and the top).
+std::vector<double> CheckedLadderTemperatures(const MappingOptions& run_options) {
+  std::vector<double> ladder_temperatures =
       GeometricLadder(run_options.burn_in_replicas, run_options.replica_temperature);
   PRIORMAP_CHECK(run_options.replica_steps <= run_options.burn_in,
                  "the replicas' steps must fit in the burn-in");
-  // Where the ladders end and the chains go on alone.
-  const std::uint64_t ladder_end =
-      run_options.replica_steps == 0 ? run_options.burn_in : run_options.replica_steps;
-  const auto start = Clock::now();
-  MappingResult result;
-  result.window = data.window;
-  // The options with the guide of the guided births, which every sampler (fresh, restored or
-  // annealing) shares.
+  return ladder_temperatures;
+}
+
+// The options with the guide of the guided births, which every sampler (fresh, restored or
+// annealing) shares.
+MappingOptions WithBirthGuide(const MappingData& data, const MappingOptions& run_options) {
   MappingOptions options = run_options;
   if (!options.sampler.guide && options.sampler.weights[MoveKind::kGuidedTriangle] > 0.0)
     options.sampler.guide = std::make_shared<const BirthGuide>(
         data.guide_points, options.sampler.birth_scale, options.guide_jitter);
-  result.trace_points = data.trace_points;
+  return options;
+}
 
-  const auto chains = static_cast<std::size_t>(options.chains);
-  const std::filesystem::path& checkpoints = session.checkpoint_directory;
+// A run from another start is another run: its checkpoints are not this one's.
+std::uint64_t CheckpointFingerprint(const MappingData& data) {
+  if (!data.start) return data.fingerprint;
+  BinaryWriter out;
+  out.Put(data.fingerprint);
+  data.start->Save(out);
+  return Fnv1a64(out.bytes());
+}
+
+// One call of RunMapping, whose steps are its member functions. The fields are the run's state
+// that the steps share (RunMapping's locals once), not an interface, hence a struct.
+struct MappingRun {
+  MappingRun(const MappingData& run_data, const MappingOptions& run_options,
+             const std::function<void(const MappingProgress&)>& run_progress,
+             const MappingSession& run_session);
+
+  MappingResult Run();
+
+  void RestoreOrStartChain(std::size_t c);
+  void MakeLadder(std::size_t c, std::vector<std::unique_ptr<PrfSampler>> hot);
+  void RestoreAnnealing();
+  void CountRestoredSteps();
+  void RunChain(std::size_t c);
+  std::uint64_t PrepareChunk(std::size_t c, std::uint64_t s);
+  void UseStageData(std::size_t c, const BurnInStage& stage);
+  void RecordTraces(std::size_t c, std::uint64_t target);
+  void ReportChain(std::size_t c, std::uint64_t steps);
+  void FinishChain(std::size_t c);
+  void PoolEstimates();
+  void ComputeRhat();
+  void Anneal();
+
+  std::unique_ptr<DataTerm> MakeLikelihood() const { return data.make_data_term(); }
+  void ScreenIfAsked(PrfSampler& sampler) const;
+  std::uint64_t ChainSeed(std::size_t c) const { return SplitMix64(options.seed + c); }
+  // The chain: its ladder's cold replica while it has one (whose sampler changes with swaps).
+  PrfSampler& Chain(std::size_t c) { return ladders[c] ? ladders[c]->cold() : *samplers[c]; }
+  void LeaveLadderIfDone(std::size_t c);
+  void Checkpoint(std::size_t c, bool now, Clock::time_point& last_checkpoint);
+  void Report();
+  bool StopRequested() const;
+  std::uint64_t BudgetLeft(std::uint64_t first, std::uint64_t now) const;
+  std::uint64_t ThisSession() const { return steps_done.load() - resumed + hot_steps.load(); }
+
+  const MappingData& data;
+  const std::function<void(const MappingProgress&)>& progress;
+  const MappingSession& session;
+  const int screen_stride;
+  const std::vector<double> ladder_temperatures;
+  const std::uint64_t ladder_end;
+  const Clock::time_point start;
+  MappingResult result;
+  const MappingOptions options;
+  const std::size_t chains;
+  const std::filesystem::path& checkpoints;
+  const std::uint64_t fingerprint;
+  SamplerOptions sampler_options;
+
+  std::vector<std::unique_ptr<PrfSampler>> samplers;
+  std::vector<std::optional<ReplicaLadder>> ladders;
+  const std::size_t hot_replicas;
+  std::vector<std::unique_ptr<PosteriorEstimates>> estimates;
+  // Bytes, not vector<bool>'s packed bits: the chains write their flags from parallel threads.
+  std::vector<std::uint8_t> recording;
+  std::vector<std::uint64_t> session_start;
+
+  const std::uint64_t end;
+  const std::uint64_t anneal_end;
+  std::optional<LoadedAnneal> restored_annealing;
+  const std::filesystem::path anneal_path;
+
+  std::mutex progress_mutex;  // guards the progress callback and what it reports
+  std::vector<ChainProgress> chain_progress;
+  std::vector<MoveCounters> chain_counters;
+  std::uint64_t resumed = 0;
+  std::atomic<std::uint64_t> steps_done{0};
+  std::uint64_t steps_total = 0;
+  std::optional<AnnealingProgress> annealing_progress;
+  std::atomic<std::uint64_t> hot_steps{0};  // of the replicas other than the chains, this session
+  std::atomic<bool> stopped{false};
+  // The stride of each chain's data term: samplers are made or restored with every reading.
+  std::vector<int> strides;
+};
+
+MappingRun::MappingRun(const MappingData& run_data, const MappingOptions& run_options,
+                       const std::function<void(const MappingProgress&)>& run_progress,
+                       const MappingSession& run_session)
+    : data(run_data),
+      progress(run_progress),
+      session(run_session),
+      screen_stride(run_options.sampler.screen_stride),
+      ladder_temperatures(CheckedLadderTemperatures(run_options)),
+      // Where the ladders end and the chains go on alone.
+      ladder_end(run_options.replica_steps == 0 ? run_options.burn_in : run_options.replica_steps),
+      start(Clock::now()),
+      options(WithBirthGuide(data, run_options)),
+      chains(static_cast<std::size_t>(options.chains)),
+      checkpoints(session.checkpoint_directory),
+      fingerprint(CheckpointFingerprint(data)),
+      sampler_options(options.sampler),
+      samplers(chains),
+      ladders(chains),
+      hot_replicas(ladder_temperatures.size() - 1),
+      estimates(chains),
+      recording(chains, 0),
+      session_start(chains, 0),
+      end(options.burn_in + options.samples),
+      anneal_end(end + AnnealingSteps(options)),
+      anneal_path(AnnealCheckpointPath(checkpoints)),
+      chain_progress(chains),
+      chain_counters(chains),
+      strides(chains, 1) {
+  result.window = data.window;
+  result.trace_points = data.trace_points;
   PRIORMAP_CHECK(!session.resume || !checkpoints.empty(), "resuming needs a checkpoint directory");
-  // A run from another start is another run: its checkpoints are not this one's.
-  const std::uint64_t fingerprint = [&] {
-    if (!data.start) return data.fingerprint;
-    BinaryWriter out;
-    out.Put(data.fingerprint);
-    data.start->Save(out);
-    return Fnv1a64(out.bytes());
-  }();
   if (!checkpoints.empty()) {
     std::filesystem::create_directories(checkpoints);
     // Checkpoint writes killed mid-way (SIGKILL) leave temporaries that nothing else removes
     // until the run completes.
     RemoveStaleCheckpointTemporaries(checkpoints);
   }
-  const auto make_likelihood = [&] { return data.make_data_term(); };
-  // A chain on all the data screens its moves with thinned data, when asked to (delayed
-  // acceptance); the screen's state is a function of the coloring, so it is made anew on resume.
-  const auto screen_if_asked = [&](PrfSampler& sampler) {
-    if (screen_stride > 1 && !sampler.has_screen())
-      sampler.SetScreen(data.make_thinned_data_term(screen_stride));
-  };
-  SamplerOptions sampler_options = options.sampler;
   sampler_options.temperature = 1.0;
-
-  // Chains from their checkpoints (or afresh), before any runs, so that progress counts them.
-  // A chain in a replica-exchange burn-in is its ladder's cold replica (samplers[c] is then
-  // empty) until the ladder ends.
-  std::vector<std::unique_ptr<PrfSampler>> samplers(chains);
-  std::vector<std::optional<ReplicaLadder>> ladders(chains);
-  const auto chain_seed = [&](std::size_t c) { return SplitMix64(options.seed + c); };
-  const auto make_ladder = [&](std::size_t c, std::vector<std::unique_ptr<PrfSampler>> hot) {
-    std::vector<std::unique_ptr<PrfSampler>> replicas;
-    replicas.push_back(std::move(samplers[c]));
-    for (auto& replica : hot) replicas.push_back(std::move(replica));
-    ladders[c].emplace(std::move(replicas), ladder_temperatures, SplitMix64(chain_seed(c) ^ 1),
-                       result.chains[c].swaps);
-  };
-  const std::size_t hot_replicas = ladder_temperatures.size() - 1;
-  std::vector<std::unique_ptr<PosteriorEstimates>> estimates(chains);
-  // Bytes, not vector<bool>'s packed bits: the chains write their flags from parallel threads.
-  std::vector<std::uint8_t> recording(chains, 0);
-  std::vector<std::uint64_t> session_start(chains, 0);
   result.chains.resize(chains);
-  tbb::parallel_for(std::size_t{0}, chains, [&](std::size_t c) {
-    estimates[c] = std::make_unique<PosteriorEstimates>(result.window, options.raster_resolution);
-    result.chains[c].point_traces.assign(result.trace_points.size(), {});
-    const auto path = ChainCheckpointPath(checkpoints, c);
-    if (session.resume && std::filesystem::exists(path)) {
-      LoadedChain loaded =
-          LoadChainCheckpoint(path, fingerprint, c, result.window, options, make_likelihood,
-                              estimates[c].get(), &result.chains[c]);
-      const std::uint64_t steps = loaded.sampler->steps();
-      if (steps > options.burn_in + options.samples)
-        throw BinaryFormatError(path.string() + ": a chain past the run's end");
-      // At the ladder's end both are right: a periodic checkpoint after its last round still holds
-      // the hot replicas (the chain leaves the ladder at its next step), a stop's has left it.
-      const bool consistent = hot_replicas == 0 ? loaded.hot.empty()
-                                                : (loaded.hot.size() == hot_replicas &&
-                                                   steps <= ladder_end && ladder_end > 0) ||
-                                                      (loaded.hot.empty() && steps >= ladder_end);
-      if (!consistent)
-        throw BinaryFormatError(path.string() + ": a chain with the wrong number of replicas");
-      samplers[c] = std::move(loaded.sampler);
-      recording[c] = loaded.recording ? 1 : 0;
-      if (recording[c]) samplers[c]->ContinueRecordingInto(estimates[c].get());
-      if (!loaded.hot.empty()) make_ladder(c, std::move(loaded.hot));
-    } else {
-      const auto fresh = [&](std::uint64_t seed) {
-        return std::make_unique<PrfSampler>(
-            data.start ? *data.start : Coloring(result.window, options.cell_size), sampler_options,
-            seed, make_likelihood());
-      };
-      samplers[c] = fresh(chain_seed(c));
-      if (hot_replicas > 0 && ladder_end > 0) {
-        std::vector<std::unique_ptr<PrfSampler>> hot;
-        for (std::size_t k = 1; k <= hot_replicas; ++k) hot.push_back(fresh(chain_seed(c) + k));
-        make_ladder(c, std::move(hot));
-      }
-    }
-    session_start[c] = ladders[c] ? ladders[c]->cold().steps() : samplers[c]->steps();
-  });
+}
 
-  const std::uint64_t end = options.burn_in + options.samples;
-  const std::uint64_t anneal_end = end + AnnealingSteps(options);
-  // The annealing from its checkpoint, before any chain runs, so that its steps are among the
-  // restored ones from the first report on (as the chains' are). Which chain it continues is
-  // checked once the chains have ended.
-  std::optional<LoadedAnneal> restored_annealing;
-  const auto anneal_path = AnnealCheckpointPath(checkpoints);
+MappingResult MappingRun::Run() {
+  // Chains from their checkpoints (or afresh), before any runs, so that progress counts them.
+  tbb::parallel_for(std::size_t{0}, chains, [&](std::size_t c) { RestoreOrStartChain(c); });
+  RestoreAnnealing();
+  CountRestoredSteps();
+  tbb::parallel_for(std::size_t{0}, chains, [&](std::size_t c) { RunChain(c); });
+  result.sampling_time_s = Seconds(start);
+  result.proposals = ThisSession();
+  if (stopped) {
+    result.complete = false;
+    result.wall_time_s = Seconds(start);
+    return std::move(result);
+  }
+  PoolEstimates();
+  ComputeRhat();
+  if (options.anneal_steps > 0) Anneal();
+  result.wall_time_s = Seconds(start);
+  return std::move(result);
+}
+
+// A chain in a replica-exchange burn-in is its ladder's cold replica (samplers[c] is then
+// empty) until the ladder ends.
+void MappingRun::RestoreOrStartChain(std::size_t c) {
+  estimates[c] = std::make_unique<PosteriorEstimates>(result.window, options.raster_resolution);
+  result.chains[c].point_traces.assign(result.trace_points.size(), {});
+  const auto path = ChainCheckpointPath(checkpoints, c);
+  if (session.resume && std::filesystem::exists(path)) {
+    LoadedChain loaded = LoadChainCheckpoint(
+        path, fingerprint, c, result.window, options, [this] { return MakeLikelihood(); },
+        estimates[c].get(), &result.chains[c]);
+    const std::uint64_t steps = loaded.sampler->steps();
+    if (steps > options.burn_in + options.samples)
+      throw BinaryFormatError(path.string() + ": a chain past the run's end");
+    // At the ladder's end both are right: a periodic checkpoint after its last round still holds
+    // the hot replicas (the chain leaves the ladder at its next step), a stop's has left it.
+    const bool consistent = hot_replicas == 0 ? loaded.hot.empty()
+                                              : (loaded.hot.size() == hot_replicas &&
+                                                 steps <= ladder_end && ladder_end > 0) ||
+                                                    (loaded.hot.empty() && steps >= ladder_end);
+    if (!consistent)
+      throw BinaryFormatError(path.string() + ": a chain with the wrong number of replicas");
+    samplers[c] = std::move(loaded.sampler);
+    recording[c] = loaded.recording ? 1 : 0;
+    if (recording[c]) samplers[c]->ContinueRecordingInto(estimates[c].get());
+    if (!loaded.hot.empty()) MakeLadder(c, std::move(loaded.hot));
+  } else {
+    const auto fresh = [&](std::uint64_t seed) {
+      return std::make_unique<PrfSampler>(
+          data.start ? *data.start : Coloring(result.window, options.cell_size), sampler_options,
+          seed, MakeLikelihood());
+    };
+    samplers[c] = fresh(ChainSeed(c));
+    if (hot_replicas > 0 && ladder_end > 0) {
+      std::vector<std::unique_ptr<PrfSampler>> hot;
+      for (std::size_t k = 1; k <= hot_replicas; ++k) hot.push_back(fresh(ChainSeed(c) + k));
+      MakeLadder(c, std::move(hot));
+    }
+  }
+  session_start[c] = ladders[c] ? ladders[c]->cold().steps() : samplers[c]->steps();
+}
+
+void MappingRun::MakeLadder(std::size_t c, std::vector<std::unique_ptr<PrfSampler>> hot) {
+  std::vector<std::unique_ptr<PrfSampler>> replicas;
+  replicas.push_back(std::move(samplers[c]));
+  for (auto& replica : hot) replicas.push_back(std::move(replica));
+  ladders[c].emplace(std::move(replicas), ladder_temperatures, SplitMix64(ChainSeed(c) ^ 1),
+                     result.chains[c].swaps);
+}
+
+// The annealing from its checkpoint, before any chain runs, so that its steps are among the
+// restored ones from the first report on (as the chains' are). Which chain it continues is
+// checked once the chains have ended.
+void MappingRun::RestoreAnnealing() {
   if (options.anneal_steps > 0 && session.resume && std::filesystem::exists(anneal_path)) {
     restored_annealing =
-        LoadAnnealCheckpoint(anneal_path, fingerprint, result.window, options, make_likelihood());
+        LoadAnnealCheckpoint(anneal_path, fingerprint, result.window, options, MakeLikelihood());
     const std::uint64_t steps = restored_annealing->sampler->steps();
     if (steps < end || steps > anneal_end)
       throw BinaryFormatError(anneal_path.string() + ": an annealing step outside the annealing");
   }
-  std::mutex progress_mutex;  // guards the progress callback and what it reports
-  std::vector<ChainProgress> chain_progress(chains);
-  std::vector<MoveCounters> chain_counters(chains);
+}
+
+void MappingRun::CountRestoredSteps() {
   // A chain restored at its end takes no step this session, so it would never report.
   for (std::size_t c = 0; c < chains; ++c)
     if (session_start[c] >= end) {
@@ -317,176 +426,205 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
       chain_progress[c] = {.reported = true, .log_posterior = finished.LogPosterior()};
       chain_counters[c] = finished.counters();
     }
-  std::uint64_t resumed = 0;
   for (std::size_t c = 0; c < chains; ++c) resumed += std::min(session_start[c], end);
   if (restored_annealing) resumed += restored_annealing->sampler->steps() - end;
   result.resumed_steps = resumed;
-  std::atomic<std::uint64_t> steps_done{resumed};
-  const std::uint64_t steps_total = chains * end + (anneal_end - end);
-  std::optional<AnnealingProgress> annealing_progress;
-  // Every chain as it stood at its latest report (under progress_mutex once the chains run).
-  const auto report = [&] {
-    MoveCounters counters{};
-    for (const MoveCounters& of_chain : chain_counters) AddCounters(&counters, of_chain);
-    progress({.steps_done = steps_done.load(),
-              .steps_total = steps_total,
-              .steps_resumed = resumed,
-              .seconds = Seconds(start),
-              .chains = chain_progress,
-              .counters = counters,
-              .annealing = annealing_progress});
-  };
+  steps_done = resumed;
+  steps_total = chains * end + (anneal_end - end);
   // What the checkpoints restored, at once: a chain restored at its end never reports, and the
   // others only after their first chunk.
-  if (progress && resumed > 0) report();
-  std::atomic<std::uint64_t> hot_steps{0};  // of the replicas other than the chains, this session
-  std::atomic<bool> stopped{false};
-  // A chain also stops when another chain's task threw (its exception cancels this run's
-  // loops), rather than run to its end before the exception reaches the caller.
-  const auto stop_requested = [&] {
-    return (session.stop && session.stop->load()) ||
-           (session.also_stop && session.also_stop->load()) ||
-           tbb::is_current_task_group_canceling();
-  };
-  const auto budget_left = [&](std::uint64_t first, std::uint64_t now) {
-    return session.stop_after_steps == 0 ? std::numeric_limits<std::uint64_t>::max()
-                                         : first + session.stop_after_steps - now;
-  };
+  if (progress && resumed > 0) Report();
+}
 
-  // The stride of each chain's data term: samplers are made or restored with every reading.
-  std::vector<int> strides(chains, 1);
-  tbb::parallel_for(std::size_t{0}, chains, [&](std::size_t c) {
-    std::optional<ReplicaLadder>& ladder = ladders[c];
-    // The chain: its ladder's cold replica while it has one (whose sampler changes with swaps).
-    const auto chain = [&]() -> PrfSampler& { return ladder ? ladder->cold() : *samplers[c]; };
-    ChainSummary& summary = result.chains[c];
-    auto last_checkpoint = Clock::now();
-    // Past its ladder's end, the chain goes on alone from the cold replica.
-    const auto leave_ladder_if_done = [&] {
-      if (!ladder || chain().steps() < ladder_end) return;
-      samplers[c] =
-          options.replica_pick_best ? std::move(*ladder).TakeBest() : std::move(*ladder).TakeCold();
-      ladder.reset();
-    };
-    const auto checkpoint = [&](bool now) {
-      if (checkpoints.empty()) return;
-      if (!now && Seconds(last_checkpoint) < session.checkpoint_every_s) return;
-      SaveChainCheckpoint(ChainCheckpointPath(checkpoints, c), fingerprint, c, chain(),
-                          ladder ? ladder->hot() : std::vector<const PrfSampler*>{},
-                          recording[c] ? estimates[c].get() : nullptr, summary);
-      last_checkpoint = Clock::now();
-    };
-    // The step count is the chain's clock: where the burn-in ends, traces are taken, replicas
-    // exchange and the session stops depend on it alone, so chunks and restarts do not change
-    // the course.
-    while (chain().steps() < end) {
-      const std::uint64_t s = chain().steps();
-      if (stop_requested() || budget_left(session_start[c], s) == 0) {
-        stopped = true;
-        break;
-      }
-      leave_ladder_if_done();
-      PrfSampler& sampler = chain();
-      if (s >= options.burn_in && !recording[c]) {
-        sampler.RecordInto(estimates[c].get());
-        recording[c] = 1;
-      }
-      // The data of this step's stage (thinned in the first stages of the burn-in).
-      const BurnInStage stage = BurnInStageAt(options, s);
-      if (stage.stride != strides[c]) {
-        const auto replace = [&](PrfSampler& replica) {
-          replica.ReplaceDataTerm(stage.stride == 1 ? make_likelihood()
-                                                    : data.make_thinned_data_term(stage.stride));
-        };
-        if (ladder)
-          for (const auto& replica : ladder->replicas()) replace(*replica);
-        else
-          replace(sampler);
-        strides[c] = stage.stride;
-      }
-      if (stage.stride == 1) {
-        if (ladder)
-          for (const auto& replica : ladder->replicas()) screen_if_asked(*replica);
-        else
-          screen_if_asked(sampler);
-      }
-      std::uint64_t target = std::min({end, s + options.chunk, stage.end});
-      if (s < options.burn_in) {
-        target = std::min(target, options.burn_in);
-        const double temperature = BurnInTemperature(options, s);
-        if (ladder) {
-          ladder->set_scale(temperature);
-          target = std::min({target, (s / kExchangeEvery + 1) * kExchangeEvery, ladder_end});
-        } else {
-          sampler.set_temperature(temperature);
-        }
-        target = std::min(target, BurnInTemperatureEnd(options, s));
-      } else {
-        sampler.set_temperature(1.0);
-        const std::uint64_t into = s - options.burn_in;
-        target = std::min(target,
-                          options.burn_in + (into / options.trace_every + 1) * options.trace_every);
-      }
-      target = s + std::min(target - s, budget_left(session_start[c], s));
-      if (ladder) {
-        ladder->Run(target - s);
-        hot_steps += (ladder->replicas().size() - 1) * (target - s);
-        if (target % kExchangeEvery == 0) {
-          ladder->Exchange(target / kExchangeEvery);
-          summary.swaps = ladder->swaps();
-        }
-      } else {
-        sampler.Run(target - s);
-      }
-      if (target > options.burn_in && (target - options.burn_in) % options.trace_every == 0) {
-        summary.log_posterior_trace.push_back(chain().LogPosterior());
-        for (std::size_t k = 0; k < result.trace_points.size(); ++k)
-          summary.point_traces[k].push_back(
-              chain().coloring().ColourAt(result.trace_points[k]) == Colour::kBlack ? 1.0 : 0.0);
-      }
-      if (progress) {
-        std::lock_guard lock(progress_mutex);
-        // Counted under the lock: a count taken before another chain's report would reach that
-        // report with this chain's steps but not its state.
-        steps_done += target - s;
-        chain_progress[c] = {
-            .reported = true, .log_posterior = chain().LogPosterior(), .data_stride = strides[c]};
-        chain_counters[c] = chain().counters();
-        report();
-      } else {
-        steps_done += target - s;
-      }
-      checkpoint(false);
+// Every chain as it stood at its latest report (under progress_mutex once the chains run).
+void MappingRun::Report() {
+  MoveCounters counters{};
+  for (const MoveCounters& of_chain : chain_counters) AddCounters(&counters, of_chain);
+  progress({.steps_done = steps_done.load(),
+            .steps_total = steps_total,
+            .steps_resumed = resumed,
+            .seconds = Seconds(start),
+            .chains = chain_progress,
+            .counters = counters,
+            .annealing = annealing_progress});
+}
+
+// A chain also stops when another chain's task threw (its exception cancels this run's
+// loops), rather than run to its end before the exception reaches the caller.
+bool MappingRun::StopRequested() const {
+  return (session.stop && session.stop->load()) ||
+         (session.also_stop && session.also_stop->load()) || tbb::is_current_task_group_canceling();
+}
+
+std::uint64_t MappingRun::BudgetLeft(std::uint64_t first, std::uint64_t now) const {
+  return session.stop_after_steps == 0 ? std::numeric_limits<std::uint64_t>::max()
+                                       : first + session.stop_after_steps - now;
+}
+
+// A chain on all the data screens its moves with thinned data, when asked to (delayed
+// acceptance); the screen's state is a function of the coloring, so it is made anew on resume.
+void MappingRun::ScreenIfAsked(PrfSampler& sampler) const {
+  if (screen_stride > 1 && !sampler.has_screen())
+    sampler.SetScreen(data.make_thinned_data_term(screen_stride));
+}
+
+// Past its ladder's end, the chain goes on alone from the cold replica.
+void MappingRun::LeaveLadderIfDone(std::size_t c) {
+  std::optional<ReplicaLadder>& ladder = ladders[c];
+  if (!ladder || Chain(c).steps() < ladder_end) return;
+  samplers[c] =
+      options.replica_pick_best ? std::move(*ladder).TakeBest() : std::move(*ladder).TakeCold();
+  ladder.reset();
+}
+
+void MappingRun::Checkpoint(std::size_t c, bool now, Clock::time_point& last_checkpoint) {
+  if (checkpoints.empty()) return;
+  if (!now && Seconds(last_checkpoint) < session.checkpoint_every_s) return;
+  const std::optional<ReplicaLadder>& ladder = ladders[c];
+  SaveChainCheckpoint(ChainCheckpointPath(checkpoints, c), fingerprint, c, Chain(c),
+                      ladder ? ladder->hot() : std::vector<const PrfSampler*>{},
+                      recording[c] ? estimates[c].get() : nullptr, result.chains[c]);
+  last_checkpoint = Clock::now();
+}
+
+void MappingRun::RunChain(std::size_t c) {
+  std::optional<ReplicaLadder>& ladder = ladders[c];
+  ChainSummary& summary = result.chains[c];
+  auto last_checkpoint = Clock::now();
+  // The step count is the chain's clock: where the burn-in ends, traces are taken, replicas
+  // exchange and the session stops depend on it alone, so chunks and restarts do not change
+  // the course.
+  while (Chain(c).steps() < end) {
+    const std::uint64_t s = Chain(c).steps();
+    if (StopRequested() || BudgetLeft(session_start[c], s) == 0) {
+      stopped = true;
+      break;
     }
-    leave_ladder_if_done();  // a ladder to the run's end (a burn-in without samples)
-    PrfSampler& sampler = chain();
-    // A burn-in thinned to its end, with no samples after it: back to every reading.
-    if (strides[c] != 1 && sampler.steps() >= options.burn_in) {
-      sampler.ReplaceDataTerm(make_likelihood());
-      strides[c] = 1;
-    }
-    if (sampler.steps() >= end && !recording[c]) {  // no samples: recording never began
+    LeaveLadderIfDone(c);
+    PrfSampler& sampler = Chain(c);
+    if (s >= options.burn_in && !recording[c]) {
       sampler.RecordInto(estimates[c].get());
       recording[c] = 1;
     }
-    checkpoint(true);
-    summary.counters = sampler.counters();
-    summary.log_posterior = sampler.LogPosterior();
-    summary.log_prior = sampler.LogPrior();
-    summary.log_likelihood = sampler.LogLikelihood();
-    summary.last = sampler.coloring();
-    summary.edges = sampler.coloring().stats().edges;
-  });
-  result.sampling_time_s = Seconds(start);
-  const auto this_session = [&] { return steps_done.load() - resumed + hot_steps.load(); };
-  result.proposals = this_session();
-  if (stopped) {
-    result.complete = false;
-    result.wall_time_s = Seconds(start);
-    return result;
+    const std::uint64_t target = PrepareChunk(c, s);
+    if (ladder) {
+      ladder->Run(target - s);
+      hot_steps += (ladder->replicas().size() - 1) * (target - s);
+      if (target % kExchangeEvery == 0) {
+        ladder->Exchange(target / kExchangeEvery);
+        summary.swaps = ladder->swaps();
+      }
+    } else {
+      sampler.Run(target - s);
+    }
+    RecordTraces(c, target);
+    ReportChain(c, target - s);
+    Checkpoint(c, false, last_checkpoint);
   }
+  FinishChain(c);
+  Checkpoint(c, true, last_checkpoint);
+  const PrfSampler& sampler = Chain(c);
+  summary.counters = sampler.counters();
+  summary.log_posterior = sampler.LogPosterior();
+  summary.log_prior = sampler.LogPrior();
+  summary.log_likelihood = sampler.LogLikelihood();
+  summary.last = sampler.coloring();
+  summary.edges = sampler.coloring().stats().edges;
+}
 
-  // Pooled estimates: every chain records the same number of samples.
+// Sets the chain's data term and temperature for the chunk from step s, and returns where the
+// chunk ends: at the stage's end, the burn-in's, a temperature block's, an exchange round's, the
+// ladder's, the next trace record or the session's budget, whichever comes first.
+std::uint64_t MappingRun::PrepareChunk(std::size_t c, std::uint64_t s) {
+  std::optional<ReplicaLadder>& ladder = ladders[c];
+  PrfSampler& sampler = Chain(c);
+  // The data of this step's stage (thinned in the first stages of the burn-in).
+  const BurnInStage stage = BurnInStageAt(options, s);
+  UseStageData(c, stage);
+  std::uint64_t target = std::min({end, s + options.chunk, stage.end});
+  if (s < options.burn_in) {
+    target = std::min(target, options.burn_in);
+    const double temperature = BurnInTemperature(options, s);
+    if (ladder) {
+      ladder->set_scale(temperature);
+      target = std::min({target, (s / kExchangeEvery + 1) * kExchangeEvery, ladder_end});
+    } else {
+      sampler.set_temperature(temperature);
+    }
+    target = std::min(target, BurnInTemperatureEnd(options, s));
+  } else {
+    sampler.set_temperature(1.0);
+    const std::uint64_t into = s - options.burn_in;
+    target =
+        std::min(target, options.burn_in + (into / options.trace_every + 1) * options.trace_every);
+  }
+  return s + std::min(target - s, BudgetLeft(session_start[c], s));
+}
+
+// The chain's data term (and every replica's) for the stage, and the screen on all the data.
+void MappingRun::UseStageData(std::size_t c, const BurnInStage& stage) {
+  std::optional<ReplicaLadder>& ladder = ladders[c];
+  PrfSampler& sampler = Chain(c);
+  if (stage.stride != strides[c]) {
+    const auto replace = [&](PrfSampler& replica) {
+      replica.ReplaceDataTerm(stage.stride == 1 ? MakeLikelihood()
+                                                : data.make_thinned_data_term(stage.stride));
+    };
+    if (ladder)
+      for (const auto& replica : ladder->replicas()) replace(*replica);
+    else
+      replace(sampler);
+    strides[c] = stage.stride;
+  }
+  if (stage.stride == 1) {
+    if (ladder)
+      for (const auto& replica : ladder->replicas()) ScreenIfAsked(*replica);
+    else
+      ScreenIfAsked(sampler);
+  }
+}
+
+void MappingRun::RecordTraces(std::size_t c, std::uint64_t target) {
+  if (target > options.burn_in && (target - options.burn_in) % options.trace_every == 0) {
+    ChainSummary& summary = result.chains[c];
+    summary.log_posterior_trace.push_back(Chain(c).LogPosterior());
+    for (std::size_t k = 0; k < result.trace_points.size(); ++k)
+      summary.point_traces[k].push_back(
+          Chain(c).coloring().ColourAt(result.trace_points[k]) == Colour::kBlack ? 1.0 : 0.0);
+  }
+}
+
+void MappingRun::ReportChain(std::size_t c, std::uint64_t steps) {
+  if (progress) {
+    std::lock_guard lock(progress_mutex);
+    // Counted under the lock: a count taken before another chain's report would reach that
+    // report with this chain's steps but not its state.
+    steps_done += steps;
+    chain_progress[c] = {
+        .reported = true, .log_posterior = Chain(c).LogPosterior(), .data_stride = strides[c]};
+    chain_counters[c] = Chain(c).counters();
+    Report();
+  } else {
+    steps_done += steps;
+  }
+}
+
+void MappingRun::FinishChain(std::size_t c) {
+  LeaveLadderIfDone(c);  // a ladder to the run's end (a burn-in without samples)
+  PrfSampler& sampler = Chain(c);
+  // A burn-in thinned to its end, with no samples after it: back to every reading.
+  if (strides[c] != 1 && sampler.steps() >= options.burn_in) {
+    sampler.ReplaceDataTerm(MakeLikelihood());
+    strides[c] = 1;
+  }
+  if (sampler.steps() >= end && !recording[c]) {  // no samples: recording never began
+    sampler.RecordInto(estimates[c].get());
+    recording[c] = 1;
+  }
+}
+
+// Pooled estimates: every chain records the same number of samples.
+void MappingRun::PoolEstimates() {
   result.raster = estimates[0]->grid();
   result.black_fraction = Eigen::MatrixXd::Zero(result.raster.ny, result.raster.nx);
   result.white_fraction = result.black_fraction;
@@ -507,7 +645,9 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
     result.white_fraction /= static_cast<double>(chains);
     result.chain_spread = highest - lowest;
   }
+}
 
+void MappingRun::ComputeRhat() {
   // R̂ needs at least 4 trace records per chain.
   if (result.chains[0].log_posterior_trace.size() >= 4) {
     std::vector<std::vector<double>> traces;
@@ -522,64 +662,72 @@ MappingResult RunMapping(const MappingData& data, const MappingOptions& run_opti
   } else {
     result.rhat_log_posterior = result.rhat_point_colours = std::nan("");
   }
+}
 
-  if (options.anneal_steps > 0) {
-    // From the chain that ended highest; the temperature falls geometrically from 1 in
-    // kAnnealStages stages. The annealing step count, past the chain's end, is its clock.
-    const auto annealing_start = Clock::now();
-    std::size_t best = 0;
-    for (std::size_t c = 1; c < chains; ++c)
-      if (result.chains[c].log_posterior > result.chains[best].log_posterior) best = c;
-    const std::uint64_t per_stage = AnnealStageSteps(options);
-    std::unique_ptr<PrfSampler> annealing;
-    if (restored_annealing) {
-      if (restored_annealing->chain != best)
-        throw BinaryFormatError(anneal_path.string() + ": of another chain");
-      annealing = std::move(restored_annealing->sampler);
-    } else {
-      annealing = std::move(samplers[best]);
-      annealing->RecordInto(nullptr);
+void MappingRun::Anneal() {
+  // From the chain that ended highest; the temperature falls geometrically from 1 in
+  // kAnnealStages stages. The annealing step count, past the chain's end, is its clock.
+  const auto annealing_start = Clock::now();
+  std::size_t best = 0;
+  for (std::size_t c = 1; c < chains; ++c)
+    if (result.chains[c].log_posterior > result.chains[best].log_posterior) best = c;
+  const std::uint64_t per_stage = AnnealStageSteps(options);
+  std::unique_ptr<PrfSampler> annealing;
+  if (restored_annealing) {
+    if (restored_annealing->chain != best)
+      throw BinaryFormatError(anneal_path.string() + ": of another chain");
+    annealing = std::move(restored_annealing->sampler);
+  } else {
+    annealing = std::move(samplers[best]);
+    annealing->RecordInto(nullptr);
+  }
+  ScreenIfAsked(*annealing);
+  const std::uint64_t first = annealing->steps();
+  auto last_checkpoint = Clock::now();
+  while (annealing->steps() < anneal_end) {
+    const std::uint64_t a = annealing->steps() - end;
+    if (StopRequested() || BudgetLeft(first, annealing->steps()) == 0) {
+      result.complete = false;
+      break;
     }
-    screen_if_asked(*annealing);
-    const std::uint64_t first = annealing->steps();
-    auto last_checkpoint = Clock::now();
-    while (annealing->steps() < anneal_end) {
-      const std::uint64_t a = annealing->steps() - end;
-      if (stop_requested() || budget_left(first, annealing->steps()) == 0) {
-        result.complete = false;
-        break;
-      }
-      const std::uint64_t stage = a / per_stage;
-      const double fraction = static_cast<double>(stage + 1) / static_cast<double>(kAnnealStages);
-      const double temperature = std::pow(options.anneal_final_temperature, fraction);
-      annealing->set_temperature(temperature);
-      const std::uint64_t n = std::min(
-          {(stage + 1) * per_stage - a, options.chunk, budget_left(first, annealing->steps())});
-      annealing->Run(n);
-      steps_done += n;
-      if (progress) {
-        std::lock_guard lock(progress_mutex);
-        // The annealing goes on from its chain's counters, so the sum stays a run's total.
-        chain_counters[best] = annealing->counters();
-        annealing_progress = {
-            .chain = best, .temperature = temperature, .log_posterior = annealing->LogPosterior()};
-        report();
-      }
-      if (!checkpoints.empty() && Seconds(last_checkpoint) >= session.checkpoint_every_s) {
-        SaveAnnealCheckpoint(anneal_path, fingerprint, best, *annealing);
-        last_checkpoint = Clock::now();
-      }
+    const std::uint64_t stage = a / per_stage;
+    const double fraction = static_cast<double>(stage + 1) / static_cast<double>(kAnnealStages);
+    const double temperature = std::pow(options.anneal_final_temperature, fraction);
+    annealing->set_temperature(temperature);
+    const std::uint64_t n = std::min(
+        {(stage + 1) * per_stage - a, options.chunk, BudgetLeft(first, annealing->steps())});
+    annealing->Run(n);
+    steps_done += n;
+    if (progress) {
+      std::lock_guard lock(progress_mutex);
+      // The annealing goes on from its chain's counters, so the sum stays a run's total.
+      chain_counters[best] = annealing->counters();
+      annealing_progress = {
+          .chain = best, .temperature = temperature, .log_posterior = annealing->LogPosterior()};
+      Report();
     }
-    if (!checkpoints.empty()) SaveAnnealCheckpoint(anneal_path, fingerprint, best, *annealing);
-    result.proposals = this_session();
-    result.annealing_time_s = Seconds(annealing_start);
-    if (result.complete) {
-      result.map = annealing->coloring();
-      result.map_log_posterior = annealing->LogPosterior();
+    if (!checkpoints.empty() && Seconds(last_checkpoint) >= session.checkpoint_every_s) {
+      SaveAnnealCheckpoint(anneal_path, fingerprint, best, *annealing);
+      last_checkpoint = Clock::now();
     }
   }
-  result.wall_time_s = Seconds(start);
-  return result;
+  if (!checkpoints.empty()) SaveAnnealCheckpoint(anneal_path, fingerprint, best, *annealing);
+  result.proposals = ThisSession();
+  result.annealing_time_s = Seconds(annealing_start);
+  if (result.complete) {
+    result.map = annealing->coloring();
+    result.map_log_posterior = annealing->LogPosterior();
+  }
+}
+
+}  // namespace
+
+MappingResult RunMapping(const MappingData& data, const MappingOptions& run_options,
+                         const std::function<void(const MappingProgress&)>& progress,
+                         const MappingSession& session) {
+  CheckRunOptions(data, run_options);
+  MappingRun run(data, run_options, progress, session);
+  return run.Run();
 }
 
 }  // namespace priormap::prf
