@@ -1,7 +1,7 @@
 // Accuracy of the priorlets engine against the baseline normal estimators (issue 4's acceptance
 // points), printed as tables. Not a google-benchmark program: it measures errors, not time.
 //
-//   normal_accuracy_bench [--section accuracy|outliers|greedy|all] [--seeds N] [--cases N]
+//   normal_accuracy_bench [--section accuracy|outliers|greedy|regions|all] [--seeds N] [--cases N]
 //                         [--outlier-probability P] [--verbose]
 //
 // accuracy  square 4 x 4 m room, utm30 (sigma 1 cm), sensor at (0.3, -0.2, 0.4), rectangular
@@ -20,6 +20,10 @@
 //           corner more than one beam from the truth, and how often refinement repairs it
 //           (--cases per configuration, default 34: 204 in all); --verbose lists each corner
 //           that stays misplaced.
+// regions   square, rectangle (rectangular prior), corridor and l-room (Manhattan prior) at their
+//           default poses, utm30 with 0, 2 and 5 % spurious short readings, seeds 1..N: the mean
+//           region count, the scans with as many regions as true regions of 4 or more beams, and
+//           the regions with fewer than 4 beams in the model (none should be left).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -380,6 +384,58 @@ void Greedy(int cases_per_config, bool verbose) {
   fmt::print("\n");
 }
 
+// The true regions a scan shows with at least `min_points` valid, non-outlier beams.
+std::size_t TrueRegionCount(const Scan& scan, std::size_t min_points) {
+  std::size_t count = 0, run = 0;
+  int region = -1;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.IsValid(i) || scan.truth->outlier[i]) continue;
+    if (scan.truth->region[i] != region) {
+      count += run >= min_points ? 1 : 0;
+      region = scan.truth->region[i];
+      run = 0;
+    }
+    ++run;
+  }
+  return count + (run >= min_points ? 1 : 0);
+}
+
+void Regions(int seeds) {
+  constexpr std::size_t kMinPoints = 4;  // EngineOptions::min_region_points
+  fmt::print("# Regions: default poses, utm30, seeds 1..{}; exact = scans with the true count\n",
+             seeds);
+  fmt::print("{:<10} {:<12} {:>9} {:>12} {:>6} {:>14}\n", "scene", "prior", "spurious",
+             "mean regions", "exact", "regions < 4");
+  for (const auto& [name, prior_name] :
+       std::vector<std::pair<std::string, std::string>>{{"square", "rectangular"},
+                                                        {"rectangle", "rectangular"},
+                                                        {"corridor", "manhattan"},
+                                                        {"l-room", "manhattan"}}) {
+    const dsl::CompiledPrior prior = dsl::PriorLibrary().Load(prior_name).value();
+    const Scene scene = BuiltinScene(name).value();
+    for (const double rate : {0.0, 0.02, 0.05}) {
+      RangeSensor sensor = RangeSensor::Preset("utm30").value();
+      sensor.outlier_probability = rate;
+      std::size_t regions = 0, exact = 0, small = 0;
+      for (int seed = 1; seed <= seeds; ++seed) {
+        const Scan scan = priormap::testing::SimulateScene(
+            scene, sensor, scene.default_pose.value(), static_cast<std::uint64_t>(seed));
+        const MapScan map = EstimateMapScan(scan, prior);
+        regions += map.regions.size();
+        exact += map.regions.size() == TrueRegionCount(scan, kMinPoints) ? 1 : 0;
+        for (const BeamRange& r : map.regions) {
+          std::size_t in_model = 0;
+          for (std::size_t b = r.first; b <= r.last; ++b) in_model += map.inmodel[b] ? 1 : 0;
+          small += in_model < kMinPoints ? 1 : 0;
+        }
+      }
+      fmt::print("{:<10} {:<12} {:>8.0f}% {:>12.2f} {:>6} {:>14}\n", name, prior_name, 100 * rate,
+                 static_cast<double>(regions) / seeds, exact, small);
+    }
+  }
+  fmt::print("\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -401,10 +457,11 @@ int main(int argc, char** argv) {
     } else if (arg == "--cases" && has_value) {
       cases = std::atoi(argv[++a]);
     } else {
-      std::fprintf(stderr,
-                   "usage: %s [--section accuracy|outliers|greedy|all] [--seeds N] [--cases N] "
-                   "[--outlier-probability P] [--verbose]\n",
-                   argv[0]);
+      std::fprintf(
+          stderr,
+          "usage: %s [--section accuracy|outliers|greedy|regions|all] [--seeds N] [--cases N] "
+          "[--outlier-probability P] [--verbose]\n",
+          argv[0]);
       return 2;
     }
   }
@@ -413,12 +470,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   const bool all = section == "all";
-  if (!all && section != "accuracy" && section != "outliers" && section != "greedy") {
+  if (!all && section != "accuracy" && section != "outliers" && section != "greedy" &&
+      section != "regions") {
     std::fprintf(stderr, "unknown section '%s'\n", section.c_str());
     return 2;
   }
   if (all || section == "accuracy") Accuracy(seeds);
   if (all || section == "outliers") Outliers(std::min(seeds, 4), outlier_probability, verbose);
   if (all || section == "greedy") Greedy(cases, verbose);
+  if (all || section == "regions") Regions(seeds);
   return 0;
 }

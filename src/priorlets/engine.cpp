@@ -193,6 +193,27 @@ bool MoveBorder(std::vector<Link>& links, std::size_t from, long to) {
   return true;
 }
 
+// The points of the regions on each side of the border at links[border] (link l joins points l
+// and l + 1); a slice's end counts as a border.
+std::pair<std::size_t, std::size_t> RegionsBeside(const std::vector<Link>& links,
+                                                  std::size_t border) {
+  std::size_t left = 1, right = 1;
+  while (left <= border && links[border - left] == Link::kSameRegion) ++left;
+  while (border + right < links.size() && links[border + right] == Link::kSameRegion) ++right;
+  return {left, right};
+}
+
+// MoveBorder that also keeps both regions beside the moved border at min_points or more, as the
+// greedy rounds leave every region (RemoveLonelyPoints): false, links untouched, otherwise.
+bool MoveBorderKeepingRegions(std::vector<Link>& links, std::size_t from, long to,
+                              std::size_t min_points) {
+  if (!MoveBorder(links, from, to)) return false;
+  const auto [left, right] = RegionsBeside(links, static_cast<std::size_t>(to));
+  if (left >= min_points && right >= min_points) return true;
+  MoveBorder(links, static_cast<std::size_t>(to), static_cast<long>(from));
+  return false;
+}
+
 class Engine {
  public:
   Engine(const Scan& scan, const dsl::CompiledPrior& prior, const EngineOptions& options)
@@ -236,21 +257,30 @@ class Engine {
   // like GeometricBreak; a spike near a border or next to another outlier, whose neighbours fit
   // no one line, is left to the greedy rounds.
   bool RemoveSpikes(Topology& topology) const;
+  // What RemoveLonelyPoints keeps, and so what border moves may leave.
+  [[nodiscard]] std::size_t MinRegionPoints() const {
+    return static_cast<std::size_t>(std::max(1, options_.min_region_points));
+  }
   // Removes the point after the link with the largest penalty (when no link can relax).
   void RemoveWorstPoints(Topology& topology, const std::vector<double>& penalties) const;
   // The points with keep[j] set, bridged across removed runs as RemoveLonelyPoints says.
   [[nodiscard]] Topology Keep(const Topology& topology, const std::vector<char>& keep) const;
   void RefineBorders(Topology& topology, InnerResult& solution);
+  // Makes the border at links[border] and the next border in `direction` same_region, merging
+  // the region between them into both neighbours; the other border's index, or nullopt (links
+  // untouched) when there is none or either is a geometric break.
+  [[nodiscard]] std::optional<std::size_t> DissolveRegion(Topology& topology, std::size_t border,
+                                                          int direction) const;
   // CheckCorner for the border after point `at` of the slice first..last of `topology`, solved
   // as x.
   [[nodiscard]] CornerCheck CornerAt(const Topology& topology, const Eigen::VectorXd& x,
                                      std::size_t first, std::size_t last, std::size_t at) const;
   // Every different_region link claims a corner: its border moves to where the two regions'
-  // lines meet (corner_geometry.hpp), or, when they meet nowhere near it, it becomes
-  // different_surface (one region hides the other, Fig. 5b); then the whole scan is solved
-  // again, and kept when the prior allows it and the fit stays within the noise. Judged on the
-  // whole solution: a local problem's lines rest on a few dozen points and place a corner less
-  // than a beam precisely, the whole scan's on hundreds.
+  // lines meet (corner_geometry.hpp; not when that leaves either region below the minimum), or,
+  // when they meet nowhere near it, it becomes different_surface (one region hides the other, Fig.
+  // 5b); then the whole scan is solved again, and kept when the prior allows it and the fit stays
+  // within the noise. Judged on the whole solution: a local problem's lines rest on a few dozen
+  // points and place a corner less than a beam precisely, the whole scan's on hundreds.
   void SettleCorners(Topology& topology, InnerResult& solution);
   // The problem of `topology` in problem_ (after local solves it may hold another).
   void UseProblemOf(const Topology& topology);
@@ -612,6 +642,24 @@ Topology Engine::Slice(const Topology& topology, std::size_t first, std::size_t 
   return sub;
 }
 
+std::optional<std::size_t> Engine::DissolveRegion(Topology& topology, std::size_t border,
+                                                  int direction) const {
+  const auto geometric = [&](std::size_t l) {
+    return GeometricBreak(topology.beams[l], topology.beams[l + 1]);
+  };
+  auto far = static_cast<long>(border) + direction;
+  while (far >= 0 && far < static_cast<long>(topology.links.size()) &&
+         topology.links[static_cast<std::size_t>(far)] == Link::kSameRegion) {
+    far += direction;
+  }
+  if (far < 0 || far >= static_cast<long>(topology.links.size())) return std::nullopt;
+  const auto other = static_cast<std::size_t>(far);
+  if (geometric(border) || geometric(other)) return std::nullopt;
+  topology.links[border] = Link::kSameRegion;
+  topology.links[other] = Link::kSameRegion;
+  return other;
+}
+
 void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
   // Each border is judged on the points around it alone (a local problem of the two regions'
   // nearest points): cheap, and a merge that is infeasible locally is infeasible globally.
@@ -674,22 +722,36 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
     // A one-beam move that fits worse is looked past once: two beams near a corner can each fit
     // the other wall only together (one alone lands on neither line).
     std::size_t border = at;
+    bool dissolved = false;
     for (int direction : {-1, +1}) {
-      for (int moves = 0; moves < kMaxBorderMoves; ++moves) {
+      for (int moves = 0; moves < kMaxBorderMoves && !dissolved; ++moves) {
         bool improved = false;
         for (int reach = 1; reach <= 2 && !improved; ++reach) {
           const long to = static_cast<long>(border) + direction * reach;
           Topology moved = local;
           if (!MoveBorder(moved.links, border, to)) break;
-          InnerResult r = local_solve(moved, local, current.x, move);
+          // A move that would leave the region ahead below the minimum takes the whole of it:
+          // the region merges into both its neighbours, and the move ends there.
+          std::optional<std::size_t> far;
+          const auto [left, right] = RegionsBeside(moved.links, static_cast<std::size_t>(to));
+          if (std::min(left, right) < MinRegionPoints()) {
+            moved = local;
+            far = DissolveRegion(moved, border, direction);
+            if (!far) break;
+          }
+          // Fewer regions are kept when the prior allows them, as a merge back is.
+          InnerResult r = local_solve(moved, local, current.x, far ? resume : move);
           const double moved_cost = r.feasible ? ComparableCost(r) : 0.0;
           if (!r.feasible && !r.abandoned)
             break;  // the move breaks the prior: so would a longer one
-          if (!r.feasible || !(moved_cost < cost - 1e-9 * (1.0 + std::abs(cost)))) continue;
+          if (!r.feasible || (!far && !(moved_cost < cost - 1e-9 * (1.0 + std::abs(cost))))) {
+            continue;
+          }
           local = std::move(moved);
           current = std::move(r);
           cost = moved_cost;
-          border = static_cast<std::size_t>(to);
+          border = far ? *far : static_cast<std::size_t>(to);
+          dissolved = far.has_value();
           improved = true;
         }
         if (!improved) break;
@@ -752,7 +814,8 @@ void Engine::SettleCorners(Topology& topology, InnerResult& solution) {
         continue;
       }
       if (!corner.corner || corner.shift == 0) continue;
-      if (MoveBorder(settled.links, l, static_cast<long>(l) + corner.shift))
+      if (MoveBorderKeepingRegions(settled.links, l, static_cast<long>(l) + corner.shift,
+                                   MinRegionPoints()))
         moved_beams += std::abs(corner.shift);
     }
     if (settled.links == topology.links) return;

@@ -294,5 +294,45 @@ TEST(Engine, SpuriousShortReadingsAreOutliersNotExtraRegions) {
   EXPECT_LE(excess, 2);
 }
 
+// Border refinement moved borders into a region until one or two beams were left of it: a region
+// below min_region_points, which the greedy rounds never keep, with a normal no constraint holds
+// (rectangle without outliers, seed 20: a 4-beam region the greedy rounds left in the middle of
+// a wall became 1 beam, and the wall stayed in 3 regions; 11 of the 240 scans of square,
+// rectangle, corridor and l-room at 0/2/5 % spurious readings, seeds 1-20). A move that would
+// leave fewer points merges the region into both its neighbours instead, kept when feasible.
+TEST(Engine, RefinementLeavesNoRegionBelowTheMinimum) {
+  const dsl::CompiledPrior prior = Prior("rectangular");
+  const EngineOptions options;
+  struct Case {
+    const char* scene;
+    double outliers;
+    std::uint64_t seed;
+    // false: a spike at the end of an initial region (a geometric break on one side of it
+    // only), which the up-front test does not judge, leaves a wall in many regions; settling
+    // corners made some of them 1-2 beams.
+    bool region_per_wall = true;
+  };
+  for (const Case& c :
+       {Case{"rectangle", 0.0, 20}, Case{"rectangle", 0.05, 1}, Case{"square", 0.05, 2},
+        Case{"rectangle", 0.02, 1}, Case{"square", 0.02, 15, false}}) {
+    SCOPED_TRACE(std::string(c.scene) + " " + std::to_string(c.outliers) + " seed " +
+                 std::to_string(c.seed));
+    const Scene scene = BuiltinScene(c.scene).value();
+    RangeSensor sensor = RangeSensor::Preset("utm30").value();
+    sensor.outlier_probability = c.outliers;
+    const Scan scan = testing::SimulateScene(scene, sensor, scene.default_pose.value(), c.seed);
+    const MapScan map = EstimateMapScan(scan, prior, options);
+    ASSERT_TRUE(map.feasible);
+    for (const BeamRange& region : map.regions) {
+      long points = 0;
+      for (std::size_t i = region.first; i <= region.last; ++i) points += map.inmodel[i];
+      EXPECT_GE(points, options.min_region_points) << region.first << ".." << region.last;
+    }
+    if (c.region_per_wall) {
+      EXPECT_EQ(map.regions.size(), TrueRegionCount(scan, 4));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace priormap::priorlets

@@ -59,7 +59,8 @@ struct EngineOptions {
   /// neighbouring regions again, keeping what stays feasible and fits better (backtracking over
   /// the greedy decisions, the paper's future work); then move every corner's border to where
   /// its two regions' lines meet, or make it a surface border where they meet nowhere near
-  /// (CheckCorner).
+  /// (CheckCorner). No move leaves a region below min_region_points: one that would instead
+  /// merges the region into both its neighbours, kept when that fits better.
   bool refine_borders = true;
 };
 
