@@ -675,7 +675,9 @@ void MappingRun::Anneal() {
   std::unique_ptr<PrfSampler> annealing;
   if (restored_annealing) {
     if (restored_annealing->chain != best)
-      throw BinaryFormatError(anneal_path.string() + ": of another chain");
+      throw BinaryFormatError(fmt::format(
+          "{}: the annealing of chain {}, but chain {} ends with the highest log posterior",
+          anneal_path.string(), restored_annealing->chain, best));
     annealing = std::move(restored_annealing->sampler);
   } else {
     annealing = std::move(samplers[best]);

@@ -1,9 +1,11 @@
 // Checkpoints: the binary encoding refuses damaged data; a saved coloring, sampler and mapping
 // run continue exactly as the originals would have.
 #include <atomic>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -272,6 +274,53 @@ TEST(Checkpoint, AChainCheckpointOfAnEarlierVersionIsRefused) {
     EXPECT_THAT(e.what(), HasSubstr(fmt::format("{}: version {} of the PRFCHAIN format, this "
                                                 "build reads {}",
                                                 path.string(), kEarlier, version)));
+  }
+}
+
+// The annealing continues the chain that ended highest; an annealing checkpoint of another
+// chain (the other chain's copied over it, say) is refused, naming both chains.
+TEST(Checkpoint, AnAnnealingCheckpointOfAnotherChainIsRefused) {
+  const auto data = RoomData();
+  MappingOptions options;
+  options.sampler.p = 0.5;
+  options.samples = 2000;
+  options.burn_in = 2000;
+  options.chains = 2;
+  options.trace_every = 500;
+  options.anneal_steps = 2000;
+  options.chunk = 500;
+  const MappingData mapping = LaserMappingData(data, options);
+  testing::TempDir dir;
+  // Sessions of 1500 steps: the third ends the chains' 4000 and anneals 1500 of 2000.
+  const std::filesystem::path path = AnnealCheckpointPath(dir.path());
+  MappingSession session = StoppingSession(dir.path(), 1500);
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_FALSE(RunMapping(mapping, options, {}, session).complete);
+    session.resume = true;
+  }
+  ASSERT_TRUE(std::filesystem::exists(path));
+  const std::string bytes = testing::ReadAll(path);
+  const auto version =
+      BinaryReader(std::string_view(bytes).substr(8), "header").Get<std::uint32_t>();
+  std::string payload(UnsealBinary(bytes, "PRFANNEA", version, path.string()));
+  // The payload: the run's fingerprint, then the chain (64 bits each).
+  BinaryReader header(std::string_view(payload).substr(8, 8), "chain");
+  const auto annealed = header.Get<std::uint64_t>();
+  ASSERT_LT(annealed, 2u);
+  BinaryWriter other;
+  other.Put<std::uint64_t>(1 - annealed);
+  payload.replace(8, 8, other.bytes());
+  testing::WriteAll(path, SealBinary("PRFANNEA", version, payload));
+
+  MappingSession resume = StoppingSession(dir.path(), 0);
+  resume.resume = true;
+  try {
+    (void)RunMapping(mapping, options, {}, resume);
+    ADD_FAILURE() << "another chain's annealing was accepted";
+  } catch (const BinaryFormatError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(fmt::format("{}: the annealing of chain {}, but chain {} ends "
+                                                "with the highest log posterior",
+                                                path.string(), 1 - annealed, annealed)));
   }
 }
 
