@@ -65,4 +65,12 @@ std::string MappingState(const prf::MappingProgress& progress) {
                      a.log_posterior);
 }
 
+double RecentRate::Add(double seconds, std::uint64_t steps) {
+  reports_.push_back({seconds, steps});
+  while (reports_.size() > 1 && reports_[1].seconds <= seconds - window_s_) reports_.pop_front();
+  const Report& since = reports_.front();
+  const double elapsed = seconds - since.seconds;
+  return elapsed > 0.0 ? static_cast<double>(steps - since.steps) / elapsed : 0.0;
+}
+
 }  // namespace priormap::app

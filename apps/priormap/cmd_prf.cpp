@@ -198,9 +198,12 @@ class MappingStatus {
     if (!terminal_ && percent / 10 == last_percent_ / 10 && p.steps_done != p.steps_total) return;
     if (percent == last_percent_ && p.steps_done != p.steps_total) return;
     last_percent_ = percent;
-    // The rates are those since the last line, not since the start: a stage on the full data
-    // costs several times a thinned one, and a running average would hide the change for long.
-    if (!last_steps_) last_steps_ = p.steps_resumed;
+    // The rates are recent ones, not since the start: a stage on the full data costs several
+    // times a thinned one, and a running average would hide the change for long.
+    if (!started_) {
+      rate_.Add(0.0, p.steps_resumed);
+      started_ = true;
+    }
     if (p.steps_done == p.steps_resumed) {  // the report of what the checkpoints restored
       fmt::print(stderr, "{:3d}% restored from the checkpoints\n", percent);
       return;
@@ -209,13 +212,9 @@ class MappingStatus {
     prf::MoveCounter interval;
     interval.proposed = total.proposed - last_total_.proposed;
     interval.accepted = total.accepted - last_total_.accepted;
-    const double seconds = p.seconds - last_seconds_;
-    const std::string line = fmt::format(
-        "{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, {}", percent,
-        seconds > 0.0 ? static_cast<double>(p.steps_done - *last_steps_) / seconds / 1e3 : 0.0,
-        100.0 * interval.AcceptanceRate(), MappingState(p));
-    last_steps_ = p.steps_done;
-    last_seconds_ = p.seconds;
+    const std::string line = fmt::format("{:3d}% {:.0f}k proposals/s, acceptance {:.1f}%, {}",
+                                         percent, rate_.Add(p.seconds, p.steps_done) / 1e3,
+                                         100.0 * interval.AcceptanceRate(), MappingState(p));
     last_total_ = total;
     // Erased to the line's end: a line shorter than the last must not keep the last one's tail.
     if (terminal_)
@@ -227,8 +226,8 @@ class MappingStatus {
  private:
   bool terminal_;
   int last_percent_ = -1;
-  std::optional<std::uint64_t> last_steps_;  // unset until the first line: steps_resumed then
-  double last_seconds_ = 0.0;
+  bool started_ = false;
+  RecentRate rate_;
   // A resumed run's counters hold the restored steps' too, so its first line's acceptance is
   // over the whole run so far; later lines are exact.
   prf::MoveCounter last_total_;

@@ -3,6 +3,8 @@
 // annealing's once it runs.
 #include "chains_status.hpp"
 
+#include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -58,6 +60,38 @@ TEST(MappingState, TheChainsWhileTheyRunThenTheAnnealing) {
   progress.annealing =
       prf::AnnealingProgress{.chain = 1, .temperature = 0.25, .log_posterior = 6150.26};
   EXPECT_EQ(MappingState(progress), "annealing chain 1 at T 0.25, log posterior 6150.3");
+}
+
+// Two chains of 10,000-step chunks at 10k steps/s each: every second both report, a few
+// milliseconds apart. Over the milliseconds between two lines the rate read 4 M steps/s.
+TEST(RecentRate, ReportsMillisecondsApartDoNotMakeASpike) {
+  RecentRate rate(2.0);
+  EXPECT_EQ(rate.Add(0.0, 0), 0.0);
+  double last = 0.0;
+  for (int k = 1; k <= 6; ++k) {
+    const double t = k;
+    last = rate.Add(t, 20000 * static_cast<std::uint64_t>(k) - 10000);  // chain 0
+    EXPECT_NEAR(last, 20000.0, 10000.0 / std::min(t, 2.0) + 1.0) << t;
+    last = rate.Add(t + 0.005, 20000 * static_cast<std::uint64_t>(k));  // chain 1
+    EXPECT_NEAR(last, 20000.0, 10000.0 / std::min(t, 2.0) + 1.0) << t;
+  }
+}
+
+// The rate follows a change of pace within the window: a thinned stage ends, the full data's
+// steps cost ten times as much.
+TEST(RecentRate, FollowsAChangeOfPaceWithinItsWindow) {
+  RecentRate rate(2.0);
+  std::uint64_t steps = 0;
+  rate.Add(0.0, steps);
+  for (int k = 1; k <= 10; ++k) EXPECT_DOUBLE_EQ(rate.Add(0.5 * k, steps += 50000), 100000.0);
+  for (int k = 11; k <= 14; ++k) rate.Add(0.5 * k, steps += 5000);
+  EXPECT_DOUBLE_EQ(rate.Add(7.5, steps += 5000), 10000.0);
+}
+
+TEST(RecentRate, IsZeroWithoutElapsedTime) {
+  RecentRate rate;
+  EXPECT_EQ(rate.Add(3.0, 100), 0.0);
+  EXPECT_EQ(rate.Add(3.0, 200), 0.0);
 }
 
 }  // namespace
