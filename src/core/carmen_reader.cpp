@@ -334,14 +334,16 @@ class CarmenParser {
   }
 
   // A reading longer than any return may be is an error only if it is a return, which the max
-  // range, known once every scan is read, decides; until then its place is kept (there are
-  // few: one is an error or a no-return sentinel).
+  // range, known once every scan is read, decides; until then its place is kept. A no-echo code
+  // that large puts one in every no-return beam, so an entry is small: its text is a view into
+  // the text being parsed. A line that fails after its readings leaves entries of a scan never
+  // added, harmless as a log with errors is not finished.
   void NoteOverlongReadings(const FieldReader& fields, std::size_t first,
                             const std::vector<double>& ranges) {
     for (std::size_t i = 0; i < ranges.size(); ++i) {
       if (IsReturnWithinWorld(ranges[i]) || !std::isfinite(ranges[i])) continue;
       const Token& t = fields.token(first + i);
-      overlong_.push_back({log_.scans.size(), i, line_number_, t.col, QuoteForMessage(t.text)});
+      overlong_.push_back({log_.scans.size(), i, line_number_, t.col, t.text});
     }
   }
 
@@ -504,8 +506,9 @@ class CarmenParser {
     for (const OverlongReading& r : overlong_) {
       const Scan& scan = log_.scans[r.scan];
       if (!scan.IsValid(r.index)) continue;
-      diagnostics.push_back({name_, r.line, r.col,
-                             ExpectedReturnWithinWorld("a range reading", r.text, scan.max_range)});
+      diagnostics.push_back(
+          {name_, r.line, r.col,
+           ExpectedReturnWithinWorld("a range reading", QuoteForMessage(r.text), scan.max_range)});
       if (static_cast<int>(diagnostics.size()) >= std::max(options_.max_diagnostics, 1)) {
         diagnostics.push_back({name_, r.line, 0, "too many errors; stopped reading"});
         break;
@@ -522,7 +525,7 @@ class CarmenParser {
   struct OverlongReading {
     std::size_t scan, index;
     int line, col;
-    std::string text;  // quoted for messages
+    std::string_view text;  // into the text being parsed
   };
   std::vector<OverlongReading> overlong_;
   int line_number_ = 0;

@@ -61,8 +61,12 @@ ConeWallHits MarkConeFans(const SonarData& data, const Scene& scene, const ConeF
 EvaluationRaster MakeSonarEvaluationRaster(const CellGrid& grid, const SceneTruth& truth,
                                            const Scene& scene, const SonarData& data,
                                            const ConeFanOptions& options, ConeWallHits* wall_hits) {
-  PRIORMAP_CHECK(options.rays_per_cone >= 2 && options.band >= 0.0 && options.mark_step >= 0.0,
-                 "a cone's fan needs at least two rays, and a band and a mark step that are not negative");
+  // A step below a micrometre would mark each ray millions of times (a subnormal one forever).
+  PRIORMAP_CHECK(options.rays_per_cone >= 2 && options.band >= 0.0 && std::isfinite(options.band) &&
+                     (options.mark_step == 0.0 ||
+                      (options.mark_step >= 1e-6 && std::isfinite(options.mark_step))),
+                 "a cone's fan needs at least two rays, a finite band that is not negative, and a "
+                 "mark step of 0 or at least 1e-6 m");
   EvaluationRaster raster = UnseenRaster(grid, truth);
   ConeWallHits hits = MarkConeFans(data, scene, options, &raster);
   if (wall_hits) *wall_hits = std::move(hits);

@@ -266,9 +266,9 @@ class Engine {
   // The points with keep[j] set, bridged across removed runs as RemoveLonelyPoints says.
   [[nodiscard]] Topology Keep(const Topology& topology, const std::vector<char>& keep) const;
   void RefineBorders(Topology& topology, InnerResult& solution);
-  // Makes the border at links[border] and the next border in `direction` same_region, merging
-  // the region between them into both neighbours; the other border's index, or nullopt (links
-  // untouched) when there is none or either is a geometric break.
+  // Makes the border at links[border] and the next border in `direction` same_region, joining
+  // the region between them and both its neighbours into one; the other border's index, or
+  // nullopt (links untouched) when there is none or either is a geometric break.
   [[nodiscard]] std::optional<std::size_t> DissolveRegion(Topology& topology, std::size_t border,
                                                           int direction) const;
   // CheckCorner for the border after point `at` of the slice first..last of `topology`, solved
@@ -731,7 +731,8 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
           Topology moved = local;
           if (!MoveBorder(moved.links, border, to)) break;
           // A move that would leave the region ahead below the minimum takes the whole of it:
-          // the region merges into both its neighbours, and the move ends there.
+          // both its borders become same_region (it and its neighbours become one region), and
+          // the move ends there.
           std::optional<std::size_t> far;
           const auto [left, right] = RegionsBeside(moved.links, static_cast<std::size_t>(to));
           if (std::min(left, right) < MinRegionPoints()) {

@@ -73,19 +73,29 @@ struct Figure::Impl {
   cairo_t* cr() const { return canvas->cr(); }
 
   // A log's millions of points, each kept as an arc, cost the recorded drawing half a gigabyte
-  // and an SVG tens of megabytes. Drawn into one coverage mask of the figure at kMaskScale times
-  // its resolution they cost a few megabytes whatever their number, and look the same in a PNG.
-  void PointsAsMask(std::span<const Vec2> points, const Color& color, double radius_px) const {
-    const double mask_scale = MaskScale();
+  // and an SVG tens of megabytes. Drawn into one coverage mask of the figure at up to kMaskScale
+  // times its resolution they cost at most kMaxMaskPixels bytes, and twice that for the record of
+  // where points fell, whatever their number, and look the same in a PNG. False (nothing drawn) for
+  // a figure larger than kMaxMaskPixels or one Cairo cannot make a mask of: its points stay
+  // vectors.
+  bool PointsAsMask(std::span<const Vec2> points, const Color& color, double radius_px) const {
+    const double figure_pixels = canvas->width() * canvas->height();
+    if (!(figure_pixels <= kMaxMaskPixels)) return false;
+    // Twice the figure's resolution, so that a zoomed SVG or PDF stays sharp, where the cap allows.
+    const double mask_scale = std::min(kMaskScale, std::sqrt(kMaxMaskPixels / figure_pixels));
     const int width = static_cast<int>(std::ceil(canvas->width() * mask_scale));
     const int height = static_cast<int>(std::ceil(canvas->height() * mask_scale));
     cairo_surface_t* mask = cairo_image_surface_create(CAIRO_FORMAT_A8, width, height);
+    if (cairo_surface_status(mask) != CAIRO_STATUS_SUCCESS) {  // a side over Cairo's 32767 px
+      cairo_surface_destroy(mask);
+      return false;
+    }
     cairo_t* m = cairo_create(mask);
     // Points within a quarter of a mask pixel of one drawn look the same: drawing each again
     // would only cost time (a log's points mostly fall on walls already drawn).
-    constexpr std::size_t kCellsPerPixel = 4;  // along each axis
-    const std::size_t row = kCellsPerPixel * static_cast<std::size_t>(width);
-    std::vector<bool> drawn(row * kCellsPerPixel * static_cast<std::size_t>(height));
+    constexpr double cells_per_pixel = 4.0;  // along each axis
+    const auto row = static_cast<std::size_t>(cells_per_pixel * width);
+    std::vector<bool> drawn(row * static_cast<std::size_t>(cells_per_pixel * height));
     // Filled in batches: one path of millions of arcs would itself take gigabytes.
     constexpr std::size_t kBatch = 4096;
     std::size_t pending = 0;
@@ -94,8 +104,8 @@ struct Figure::Impl {
       const Vec2 d = ToDevice(p) * mask_scale;
       if (!(d.x() >= 0.0 && d.y() >= 0.0 && d.x() < width && d.y() < height))
         continue;  // also leaves out NaN; a point's disc beyond the figure's edge is not seen
-      const std::size_t cell = static_cast<std::size_t>(kCellsPerPixel * d.y()) * row +
-                               static_cast<std::size_t>(kCellsPerPixel * d.x());
+      const std::size_t cell = static_cast<std::size_t>(cells_per_pixel * d.y()) * row +
+                               static_cast<std::size_t>(cells_per_pixel * d.x());
       if (drawn[cell]) continue;
       drawn[cell] = true;
       cairo_new_sub_path(m);
@@ -115,13 +125,7 @@ struct Figure::Impl {
     cairo_mask_surface(c, mask, 0.0, 0.0);
     cairo_restore(c);
     cairo_surface_destroy(mask);  // the recording keeps its own reference
-  }
-
-  // Twice the figure's resolution, so that a zoomed SVG or PDF stays sharp, unless that would
-  // exceed kMaxMaskPixels (wide figures).
-  double MaskScale() const {
-    const double pixels = canvas->width() * canvas->height();
-    return std::clamp(std::sqrt(kMaxMaskPixels / pixels), 1.0, kMaskScale);
+    return true;
   }
 
   void ClipToPlot() const {
@@ -271,10 +275,7 @@ Vec2 Figure::ToDevice(const Vec2& world) const {
 }
 
 void Figure::Points(std::span<const Vec2> points, const Color& color, double radius_px) {
-  if (points.size() > kMaxVectorPoints) {
-    impl_->PointsAsMask(points, color, radius_px);
-    return;
-  }
+  if (points.size() > kMaxVectorPoints && impl_->PointsAsMask(points, color, radius_px)) return;
   cairo_t* c = impl_->cr();
   detail::SetColor(c, color);
   for (const Vec2& p : points) {

@@ -1,5 +1,6 @@
 // What one sonar cone could see of a square room, cell by cell: MakeSonarEvaluationRaster.
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -10,6 +11,8 @@
 
 namespace priormap::prf {
 namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // A room [-1, 2] x [-2, 2]; its wall x = 2 is region 1. One cone from the origin along +x,
 // 0.2 rad either side, R = 5 m; `range` < 2 m is an echo short of the wall.
@@ -76,12 +79,26 @@ TEST_F(OneConeInARoom, CoversTheConeUpToItsReadingOrToRForAMaxReading) {
   EXPECT_EQ(no_echo.covered[At(2.06, 0.01)], 0) << "the band behind the wall is not covered";
 }
 
-TEST_F(OneConeInARoom, RefusesAFanOfOneRay) {
-  data_.readings.clear();
+// Options that would mark nothing sensible, or mark a ray for ever (an infinite band, a
+// subnormal step), are refused before any ray is followed.
+TEST_F(OneConeInARoom, RefusesFansThatCannotBeMarked) {
+  data_.readings.clear();  // so that a check that lets one through fails rather than hangs
   const std::vector<Vec2> seeds{Vec2::Zero()};
-  EXPECT_THROW((void)MakeSonarEvaluationRaster(grid_, SceneTruth(scene_, seeds), scene_, data_,
-                                               {.rays_per_cone = 1, .band = 0.1}),
-               ContractError);
+  const SceneTruth truth(scene_, seeds);
+  const auto refused = [&](const ConeFanOptions& options) {
+    try {
+      (void)MakeSonarEvaluationRaster(grid_, truth, scene_, data_, options);
+    } catch (const ContractError&) {
+      return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(refused({.rays_per_cone = 1, .band = 0.1, .mark_step = 0.0}));
+  EXPECT_TRUE(refused({.rays_per_cone = 21, .band = -0.1, .mark_step = 0.0}));
+  EXPECT_TRUE(refused({.rays_per_cone = 21, .band = kInf, .mark_step = 0.0}));
+  EXPECT_TRUE(refused({.rays_per_cone = 21, .band = 0.1, .mark_step = 1e-300}));
+  EXPECT_TRUE(refused({.rays_per_cone = 21, .band = 0.1, .mark_step = -0.05}));
+  EXPECT_FALSE(refused({.rays_per_cone = 21, .band = 0.1, .mark_step = 0.05}));
 }
 
 }  // namespace

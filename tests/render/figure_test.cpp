@@ -481,18 +481,24 @@ std::vector<Vec2> WallPoints(std::size_t count, double size) {
   return points;
 }
 
-// Above 20,000 points a Points call draws them as a raster layer; a PNG must not tell.
-TEST(Figure, ManyPointsLookTheSameAsFewPointsInAPng) {
+// Above 20,000 points a Points call draws them as a raster layer; a PNG must not tell, at twice
+// the figure's resolution (400 px) or less (3000 px: 9 MP, 1.33 times under the mask's cap).
+class ManyPoints : public ::testing::TestWithParam<int> {};
+
+TEST_P(ManyPoints, LookTheSameAsFewPointsInAPng) {
   const TempDir dir;
   const std::vector<Vec2> points = WallPoints(30000, 4.0);
   const Color blue{0.2, 0.4, 0.8};
-  Figure raster(World(0, 0, 4, 4), Plain());
-  raster.Points(points, blue, 1.5);
+  FigureOptions options = Plain(GetParam());
+  options.max_height_px = GetParam();
+  const double width_scale = GetParam() / 400.0;  // the points' discs are as large in the world
+  Figure raster(World(0, 0, 4, 4), options);
+  raster.Points(points, blue, 1.5 * width_scale);
   raster.Save(dir / "raster.png");
-  Figure vector(World(0, 0, 4, 4), Plain());
+  Figure vector(World(0, 0, 4, 4), options);
   const std::span<const Vec2> all(points);
   for (std::size_t first = 0; first < all.size(); first += 10000)
-    vector.Points(all.subspan(first, 10000), blue, 1.5);
+    vector.Points(all.subspan(first, 10000), blue, 1.5 * width_scale);
   vector.Save(dir / "vector.png");
 
   const PngImage a(dir / "raster.png"), b(dir / "vector.png");
@@ -510,10 +516,13 @@ TEST(Figure, ManyPointsLookTheSameAsFewPointsInAPng) {
       worst = std::max(worst, std::abs(a.At(x, y).r - b.At(x, y).r));
     }
   }
-  ASSERT_GT(ink_vector, 5000 * 204.0) << "the points cover part of the figure";
+  ASSERT_GT(ink_vector, 5000 * 204.0 * width_scale * width_scale)
+      << "the points cover part of the figure";
   EXPECT_NEAR(ink_raster / ink_vector, 1.0, 0.05);
   EXPECT_LT(worst, 96);
 }
+
+INSTANTIATE_TEST_SUITE_P(Figure, ManyPoints, ::testing::Values(400, 3000));
 
 // A log's million points made a 50 MB SVG when each was an arc; as a raster layer its size
 // follows the figure's, not the points'.

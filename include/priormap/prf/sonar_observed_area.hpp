@@ -33,8 +33,8 @@ using ConeWallHits = std::map<int, std::vector<Vec2>>;
 
 /// The truth at each centre of `grid` and what the cones of `data` could see of `scene` there:
 /// observation (visible wins over behind a surface) and coverage. `wall_hits`, when given,
-/// receives where the rays met surfaces. Throws ContractError for fewer than two rays per cone
-/// a negative band or a negative mark step.
+/// receives where the rays met surfaces. Throws ContractError for fewer than two rays per cone,
+/// a band that is negative or infinite, or a mark step other than 0 below 1e-6 m.
 [[nodiscard]] EvaluationRaster MakeSonarEvaluationRaster(const CellGrid& grid,
                                                          const SceneTruth& truth,
                                                          const Scene& scene, const SonarData& data,

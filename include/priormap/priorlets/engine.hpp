@@ -59,8 +59,9 @@ struct EngineOptions {
   /// neighbouring regions again, keeping what stays feasible and fits better (backtracking over
   /// the greedy decisions, the paper's future work); then move every corner's border to where
   /// its two regions' lines meet, or make it a surface border where they meet nowhere near
-  /// (CheckCorner). No move leaves a region below min_region_points: one that would instead
-  /// merges the region into both its neighbours, kept when that fits better.
+  /// (CheckCorner). No move leaves a region below min_region_points: in the border moves, one
+  /// that would makes both the region's borders same_region instead (it and its two neighbours
+  /// become one region), kept whenever the prior allows it; a corner is not moved.
   bool refine_borders = true;
 };
 
