@@ -141,6 +141,17 @@ dsl::PriorLibrary MakePriorLibrary(const std::vector<std::string>& prior_path) {
   return dsl::PriorLibrary::WithEnvironment({prior_path.begin(), prior_path.end()});
 }
 
+void PrintPriorWarnings(const dsl::CompiledPrior& prior) {
+  for (const Diagnostic& d : prior.warnings())
+    fmt::print(stderr, "priormap: warning: {}: {}\n", d.Location(), d.message);
+}
+
+dsl::CompiledPrior LoadPrior(const std::vector<std::string>& prior_path, const std::string& name) {
+  dsl::CompiledPrior prior = ValueOrThrow(MakePriorLibrary(prior_path).Load(name));
+  PrintPriorWarnings(prior);
+  return prior;
+}
+
 Scene LoadScene(const std::string& name_or_path) {
   if (std::optional<Scene> builtin = BuiltinScene(name_or_path)) return *std::move(builtin);
   if (std::filesystem::exists(name_or_path)) return ValueOrThrow(ReadJsonScene(name_or_path));

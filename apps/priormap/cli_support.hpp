@@ -79,6 +79,15 @@ void RequireCarmenForMaxRange(const std::string& input, LogFormat read_as,
 /// the built-ins.
 [[nodiscard]] dsl::PriorLibrary MakePriorLibrary(const std::vector<std::string>& prior_path);
 
+/// Prints the prior's warnings (constraints that always hold, ...) on stderr, one per line:
+/// "priormap: warning: file:line:col: message".
+void PrintPriorWarnings(const dsl::CompiledPrior& prior);
+
+/// The prior `name` (a name or a .prior file) of MakePriorLibrary(prior_path), its warnings
+/// printed; throws UserError when it does not compile.
+[[nodiscard]] dsl::CompiledPrior LoadPrior(const std::vector<std::string>& prior_path,
+                                           const std::string& name);
+
 /// A built-in scene name, or a priormap.scene JSON file.
 [[nodiscard]] Scene LoadScene(const std::string& name_or_path);
 

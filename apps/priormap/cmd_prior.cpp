@@ -26,7 +26,7 @@ struct PriorOptions {
 };
 
 dsl::CompiledPrior Load(const PriorOptions& o) {
-  return ValueOrThrow(MakePriorLibrary(o.prior_path).Load(o.prior));
+  return LoadPrior(o.prior_path, o.prior);
 }
 
 void List(const PriorOptions& o) {
@@ -41,6 +41,7 @@ void List(const PriorOptions& o) {
     for (const Diagnostic& d : compiled.diagnostics())
       fmt::print(stderr, "priormap: warning: '{}' does not compile, {}: {}\n", p.name, d.Location(),
                  d.message);
+    if (compiled) PrintPriorWarnings(compiled.value());
   }
   for (const Diagnostic& d : library.Unparsable())
     fmt::print(stderr, "priormap: warning: not listed, {}: {}\n", d.Location(), d.message);

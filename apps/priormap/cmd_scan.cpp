@@ -161,7 +161,7 @@ void Run(const ScanOptions& o) {
                         {"--lines", o.lines.value_or("")},
                         {"--png", o.png.value_or("")},
                         {"--svg", o.svg.value_or("")}});
-  const dsl::CompiledPrior prior = ValueOrThrow(MakePriorLibrary(o.prior_path).Load(o.prior));
+  const dsl::CompiledPrior prior = LoadPrior(o.prior_path, o.prior);
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
   LogFormat read_as{};

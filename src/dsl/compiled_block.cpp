@@ -541,12 +541,14 @@ void BlockEvaluator::EvaluateBatch(std::size_t count, std::span<const double> x,
 
 CompiledPrior::CompiledPrior(std::string name, int order, double max_curvature,
                              std::vector<PriorOrigin> chain,
-                             std::array<std::unique_ptr<CompiledBlock>, kNumBlockKinds> blocks)
+                             std::array<std::unique_ptr<CompiledBlock>, kNumBlockKinds> blocks,
+                             std::vector<Diagnostic> warnings)
     : name_(std::move(name)),
       order_(order),
       max_curvature_(max_curvature),
       chain_(std::move(chain)),
-      blocks_(std::move(blocks)) {}
+      blocks_(std::move(blocks)),
+      warnings_(std::move(warnings)) {}
 
 const CompiledBlock* CompiledPrior::block(BlockKind kind) const {
   return blocks_[static_cast<std::size_t>(kind)].get();

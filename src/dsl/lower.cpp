@@ -16,6 +16,7 @@
 #include <priormap/core/angles.hpp>
 #include <priormap/dsl/parse.hpp>
 
+#include "constant_constraints.hpp"
 #include "expression_graph.hpp"
 
 namespace priormap::dsl::detail {
@@ -601,9 +602,22 @@ std::string VariableName(int order, int v) {
   return v < order ? fmt::format("rho_{}", v + 1) : fmt::format("alpha_{}", v - order + 1);
 }
 
+// A constraint that holds, or fails, whatever the unknowns: refused when it makes the block
+// infeasible, kept with a warning when it merely constrains nothing.
+void CheckNotConstant(const ExpressionGraph& graph, const Statement& constraint,
+                      const std::vector<LoweredComparison>& branches, BlockKind kind,
+                      std::vector<Diagnostic>& warnings) {
+  const auto finding = FindConstantConstraint(graph, branches, kind);
+  if (!finding) return;
+  if (finding->is_error) Fail(constraint.loc, finding->message);
+  const SourceLocation& at = constraint.loc;
+  warnings.push_back({at.file_name(), at.line, at.col, finding->message});
+}
+
 std::unique_ptr<CompiledBlock> CompileBlock(const Header& header,
                                             const std::vector<const Statement*>& file_scope,
-                                            const BlockInput& input) {
+                                            const BlockInput& input,
+                                            std::vector<Diagnostic>& warnings) {
   const int k = header.order;
   auto graph = std::make_shared<ExpressionGraph>(2 * k, k);
   Lowerer lowerer(header, *graph);
@@ -648,6 +662,7 @@ std::unique_ptr<CompiledBlock> CompileBlock(const Header& header,
           Branches(s->expr, branches);
           const bool disjunction = branches.size() > 1;
           const int group = disjunction ? summary.disjunctions++ : -1;
+          std::vector<LoweredComparison> lowered;
           for (std::size_t b = 0; b < branches.size(); ++b) {
             const Expr& c = *branches[b];
             if (c.kind != Expr::Kind::kCompare) {
@@ -672,6 +687,7 @@ std::unique_ptr<CompiledBlock> CompileBlock(const Header& header,
             }
             const Value& shape = lhs.IsScalar() ? rhs : lhs;
             const int entries = static_cast<int>(shape.entries.size());
+            lowered.push_back({ToSource(c), equality, {}});
             for (int i = 0; i < entries; ++i) {
               const NodeId l =
                   lhs.IsScalar() ? lhs.entries[0] : lhs.entries[static_cast<std::size_t>(i)];
@@ -681,11 +697,13 @@ std::unique_ptr<CompiledBlock> CompileBlock(const Header& header,
               const bool flip =
                   c.compare == CompareOp::kGreaterEqual || c.compare == CompareOp::kGreater;
               const NodeId f = flip ? graph->Sub(r, l) : graph->Sub(l, r);
+              lowered.back().terms.push_back(f);
               add({equality ? TermKind::kEquality : TermKind::kInequality, group,
                    disjunction ? static_cast<int>(b) : -1, i, entries, s->loc, ToSource(*s)},
                   f);
             }
           }
+          CheckNotConstant(*graph, *s, lowered, input.kind, warnings);
           if (!disjunction) {
             if (branches[0]->compare == CompareOp::kEqual) {
               ++summary.equalities;
@@ -752,11 +770,12 @@ Result<CompiledPrior> LowerAndCompile(const ResolvedPrior& prior) {
       for (const Statement* d : file_scope) lowerer.Define(*d, file);
     }
     std::array<std::unique_ptr<CompiledBlock>, kNumBlockKinds> compiled;
+    std::vector<Diagnostic> warnings;
     for (std::size_t i = 0; i < blocks.size(); ++i) {
-      if (blocks[i]) compiled[i] = CompileBlock(header, file_scope, *blocks[i]);
+      if (blocks[i]) compiled[i] = CompileBlock(header, file_scope, *blocks[i], warnings);
     }
     return CompiledPrior(header.name, header.order, header.max_curvature, std::move(chain),
-                         std::move(compiled));
+                         std::move(compiled), std::move(warnings));
   } catch (const CompileError& error) {
     return error.diagnostic;
   }

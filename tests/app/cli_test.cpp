@@ -843,6 +843,32 @@ TEST_F(Cli, PriorListWarnsOfAPriorThatParsesButDoesNotCompile) {
   EXPECT_THAT(Ok({"prior", "list"}).err, Not(HasSubstr("warning")));
 }
 
+// A constraint on constants is a mistake: one that never holds refuses the prior, one that
+// always holds is a warning from every command that loads the prior, which then goes on.
+TEST_F(Cli, ConstraintsOnConstantsAreReportedByEveryCommandThatLoadsThePrior) {
+  WriteAll(Work("never.prior"),
+           "name: Never\nspecializes: Polygonal prior\npriorlet same_region:\n  1 == 2\n");
+  WriteAll(Work("always.prior"),
+           "name: Always\nspecializes: Polygonal prior\npriorlet different_region:\n  1 <= 2\n");
+  Ok({"simulate", "--scene", "square", "-o", "sq.json"});
+  const std::string warning =
+      "priormap: warning: always.prior:4:3: this constraint uses no variable "
+      "and always holds";
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"prior", "check", "always.prior"},
+        std::vector<std::string>{"scan", "--prior", "always.prior", "-i", "sq.json", "-o",
+                                 "m.json"}}) {
+    const RunResult r = Run(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_THAT(r.err, HasSubstr(warning)) << args[0];
+  }
+  EXPECT_THAT(Fails({"prior", "check", "never.prior"}).err,
+              HasSubstr("never.prior:4:3: this constraint uses no variable and never holds"));
+  EXPECT_THAT(Fails({"scan", "--prior", "never.prior", "-i", "sq.json", "-o", "n.json"}).err,
+              HasSubstr("never.prior:4:3: this constraint uses no variable and never holds"));
+  EXPECT_FALSE(fs::exists(Work("n.json")));
+}
+
 TEST_F(Cli, PriorCheckSummarisesTheResolvedPrior) {
   const RunResult r = Ok({"prior", "check", "rectangular"});
   EXPECT_THAT(r.out, StartsWith("Rectangular prior (<builtin>/rectangular.prior)\n"));

@@ -6,6 +6,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -224,6 +225,84 @@ TEST(CompileTerms, BlockLocalDefinitionsAreNotVisibleInOtherBlocks) {
   EXPECT_THAT(prior.diagnostics().front(), DiagnosticAt("test.prior", 7, 3, "unknown name 'd'"));
 }
 
+// --- constraints that use no variable ----------------------------------------------------------
+
+// The warnings of compiling `text` (which must compile).
+std::vector<Diagnostic> Warnings(const std::string& text) {
+  return Compile(text).warnings();
+}
+
+TEST(CompileConstantConstraints, ConstraintThatAlwaysHoldsIsKeptWithAWarningAtIt) {
+  const CompiledPrior prior = Compile(OrderTwo("  rho_1 == rho_2\n  1 == 1\n"));
+  EXPECT_THAT(prior.warnings(), ElementsAre(DiagnosticAt(
+                                    "test.prior", 5, 3,
+                                    "this constraint uses no variable and always holds ('1 == 1' "
+                                    "simplifies to 0 == 0): it constrains nothing")));
+  EXPECT_EQ(SameRegion(prior).num_terms(), 2);
+}
+
+TEST(CompileConstantConstraints, WhatTheGraphSimplifiesToAConstantIsCaught) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"sin(0) == 0", "'sin(0) == 0' simplifies to 0 == 0"},
+      {"rho_1 - rho_1 == 0", "'rho_1 - rho_1 == 0' simplifies to 0 == 0"},
+      {"0 * alpha_2 == 0", "'0 * alpha_2 == 0' simplifies to 0 == 0"},
+      {"alpha_1 / alpha_1 <= 1", "'alpha_1 / alpha_1 <= 1' simplifies to 0 <= 0"},
+      {"2 <= 3", "'2 <= 3' simplifies to -1 <= 0"},
+      {"[1; 2] == [1; 2]", "every entry of '[1; 2] == [1; 2]' simplifies to 0 == 0"},
+  };
+  for (const auto& [constraint, why] : cases) {
+    EXPECT_THAT(Warnings(OrderTwo("  " + constraint + "\n")),
+                ElementsAre(DiagnosticAt("test.prior", 4, 3, "always holds (" + why + ")")))
+        << constraint;
+  }
+}
+
+// Rounding leaves sin(pi) at 1.2e-16: still 0 for this check, not an infeasible prior.
+TEST(CompileConstantConstraints, RoundingOfAZeroConstantCountsAsHolding) {
+  EXPECT_THAT(Warnings(OrderTwo("  sin(pi) == 0\n")),
+              ElementsAre(DiagnosticAt("test.prior", 4, 3, "always holds")));
+}
+
+// The language documents < and > as meaning <= and >=, so 1 < 1 holds.
+TEST(CompileConstantConstraints, StrictComparisonOfEqualConstantsHolds) {
+  EXPECT_THAT(Warnings(OrderTwo("  1 < 1\n")),
+              ElementsAre(DiagnosticAt("test.prior", 4, 3, "'1 < 1' simplifies to 0 <= 0")));
+}
+
+TEST(CompileConstantConstraints, DisjunctionWithABranchThatAlwaysHoldsConstrainsNothing) {
+  EXPECT_THAT(Warnings(OrderTwo("  rho_1 == 0 || 1 == 1\n")),
+              ElementsAre(DiagnosticAt(
+                  "test.prior", 4, 3,
+                  "branch 2 of this disjunction uses no variable and always holds ('1 == 1' "
+                  "simplifies to 0 == 0): the disjunction constrains nothing")));
+}
+
+TEST(CompileConstantConstraints, DisjunctionBranchThatNeverHoldsIsAWarningWhenAnotherCan) {
+  EXPECT_THAT(Warnings(OrderTwo("  1 == 2 || rho_1 == 0\n")),
+              ElementsAre(DiagnosticAt(
+                  "test.prior", 4, 3,
+                  "branch 1 of this disjunction uses no variable and never holds ('1 == 2' "
+                  "simplifies to -1 == 0): it can never be the branch that holds")));
+}
+
+// Beam angles differ from link to link, a constant entry beside variables can be structural,
+// and a constant energy prices every link of its block in the topology search: none is constant.
+TEST(CompileConstantConstraints, BeamAnglesConstantEntriesAndConstantEnergiesAreNotReported) {
+  EXPECT_THAT(Warnings(OrderTwo("  phi_2 - phi_1 <= 0.1\n"
+                                "  [rho_1; 0] == [rho_2; 0]\n"
+                                "  model_likelihood 3\n")),
+              ::testing::IsEmpty());
+}
+
+TEST(CompileConstantConstraints, WarningsComeInBlockThenLineOrder) {
+  const std::vector<Diagnostic> warnings = Warnings(
+      "name: Test\norder: 2\npriorlet different_region:\n  2 <= 3\n"
+      "priorlet same_region:\n  1 == 1\n  rho_1 == 0\n  0 >= 0\n");
+  EXPECT_THAT(warnings, ElementsAre(DiagnosticAt("test.prior", 6, 3, "'1 == 1'"),
+                                    DiagnosticAt("test.prior", 8, 3, "'0 >= 0'"),
+                                    DiagnosticAt("test.prior", 4, 3, "'2 <= 3'")));
+}
+
 // --- inheritance -------------------------------------------------------------------------------
 
 // A parent prior of order 2 in a directory, for children to specialize.
@@ -355,6 +434,17 @@ TEST_F(Inheritance, LoweringTheOrderBelowAParentsIndexIsAnErrorInTheParentsFile)
               DiagnosticAt((dir() / "three.prior").string(), 4, 12,
                            fmt::format("index 3 is above the prior's order 2 (order: 2 at {}:3)",
                                        ChildPath())));
+}
+
+TEST_F(Inheritance, AConstantConstraintOfTheParentIsReportedInTheParentsFile) {
+  WriteAll(dir() / "constant.prior",
+           "name: Constant\nspecializes: Parent\npriorlet same_region:\n  1 == 1\n");
+  const Result<CompiledPrior> prior =
+      CompileChild("name: Child\nspecializes: Constant\npriorlet same_region:\n  rho_1 >= 1\n");
+  ASSERT_TRUE(prior.ok()) << prior.error();
+  EXPECT_THAT(prior.value().warnings(),
+              ElementsAre(DiagnosticAt((dir() / "constant.prior").string(), 4, 3,
+                                       "this constraint uses no variable and always holds")));
 }
 
 TEST_F(Inheritance, GrandchildInheritsThroughTheChain) {

@@ -398,6 +398,7 @@ TEST(BuiltinPriors, EveryBuiltinParsesAndCompiles) {
     const Result<CompiledPrior> compiled = library.Compile(parsed.value());
     ASSERT_TRUE(compiled.ok()) << compiled.error();
     EXPECT_EQ(compiled.value().order(), by_name.value().order());
+    EXPECT_THAT(compiled.value().warnings(), ::testing::IsEmpty()) << file;
   }
 }
 

@@ -248,6 +248,30 @@ std::vector<MalformedCase> Cases() {
        "division by zero (the divisor is the constant 0)", kCompile},
       {"UnknownsDividedElementwiseByZero", block + "  [rho_1; rho_2] ./ [1; 0] == 0\n", 4, 18,
        "division by zero", kCompile},
+      // Constraints that use no variable and can never hold: every link of their block infeasible.
+      {"ConstantEqualityThatNeverHolds", block + "  1 == 2\n", 4, 3,
+       "this constraint uses no variable and never holds ('1 == 2' simplifies to -1 == 0): every "
+       "link it governs (priorlet same_region) would be infeasible",
+       kCompile},
+      {"ConstantInequalityThatNeverHolds", block + "  2 >= 3\n", 4, 3,
+       "this constraint uses no variable and never holds ('2 >= 3' simplifies to 1 <= 0)",
+       kCompile},
+      {"VariableMinusItselfThatNeverHolds", block + "  rho_1 - rho_1 == 1\n", 4, 3,
+       "this constraint uses no variable and never holds ('rho_1 - rho_1 == 1' simplifies to -1 "
+       "== 0)",
+       kCompile},
+      {"ConstantEntryOfAVectorEqualityThatNeverHolds", block + "  [rho_1; 1] == [rho_2; 2]\n", 4, 3,
+       "an entry of this constraint uses no variable and never holds (entry 2 of '[rho_1; 1] == "
+       "[rho_2; 2]' simplifies to -1 == 0)",
+       kCompile},
+      {"DisjunctionNoBranchOfWhichCanHold", block + "  1 == 2 || 3 <= 2\n", 4, 3,
+       "no branch of this disjunction can hold, whatever the unknowns (branch 1: '1 == 2' "
+       "simplifies to -1 == 0; branch 2: '3 <= 2' simplifies to 1 <= 0)",
+       kCompile},
+      {"ConstantThatNeverHoldsNamesItsBlock", kHead + "priorlet different_surface:\n  0 >= 1\n", 4,
+       3, "every link it governs (priorlet different_surface) would be infeasible", kCompile},
+      {"ConstantThatNeverHoldsAfterASemicolon", block + "  rho_1 == rho_2; 1 == 2\n", 4, 19,
+       "this constraint uses no variable and never holds", kCompile},
       {"DisjunctionAsAValue", block + "  model_likelihood (rho_1 == 0 || rho_2 == 0)\n", 4, 32,
        "'||' joins constraints; it cannot be used inside an expression", kCompile},
       {"ChainedComparison", block + "  0 <= rho_1 <= 1\n", 4, 14, "comparisons cannot be chained",

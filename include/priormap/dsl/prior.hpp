@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <priormap/core/diagnostic.hpp>
 #include <priormap/dsl/ast.hpp>
 
 namespace priormap::dsl {
@@ -130,7 +131,8 @@ struct PriorOrigin {
 class CompiledPrior {
  public:
   CompiledPrior(std::string name, int order, double max_curvature, std::vector<PriorOrigin> chain,
-                std::array<std::unique_ptr<CompiledBlock>, kNumBlockKinds> blocks);
+                std::array<std::unique_ptr<CompiledBlock>, kNumBlockKinds> blocks,
+                std::vector<Diagnostic> warnings = {});
 
   [[nodiscard]] const std::string& name() const { return name_; }
   [[nodiscard]] int order() const { return order_; }
@@ -140,6 +142,11 @@ class CompiledPrior {
   [[nodiscard]] const std::vector<PriorOrigin>& chain() const { return chain_; }
   /// The block for a topology case, or nullptr when the prior has none (no constraint).
   [[nodiscard]] const CompiledBlock* block(BlockKind kind) const;
+  /// What is almost surely a mistake yet leaves the prior usable, by block then line: constraints
+  /// that use no variable and always hold, disjunction branches that never can
+  /// (docs/priorlet-language.md, "Constant constraints").
+  /// The library does not print them; a caller that loads a prior for a user should.
+  [[nodiscard]] const std::vector<Diagnostic>& warnings() const { return warnings_; }
 
  private:
   std::string name_;
@@ -147,6 +154,7 @@ class CompiledPrior {
   double max_curvature_;
   std::vector<PriorOrigin> chain_;
   std::array<std::unique_ptr<CompiledBlock>, kNumBlockKinds> blocks_;
+  std::vector<Diagnostic> warnings_;
 };
 
 }  // namespace priormap::dsl
