@@ -384,22 +384,6 @@ void Greedy(int cases_per_config, bool verbose) {
   fmt::print("\n");
 }
 
-// The true regions a scan shows with at least `min_points` valid, non-outlier beams.
-std::size_t TrueRegionCount(const Scan& scan, std::size_t min_points) {
-  std::size_t count = 0, run = 0;
-  int region = -1;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan.IsValid(i) || scan.truth->outlier[i]) continue;
-    if (scan.truth->region[i] != region) {
-      count += run >= min_points ? 1 : 0;
-      region = scan.truth->region[i];
-      run = 0;
-    }
-    ++run;
-  }
-  return count + (run >= min_points ? 1 : 0);
-}
-
 void Regions(int seeds) {
   constexpr std::size_t kMinPoints = 4;  // EngineOptions::min_region_points
   fmt::print("# Regions: default poses, utm30, seeds 1..{}; exact = scans with the true count\n",
@@ -422,7 +406,7 @@ void Regions(int seeds) {
             scene, sensor, scene.default_pose.value(), static_cast<std::uint64_t>(seed));
         const MapScan map = EstimateMapScan(scan, prior);
         regions += map.regions.size();
-        exact += map.regions.size() == TrueRegionCount(scan, kMinPoints) ? 1 : 0;
+        exact += map.regions.size() == priormap::testing::TrueRegionCount(scan, kMinPoints) ? 1 : 0;
         for (const BeamRange& r : map.regions) {
           std::size_t in_model = 0;
           for (std::size_t b = r.first; b <= r.last; ++b) in_model += map.inmodel[b] ? 1 : 0;

@@ -10,7 +10,6 @@
 
 #include <priormap/core/csm_io.hpp>
 #include <priormap/core/file_io.hpp>
-#include <priormap/core/world_bounds.hpp>
 
 #include "json_document.hpp"
 
@@ -209,10 +208,7 @@ CsmScan ReadScan(const JsonNode& root, const CsmReadOptions& options) {
   }
   // At the reading, like a position beyond the world at its coordinate; only once the statuses
   // are known, as a reading flagged invalid or a no-return one is kept whatever its value.
-  if (const std::optional<std::size_t> i = scan.FirstReturnBeyondWorld())
-    detail::Fail(detail::Element(readings, *i),
-                 ExpectedReturnWithinWorld("an element of \"readings\"",
-                                           fmt::format("{}", scan.ranges[*i]), scan.max_range));
+  detail::RefuseReturnBeyondWorld(scan, readings, "an element of \"readings\"");
 
   if (const auto stamp = detail::OptionalMember(root, "timestamp");
       stamp && !stamp->value.is_null()) {

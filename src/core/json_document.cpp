@@ -397,6 +397,12 @@ double WorldCoordinate(const JsonNode& node, std::string_view what) {
   return v;
 }
 
+void RefuseReturnBeyondWorld(const Scan& scan, const JsonNode& readings, std::string_view what) {
+  if (const std::optional<std::size_t> i = scan.FirstReturnBeyondWorld())
+    Fail(Element(readings, *i),
+         ExpectedReturnWithinWorld(what, fmt::format("{}", scan.ranges[*i]), scan.max_range));
+}
+
 constexpr auto kLargestInteger =
     static_cast<unsigned long long>(std::numeric_limits<long long>::max());
 

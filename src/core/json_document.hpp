@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/diagnostic.hpp>
+#include <priormap/core/scan.hpp>
 #include <priormap/core/se2.hpp>
 
 namespace priormap::detail {
@@ -68,6 +69,10 @@ double Number(const JsonNode& node, std::string_view what);
 double FiniteNumber(const JsonNode& node, std::string_view what);
 /// A finite coordinate of the world, at most kMaxWorldCoordinate in magnitude (world_bounds.hpp).
 double WorldCoordinate(const JsonNode& node, std::string_view what);
+/// Fails at the element of `readings` (the scan's ranges as read) that is the scan's first return
+/// longer than the world's bound, if any (Scan::FirstReturnBeyondWorld); call once the statuses
+/// are set, as a no-return reading is kept whatever its value. `what` names an element.
+void RefuseReturnBeyondWorld(const Scan& scan, const JsonNode& readings, std::string_view what);
 long long Integer(const JsonNode& node, std::string_view what);
 /// An integer in [lo, hi], so that narrowing it afterwards loses nothing.
 long long IntegerInRange(const JsonNode& node, std::string_view what, long long lo, long long hi);

@@ -382,10 +382,7 @@ std::optional<CarmenRecordFields> ReadCarmenRecord(const JsonNode& record) {
 // are known, as a no-return reading is kept whatever its value. A true range is the distance
 // to a surface of the simulated scene, whatever the reading's status.
 void RefuseReturnsBeyondWorld(const Scan& scan, const JsonNode& node, const JsonNode& ranges) {
-  if (const std::optional<std::size_t> i = scan.FirstReturnBeyondWorld())
-    detail::Fail(detail::Element(ranges, *i),
-                 ExpectedReturnWithinWorld("an element of \"ranges\"",
-                                           fmt::format("{}", scan.ranges[*i]), scan.max_range));
+  detail::RefuseReturnBeyondWorld(scan, ranges, "an element of \"ranges\"");
   if (const std::optional<std::size_t> i = scan.FirstTrueRangeBeyondWorld())
     detail::Fail(detail::Element(detail::Member(node, "true_range"), *i),
                  fmt::format("expected an element of \"true_range\" in metres, at most {:.0e}, "

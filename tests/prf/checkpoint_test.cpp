@@ -47,6 +47,25 @@ SamplerOptions PriorOptions() {
   return options;
 }
 
+// A short run on RoomData: `steps` of burn-in and as many recorded, chunks of 500 steps.
+MappingOptions ShortRun(std::uint64_t steps, int chains, std::uint64_t anneal_steps = 0) {
+  MappingOptions options;
+  options.sampler.p = 0.5;
+  options.samples = steps;
+  options.burn_in = steps;
+  options.chains = chains;
+  options.trace_every = 500;
+  options.anneal_steps = anneal_steps;
+  options.chunk = 500;
+  return options;
+}
+
+// The format version of a sealed file: the 32-bit word after the 8-character kind (SealBinary's
+// header).
+std::uint32_t SealedVersion(const std::string& bytes) {
+  return BinaryReader(std::string_view(bytes).substr(8), "header").Get<std::uint32_t>();
+}
+
 TEST(BinaryIo, SealedDataRoundTripsAndDamageIsRefused) {
   BinaryWriter out;
   out.Put(1.5);
@@ -199,13 +218,7 @@ TEST(Checkpoint, AStoppedMappingRunResumesToTheSameResult) {
 // continue one chain's state as another's: two identical chains, whose R-hat means nothing.
 TEST(Checkpoint, AChainCheckpointOfAnotherChainIsRefused) {
   const auto data = RoomData();
-  MappingOptions options;
-  options.sampler.p = 0.5;
-  options.samples = 2000;
-  options.burn_in = 2000;
-  options.chains = 3;
-  options.trace_every = 500;
-  options.chunk = 500;
+  const MappingOptions options = ShortRun(2000, 3);
   const MappingData mapping = LaserMappingData(data, options);
   testing::TempDir dir;
   ASSERT_FALSE(RunMapping(mapping, options, {}, StoppingSession(dir.path(), 1000)).complete);
@@ -245,21 +258,13 @@ TEST(Checkpoint, AChainCheckpointOfAnotherChainIsRefused) {
 // A checkpoint of an earlier format version is refused as such, not misread.
 TEST(Checkpoint, AChainCheckpointOfAnEarlierVersionIsRefused) {
   const auto data = RoomData();
-  MappingOptions options;
-  options.sampler.p = 0.5;
-  options.samples = 1000;
-  options.burn_in = 1000;
-  options.chains = 1;
-  options.trace_every = 500;
-  options.chunk = 500;
+  const MappingOptions options = ShortRun(1000, 1);
   const MappingData mapping = LaserMappingData(data, options);
   testing::TempDir dir;
   ASSERT_FALSE(RunMapping(mapping, options, {}, StoppingSession(dir.path(), 500)).complete);
   const std::filesystem::path path = ChainCheckpointPath(dir.path(), 0);
   const std::string bytes = testing::ReadAll(path);
-  // The version is the 32-bit word after the 8-character kind (SealBinary's header).
-  const auto version =
-      BinaryReader(std::string_view(bytes).substr(8), "header").Get<std::uint32_t>();
+  const std::uint32_t version = SealedVersion(bytes);
   // 4: the last version whose chain checkpoints did not say which chain they hold.
   constexpr std::uint32_t kEarlier = 4;
   ASSERT_GT(version, kEarlier);
@@ -281,14 +286,7 @@ TEST(Checkpoint, AChainCheckpointOfAnEarlierVersionIsRefused) {
 // chain (the other chain's copied over it, say) is refused, naming both chains.
 TEST(Checkpoint, AnAnnealingCheckpointOfAnotherChainIsRefused) {
   const auto data = RoomData();
-  MappingOptions options;
-  options.sampler.p = 0.5;
-  options.samples = 2000;
-  options.burn_in = 2000;
-  options.chains = 2;
-  options.trace_every = 500;
-  options.anneal_steps = 2000;
-  options.chunk = 500;
+  const MappingOptions options = ShortRun(2000, 2, /*anneal_steps=*/2000);
   const MappingData mapping = LaserMappingData(data, options);
   testing::TempDir dir;
   // Sessions of 1500 steps: the third ends the chains' 4000 and anneals 1500 of 2000.
@@ -300,8 +298,7 @@ TEST(Checkpoint, AnAnnealingCheckpointOfAnotherChainIsRefused) {
   }
   ASSERT_TRUE(std::filesystem::exists(path));
   const std::string bytes = testing::ReadAll(path);
-  const auto version =
-      BinaryReader(std::string_view(bytes).substr(8), "header").Get<std::uint32_t>();
+  const std::uint32_t version = SealedVersion(bytes);
   std::string payload(UnsealBinary(bytes, "PRFANNEA", version, path.string()));
   // The payload: the run's fingerprint, then the chain (64 bits each).
   BinaryReader header(std::string_view(payload).substr(8, 8), "chain");
@@ -329,14 +326,7 @@ TEST(Checkpoint, AnAnnealingCheckpointOfAnotherChainIsRefused) {
 // ended processes, and keeps a running process's and other files.
 TEST(Checkpoint, ASessionRemovesTheTemporariesOfKilledCheckpointWrites) {
   const auto data = RoomData();
-  MappingOptions options;
-  options.sampler.p = 0.5;
-  options.samples = 2000;
-  options.burn_in = 2000;
-  options.chains = 2;
-  options.trace_every = 500;
-  options.anneal_steps = 1000;
-  options.chunk = 500;
+  const MappingOptions options = ShortRun(2000, 2, /*anneal_steps=*/1000);
   const MappingData mapping = LaserMappingData(data, options);
   testing::TempDir dir;
   ASSERT_FALSE(RunMapping(mapping, options, {}, StoppingSession(dir.path(), 1000)).complete);

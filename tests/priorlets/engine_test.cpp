@@ -30,6 +30,7 @@ dsl::CompiledPrior Prior(const std::string& name) {
 }
 
 using testing::TrueBorders;
+using testing::TrueRegionCount;
 
 std::vector<std::size_t> FoundBorders(const MapScan& map) {
   std::vector<std::size_t> borders;
@@ -225,23 +226,6 @@ TEST(Engine, StatsAccountForTheWork) {
   EXPECT_GE(s.inner_solves, s.outer_rounds + s.refinement_trials);
   EXPECT_GT(s.newton_steps, 0);
   EXPECT_GE(s.seconds_total, s.seconds_outer + s.seconds_refine);
-}
-
-// Regions of a simulated scan: runs of one true region over the genuine valid readings, of at
-// least min_region_points readings (shorter runs are clutter to the engine too).
-std::size_t TrueRegionCount(const Scan& scan, std::size_t min_points) {
-  std::size_t count = 0, run = 0;
-  int region = -1;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan.IsValid(i) || scan.truth->outlier[i]) continue;
-    if (scan.truth->region[i] != region) {
-      count += run >= min_points ? 1 : 0;
-      region = scan.truth->region[i];
-      run = 0;
-    }
-    ++run;
-  }
-  return count + (run >= min_points ? 1 : 0);
 }
 
 // Spurious short readings (uniform between the sensor and the wall) that land a few sigmas in

@@ -25,6 +25,21 @@ std::vector<std::size_t> TrueBorders(const Scan& scan) {
   return borders;
 }
 
+std::size_t TrueRegionCount(const Scan& scan, std::size_t min_points) {
+  std::size_t count = 0, run = 0;
+  int region = -1;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.IsValid(i) || scan.truth->outlier[i]) continue;
+    if (scan.truth->region[i] != region) {
+      count += run >= min_points ? 1 : 0;
+      region = scan.truth->region[i];
+      run = 0;
+    }
+    ++run;
+  }
+  return count + (run >= min_points ? 1 : 0);
+}
+
 std::vector<std::size_t> TrueCorners(const Scan& scan) {
   std::vector<std::size_t> corners;
   const ScanTruth& t = *scan.truth;

@@ -20,6 +20,10 @@ namespace priormap::testing {
 // Links i | i + 1 where the simulator's region changes (corners and occlusions).
 [[nodiscard]] std::vector<std::size_t> TrueBorders(const Scan& scan);
 
+// Regions of a simulated scan: runs of one true region over the genuine valid readings, of at
+// least `min_points` readings (shorter runs are clutter to the engine too, min_region_points).
+[[nodiscard]] std::size_t TrueRegionCount(const Scan& scan, std::size_t min_points);
+
 // Links i | i + 1 between valid, genuine readings of two primitives of one surface: corners
 // (occlusion jumps between surfaces are not corners).
 [[nodiscard]] std::vector<std::size_t> TrueCorners(const Scan& scan);
