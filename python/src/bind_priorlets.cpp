@@ -33,6 +33,23 @@ dsl::PriorLibrary Library(const Paths& prior_path) {
   return dsl::PriorLibrary::WithEnvironment({prior_path.begin(), prior_path.end()});
 }
 
+// "file:line:col: message", as the CLI prints a prior's warnings.
+std::string WarningText(const Diagnostic& warning) {
+  return fmt::format("{}: {}", warning.Location(), warning.message);
+}
+
+// A prior that compiles with warnings (a constraint that always holds) is still usable, so the
+// warnings go through Python's warnings module, which a caller can filter or turn into errors,
+// rather than being dropped as they were, or printed to a stderr a notebook may not show.
+dsl::CompiledPrior WarnedAbout(dsl::CompiledPrior prior) {
+  for (const Diagnostic& warning : prior.warnings()) {
+    const std::string text = WarningText(warning);
+    // With the warning filtered into an error, the exception is Python's and goes on up.
+    if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+  }
+  return prior;
+}
+
 dsl::BlockKind BlockKindOf(const std::string& name) {
   for (int k = 0; k < dsl::kNumBlockKinds; ++k)
     if (name == dsl::ToString(static_cast<dsl::BlockKind>(k)))
@@ -109,7 +126,8 @@ py::dict InferScan(const Doubles& ranges, const Doubles& angles,
   py::array_t<double> ranges_2d({py::ssize_t{1}, ranges.shape(0)});
   std::copy(ranges.data(), ranges.data() + ranges.shape(0), ranges_2d.mutable_data());
   const Log log = LogFromArrays(poses, ranges_2d, angles, max_range, min_range, sigma);
-  const dsl::CompiledPrior prior = ValueOrRaise(Library(prior_path).Load(prior_name.string()));
+  const dsl::CompiledPrior prior =
+      WarnedAbout(ValueOrRaise(Library(prior_path).Load(prior_name.string())));
   priorlets::EngineOptions engine;
   engine.beta = beta;
   priorlets::PosteriorOptions posterior_options;
@@ -138,6 +156,16 @@ void BindPriorlets(py::module_& m) {
       .def_property_readonly("max_curvature",
                              [](const Prior& p) { return p.compiled->max_curvature(); })
       .def_property_readonly("blocks", &Prior::Blocks, "The topology cases the prior constrains")
+      .def_property_readonly(
+          "warnings",
+          [](const Prior& p) {
+            std::vector<std::string> texts;
+            for (const Diagnostic& warning : p.compiled->warnings())
+              texts.push_back(WarningText(warning));
+            return texts;
+          },
+          "What compiled but looks wrong ('file:line:col: message'), e.g. a constraint that "
+          "uses no variable and always holds; also issued as UserWarning when the prior is loaded")
       .def("terms", &Prior::Terms, py::arg("block"),
            "The compiled terms of a block, as simplified expressions")
       .def("evaluate", &Prior::Evaluate, py::arg("block"), py::arg("x"), py::arg("phi"),
@@ -152,7 +180,7 @@ void BindPriorlets(py::module_& m) {
       "load_prior",
       [](const std::filesystem::path& name_or_file, const Paths& prior_path) {
         return Prior{std::make_shared<const dsl::CompiledPrior>(
-            ValueOrRaise(Library(prior_path).Load(name_or_file.string())))};
+            WarnedAbout(ValueOrRaise(Library(prior_path).Load(name_or_file.string()))))};
       },
       py::arg("name_or_file"), py::arg("prior_path") = Paths{},
       "A prior of the library by name ('rectangular', 'Circular prior', ...) or a .prior file");
@@ -160,7 +188,7 @@ void BindPriorlets(py::module_& m) {
       "compile_prior",
       [](const std::string& text, const Paths& prior_path) {
         return Prior{std::make_shared<const dsl::CompiledPrior>(
-            ValueOrRaise(Library(prior_path).CompileText(text, "<python>")))};
+            WarnedAbout(ValueOrRaise(Library(prior_path).CompileText(text, "<python>"))))};
       },
       py::arg("text"), py::arg("prior_path") = Paths{},
       "Compiles prior-language source text; errors raise ValueError with line:col");

@@ -1,5 +1,7 @@
 """The prior language from Python: loading, compiling, errors, and derivatives."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -56,3 +58,35 @@ def test_paths_may_be_pathlib_and_text_finds_its_parents_in_prior_path_not_the_c
     monkeypatch.chdir(tmp_path)
     with pytest.raises(ValueError, match="unknown prior 'Good'"):
         priormap.compile_prior(child)
+
+
+def test_a_prior_that_compiles_with_warnings_warns_and_keeps_them():
+    text = ("name: Always\n"
+            "specializes: Polygonal prior\n"
+            "priorlet different_region:\n"
+            "  1 <= 2\n")
+    with pytest.warns(UserWarning, match=r"^<python>:4:3: this constraint uses no variable"):
+        prior = priormap.compile_prior(text)
+    assert len(prior.warnings) == 1 and prior.warnings[0].startswith("<python>:4:3: ")
+
+
+def test_prior_warnings_reach_load_prior_and_infer_scan_and_can_be_made_errors(tmp_path):
+    path = tmp_path / "always.prior"
+    path.write_text("name: Always\nspecializes: Polygonal prior\n"
+                    "priorlet different_region:\n  1 <= 2\n")
+    with pytest.warns(UserWarning, match=r"always\.prior:4:3: "):
+        priormap.load_prior(path)
+    angles = np.linspace(-1.0, 1.0, 30)
+    with pytest.warns(UserWarning, match=r"always\.prior:4:3: "):
+        priormap.infer_scan(np.full(30, 2.0), angles, prior=path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(UserWarning):
+            priormap.load_prior(path)
+
+
+def test_builtin_priors_compile_without_warnings():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for listing in priormap.list_priors():
+            assert priormap.load_prior(listing["name"]).warnings == []
