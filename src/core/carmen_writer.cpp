@@ -12,6 +12,8 @@
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/world_bounds.hpp>
 
+#include "angle_step.hpp"
+
 namespace priormap {
 namespace {
 
@@ -84,6 +86,10 @@ std::pair<double, double> RobotLaserAngles(const Scan& scan, std::size_t scan_in
     }
   }
   if (n < 2) return {n == 1 ? scan.angles[0] : 0.0, 0.0};
+  // A step that gives the angles back bit for bit, when there is one; the reader's angles are
+  // start + i * resolution, and the estimate below may be an ulp off it.
+  if (const auto step = detail::ExactAngleStep(scan.angles); step && *step > 0.0)
+    return {scan.angles[0], *step};
   const double resolution = (scan.angles[n - 1] - scan.angles[0]) / static_cast<double>(n - 1);
   if (!(resolution > 0.0)) {
     throw IoError(
@@ -147,6 +153,13 @@ double WrittenMaxRange(const Scan& scan) {
 
 void AppendScan(std::string& out, const Scan& scan, std::size_t index) {
   const RecordName record{"scan", index};
+  // Before the angles are read one per reading (the other checks of an inconsistent log come
+  // after the records, whose checks say more precisely what a CARMEN line cannot hold).
+  if (scan.angles.size() != scan.size())
+    throw IoError(
+        fmt::format("cannot write an inconsistent log: scan {}: angles has {} entries "
+                    "for {} readings",
+                    index, scan.angles.size(), scan.size()));
   const CarmenLaserFields carmen = scan.carmen.value_or(CarmenLaserFields{});
   const bool old_style = WrittenAsFlaser(scan);
   RequireFinite(scan.pose, "pose", record);
@@ -257,9 +270,18 @@ std::vector<std::string> CarmenLosses(const Log& log) {
   const std::vector<bool>& as_flaser = max_ranges.as_flaser;
   const double detected = max_ranges.detected;
   std::size_t other_sigma = 0, precision = 0, truth = 0, odometry = 0, min_range = 0, max_range = 0,
-              status = 0;
+              status = 0, robot_pose = 0, timestamps = 0;
+  // A line whose CARMEN fields say it has no timestamps is read back at time +0.
+  const auto drops_timestamp = [](double timestamp, const auto& carmen) {
+    return carmen && !carmen->has_timestamps && !(timestamp == 0.0 && !std::signbit(timestamp));
+  };
+  for (const OdometryRecord& r : log.odometry) timestamps += drops_timestamp(r.timestamp, r.carmen);
+  for (const TruePoseRecord& r : log.true_poses)
+    timestamps += drops_timestamp(r.timestamp, r.carmen);
   for (std::size_t k = 0; k < log.scans.size(); ++k) {
     const Scan& scan = log.scans[k];
+    timestamps += drops_timestamp(scan.timestamp, scan.carmen);
+    if (scan.robot_pose && as_flaser[k]) ++robot_pose;
     if (std::ranges::any_of(scan.sigma, [&](double s) { return s != read_back.sigma; }))
       ++other_sigma;
     if (scan.precision) ++precision;
@@ -282,6 +304,12 @@ std::vector<std::string> CarmenLosses(const Log& log) {
   if (odometry > 0)
     losses.push_back(
         Counted(odometry, "the odometry pose", "scan", " (ROBOTLASER1 has no field for it)"));
+  if (robot_pose > 0)
+    losses.push_back(
+        Counted(robot_pose, "the robot pose", "scan", " (FLASER has no field for it)"));
+  if (timestamps > 0)
+    losses.push_back(Counted(timestamps, "the timestamp", "record",
+                             " (its CARMEN fields say that its line has none: read back as 0)"));
   if (min_range > 0) losses.push_back(Counted(min_range, "the minimum range", "scan"));
   if (max_range > 0)
     losses.push_back(Counted(max_range, "the max range", "scan",
@@ -299,6 +327,11 @@ std::vector<std::string> CarmenLosses(const Log& log) {
 }
 
 std::string FormatCarmenLog(const Log& log) {
+  // The reader refuses a file without records, as it is likely not a CARMEN log at all.
+  if (log.NumRecords() == 0)
+    throw IoError(
+        "cannot write the log as CARMEN: it has no records, and the reader refuses a CARMEN file "
+        "without any; write priormap JSON, which holds an empty log");
   std::string out = "# written by priormap; record formats as in docs/formats.md\n";
   for (const Log::RecordRef& ref : log.RecordOrder()) {
     switch (ref.kind) {
@@ -337,6 +370,15 @@ std::string FormatCarmenLog(const Log& log) {
                           "log cannot hold",
                           ref.index, name));
         }
+        // The reader takes the value from its first field to the end of the line, less the
+        // blanks that end it: blanks at either end would not read back.
+        if (!value.empty() &&
+            (value.find_first_of(" \t\r") == 0 || value.find_last_of(" \r") == value.size() - 1)) {
+          throw IoError(
+              fmt::format("param {} ({}) has the value '{}', which a CARMEN log cannot hold (it "
+                          "must not start with a blank nor end with a space)",
+                          ref.index, name, value));
+        }
         fmt::format_to(std::back_inserter(out), "PARAM {}{}{}\n", name, value.empty() ? "" : " ",
                        value);
         break;
@@ -346,6 +388,14 @@ std::string FormatCarmenLog(const Log& log) {
   // After the records, whose checks say what a CARMEN line cannot hold (a non-finite pose).
   if (const auto beyond = log.FirstBeyondWorld())
     throw IoError(CannotWriteBeyondWorld("the log", *beyond));
+  if (const std::vector<std::string> problems = log.Problems(); !problems.empty())
+    throw IoError(fmt::format("cannot write an inconsistent log: {}", problems.front()));
+  for (std::size_t k = 0; k < log.scans.size(); ++k)
+    if (log.scans[k].sonar)
+      throw IoError(fmt::format(
+          "scan {} is a sonar ring, whose cones a CARMEN log cannot hold (it would read back as a "
+          "laser scan); write priormap JSON",
+          k));
   RequireNoOverlongReturnReadBack(log);
   return out;
 }

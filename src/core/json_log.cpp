@@ -1,7 +1,10 @@
 // priormap.scan / priormap.log JSON documents (docs/formats.md).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <utility>
 
 #include <climits>
 #include <fmt/format.h>
@@ -10,6 +13,7 @@
 #include <priormap/core/json_io.hpp>
 #include <priormap/core/world_bounds.hpp>
 
+#include "angle_step.hpp"
 #include "json_document.hpp"
 
 namespace priormap {
@@ -20,29 +24,6 @@ using detail::OrderedJson;
 
 constexpr int kVersion = 1;
 constexpr double kDefaultSigma = 0.01;
-
-// The step s with angles[i] == angles[0] + i * s exactly for all i, if there is one. The
-// readers build evenly spaced angles with that very expression, so such scans are stored as
-// (angle_min, angle_increment) and read back bit for bit.
-std::optional<double> ExactAngleStep(const std::vector<double>& angles) {
-  const std::size_t n = angles.size();
-  if (n < 2) return std::nullopt;
-  const auto reproduces = [&](double step) {
-    for (std::size_t i = 0; i < n; ++i) {
-      if (angles[0] + static_cast<double>(i) * step != angles[i]) return false;
-    }
-    return true;
-  };
-  const double estimate = (angles[n - 1] - angles[0]) / static_cast<double>(n - 1);
-  double up = estimate, down = estimate;
-  for (int ulps = 0; ulps < 4; ++ulps) {  // round-off leaves the estimate a few ulps away
-    if (reproduces(up)) return up;
-    if (reproduces(down)) return down;
-    up = std::nextafter(up, std::numeric_limits<double>::infinity());
-    down = std::nextafter(down, -std::numeric_limits<double>::infinity());
-  }
-  return std::nullopt;
-}
 
 // Scalars go through NumberToJson like the arrays: nlohmann would write an infinity as null,
 // which reads back as NaN (the CARMEN reader accepts any number in the velocity, accuracy and
@@ -108,7 +89,7 @@ OrderedJson ScanToJson(const Scan& scan, OrderedJson j) {
   if (scan.odom_pose) j["odom_pose"] = detail::PoseToJson(*scan.odom_pose);
   j["min_range"] = detail::NumberToJson(scan.min_range);
   j["max_range"] = detail::NumberToJson(scan.max_range);
-  if (const auto step = ExactAngleStep(scan.angles)) {
+  if (const auto step = detail::ExactAngleStep(scan.angles)) {
     j["angle_min"] = scan.angles.front();
     j["angle_increment"] = *step;
   } else {
@@ -540,6 +521,58 @@ Log ReadLogDocument(const JsonNode& root) {
   return log;
 }
 
+// What ReadScan refuses besides positions and returns beyond the world (Scan::FirstBeyondWorld):
+// a heading that is not finite (written as null), an inconsistent scan (Scan::Problems), and ids
+// of the ground truth that it reads as out of range.
+std::optional<std::string> ScanRefusal(const Scan& scan) {
+  if (auto refused = HeadingNotFinite("pose", scan.pose.theta())) return refused;
+  if (scan.robot_pose)
+    if (auto refused = HeadingNotFinite("robot_pose", scan.robot_pose->theta())) return refused;
+  if (scan.odom_pose)
+    if (auto refused = HeadingNotFinite("odom_pose", scan.odom_pose->theta())) return refused;
+  if (const std::vector<std::string> problems = scan.Problems(); !problems.empty())
+    return "inconsistent scan: " + problems.front();
+  // The sizes agree, as Problems() checked them.
+  const auto below_minus_one = [](const std::vector<int>& ids) -> std::optional<std::size_t> {
+    const auto it = std::ranges::find_if(ids, [](int id) { return id < -1; });
+    return it == ids.end() ? std::nullopt : std::optional(std::size_t(it - ids.begin()));
+  };
+  const auto id_refusal = [&](const char* field, const std::vector<int>& ids) {
+    const auto i = below_minus_one(ids);
+    return i ? std::optional(fmt::format("{} {} = {}, below -1 (nothing)", field, *i, ids[*i]))
+             : std::nullopt;
+  };
+  if (scan.truth) {
+    if (auto refused = id_refusal("true_surface", scan.truth->surface)) return refused;
+    if (auto refused = id_refusal("true_region", scan.truth->region)) return refused;
+    for (std::size_t i = 0; i < scan.truth->outlier.size(); ++i)
+      if (scan.truth->outlier[i] > 1)
+        return fmt::format("true_outlier {} = {}, neither 0 nor 1", i, scan.truth->outlier[i]);
+  }
+  if (scan.sonar) return id_refusal("true_feature", scan.sonar->true_feature);
+  return std::nullopt;
+}
+
+// The same for a log: its scans, the headings of its other records, and the order of its
+// records (Log::Problems).
+std::optional<std::string> LogRefusal(const Log& log) {
+  for (std::size_t k = 0; k < log.scans.size(); ++k)
+    if (const auto refused = ScanRefusal(log.scans[k]))
+      return fmt::format("scan {}: {}", k, *refused);
+  for (std::size_t k = 0; k < log.odometry.size(); ++k)
+    if (const auto refused = HeadingNotFinite("pose", log.odometry[k].pose.theta()))
+      return fmt::format("odometry record {}: {}", k, *refused);
+  for (std::size_t k = 0; k < log.true_poses.size(); ++k)
+    for (const auto& [field, pose] :
+         {std::pair<const char*, const Se2&>{"true_pose", log.true_poses[k].true_pose},
+          {"odom_pose", log.true_poses[k].odom_pose}})
+      if (const auto refused = HeadingNotFinite(field, pose.theta()))
+        return fmt::format("true pose record {}: {}", k, *refused);
+  if (const std::vector<std::string> problems = log.Problems(); !problems.empty())
+    return problems.front();
+  return std::nullopt;
+}
+
 OrderedJson DocumentHeader(const char* format) {
   OrderedJson j;
   j["format"] = format;
@@ -552,12 +585,15 @@ OrderedJson DocumentHeader(const char* format) {
 std::string FormatJsonScan(const Scan& scan) {
   if (const auto beyond = scan.FirstBeyondWorld())
     throw IoError(CannotWriteBeyondWorld("the scan", *beyond));
+  if (const auto refused = ScanRefusal(scan))
+    throw IoError(CannotWriteRefused("the scan", *refused));
   return detail::DumpOneMemberPerLine(ScanToJson(scan, DocumentHeader("priormap.scan")));
 }
 
 std::string FormatJsonLog(const Log& log) {
   if (const auto beyond = log.FirstBeyondWorld())
     throw IoError(CannotWriteBeyondWorld("the log", *beyond));
+  if (const auto refused = LogRefusal(log)) throw IoError(CannotWriteRefused("the log", *refused));
   OrderedJson header = DocumentHeader("priormap.log");
   header["pose_source"] = ToString(log.pose_source);
   std::string out = detail::Dump(header);

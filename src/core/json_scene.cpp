@@ -29,21 +29,6 @@ std::vector<Vec2> ReadPoints(const JsonNode& node, std::string_view what) {
   return points;
 }
 
-// Why a circle of `radius` about `center` reaches beyond the world, `room` being what is left
-// between the centre and the bound (>= 0, as the centre is within it).
-std::string CircleBeyondWorld(const Vec2& center, double radius, double room) {
-  // A centre on the bound leaves no positive radius to ask for: the centre must move.
-  if (room <= 0.0)
-    return fmt::format(
-        "the circle about ({}, {}) cannot lie within ±{:.0e} m in x and y with any radius, as its "
-        "centre is on that bound: move the centre inwards by at least the radius {}",
-        center.x(), center.y(), kMaxWorldCoordinate, radius);
-  return fmt::format(
-      "expected a radius of at most {} m, which keeps x and y of every point of the circle "
-      "about ({}, {}) within ±{:.0e} m, got {}",
-      room, center.x(), center.y(), kMaxWorldCoordinate, radius);
-}
-
 SceneSurface ReadSurface(const JsonNode& node) {
   detail::RequireObject(node, "a surface");
   SceneSurface surface;
@@ -65,8 +50,8 @@ SceneSurface ReadSurface(const JsonNode& node) {
       detail::Fail(radius_node, fmt::format("radius must be positive, got {}", radius));
     // The whole circle within the world, as every point of a scene: its bounds are drawn and
     // gridded like the points'.
-    const double room = LargestRadiusWithinWorld(center.x(), center.y());
-    if (!(radius <= room)) detail::Fail(radius_node, CircleBeyondWorld(center, radius, room));
+    if (const auto beyond = CircleBeyondWorld(center.x(), center.y(), radius))
+      detail::Fail(radius_node, *beyond);
     surface.shape = Circle{center, radius};
   } else {
     detail::Fail(
@@ -102,11 +87,31 @@ Scene ReadScene(const JsonNode& root) {
   return scene;
 }
 
+// What ReadScene refuses besides a position beyond the world (Scene::FirstBeyondWorld): a
+// surface that is not usable (a polyline of fewer than two points or with a segment of zero
+// length, a radius <= 0 or not finite), a circle that reaches beyond the world, in the reader's
+// own words, and a default pose whose heading is not finite.
+std::optional<std::string> SceneRefusal(const Scene& scene) {
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    const SceneSurface& surface = scene.surfaces[s];
+    if (const std::vector<std::string> problems = surface.Problems(); !problems.empty())
+      return fmt::format("surface {}: {}", s, problems.front());
+    if (const auto* circle = std::get_if<Circle>(&surface.shape))
+      if (const auto beyond =
+              CircleBeyondWorld(circle->center.x(), circle->center.y(), circle->radius))
+        return fmt::format("surface {}: {}", s, *beyond);
+  }
+  if (scene.default_pose) return HeadingNotFinite("default_pose", scene.default_pose->theta());
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::string FormatJsonScene(const Scene& scene) {
   if (const auto beyond = scene.FirstBeyondWorld())
     throw IoError(CannotWriteBeyondWorld("the scene", *beyond));
+  if (const auto refused = SceneRefusal(scene))
+    throw IoError(CannotWriteRefused("the scene", *refused));
   OrderedJson j;
   j["format"] = "priormap.scene";
   j["version"] = kVersion;

@@ -481,9 +481,11 @@ TEST(JsonIo, SceneWriterRefusesWhatTheReaderWouldAndKeepsTheOldFile) {
   expect_refused(scene, "cannot write the scene: surface 0: point 1 y = 1e+300");
   scene = *BuiltinScene("two-circles");
   std::get<Circle>(scene.surfaces[1].shape).center = Vec2(-1e9 + 0.25, 0);  // radius 0.35
-  expect_refused(scene,
-                 "surface 1: the circle of radius 0.35 about (-999999999.75, 0) (a radius of at "
-                 "most 0.25 keeps it within), beyond 1e+09 m in magnitude");
+  expect_refused(
+      scene,
+      "cannot write the scene: surface 1: expected a radius of at most 0.25 m, which "
+      "keeps x and y of every point of the circle about (-999999999.75, 0) within ±1e+09 "
+      "m, got 0.35; priormap's readers refuse it");
   scene = *BuiltinScene("square");
   scene.default_pose = Se2(0, 5e9, 0);
   expect_refused(scene, "default_pose y = 5000000000");

@@ -52,8 +52,10 @@ struct CarmenReadStats {
 
 /// Writes `log` as CARMEN text. Scans whose angles follow the FLASER convention above are
 /// written as their channel (FLASER/RLASER); any other scan as ROBOTLASER1. Non-finite
-/// readings are written as "nan". Throws IoError for what a CARMEN line cannot hold or the
-/// reader would refuse, such as a position beyond the world (Log::FirstBeyondWorld).
+/// readings are written as "nan". Throws IoError, writing nothing, for what a CARMEN line cannot
+/// hold or the reader would refuse, such as a position beyond the world (Log::FirstBeyondWorld),
+/// a heading that is not finite, a PARAM value with blanks at its ends, an empty log, a sonar ring
+/// or an inconsistent log (Log::Problems).
 [[nodiscard]] std::string FormatCarmenLog(const Log& log);
 
 /// FormatCarmenLog, written atomically (gzip-compressed when `path` ends in .gz).
@@ -62,10 +64,12 @@ void WriteCarmenLog(const Log& log, const std::filesystem::path& path);
 /// What FormatCarmenLog cannot carry of `log`, one phrase per kind with its count ("the ground
 /// truth of 12 scans", ...): the noise model (sigma other than the reader's default, a precision
 /// matrix), ground truth, odometry poses of scans written as ROBOTLASER1 (in a log without ODOM
-/// records), a minimum range, a max range that reading back would not find (FLASER lines have
-/// none: it is detected again from their readings), readings whose status would read back
-/// otherwise, and the pose source. Empty when reading the text back gives the same log, so that
-/// a command can warn before the user relies on a log that reads back different.
+/// records), robot poses of scans written as FLASER/RLASER, timestamps of records whose CARMEN
+/// fields say their line has none (has_timestamps false, read back as 0), a minimum range, a max
+/// range that reading back would not find (FLASER lines have none: it is detected again from their
+/// readings), readings whose status would read back otherwise, and the pose source. Empty when
+/// reading the text back gives the same log, so that a command can warn before the user relies on a
+/// log that reads back different.
 [[nodiscard]] std::vector<std::string> CarmenLosses(const Log& log);
 
 /// The beam angles of a FLASER/RLASER line of n readings (see CarmenReadOptions::fov).

@@ -49,10 +49,10 @@ struct Scene {
   /// "surface K: ".
   [[nodiscard]] std::vector<std::string> Problems() const;
   /// The first position of the scene beyond the world (world_bounds.hpp), named ("surface 2:
-  /// point 0 x = 1e+300", "surface 0: the circle of radius 3 about (1e+09, 0) (...)",
-  /// "default_pose y = ...", "waypoint 3 x = ..."), or nullopt; a circle must lie within the
-  /// world whole (LargestRadiusWithinWorld). Writers refuse such a scene: the reader would refuse
-  /// the file.
+  /// point 0 x = 1e+300", "surface 0: the circle centre y = nan", "default_pose y = ...",
+  /// "waypoint 3 x = ..."), or nullopt. Writers refuse such a scene: the reader would refuse the
+  /// file. A circle must also lie within the world whole, which is a matter of its radius
+  /// (CircleBeyondWorld, whose message the reader and the writer share).
   [[nodiscard]] std::optional<std::string> FirstBeyondWorld() const;
 };
 

@@ -28,6 +28,18 @@ inline constexpr double kMaxWorldCoordinate = 1e9;
   return kMaxWorldCoordinate - std::max(std::abs(x), std::abs(y));
 }
 
+/// Why a circle of `radius` about (x, y), a centre within the world, is not within it whole
+/// (`radius` > LargestRadiusWithinWorld(x, y), or NaN), in the scene reader's words: "expected a
+/// radius of at most 0.25 m, which keeps x and y of every point of the circle about (...) within
+/// ±1e+09 m, got 0.35", or, for a centre on the bound, where no radius would do, that the centre
+/// must move inwards; nullopt when the whole circle lies within the world. The reader refuses the
+/// radius with this message and the writer quotes it, so that both say the same.
+[[nodiscard]] std::optional<std::string> CircleBeyondWorld(double x, double y, double radius);
+
+/// For writers: "`field` theta = nan, not a finite angle" when `theta`, a heading, is not finite
+/// (Se2 wraps ±inf to NaN), which the readers refuse; nullopt otherwise.
+[[nodiscard]] std::optional<std::string> HeadingNotFinite(std::string_view field, double theta);
+
 /// The readers' message for a coordinate beyond kMaxWorldCoordinate: "expected `what` in metres
 /// of a local frame, at most 1e+09 in magnitude, got `got`".
 [[nodiscard]] std::string ExpectedWorldCoordinate(std::string_view what, std::string_view got);
@@ -54,5 +66,10 @@ inline constexpr double kMaxWorldCoordinate = 1e9;
 /// The writers' message for a value that the readers would refuse: "cannot write `what`:
 /// `beyond`, beyond 1e+09 m in magnitude, ...".
 [[nodiscard]] std::string CannotWriteBeyondWorld(std::string_view what, std::string_view beyond);
+
+/// The writers' message for a value that the readers would refuse for another reason than the
+/// world's bound, `refused` naming it: "cannot write `what`: `refused`; priormap's readers refuse
+/// it (docs/formats.md)".
+[[nodiscard]] std::string CannotWriteRefused(std::string_view what, std::string_view refused);
 
 }  // namespace priormap
