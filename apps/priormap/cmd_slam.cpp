@@ -14,6 +14,7 @@
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 #include <priormap/render/slam_figures.hpp>
 #include <priormap/slam/slam_io.hpp>
 #include <priormap/slam/study.hpp>
@@ -62,7 +63,7 @@ void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
       ->group(group);
   cmd->add_option("--max-cluster-pairs", o.max_cluster_pairs,
                   "Larger clusters of gated pairs defer their least certain landmarks")
-      ->check(CLI::Range(1, 30))
+      ->check(CLI::Range(1, slam::kMaxEnumeratedPairs))
       ->capture_default_str()
       ->group(group);
   cmd->add_option("--recheck-chi2", o.recheck_chi2,
@@ -342,6 +343,13 @@ Se2 ParseInitialPose(const std::string& text) {
   if (!v) {
     throw UserError(fmt::format(
         "--initial-pose: expected x,y,theta (three numbers, m, m, rad), got '{}'", text));
+  }
+  // As every position priormap reads; beyond it the map written would be refused when read.
+  if (!IsWithinWorld(v->x()) || !IsWithinWorld(v->y())) {
+    throw UserError(
+        fmt::format("--initial-pose: expected x and y at most {:.0e} m in magnitude, "
+                    "got '{}'",
+                    kMaxWorldCoordinate, text));
   }
   return {v->x(), v->y(), v->z()};
 }

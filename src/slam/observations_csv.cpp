@@ -11,6 +11,7 @@
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 #include <priormap/slam/slam_io.hpp>
 
 #include "csv_table.hpp"
@@ -156,6 +157,14 @@ std::vector<ObservationFrame> ReadFrames(const CsvTable& table) {
                  fmt::format("range must be > 0 m, found {}",
                              QuoteForMessage(row.cells[columns.range].text)));
     }
+    // As every return priormap reads: a landmark 1e300 m away is an error in the file, and its
+    // position (and the map written from it) would lie beyond any world the other readers accept.
+    if (!IsReturnWithinWorld(observation.range)) {
+      table.Fail(row, columns.range,
+                 fmt::format("range must be at most {:.0e} m (the bound of world coordinates), "
+                             "found {}",
+                             kMaxWorldCoordinate, QuoteForMessage(row.cells[columns.range].text)));
+    }
     observation.bearing = table.FiniteNumber(row, columns.bearing);
     if (!(-kPi <= observation.bearing && observation.bearing <= kPi)) {
       table.Fail(row, columns.bearing,
@@ -184,7 +193,8 @@ void CheckWritable(const std::vector<ObservationFrame>& frames) {
       known = o.id >= 0;
       PRIORMAP_CHECK(o.id < 0 || ++seen[o.id] == 1,
                      fmt::format("landmark id {} twice at time {}", o.id, frame.time));
-      PRIORMAP_CHECK(std::isfinite(o.range) && o.range > 0.0, fmt::format("range {}", o.range));
+      PRIORMAP_CHECK(o.range > 0.0 && IsReturnWithinWorld(o.range),
+                     fmt::format("range {}", o.range));
       PRIORMAP_CHECK(-kPi <= o.bearing && o.bearing <= kPi, fmt::format("bearing {}", o.bearing));
     }
   }

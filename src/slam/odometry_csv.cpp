@@ -11,6 +11,7 @@
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/world_bounds.hpp>
 #include <priormap/slam/slam_io.hpp>
 
 #include "csv_table.hpp"
@@ -122,6 +123,17 @@ Se2 Increment(const CsvTable& table, const CsvRow& row, const Columns& columns, 
       }
     }
   }
+  // A step longer than the world is wide is an error in the file; the poses after it would lie
+  // beyond any world the other readers accept.
+  for (int i = 0; i < 2; ++i) {
+    if (!IsWithinWorld(std::array{dx, dy}[i])) {
+      table.Fail(row, columns.control[i],
+                 fmt::format("{} must be at most {:.0e} m in magnitude (the bound of world "
+                             "coordinates), found {}",
+                             i == 0 ? "dx" : "dy", kMaxWorldCoordinate,
+                             QuoteForMessage(row.cells[columns.control[i]].text)));
+    }
+  }
   if (!(-kPi <= dtheta && dtheta <= kPi)) {
     table.Fail(row, columns.control[2],
                fmt::format("dtheta must be in [-pi, pi] rad, found {} (degrees?)",
@@ -200,7 +212,9 @@ void CheckWritable(const Odometry& odometry) {
                      "bicycle controls must be finite");
     } else {
       const Se2& increment = std::get<Se2>(step.motion);
-      PRIORMAP_CHECK(increment.vector().allFinite(), "increments must be finite");
+      PRIORMAP_CHECK(IsWithinWorld(increment.x()) && IsWithinWorld(increment.y()) &&
+                         std::isfinite(increment.theta()),
+                     "increments must be finite and within the world's bound");
       for (int i = 0; i < 3; ++i) {
         PRIORMAP_CHECK(std::isnan(step.increment_std[i]) ||
                            (std::isfinite(step.increment_std[i]) && step.increment_std[i] >= 0.0),

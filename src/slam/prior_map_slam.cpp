@@ -183,25 +183,30 @@ struct PriorMapSlam::Impl {
     if (updates.empty()) return;
     const Se2 pose = state.pose();
     Linearization m;
-    const auto rows = static_cast<Eigen::Index>(2 * updates.size());
-    m.H.resize(rows, state.dim());
-    m.innovation.resize(rows);
-    m.R = Eigen::MatrixXd::Zero(rows, rows);
+    m.H.resize(static_cast<Eigen::Index>(2 * updates.size()), state.dim());
+    m.innovation.resize(m.H.rows());
+    m.R = Eigen::MatrixXd::Zero(m.H.rows(), m.H.rows());
     std::vector<Eigen::Triplet<double>> triplets;
     triplets.reserve(10 * updates.size());
     const Mat2 R = MeasurementNoise();
-    for (std::size_t k = 0; k < updates.size(); ++k) {
-      const int offset = *state.Offset(BlockKind::kLandmark, updates[k].first);
+    Eigen::Index r = 0;
+    for (const auto& [id, z] : updates) {
+      const int offset = *state.Offset(BlockKind::kLandmark, id);
       const Vec2 landmark = state.mean().segment<2>(offset);
       Mat23 Hp;
       Mat2 Hl;
       const Vec2 predicted = ObserveRangeBearing(pose, landmark, &Hp, &Hl);
       if (options.first_estimates_jacobians) {
-        (void)ObserveRangeBearing(pose, landmarks.at(updates[k].first).first_estimate, &Hp, &Hl);
+        (void)ObserveRangeBearing(pose, landmarks.at(id).first_estimate, &Hp, &Hl);
       }
-      const auto r = static_cast<Eigen::Index>(2 * k);
-      m.innovation[r] = updates[k].second.x() - predicted.x();
-      m.innovation[r + 1] = WrapAngle(updates[k].second.y() - predicted.y());
+      // A landmark estimated at the sensor has no bearing and no Jacobian: its rows would make
+      // the whole batch, every other landmark of the frame with it, non-finite and refused.
+      if (!predicted.allFinite() || !Hp.allFinite() || !Hl.allFinite()) {
+        ++result.rejected_updates;
+        continue;
+      }
+      m.innovation[r] = z.x() - predicted.x();
+      m.innovation[r + 1] = WrapAngle(z.y() - predicted.y());
       m.R.block<2, 2>(r, r) = R;
       if (options.second_order_range) {
         const Eigen::MatrixXd& P = state.covariance();
@@ -216,8 +221,13 @@ struct PriorMapSlam::Impl {
         for (int j = 0; j < 3; ++j) triplets.emplace_back(r + i, j, Hp(i, j));
         for (int j = 0; j < 2; ++j) triplets.emplace_back(r + i, offset + j, Hl(i, j));
       }
+      r += 2;
     }
+    if (r == 0) return;
+    m.H.resize(r, state.dim());
     m.H.setFromTriplets(triplets.begin(), triplets.end());
+    m.innovation.conservativeResize(r);
+    m.R.conservativeResize(r, r);
     if (!state.Update(m)) ++result.rejected_updates;
   }
 

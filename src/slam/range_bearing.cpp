@@ -1,4 +1,8 @@
+#include <algorithm>
 #include <cmath>
+#include <numbers>
+
+#include <Eigen/Eigenvalues>
 
 #include <priormap/core/angles.hpp>
 #include <priormap/slam/range_bearing.hpp>
@@ -38,10 +42,25 @@ Vec2 RangeBearingToPoint(const Se2& pose, const Vec2& range_bearing, Mat23* J_po
 }
 
 RangeCurvature RangeSecondOrder(const Vec2& relative, const Mat2& C) {
-  const double r = relative.norm();
-  const Vec2 across(-relative.y() / r, relative.x() / r);
-  const double var_across = across.dot(C * across);
-  return {var_across / (2.0 * r), 0.5 * (var_across / r) * (var_across / r)};
+  // The squared norm of a point 1e-200 m away underflows to zero; stableNorm does not.
+  double r = relative.norm();
+  if (!(r > 0.0)) r = relative.stableNorm();
+  double var_across = 0.0;
+  if (r > 0.0) {
+    const Vec2 across(-relative.y() / r, relative.x() / r);
+    var_across = across.dot(C * across);
+  } else {
+    // At the sensor every direction is across the line of sight: the largest variance of any.
+    var_across = Eigen::SelfAdjointEigenSolver<Mat2>(C, Eigen::EigenvaluesOnly).eigenvalues()[1];
+  }
+  if (!(var_across > 0.0)) return {};
+  // The expansion grows without bound as r -> 0; the exact moments of sqrt(r^2 + t^2),
+  // t ~ N(0, var_t), do not: the mean exceeds r by at most E|t| = sqrt(2 var_t / pi), and the
+  // variance is at most var_t (the range is 1-Lipschitz in t). The bounds take over only within
+  // about 0.7 sigma (sigma^2 = var_t) of the sensor, where the expansion no longer holds anyway.
+  const double ratio = var_across / r;
+  return {std::min(0.5 * ratio, std::sqrt(2.0 * var_across / std::numbers::pi)),
+          std::min(0.5 * ratio * ratio, var_across)};
 }
 
 }  // namespace priormap::slam

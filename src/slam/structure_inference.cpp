@@ -221,7 +221,9 @@ std::vector<Relation> StructureInference::Infer(const JointState& state, const R
     segment_node.try_emplace(p.segment, landmark_node.size() + segment_node.size());
   }
   std::vector<bool> dropped_landmark(landmark_node.size(), false);
-  const auto cap = static_cast<std::size_t>(std::max(1, options_.max_cluster_pairs));
+  // Above kMaxEnumeratedPairs the enumeration refuses the cluster (2^pairs leaves).
+  const auto cap =
+      static_cast<std::size_t>(std::clamp(options_.max_cluster_pairs, 1, kMaxEnumeratedPairs));
 
   for (;;) {
     UnionFind uf(landmark_node.size() + segment_node.size());

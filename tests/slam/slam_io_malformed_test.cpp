@@ -132,6 +132,14 @@ TEST(ObservationsMalformed, RangeMustBePositive) {
               ElementsAre(At("obs.csv", 3, 5, "range must be > 0 m, found '-0.5'")));
 }
 
+TEST(ObservationsMalformed, RangeMustBeWithinTheWorld) {
+  EXPECT_THAT(ObservationErrors(Observations("1,2,1e300,0")),
+              ElementsAre(At("obs.csv", 3, 5,
+                             "range must be at most 1e+09 m (the bound of world coordinates), "
+                             "found '1e300'")));
+  EXPECT_TRUE(ParseObservationsCsv(Observations("1,2,1e9,0"), "obs.csv").ok());
+}
+
 TEST(ObservationsMalformed, BearingMustBeWithinPlusMinusPi) {
   EXPECT_THAT(ObservationErrors(Observations("1,2,3,3.1416")),
               ElementsAre(At("obs.csv", 3, 7,
@@ -277,6 +285,15 @@ TEST(OdometryMalformed, DthetaMustBeWithinPlusMinusPi) {
   EXPECT_THAT(
       OdometryErrors("time,dx,dy,dtheta\n0,0,0,0\n1,1,0,5\n"),
       ElementsAre(At("odom.csv", 3, 7, "dtheta must be in [-pi, pi] rad, found '5' (degrees?)")));
+}
+
+TEST(OdometryMalformed, IncrementsMustBeWithinTheWorld) {
+  EXPECT_THAT(OdometryErrors("time,dx,dy,dtheta\n0,0,0,0\n1,0.5,-3e9,0\n"),
+              ElementsAre(At("odom.csv", 3, 7,
+                             "dy must be at most 1e+09 m in magnitude (the bound of world "
+                             "coordinates), found '-3e9'")));
+  EXPECT_THAT(OdometryErrors("time,dx,dy,dtheta\n0,0,0,0\n1,1e300,0,0\n"),
+              ElementsAre(At("odom.csv", 3, 3, "dx must be at most 1e+09 m")));
 }
 
 TEST(OdometryMalformed, StandardDeviationsMustNotBeNegative) {

@@ -501,6 +501,11 @@ rc::Gen<double> Positive() {
                       [](double v) { return std::abs(v); });
 }
 
+// Distances a file can hold: ranges and increments are bounded as world coordinates (1e9 m).
+rc::Gen<double> WithinWorld(const rc::Gen<double>& numbers) {
+  return rc::gen::suchThat(numbers, [](double v) { return std::abs(v) <= 1e9; });
+}
+
 rc::Gen<double> Angle() {
   return rc::gen::oneOf(
       rc::gen::element(-kPi, kPi, -0.0, 0.0, 5e-324),
@@ -532,7 +537,7 @@ RC_GTEST_PROP(ObservationsCsv, WriteThenReadIsTheIdentity, ()) {
     const auto ids = *rc::gen::unique<std::vector<int>>(
         m, rc::gen::oneOf(rc::gen::inRange(0, 20), rc::gen::element(2147483647)));
     for (std::size_t i = 0; i < m; ++i)
-      frame.observations.push_back({known ? ids[i] : -1, *Positive(), *Angle()});
+      frame.observations.push_back({known ? ids[i] : -1, *WithinWorld(Positive()), *Angle()});
   }
   const std::string text = FormatObservationsCsv(frames);
   RC_LOG() << text;
@@ -557,7 +562,7 @@ RC_GTEST_PROP(OdometryCsv, WriteThenReadIsTheIdentity, ()) {
     if (bicycle) {
       step.motion = BicycleControl{*FiniteNumber(), *FiniteNumber()};
     } else {
-      step.motion = Se2(*FiniteNumber(), *FiniteNumber(), *Angle());
+      step.motion = Se2(*WithinWorld(FiniteNumber()), *WithinWorld(FiniteNumber()), *Angle());
       if (with_std) {
         for (int i = 0; i < 3; ++i) {
           step.increment_std[i] =

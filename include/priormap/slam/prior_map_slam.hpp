@@ -72,7 +72,9 @@ struct SlamOptions {
   double wall_std = 0.05;    ///< p(theta | d = 1) = N(0, wall_std^2): walls are not flat, m
   double gate_chi2 = 10.83;  ///< relation gate on theta^2 / S (chi2, 1 dof, 99.9 %)
   double endpoint_margin_sigmas = 3.0;  ///< the point's projection may pass an end by this
-  int max_cluster_pairs = 8;            ///< larger clusters drop their least certain points
+  /// Larger clusters drop their least certain points. Enumeration takes at most
+  /// kMaxEnumeratedPairs pairs: a larger value acts as that one.
+  int max_cluster_pairs = 8;
   bool accept_marginals = true;  ///< below p_accept for D_MAP, accept pairs with P(D_j) > p_accept
   /// One level up the hierarchy: a point gated with several walls of one building (at a corner),
   /// above p_accept for "some wall of this building" but for no single wall, is related to the
@@ -163,7 +165,10 @@ struct SlamResult {
   std::vector<MappedLandmark> all_landmarks;
   std::vector<SegmentEstimate> segments;  ///< in the state at the end
   InferenceStats inference;
-  std::size_t rejected_updates = 0;    ///< innovation covariance not positive definite
+  /// Updates refused (innovation covariance not positive definite, or not finite), and single
+  /// observations left out of their frame's update because their landmark's estimate lies at the
+  /// sensor, where the range-bearing model has no Jacobian.
+  std::size_t rejected_updates = 0;
   std::size_t building_relations = 0;  ///< of `relations`, those to some wall of a building
   std::size_t landmarks_created = 0;
 };

@@ -21,7 +21,9 @@ namespace priormap::slam {
 /// var_t is C's variance across the line of sight (the second-order EKF; Gelb, Applied Optimal
 /// Estimation, 1974). With a 1 cm range sensor and a landmark spread 0.5 m across by its bearing at
 /// 30 m, the variance term is as large as the sensor's: the first-order EKF ignores it and becomes
-/// overconfident. Precondition: relative is not zero.
+/// overconfident. Near the sensor, where the expansion diverges, each term is capped by the exact
+/// bound it cannot exceed (sqrt(2 var_t / pi) and var_t); at the sensor itself (relative = 0)
+/// var_t is C's largest variance.
 struct RangeCurvature {
   double mean_offset = 0.0;  ///< E[range] - |relative|, m
   double variance = 0.0;     ///< added to the range's first-order variance, m^2

@@ -29,9 +29,9 @@
 namespace priormap::slam {
 
 /// Frames in time order. Errors: missing or unknown columns, non-numbers, NaN/inf,
-/// range <= 0, bearing outside [-pi, pi], time going backwards, the same id twice in one frame,
-/// known and unknown ids mixed in one file, an id that is not an integer in [-1, 2^31 - 1].
-/// A header without rows is no error (no frames).
+/// range <= 0 or above 1e9 m (kMaxWorldCoordinate), bearing outside [-pi, pi], time going
+/// backwards, the same id twice in one frame, known and unknown ids mixed in one file, an id that
+/// is not an integer in [-1, 2^31 - 1]. A header without rows is no error (no frames).
 [[nodiscard]] Result<std::vector<ObservationFrame>> ParseObservationsCsv(std::string_view text,
                                                                          const std::string& name);
 /// A frame without observations is written as a row with empty id, range and bearing. The
@@ -45,10 +45,10 @@ struct Odometry {
   std::vector<MotionStep> steps;
 };
 /// Errors: missing or unknown columns, bicycle and increment columns mixed, non-numbers,
-/// NaN/inf, times not strictly increasing, a first increment that is not zero, dtheta outside
-/// [-pi, pi], negative standard deviations, fewer than two rows. Bicycle: N rows give N - 1
-/// steps, the last row's controls are not used. Increments: an empty sx/sy/stheta cell (or a
-/// missing column) is NaN, "use MotionNoise".
+/// NaN/inf, times not strictly increasing, a first increment that is not zero, |dx| or |dy|
+/// above 1e9 m (kMaxWorldCoordinate), dtheta outside [-pi, pi], negative standard deviations, fewer
+/// than two rows. Bicycle: N rows give N - 1 steps, the last row's controls are not used.
+/// Increments: an empty sx/sy/stheta cell (or a missing column) is NaN, "use MotionNoise".
 [[nodiscard]] Result<Odometry> ParseOdometryCsv(std::string_view text, const std::string& name);
 /// Bicycle steps or increments (all steps must be of one kind; ContractError otherwise). Only
 /// times are written, so the steps must be contiguous (each starts where the previous ended,
