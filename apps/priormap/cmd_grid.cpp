@@ -113,8 +113,9 @@ void AddGridCommand(CLI::App& app) {
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
       ->capture_default_str();
   cmd->add_option("--max-range", o->grid.max_range,
-                  "Beams are inserted up to this range; max readings clear up to it, or up to "
-                  "their sensor's range where that is shorter, m (sonar: 5 m unless given)")
+                  "Beams are inserted up to this range; max readings and returns at or beyond "
+                  "it (as prf --max-range's R) clear up to it, or up to their sensor's range "
+                  "where that is shorter, m (sonar: 5 m unless given)")
       ->check(PositiveValue())
       ->capture_default_str();
   cmd->add_option("--max-cells", o->grid.max_cells,

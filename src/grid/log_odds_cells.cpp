@@ -181,6 +181,14 @@ void LogOddsCells::TraceStepwise(const Line& line, const CellUpdate& along) {
 
 LogOddsCells CellsCovering(const Box2& extent, double resolution, double max_cells) {
   if (extent.isEmpty()) throw std::invalid_argument("the grid's extent is empty");
+  // A NaN corner is not empty for Eigen and rounds to a single cell.
+  if (!extent.min().allFinite() || !extent.max().allFinite())
+    throw std::invalid_argument(fmt::format("the grid's extent [{}, {}] x [{}, {}] is not finite",
+                                            extent.min().x(), extent.max().x(), extent.min().y(),
+                                            extent.max().y()));
+  if (!(resolution > 0.0 && std::isfinite(resolution)))
+    throw std::invalid_argument(
+        fmt::format("the grid's resolution {} m is not a positive size", resolution));
   const Vec2 size = extent.sizes() / resolution;
   const double width = std::max(1.0, std::ceil(size.x()));
   const double height = std::max(1.0, std::ceil(size.y()));

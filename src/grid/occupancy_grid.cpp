@@ -27,8 +27,10 @@ std::optional<BeamToInsert> ToInsert(const Scan& scan, std::size_t i, const Grid
     case BeamStatus::kValid:
       break;
   }
-  // A return beyond the insertion range clears up to it.
-  if (scan.ranges[i] > options.max_range)
+  // A return at or beyond the insertion range clears up to it: R is the PRF's, whose data
+  // (SelectBeams) takes a reading at R for a max reading, as Scan::ClassifyAll does at the
+  // sensor's own max range.
+  if (scan.ranges[i] >= options.max_range)
     return BeamToInsert{.range = options.max_range, .hit = false};
   return BeamToInsert{.range = scan.ranges[i], .hit = true};
 }
@@ -49,8 +51,16 @@ int FloorToInt(double x) {
 
 const GridOptions& Validated(const GridOptions& options) {
   if (options.beam_step == 0) throw std::invalid_argument("the beam step must be positive");
-  if (!(options.resolution > 0.0))
-    throw std::invalid_argument(fmt::format("resolution {} is not positive", options.resolution));
+  if (!(options.resolution > 0.0 && std::isfinite(options.resolution)))
+    throw std::invalid_argument(
+        fmt::format("resolution {} is not a positive size", options.resolution));
+  // Non-positive, it would draw returns backwards or as misses at the sensor; NaN, it would
+  // insert every return whatever its length; infinite, a max reading would clear without end.
+  if (!(options.max_range > 0.0 && std::isfinite(options.max_range)))
+    throw std::invalid_argument(
+        fmt::format("the insertion range {} is not a positive length", options.max_range));
+  if (!(options.margin >= 0.0 && std::isfinite(options.margin)))
+    throw std::invalid_argument(fmt::format("the margin {} is not a length", options.margin));
   if (!(options.log_odds_hit > 0.0 && options.log_odds_miss < 0.0))
     throw std::invalid_argument("log-odds of a hit must be positive and of a miss negative");
   if (!(options.log_odds_hit <= options.log_odds_limit &&

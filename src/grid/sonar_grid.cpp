@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 
@@ -13,16 +14,19 @@ namespace {
 constexpr int kLimit = INT8_MAX;
 
 const SonarGridOptions& Validated(const SonarGridOptions& o) {
-  if (!(o.resolution > 0.0))
-    throw std::invalid_argument(fmt::format("resolution {} is not positive", o.resolution));
+  if (!(o.resolution > 0.0 && std::isfinite(o.resolution)))
+    throw std::invalid_argument(fmt::format("resolution {} is not a positive size", o.resolution));
   if (!(o.log_odds_occupied > 0.0 && o.log_odds_free < 0.0))
     throw std::invalid_argument("log-odds of the arc must be positive and of the cone negative");
   if (!(o.log_odds_limit > 0.0 && o.log_odds_limit <= 100.0))
     throw std::invalid_argument("the log-odds limit must be in (0, 100]");
   if (!(o.log_odds_occupied <= o.log_odds_limit && -o.log_odds_free <= o.log_odds_limit))
     throw std::invalid_argument("log-odds of the arc or the cone must not exceed the limit");
-  if (!(o.arc_thickness > 0.0 && o.max_range > 0.0 && std::isfinite(o.max_range)))
-    throw std::invalid_argument("the arc's thickness and the max range must be positive");
+  if (!(o.arc_thickness > 0.0 && std::isfinite(o.arc_thickness) && o.max_range > 0.0 &&
+        std::isfinite(o.max_range)))
+    throw std::invalid_argument("the arc's thickness and the max range must be positive lengths");
+  if (!(o.margin >= 0.0 && std::isfinite(o.margin)))
+    throw std::invalid_argument(fmt::format("the margin {} is not a length", o.margin));
   return o;
 }
 
@@ -56,8 +60,9 @@ std::optional<ConeToInsert> ToInsert(const Scan& ring, std::size_t i,
     case BeamStatus::kValid:
       break;
   }
-  // An echo beyond the insertion range clears up to it.
-  if (ring.ranges[i] <= options.max_range) {
+  // An echo at or beyond the insertion range clears up to it: R is the PRF's, whose data
+  // (SelectSonarReadings) takes a reading at R for a max reading.
+  if (ring.ranges[i] < options.max_range) {
     cone.range = ring.ranges[i];
     cone.hit = true;
   }
@@ -118,10 +123,16 @@ std::size_t SonarGrid::Insert(const Scan& ring) {
 
 void SonarGrid::InsertCone(const Vec2& origin, double axis, double half_spread, double range,
                            bool hit) {
+  if (!(half_spread >= 0.0 && range >= 0.0 && std::isfinite(axis)))
+    throw std::invalid_argument(
+        fmt::format("a cone needs an axis, a half-angle >= 0 and a range >= 0 (got {}, {} and {})",
+                    axis, half_spread, range));
+  // A cone of a full turn or more is the disc; beyond pi the cosine would turn it back.
+  const double half = std::min(half_spread, std::numbers::pi);
   const double half_arc = options_.arc_thickness / 2.0;
   const double reach = hit ? range + half_arc : range;
   const double free_until = hit ? range - half_arc : range;
-  const Box2 bounds = ConeBounds(origin, axis, half_spread, reach);
+  const Box2 bounds = ConeBounds(origin, axis, half, reach);
   const double inv = 1.0 / options_.resolution;
   // Cells whose centres may lie in the cone, clamped to the grid.
   // Clamped as doubles first: casting a huge or NaN index to int is undefined.
@@ -134,19 +145,33 @@ void SonarGrid::InsertCone(const Vec2& origin, double axis, double half_spread, 
   const int x1 = std::min(width() - 1, index(bounds.max().x(), origin_.x(), width()));
   const int y1 = std::min(height() - 1, index(bounds.max().y(), origin_.y(), height()));
   const Vec2 direction = UnitVector(axis);
-  const double cos_half = std::cos(half_spread);
+  const double cos_half = std::cos(half);
+  // An arc thinner or narrower than a cell can pass between the centres (short echoes, coarse
+  // cells): the cell holding the echo's point on the axis is then its occupied cell, as a laser
+  // beam's end cell is, so that no echo is read as free space alone. It is updated last, once.
+  const Vec2 echo = origin + range * direction;
+  const int echo_x = hit ? index(echo.x(), origin_.x(), width()) : -1;
+  const int echo_y = hit ? index(echo.y(), origin_.y(), height()) : -1;
+  const CellUpdate* echo_update = nullptr;
+  bool arc_marked = false;
   for (int iy = y0; iy <= y1; ++iy) {
     for (int ix = x0; ix <= x1; ++ix) {
       const Vec2 centre = origin_ + options_.resolution * Vec2(ix + 0.5, iy + 0.5);
       const Vec2 d = centre - origin;
       const double r = d.norm();
       if (r > reach || direction.dot(d) < cos_half * r) continue;  // outside the cone
-      if (r < free_until)
-        cells_.Apply(ix, iy, free_);
-      else if (hit)
-        cells_.Apply(ix, iy, occupied_);
+      const CellUpdate* update = r < free_until ? &free_ : hit ? &occupied_ : nullptr;
+      if (update == nullptr) continue;
+      arc_marked |= update == &occupied_;
+      if (ix == echo_x && iy == echo_y)
+        echo_update = update;
+      else
+        cells_.Apply(ix, iy, *update);
     }
   }
+  if (hit && !arc_marked) echo_update = &occupied_;
+  if (echo_update != nullptr && cells_.Contains(echo_x, echo_y))
+    cells_.Apply(echo_x, echo_y, *echo_update);
 }
 
 double SonarGrid::LogOdds(int ix, int iy) const {

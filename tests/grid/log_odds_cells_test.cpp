@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -229,6 +230,15 @@ TEST(LogOddsCells, CellsCoveringRoundEachSideUpToWholeCells) {
   EXPECT_EQ(line.width(), 6);
   EXPECT_EQ(line.height(), 1);  // a flat extent still gets a row
   EXPECT_THROW((void)CellsCovering(Box2(), 0.1), std::invalid_argument);
+  // Not finite: one cell at a NaN origin, or a size that means nothing.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_THROW((void)CellsCovering(Box2(Vec2(nan, 0.0), Vec2(1.0, 1.0)), 0.1),
+               std::invalid_argument);
+  EXPECT_THROW((void)CellsCovering(Box2(Vec2(0.0, 0.0), Vec2(1.0, inf)), 0.1),
+               std::invalid_argument);
+  EXPECT_THROW((void)CellsCovering(Box2(Vec2(0.0, 0.0), Vec2(1.0, 1.0)), inf),
+               std::invalid_argument);
   EXPECT_THROW((void)CellsCovering(Box2(Vec2(0.0, 0.0), Vec2(1e4, 1e4)), 0.1),
                std::invalid_argument);  // 1e10 cells
   // 3e9 cells in one row: under the 4e9 the offsets address, but wider than an int. Refused

@@ -105,7 +105,7 @@ class ReferenceGrid {
         if (!options_.max_readings_clear) continue;
         range = std::min(options_.max_range, scan.max_range);
         hit = false;
-      } else if (range > options_.max_range) {
+      } else if (range >= options_.max_range) {
         range = options_.max_range;
         hit = false;
       }
@@ -219,6 +219,37 @@ TEST(OccupancyGrid, RejectsBadOptions) {
   EXPECT_THROW(OccupancyGrid(Box2(), {}), std::invalid_argument);
   EXPECT_THROW(OccupancyGrid(Box2(Vec2::Zero(), Vec2::Ones()), {.beam_step = 0}),
                std::invalid_argument);
+  // An insertion range of 0 would turn every return into a miss at the sensor, a negative one
+  // draw beams backwards, NaN make every return a hit at any range; an infinite one has no end
+  // to clear a max reading to. Cells of infinite size, or a margin that is not a length, make
+  // a grid of one cell or none.
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const GridOptions& bad :
+       {GridOptions{.max_range = 0.0}, GridOptions{.max_range = -5.0},
+        GridOptions{.max_range = nan}, GridOptions{.max_range = inf},
+        GridOptions{.resolution = inf}, GridOptions{.margin = nan}, GridOptions{.margin = -1.0}})
+    EXPECT_THROW(OccupancyGrid(Box2(Vec2::Zero(), Vec2::Ones()), bad), std::invalid_argument)
+        << "max_range " << bad.max_range << ", resolution " << bad.resolution << ", margin "
+        << bad.margin;
+}
+
+TEST(OccupancyGrid, AReadingAtTheInsertionRangeIsAMaxReadingAsInThePrf) {
+  // The PRF (SelectBeams) and Scan::ClassifyAll take a reading at or above R for no return,
+  // and the study compares the two at equal data.
+  const GridOptions options{.resolution = 0.1, .max_range = 5.0};
+  OccupancyGrid grid(Box2(Vec2(-1.0, -1.0), Vec2(6.0, 6.0)), options);
+  Scan scan;
+  scan.pose = Se2(0.05, 0.05, 0.0);
+  scan.angles = {0.0, M_PI / 2};
+  scan.ranges = {5.0, 4.0};
+  scan.sigma = {0.01, 0.01};
+  scan.max_range = 30.0;
+  scan.ClassifyAll();
+  ASSERT_EQ(grid.Insert(scan), 2u);
+  // The end cells: (5.05, 0.05) cleared, (0.05, 4.05) a hit.
+  EXPECT_LT(grid.LogOdds(60, 10), 0.0);
+  EXPECT_GT(grid.LogOdds(10, 50), 0.0);
 }
 
 TEST(OccupancyGrid, ABeamStepInsertsTheBeamsThePrfSelects) {

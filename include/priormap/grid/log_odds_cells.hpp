@@ -88,7 +88,8 @@ class LogOddsCells {
 inline constexpr double kMaxGridCells = 1e8;
 
 /// The cells of `resolution` m that cover `extent` from its lower-left corner, at least one per
-/// side. Throws std::invalid_argument for an empty extent, more than `max_cells` cells (at most
+/// side. Throws std::invalid_argument for an empty or non-finite extent, a resolution that is not
+/// positive and finite, more than `max_cells` cells (at most
 /// 4e9, what the cells' 32-bit offsets address) or a side longer than an int counts.
 [[nodiscard]] LogOddsCells CellsCovering(const Box2& extent, double resolution,
                                          double max_cells = kMaxGridCells);

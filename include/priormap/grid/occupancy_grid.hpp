@@ -1,8 +1,9 @@
 #pragma once
 /// The standard log-odds occupancy grid (Paskin & Thrun, Sec. 1.2; Thrun, Burgard & Fox, ch. 9)
 /// with the laser inverse sensor model: each beam lowers the log-odds of the cells it crosses
-/// before its end point and raises that of the end point's cell; max-range readings clear the
-/// cells up to the insertion range. Log-odds are 8-bit fixed point (±l_max is ±127, a step of
+/// before its end point and raises that of the end point's cell; max-range readings, and returns
+/// at or beyond the insertion range (the PRF's R, which takes those for max readings too), clear
+/// the cells up to it. Log-odds are 8-bit fixed point (±l_max is ±127, a step of
 /// l_max/127 = 0.03 at the default l_max = 4), saturated (LogOddsCells), so that a grid at 5 cm
 /// of a building floor stays in cache and an update is a table lookup.
 
@@ -19,7 +20,8 @@ struct GridOptions {
   double log_odds_hit = 0.85;
   double log_odds_miss = -0.4;
   double log_odds_limit = 4.0;  ///< |log-odds| saturates here
-  /// Beams are inserted up to this range; max-range readings clear cells up to it.
+  /// Beams are inserted up to this range (finite); max-range readings and returns at or beyond
+  /// it clear cells up to it.
   double max_range = 20.0;
   bool max_readings_clear = true;
   double margin = 1.0;  ///< m around the data, for the grid's extent
@@ -31,7 +33,9 @@ struct GridOptions {
 
 class OccupancyGrid {
  public:
-  /// A grid covering `extent`. Throws std::invalid_argument on bad options.
+  /// A grid covering `extent`. Throws std::invalid_argument on bad options (a resolution or an
+  /// insertion range that is not a positive finite length, a negative or NaN margin, ...) or an
+  /// extent that is not finite.
   OccupancyGrid(const Box2& extent, GridOptions options);
 
   /// The box holding every sensor and every beam end point (capped at the insertion range) of
