@@ -246,7 +246,12 @@ void AddScanCommand(CLI::App& app) {
                 "--all: continue the run stopped (Ctrl-C, SIGTERM or a crash) from the scans kept "
                 "in OUT.partial; give the same prior, log and options");
   cmd->add_option("-o,--out", o->out, "Output JSON (JSON Lines with --all)")->required();
-  cmd->add_option("--beta", o->beta, "Prior probability that a reading fits the prior")
+  cmd->add_option(
+         "--beta", o->beta,
+         "Prior probability that a reading fits the prior. It scores the result (the "
+         "objective's -log(beta/(1-beta)) per in-model reading) but, as in the paper's "
+         "Algorithm 1, does not decide the outliers: the range bounds, spikes and regions' "
+         "sizes do")
       ->check(CLI::Range(1e-6, 1.0 - 1e-6))
       ->capture_default_str();
   cmd->add_flag("--no-refine", o->no_refine, "Keep the greedy topology (no border refinement)");

@@ -118,13 +118,30 @@ Eigen::MatrixXd InterleavedExtrinsicJacobian(const Scan& scan, const MapScan& ma
   return e;
 }
 
-// An orthonormal basis of the column span of e, rank decided relative to its largest singular
-// value after scaling the columns (metres and radians) to unit norm.
+// An orthonormal basis of the column span of e (interleaved rows as InterleavedExtrinsicJacobian's,
+// columns dx, dy, dtheta), rank decided relative to its largest singular value after scaling the
+// columns to comparable units. The translations share one scale, the norm of their pair: scaled
+// one by one, a translation that moves no reading (along a wall that faces the sensor, whose dy
+// column is sin(pi) ~ 1e-16) would become a unit column of rounding and a third direction of
+// Extr, which then could not lie inside Free. The rotation, in other units, gets its own scale,
+// unless it moves the readings by less than kExtrinsicRankTolerance of what its terms would
+// without cancelling (the sensor at the centre of a circular room: kappa rho - 1 = 0 in the
+// alpha rows, rho tan(beta) = 0 in the range rows); then it is no direction at all.
 Eigen::MatrixXd OrthonormalColumnSpan(const Eigen::MatrixXd& e) {
   Eigen::MatrixXd scaled = e;
-  for (Eigen::Index c = 0; c < scaled.cols(); ++c) {
-    const double norm = scaled.col(c).norm();
-    if (norm > 0.0) scaled.col(c) /= norm;
+  const double translation = std::sqrt(0.5) * e.leftCols(2).norm();
+  if (translation > 0.0) scaled.leftCols(2) /= translation;
+  // The alpha rows are kappa rho / |cos beta| - 1 (extrinsic.hpp): without cancelling, |J + 1| + 1.
+  double uncancelled = 0.0;
+  for (Eigen::Index r = 0; r < e.rows(); ++r) {
+    const double term = r % 2 == 0 ? e(r, 2) : std::abs(e(r, 2) + 1.0) + 1.0;
+    uncancelled += term * term;
+  }
+  const double rotation = e.col(2).norm();
+  if (rotation > kExtrinsicRankTolerance * std::sqrt(uncancelled)) {
+    scaled.col(2) /= rotation;
+  } else {
+    scaled.col(2).setZero();
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinU);
   const Eigen::VectorXd& s = svd.singularValues();

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include <Eigen/SVD>
@@ -286,6 +287,54 @@ TEST(Posterior, WithoutInModelPointsReportsWhy) {
   EXPECT_FALSE(post.computed);
   EXPECT_EQ(post.dof.free, 0u);
   EXPECT_FALSE(post.note.empty());
+}
+
+// A noise-free scan of `count` beams over [first, last] with ranges range(phi).
+template <typename Range>
+Scan ExactScan(std::size_t count, double first, double last, Range range) {
+  Scan scan;
+  scan.angles = EvenlySpacedAngles(count, first, last);
+  for (double phi : scan.angles) scan.ranges.push_back(range(phi));
+  scan.sigma.assign(count, 0.01);
+  scan.status.assign(count, BeamStatus::kValid);
+  scan.min_range = 0.1;
+  scan.max_range = 30.0;
+  return scan;
+}
+
+// A straight wall leaves two parameters, both of which a sensor motion changes; the motion along
+// the wall changes no reading. That holds however the wall is turned, also when it faces the
+// sensor exactly and the motion along it is the sensor's y (a Jacobian column of rounding).
+TEST(Posterior, AStraightWallHasTwoExtrinsicDegreesOfFreedomHoweverItIsTurned) {
+  const dsl::CompiledPrior prior = Prior("polygonal");
+  for (const double normal : {0.0, 0.3, 0.5 * std::numbers::pi}) {
+    SCOPED_TRACE(normal);
+    const Scan scan = ExactScan(200, normal - 0.5, normal + 0.5,
+                                [&](double phi) { return 2.0 / std::cos(phi - normal); });
+    const MapScan map = EstimateMapScan(scan, prior);
+    ASSERT_TRUE(map.feasible);
+    ASSERT_EQ(map.regions.size(), 1u);
+    const Posterior post = AnalysePosterior(scan, prior, map);
+    EXPECT_EQ(post.dof.free, 2u);
+    EXPECT_EQ(post.dof.extrinsic, 2u);
+    EXPECT_EQ(post.dof.intrinsic, 0u);
+    EXPECT_TRUE(post.dof.pose_independent) << post.note;
+  }
+}
+
+// From the centre of a circular room a rotation changes no reading: Extr is the two
+// translations, inside Free (centre and radius), and the radius is the one intrinsic freedom.
+TEST(Posterior, AtTheCentreOfACircularRoomTheRotationIsNoExtrinsicDirection) {
+  const dsl::CompiledPrior prior = Prior("circular");
+  const Scan scan = ExactScan(200, -1.5, 1.5, [](double) { return 2.0; });
+  const MapScan map = EstimateMapScan(scan, prior);
+  ASSERT_TRUE(map.feasible);
+  ASSERT_EQ(map.regions.size(), 1u);
+  const Posterior post = AnalysePosterior(scan, prior, map);
+  EXPECT_EQ(post.dof.free, 3u);
+  EXPECT_EQ(post.dof.extrinsic, 2u);
+  EXPECT_EQ(post.dof.intrinsic, 1u);
+  EXPECT_TRUE(post.dof.pose_independent) << post.note;
 }
 
 }  // namespace

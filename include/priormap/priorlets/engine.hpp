@@ -19,7 +19,9 @@ enum class Link : std::uint8_t { kSameRegion = 0, kDifferentRegion = 1, kDiffere
 
 struct EngineOptions {
   /// Prior probability that a reading is described by the prior; gamma = log(beta / (1 - beta))
-  /// is the reward per in-model point.
+  /// is the reward per in-model point in MapScan::objective. As in the paper's Algorithm 1, it
+  /// does not steer the search: which readings are outliers is decided by the range bounds
+  /// (rho_bound_sigmas), the spikes and the regions' sizes (min_region_points).
   double beta = 0.95;
   /// Each range may move at most this many sigmas from its measurement (paper Sec. III-B).
   double rho_bound_sigmas = 4.0;
