@@ -6,6 +6,9 @@
 /// pixel's corner.
 
 #include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
 
 #include <Eigen/Core>
 
@@ -23,7 +26,15 @@ struct OccupancyRaster {
 /// The PGM pixel of a probability: (1 - p) * 255 rounded; 205 (map_saver's unknown) for NaN.
 [[nodiscard]] unsigned char MapServerPixel(double probability);
 
-/// Writes `yaml_path` and the PGM beside it (same stem, .pgm), each atomically. Throws IoError.
+/// `text` as a YAML scalar that every YAML parser reads back as the string `text`: as it is when it
+/// is a plain file name (letters, digits, '.', '_', '-', ending in ".pgm"), otherwise
+/// double-quoted, with '"' and '\\' escaped and characters that YAML cannot hold raw (controls,
+/// line separators) as \xXX or \uXXXX. nullopt when `text` is not UTF-8: YAML holds only Unicode.
+[[nodiscard]] std::optional<std::string> YamlScalar(std::string_view text);
+
+/// Writes `yaml_path` and the PGM beside it (same stem, .pgm), each atomically; the YAML names the
+/// PGM by its file name (YamlScalar). Throws IoError, before writing anything, for a resolution
+/// that is not finite and > 0, a non-finite origin, or a file name that is not UTF-8.
 void WriteMapServerMap(const std::filesystem::path& yaml_path, const OccupancyRaster& raster);
 
 }  // namespace priormap
