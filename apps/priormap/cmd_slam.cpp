@@ -30,6 +30,18 @@ namespace fs = std::filesystem;
 
 // --- shared ------------------------------------------------------------------------------------
 
+// A probability strictly between 0 and 1 (StructurePriors::p_point_on_line says why).
+CLI::Validator OpenUnitInterval() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+        if (value > 0.0 && value < 1.0) return {};
+        return fmt::format("{} is not in (0, 1), 0 and 1 excluded", text);
+      },
+      "PROBABILITY in (0, 1)");
+}
+
 // The filter's thresholds (Sec. V-A, VI), shared by both subcommands as advanced options.
 void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
   const char* group = "Advanced (structure inference, Sec. V-A)";
@@ -45,7 +57,7 @@ void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
       ->group(group);
   cmd->add_option("--p-point-on-line", o.priors.p_point_on_line,
                   "Prior probability that a landmark near a real wall lies on it")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(OpenUnitInterval())
       ->capture_default_str()
       ->group(group);
   cmd->add_option("--null-density", o.priors.unrelated_density,
@@ -501,7 +513,7 @@ void AddSimulate(CLI::App& slam_cmd) {
   cmd->add_option("--export-inputs", o->export_inputs,
                   "Also write run 0's data as input files of 'slam run' into this directory");
   cmd->add_option("--prior-std", o->prior_std, "Endpoint noise of the simulated prior map, m")
-      ->check(PositiveValue())
+      ->check(PositiveValueUpTo(slam::kMaxPriorStd, "m"))
       ->capture_default_str();
   cmd->add_option("--window", o->window, "Drop landmarks not seen for this long, s (0: keep all)")
       ->check(NonNegativeValue())
@@ -524,7 +536,7 @@ void AddRun(CLI::App& slam_cmd) {
   cmd->add_option("-o,--out", o->out, "Output directory (created)")->required();
   cmd->add_option("--prior-std", o->prior_std,
                   "Endpoint 1-sigma of the prior map where the GeoJSON gives none, m")
-      ->check(PositiveValue())
+      ->check(PositiveValueUpTo(slam::kMaxPriorStd, "m"))
       ->capture_default_str();
   cmd->add_option("--initial-pose", o->initial_pose, "Start pose x,y,theta (m, m, rad), known")
       ->capture_default_str();

@@ -227,6 +227,12 @@ class Enumerator {
 
 }  // namespace
 
+bool ArePriorsValid(const StructurePriors& priors) {
+  return 0.0 < priors.p_point_on_line && priors.p_point_on_line < 1.0 &&
+         0.0 <= priors.p_line_real && priors.p_line_real <= 1.0 && 0.0 <= priors.p_accept &&
+         priors.p_accept <= 1.0;
+}
+
 HypothesisPosterior EnumerateHypotheses(const HypothesisProblem& problem,
                                         const StructurePriors& priors) {
   const auto n = static_cast<Eigen::Index>(problem.pairs.size());
@@ -236,6 +242,7 @@ HypothesisPosterior EnumerateHypotheses(const HypothesisProblem& problem,
   PRIORMAP_CHECK(
       problem.null_density.empty() || problem.null_density.size() == static_cast<std::size_t>(n),
       "null_density must be empty or have one entry per pair");
+  PRIORMAP_CHECK(ArePriorsValid(priors), "StructurePriors out of range (ArePriorsValid)");
   return Enumerator(problem, priors).Run();
 }
 

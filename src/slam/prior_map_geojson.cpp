@@ -34,6 +34,10 @@ double Std(const JsonNode& node, std::string_view what) {
   const double std_value = json::FiniteNumber(node, what);
   if (!(std_value > 0.0))
     json::Fail(node, fmt::format("expected {} > 0 m, got {}", what, std_value));
+  if (!IsValidPriorStd(std_value)) {
+    json::Fail(node, fmt::format("expected {} of at most {:.0e} m, the world's bound, got {}", what,
+                                 kMaxPriorStd, std_value));
+  }
   return std_value;
 }
 
@@ -232,7 +236,7 @@ void CheckWritable(const PriorMap& map) {
         fmt::format("segment of building {} (the map has {})", s.building, map.buildings.size()));
     PRIORMAP_CHECK(s.a.allFinite() && s.b.allFinite() && s.a != s.b,
                    fmt::format("segment ({}, {})-({}, {})", s.a.x(), s.a.y(), s.b.x(), s.b.y()));
-    PRIORMAP_CHECK(std::isfinite(s.std) && s.std > 0.0, fmt::format("segment std {}", s.std));
+    PRIORMAP_CHECK(IsValidPriorStd(s.std), fmt::format("segment std {}", s.std));
   }
 }
 
@@ -272,8 +276,7 @@ OrderedJson FeatureToJson(const PriorMap& map, int building) {
 
 Result<PriorMap> ParsePriorMapGeoJson(std::string_view text, const std::string& name,
                                       double default_std) {
-  PRIORMAP_CHECK(std::isfinite(default_std) && default_std > 0.0,
-                 fmt::format("default std {}", default_std));
+  PRIORMAP_CHECK(IsValidPriorStd(default_std), fmt::format("default std {}", default_std));
   Result<json::JsonDocument> document = json::JsonDocument::Parse(text, name);
   if (!document) return document.diagnostics();
   try {

@@ -45,7 +45,12 @@ struct PriorMapSlam::Impl {
                                                                                : nullptr),
         options(std::move(options_)),
         truth(truth_) {
+    // Checked here, not at the first cluster: a run that never gates a pair would otherwise
+    // accept them, and one that does would fail frames later.
+    PRIORMAP_CHECK(ArePriorsValid(options.priors), "SlamOptions::priors out of range");
     if (prior_map) {
+      for (const PriorSegment& s : prior_map->segments)
+        PRIORMAP_CHECK(IsValidPriorStd(s.std), fmt::format("prior segment std {}", s.std));
       inference.emplace(*prior_map, options);
       book.segments.resize(prior_map->segments.size());
     }

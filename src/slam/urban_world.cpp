@@ -6,6 +6,7 @@
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/check.hpp>
+#include <priormap/slam/prior_map.hpp>
 #include <priormap/slam/vehicle_model.hpp>
 
 #include "urban_detail.hpp"
@@ -96,9 +97,10 @@ bool UrbanScenarioOptions::IsValid(std::string* why) const {
         off_wall_min <= off_wall_max)) {
     return fail("need 0 <= off_wall_fraction <= 1 and 0 < off_wall_min <= off_wall_max");
   }
-  if (!(prior_std > 0.0 && spurious_fraction >= 0.0 && spurious_fraction < 1.0 &&
+  if (!(IsValidPriorStd(prior_std) && spurious_fraction >= 0.0 && spurious_fraction < 1.0 &&
         spurious_shift_min >= 0.0 && spurious_shift_min <= spurious_shift_max)) {
-    return fail("need prior_std > 0, 0 <= spurious_fraction < 1, 0 <= spurious_shift_min <= max");
+    return fail(
+        "need 0 < prior_std <= 1e9, 0 <= spurious_fraction < 1, 0 <= spurious_shift_min <= max");
   }
   if (!(motion_noise.wheelbase > 0.0 && motion_noise.speed_std >= 0.0 &&
         motion_noise.steer_std >= 0.0 && sensor_noise.range_std >= 0.0 &&

@@ -259,6 +259,43 @@ TEST_F(SlamCli, AlgorithmOptionsReachTheFilter) {
   EXPECT_GT(building_rows("buildings"), 0);
 }
 
+// At p = 1 (or 0) the association prior is NaN, so the prior map was silently never used; at 1
+// with --building-relations the mixture weights were infinite. A std beyond the world's bound
+// squares to infinity in the filter.
+TEST_F(SlamCli, PriorsThatGiveNonFiniteProbabilitiesAreRefused) {
+  WriteSmallInputs();
+  // Refused as an option (CLI11's exit status), before any file is read.
+  const auto refused = [&](const std::vector<std::string>& args) {
+    const RunResult r = RunFailing(args);
+    EXPECT_NE(r.status, 0);
+    return r.err;
+  };
+  for (const char* p : {"1", "0", "1.5"}) {
+    std::vector<std::string> args = RunArgs("observations.csv", "odometry.csv", "map.geojson");
+    args.insert(args.end(), {"--building-relations", "--p-point-on-line", p});
+    EXPECT_THAT(refused(args), HasSubstr(std::string("--p-point-on-line: ") + p +
+                                         " is not in (0, 1), 0 and 1 excluded"));
+    EXPECT_THAT(refused({"slam", "simulate", "--runs", "1", "--no-figures", "--p-point-on-line", p,
+                         "-o", "study"}),
+                HasSubstr("--p-point-on-line"));
+  }
+  std::vector<std::string> args = RunArgs("observations.csv", "odometry.csv", "map.geojson");
+  args.insert(args.end(), {"--prior-std", "1e200"});
+  EXPECT_THAT(refused(args), HasSubstr("--prior-std: 1e200 is not in (0, 1000000000] m"));
+  EXPECT_THAT(refused({"slam", "simulate", "--runs", "1", "--prior-std", "2e9", "-o", "study"}),
+              HasSubstr("--prior-std: 2e9 is not in (0, 1000000000] m"));
+  WriteAll(Work("huge.geojson"),
+           R"({"type": "FeatureCollection", "std": 1e200, "features": [
+  {"type": "Feature", "properties": {"name": "wall"},
+   "geometry": {"type": "LineString", "coordinates": [[-5, 5], [20, 5]]}}
+]}
+)");
+  EXPECT_THAT(Fails(RunArgs("observations.csv", "odometry.csv", "huge.geojson")).err,
+              HasSubstr("huge.geojson:1:38: expected \"std\" of at most 1e+09 m"));
+  EXPECT_FALSE(fs::exists(Work("out")));
+  EXPECT_FALSE(fs::exists(Work("study")));
+}
+
 TEST_F(SlamCli, RunFiltersSmallHandWrittenInputsWithAndWithoutThePriorMap) {
   WriteSmallInputs();
   Ok(RunArgs("observations.csv", "odometry.csv", "map.geojson"));

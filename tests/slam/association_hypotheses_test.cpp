@@ -1,10 +1,12 @@
 // The posterior over association hypotheses (Parsley & Julier, Sec. V-A) on examples small
 // enough to check by hand.
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <gtest/gtest.h>
 
+#include <priormap/core/check.hpp>
 #include <priormap/slam/association_hypotheses.hpp>
 
 namespace priormap::slam {
@@ -146,6 +148,53 @@ TEST(AssociationHypotheses, StructureMarginalIsTheEvidenceOfTheEqThreeMixture) {
   EXPECT_NEAR(marginal.weights[1], on_b / p_structure, 1e-12);
   // Exclusive events: the sum of the walls' marginals.
   EXPECT_NEAR(marginal.probability, posterior.marginals[0] + posterior.marginals[1], 1e-12);
+}
+
+// A point at a corner gated with two walls of one building, both known to be real: the case
+// where p_point_on_line = 1 made the eq. (3) weights p_real / (1 - p_real p_point_on_line)
+// infinite and then NaN. Near the bounds every number stays finite; at them the priors are
+// refused.
+TEST(AssociationHypotheses, PointOnLineIsAProbabilityStrictlyBetweenZeroAndOne) {
+  HypothesisProblem problem;
+  problem.pairs = {{4, 0, 7}, {4, 1, 7}};
+  problem.theta = Eigen::Vector2d(0.1, 0.3);
+  problem.S = Eigen::Matrix2d::Identity() * 0.25;
+  problem.lines_known_real = {0, 1};
+  for (double p : {1e-12, 0.5, 1.0 - 1e-12}) {
+    SCOPED_TRACE(p);
+    StructurePriors priors;
+    priors.p_point_on_line = p;
+    ASSERT_TRUE(ArePriorsValid(priors));
+    const HypothesisPosterior posterior = EnumerateHypotheses(problem, priors);
+    EXPECT_TRUE(std::isfinite(posterior.map_probability));
+    for (double m : posterior.marginals) EXPECT_TRUE(std::isfinite(m));
+    ASSERT_EQ(posterior.structure_marginals.size(), 1u);
+    EXPECT_TRUE(std::isfinite(posterior.structure_marginals[0].probability));
+    for (double w : posterior.structure_marginals[0].weights) {
+      EXPECT_TRUE(std::isfinite(w));
+      EXPECT_GT(w, 0.0);
+    }
+  }
+  for (double p : {0.0, 1.0, -0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    SCOPED_TRACE(p);
+    StructurePriors priors;
+    priors.p_point_on_line = p;
+    EXPECT_FALSE(ArePriorsValid(priors));
+    EXPECT_THROW((void)EnumerateHypotheses(problem, priors), ContractError);
+  }
+  for (double p : {0.0, 1.0}) {  // the bounds of the other probabilities are valid
+    StructurePriors priors;
+    priors.p_line_real = p;
+    priors.p_accept = p;
+    EXPECT_TRUE(ArePriorsValid(priors)) << p;
+    EXPECT_NO_THROW((void)EnumerateHypotheses(problem, priors)) << p;
+  }
+  StructurePriors priors;
+  priors.p_line_real = 1.5;
+  EXPECT_FALSE(ArePriorsValid(priors));
+  priors = {};
+  priors.p_accept = -0.5;
+  EXPECT_FALSE(ArePriorsValid(priors));
 }
 
 // Without one line per point the events overlap; the structure marginal counts each hypothesis

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <priormap/core/angles.hpp>
+#include <priormap/core/check.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/slam/prior_map_slam.hpp>
 #include <priormap/slam/range_bearing.hpp>
@@ -42,6 +43,46 @@ ObservationFrame Observe(const std::vector<Vec2>& beacons, double time, Rng& rng
 
 MotionStep StandStill(double time, double dt) {
   return {time, dt, BicycleControl{0.0, 0.0}};
+}
+
+// Options and prior maps that would give non-finite numbers are refused when the filter is made,
+// not frames later (or never, when no pair is ever gated).
+TEST(PriorMapSlam, PriorsOutOfRangeAndUnboundedSegmentStdsAreRefusedAtTheStart) {
+  const WallWorld world;
+  SlamOptions options;
+  options.priors.p_point_on_line = 1.0;
+  EXPECT_THROW(PriorMapSlam(Se2(), 0.0, MotionNoise{}, SensorNoise{}, &world.map, options),
+               ContractError);
+  PriorMap map = world.map;
+  map.segments[0].std = 1e200;  // its variance, 1e400, is infinite
+  EXPECT_THROW(PriorMapSlam(Se2(), 0.0, MotionNoise{}, SensorNoise{}, &map, SlamOptions{}),
+               ContractError);
+}
+
+// The largest std a prior map may give keeps the filter finite.
+TEST(PriorMapSlam, ASegmentAsUncertainAsTheWorldKeepsEstimatesFinite) {
+  WallWorld world;
+  world.map.segments[0].std = kMaxPriorStd;
+  const SensorNoise sensor;
+  // A null density uniform over the gate scales with the segment's uncertainty as the related
+  // pairs' likelihood does, so relations are still accepted and the segment enters the state.
+  SlamOptions options;
+  options.null_density = NullDensity::kUniformOverGate;
+  PriorMapSlam slam(Se2(), 0.0, MotionNoise{}, sensor, &world.map, options);
+  Rng rng(4);
+  for (int f = 1; f <= 10; ++f) {
+    slam.Predict(StandStill(0.2 * f, 0.2));
+    const FrameRecord frame = slam.Observe(Observe(world.beacons, 0.2 * f, rng, sensor));
+    ASSERT_TRUE(frame.covariance.allFinite()) << f;
+  }
+  const SlamResult result = slam.Finish();
+  EXPECT_GT(result.relations.size(), 0u);  // the segment was used, not left out
+  for (const SegmentEstimate& s : result.segments) {
+    EXPECT_TRUE(s.a.allFinite() && s.b.allFinite() && s.covariance.allFinite());
+  }
+  for (const LandmarkEstimate& l : result.landmarks) {
+    EXPECT_TRUE(l.position.allFinite() && l.covariance.allFinite());
+  }
 }
 
 TEST(PriorMapSlam, PointsOnAWallPullTheNoisyPriorSegmentOntoIt) {

@@ -472,6 +472,24 @@ TEST(GeoJsonMalformed, StdMustBePositiveAndFinite) {
                              "expected an element of \"segment_std\" > 0 m, got -1")));
 }
 
+// The filter squares a std into a covariance and multiplies covariances: 1e200 would give an
+// infinite variance, then NaN estimates, unless refused here at its place.
+TEST(GeoJsonMalformed, StdMustBeWithinTheWorld) {
+  EXPECT_THAT(MapErrors(Map(kLine, R"({"std": 1e200})")),
+              ElementsAre(At("map.geojson", 2, 43,
+                             "expected \"std\" of at most 1e+09 m, the world's bound, got 1e+200 "
+                             "(at /features/0/properties/std)")));
+  EXPECT_THAT(MapErrors(Map(kLine, "null", R"("std": 1.0000001e9, )")),
+              ElementsAre(At("map.geojson", 1, 38, "got 1000000100 (at /std)")));
+  EXPECT_THAT(MapErrors(Map(kLine, R"({"segment_std": [2e9]})")),
+              ElementsAre(At("map.geojson", 2, 52,
+                             "expected an element of \"segment_std\" of at most 1e+09 m")));
+  const Result<PriorMap> largest =
+      ParsePriorMapGeoJson(Map(kLine, R"({"std": 1e9})"), "map.geojson", 1.0);
+  ASSERT_TRUE(largest.ok()) << largest.error();
+  EXPECT_EQ(largest.value().segments.at(0).std, 1e9);
+}
+
 TEST(GeoJsonMalformed, NamesAreStringsAndIdsStringsOrNumbers) {
   EXPECT_THAT(MapErrors(Map(kLine, R"({"name": 7})")),
               ElementsAre(At("map.geojson", 2, 44,

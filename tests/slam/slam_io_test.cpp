@@ -464,6 +464,10 @@ TEST(PriorMapGeoJson, WriterRejectsWhatCannotBeReadBack) {
   EXPECT_THROW((void)FormatPriorMapGeoJson(map), ContractError);
   map.segments = {{Vec2(0, 0), Vec2(1, 0), 0.0, 0}};
   EXPECT_THROW((void)FormatPriorMapGeoJson(map), ContractError);
+  map.segments = {{Vec2(0, 0), Vec2(1, 0), 2e9, 0}};  // beyond kMaxPriorStd
+  EXPECT_THROW((void)FormatPriorMapGeoJson(map), ContractError);
+  map.segments = {{Vec2(0, 0), Vec2(1, 0), kMaxPriorStd, 0}};
+  EXPECT_NO_THROW((void)FormatPriorMapGeoJson(map));
 }
 
 TEST(PriorMapGeoJson, FilesRoundTripPlainAndGzipped) {
@@ -589,7 +593,7 @@ RC_GTEST_PROP(PriorMapGeoJson, WriteThenReadIsTheIdentity, ()) {
       rc::gen::container<std::string>(rc::gen::inRange<char>(' ', '~')));
   for (int b = 0; b < buildings; ++b) {
     map.buildings.push_back(*name);
-    const double std_value = *Positive();
+    const double std_value = *WithinWorld(Positive());  // IsValidPriorStd
     const bool one_std = *rc::gen::arbitrary<bool>();
     const std::size_t m = *rc::gen::inRange<std::size_t>(b == 0 ? 1 : 0, 6);
     Vec2 previous(*Coordinate(), *Coordinate());
@@ -600,7 +604,7 @@ RC_GTEST_PROP(PriorMapGeoJson, WriteThenReadIsTheIdentity, ()) {
           rc::gen::map(rc::gen::tuple(Coordinate(), Coordinate()),
                        [](const auto& xy) { return Vec2(std::get<0>(xy), std::get<1>(xy)); }),
           [&](const Vec2& p) { return p != a; });
-      map.segments.push_back({a, b_end, one_std ? std_value : *Positive(), b});
+      map.segments.push_back({a, b_end, one_std ? std_value : *WithinWorld(Positive()), b});
       previous = b_end;
     }
   }

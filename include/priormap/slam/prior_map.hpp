@@ -8,13 +8,25 @@
 #include <vector>
 
 #include <priormap/core/types.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 namespace priormap::slam {
+
+/// The largest endpoint 1-sigma a prior segment may have, m: the world's bound
+/// (kMaxWorldCoordinate). An error larger than the world says no more than "anywhere in it", and
+/// the filter squares it into covariances and multiplies those together, so without a bound a
+/// finite std (1e200) gives an infinite variance and then NaN estimates.
+inline constexpr double kMaxPriorStd = kMaxWorldCoordinate;
+
+/// Whether `std` is a valid PriorSegment::std: finite, > 0 and at most kMaxPriorStd.
+[[nodiscard]] inline bool IsValidPriorStd(double std) {
+  return std > 0.0 && std <= kMaxPriorStd;
+}
 
 struct PriorSegment {
   Vec2 a = Vec2::Zero();
   Vec2 b = Vec2::Zero();
-  double std = 1.0;   ///< 1-sigma error of each endpoint coordinate, m (> 0)
+  double std = 1.0;   ///< 1-sigma error of each endpoint coordinate, m (IsValidPriorStd)
   int building = -1;  ///< index into PriorMap::buildings
 };
 

@@ -61,7 +61,8 @@ struct Odometry {
 /// FeatureCollection, a feature without a supported geometry (Point, MultiPoint,
 /// GeometryCollection or null are named as such), fewer than two positions in a line, a
 /// Polygon ring that is not closed or has fewer than four positions, non-finite coordinates,
-/// zero-length segments, std <= 0 or non-finite, no segments at all. `default_std` > 0.
+/// zero-length segments, a std that is not finite, > 0 and at most 1e9 m (IsValidPriorStd), no
+/// segments at all. `default_std` must be a valid std.
 [[nodiscard]] Result<PriorMap> ParsePriorMapGeoJson(std::string_view text, const std::string& name,
                                                     double default_std);
 /// One Feature per building, in building order (a MultiLineString of its segments, consecutive
