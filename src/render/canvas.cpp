@@ -126,6 +126,18 @@ void DrawText(cairo_t* cr, const std::string& raw_text, double x, double y, doub
   cairo_show_text(cr, text.c_str());
 }
 
+double TextWidth(const std::string& raw_text, double size) {
+  cairo_surface_t* surface = cairo_recording_surface_create(CAIRO_CONTENT_ALPHA, nullptr);
+  cairo_t* cr = cairo_create(surface);
+  cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t extents;
+  cairo_text_extents(cr, ValidUtf8(raw_text).c_str(), &extents);
+  cairo_destroy(cr);
+  cairo_surface_destroy(surface);
+  return extents.x_advance;
+}
+
 namespace {
 constexpr double kLegendFont = 11.0, kLegendRow = 18.0;
 }  // namespace

@@ -51,6 +51,9 @@ void SetColor(cairo_t* cr, const Color& color);
 void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size, double align_x,
               double align_y, bool bold = false);
 
+/// The advance width of `text` drawn by DrawText at `size`, without a canvas to draw on.
+[[nodiscard]] double TextWidth(const std::string& text, double size);
+
 /// Height in pixels of a legend box with `entries` rows.
 [[nodiscard]] double LegendHeight(std::size_t entries);
 

@@ -27,6 +27,20 @@ constexpr std::size_t kMaxVectorPoints = 20000;
 constexpr double kMaskScale = 2.0;
 constexpr double kMaxMaskPixels = 16e6;
 
+constexpr int kAxisTicks = 8;
+// Left of the y tick labels: the gap to the axis and the rotated "y (m)" beyond them.
+constexpr double kYLabelGap = 8.0, kYTitleRoom = 22.0;
+
+// The width of the widest label of the ticks NiceTicks puts on [lo, hi].
+double WidestTickLabel(double lo, double hi) {
+  const std::vector<double> ticks = NiceTicks(lo, hi, kAxisTicks);
+  const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1.0;
+  double widest = 0.0;
+  for (double t : ticks)
+    widest = std::max(widest, detail::TextWidth(TickLabel(t, step), kAxisFont));
+  return widest;
+}
+
 struct Margins {
   double left, right, top, bottom;
 };
@@ -144,8 +158,12 @@ struct Figure::Impl {
     if (!options.axes) return;
     detail::SetColor(c, palette::kBlack);
     cairo_set_line_width(c, 1.0);
-    const std::vector<double> xs = NiceTicks(world.min().x(), world.max().x(), 8);
-    const std::vector<double> ys = NiceTicks(world.min().y(), world.max().y(), 8);
+    // Labels side by side need their width apart, labels one above the other their height.
+    const std::vector<double> xs =
+        SpacedNiceTicks(world.min().x(), world.max().x(), kAxisTicks, plot_width,
+                        WidestTickLabel(world.min().x(), world.max().x()) + kAxisFont);
+    const std::vector<double> ys =
+        SpacedNiceTicks(world.min().y(), world.max().y(), kAxisTicks, plot_height, kAxisFont + 3);
     const double x_step = xs.size() > 1 ? xs[1] - xs[0] : 1.0;
     const double y_step = ys.size() > 1 ? ys[1] - ys[0] : 1.0;
     const double bottom = margins.top + plot_height;
@@ -161,7 +179,7 @@ struct Figure::Impl {
       cairo_move_to(c, margins.left - 5, dy);
       cairo_line_to(c, margins.left, dy);
       cairo_stroke(c);
-      detail::DrawText(c, TickLabel(y, y_step), margins.left - 8, dy, kAxisFont, 1.0, 0.5);
+      detail::DrawText(c, TickLabel(y, y_step), margins.left - kYLabelGap, dy, kAxisFont, 1.0, 0.5);
     }
     detail::DrawText(c, "x (m)", margins.left + plot_width / 2, bottom + 24, kAxisFont, 0.5, 0.0);
     cairo_save(c);
@@ -244,10 +262,20 @@ Figure::Figure(const Box2& world, FigureOptions options) : impl_(std::make_uniqu
       f.options.axes ? 60.0 : 10.0, f.options.colorbar ? 100.0 : 16.0,
       f.options.title.empty() ? 12.0 : 36.0,
       (f.options.axes ? 44.0 : 10.0) + (f.options.legend == LegendPlace::kBelow ? 24.0 : 0.0)};
+  // Coordinates in the millions (UTM, or near the world's bound) have y labels wider than the
+  // margin, which would cut them at the figure's edge.
+  if (f.options.axes) {
+    f.margins.left =
+        std::max(f.margins.left,
+                 WidestTickLabel(f.world.min().y(), f.world.max().y()) + kYLabelGap + kYTitleRoom);
+  }
   const Vec2 size = f.world.sizes();
-  const double width = std::max(f.options.width_px, 100);
-  const double max_plot_height =
-      std::max(f.options.max_height_px, 100) - f.margins.top - f.margins.bottom;
+  // A size smaller than the margins grows to leave a plot: a negative room would flip the world.
+  constexpr double kMinPlotPx = 10.0;
+  const double width = std::max(std::max(f.options.width_px, 100) * 1.0,
+                                f.margins.left + f.margins.right + kMinPlotPx);
+  const double max_plot_height = std::max(
+      std::max(f.options.max_height_px, 100) - f.margins.top - f.margins.bottom, kMinPlotPx);
   f.scale = (width - f.margins.left - f.margins.right) / size.x();
   if (size.y() * f.scale > max_plot_height) f.scale = max_plot_height / size.y();
   f.plot_width = size.x() * f.scale;
@@ -301,6 +329,9 @@ void Figure::Line(const Vec2& a, const Vec2& b, const LineStyle& style) {
 
 void Figure::Arc(const Vec2& center, double radius, double from, double to,
                  const LineStyle& style) {
+  // Cairo draws every turn of a longer arc (up to 65536 of them): minutes, and an SVG of
+  // megabytes, for what looks like one circle.
+  if (to - from > 2 * M_PI) to = from + 2 * M_PI;
   cairo_t* c = impl_->cr();
   const Vec2 d = impl_->ToDevice(center);
   cairo_new_path(c);
@@ -408,7 +439,8 @@ void Figure::Text(const Vec2& position, const std::string& text, double size_px,
 void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap colormap,
                      double vmin, double vmax, const std::string& label) {
   PRIORMAP_CHECK(values.rows() > 0 && values.cols() > 0, "empty heat map");
-  PRIORMAP_CHECK(vmax > vmin, "heat map needs vmin < vmax");
+  PRIORMAP_CHECK(std::isfinite(vmin) && std::isfinite(vmax) && vmax > vmin,
+                 "heat map needs finite vmin < vmax");
   const detail::RasterImage image = detail::ColormapImage(values, colormap, vmin, vmax, false);
   const Vec2 top_left = impl_->ToDevice({extent.min().x(), extent.max().y()});
   const Vec2 bottom_right = impl_->ToDevice({extent.max().x(), extent.min().y()});

@@ -26,17 +26,24 @@ std::pair<double, double> DataRange(const std::vector<Series>& series, bool use_
     }
   }
   if (!use_x) {
+    // A line at infinity (a bound that diverged) is not drawn, and cannot set the axis.
     for (const auto& [y, color] : extra) {
-      lo = std::min(lo, y);
-      hi = std::max(hi, y);
+      if (std::isfinite(y)) {
+        lo = std::min(lo, y);
+        hi = std::max(hi, y);
+      }
     }
   }
   if (!std::isfinite(lo)) return {0.0, 1.0};
-  if (lo == hi)
-    return {lo - std::max(0.5, std::abs(lo) * 0.1), hi + std::max(0.5, std::abs(hi) * 0.1)};
+  // The padded ends stay finite: data near the largest double would pad out to infinity.
+  constexpr double kLargest = std::numeric_limits<double>::max();
+  if (lo == hi) {
+    return {std::max(lo - std::max(0.5, std::abs(lo) * 0.1), -kLargest),
+            std::min(hi + std::max(0.5, std::abs(hi) * 0.1), kLargest)};
+  }
   if (!use_x) {
-    const double pad = 0.05 * (hi - lo);
-    return {lo - pad, hi + pad};
+    const double pad = 0.05 * hi - 0.05 * lo;
+    return {std::max(lo - pad, -kLargest), std::min(hi + pad, kLargest)};
   }
   return {lo, hi};
 }
@@ -70,9 +77,10 @@ void LinePlot::Save(const std::filesystem::path& path) const {
   const double width = std::max(options_.width_px, 200), height = std::max(options_.height_px, 150);
   const double left = 72, right = 20, top = options_.title.empty() ? 16 : 38, bottom = 52;
   const double plot_w = width - left - right, plot_h = height - top - bottom;
+  // Halves, so that a range wider than the largest double does not overflow.
   const auto to_device = [&](double x, double y) {
-    return Vec2(left + (x - x_lo) / (x_hi - x_lo) * plot_w,
-                top + (y_hi - y) / (y_hi - y_lo) * plot_h);
+    return Vec2(left + (x / 2 - x_lo / 2) / (x_hi / 2 - x_lo / 2) * plot_w,
+                top + (y_hi / 2 - y / 2) / (y_hi / 2 - y_lo / 2) * plot_h);
   };
 
   detail::Canvas canvas(width, height);
@@ -158,6 +166,7 @@ void LinePlot::Save(const std::filesystem::path& path) const {
     draw(series_[k], series_[k].color.value_or(palette::Categorical(static_cast<int>(k))));
   }
   for (Series s : horizontal_lines_) {
+    if (!std::isfinite(s.y[0])) continue;
     s.x = {x_lo, x_hi};
     draw(s, *s.color);
   }

@@ -38,9 +38,31 @@ std::vector<double> NiceTicks(double lo, double hi, int target_count) {
   return ticks;
 }
 
+std::vector<double> SpacedNiceTicks(double lo, double hi, int target_count, double length_px,
+                                    double min_spacing_px) {
+  std::vector<double> ticks;
+  for (int target = std::max(target_count, 1); target >= 1; --target) {
+    ticks = NiceTicks(lo, hi, target);
+    if (ticks.size() < 2) break;
+    // hi / length - lo / length: the range may be wider than the largest double.
+    const double spacing_px = (ticks[1] - ticks[0]) / (hi / length_px - lo / length_px);
+    if (spacing_px >= min_spacing_px) break;
+  }
+  return ticks;
+}
+
 std::string TickLabel(double value, double step) {
+  // Longer labels run off a plot's margin (a range of 1e13, or of 1e-12).
+  constexpr std::size_t kLongestFixed = 8;
   const int decimals = std::max(0, static_cast<int>(std::ceil(-std::log10(step) - 1e-9)));
-  return fmt::format("{:.{}f}", value, decimals);
+  std::string fixed = fmt::format("{:.{}f}", value, decimals);
+  if (fixed.size() <= kLongestFixed) return fixed;
+  if (value == 0.0) return "0";
+  // The mantissa's digits down to the step's leading one, so that neighbours differ.
+  const int digits = std::max(0, static_cast<int>(std::floor(std::log10(std::abs(value))) -
+                                                  std::floor(std::log10(step) + 1e-9)));
+  std::string scientific = fmt::format("{:.{}e}", value, digits);
+  return scientific.size() < fixed.size() ? scientific : fixed;
 }
 
 }  // namespace priormap::render

@@ -355,6 +355,14 @@ TEST(Figure, HeatMapPreconditions) {
   EXPECT_THROW(
       figure.HeatMap(Eigen::MatrixXd::Zero(2, 2), World(0, 0, 1, 1), Colormap::kViridis, 1, 1),
       ContractError);
+  // An infinite end maps every cell to NaN: a blank heat map, not a figure of the values.
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(
+      figure.HeatMap(Eigen::MatrixXd::Zero(2, 2), World(0, 0, 1, 1), Colormap::kViridis, -inf, 1),
+      ContractError);
+  EXPECT_THROW(
+      figure.HeatMap(Eigen::MatrixXd::Zero(2, 2), World(0, 0, 1, 1), Colormap::kViridis, 0, inf),
+      ContractError);
 }
 
 TEST(Figure, ColorbarIsDrawnRightOfThePlot) {
@@ -549,6 +557,56 @@ TEST(Figure, AVeryLongLineKeepsItsDirection) {
   ASSERT_TRUE(image.ok());
   EXPECT_TRUE(ColorNear(image.At(figure.ToDevice(start + 1.5 * direction)), ToRgba(magenta)));
   EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({3.5, 0.5})), kWhite));
+}
+
+// Near the world's bound (and for UTM northings) the y tick labels are wider than the default
+// margin: they must not run off the figure's left edge.
+TEST(Figure, YTickLabelsOfLargeCoordinatesStayInsideTheFigure) {
+  const TempDir dir;
+  for (const double y0 : {1e9 - 10.0, -1e9, 5.4e6}) {
+    Figure figure(World(0, y0, 10, y0 + 10), Options(600, 600));
+    figure.Save(dir / "large.png");
+    const PngImage image(dir / "large.png");
+    ASSERT_TRUE(image.ok());
+    for (int y = 0; y < image.height(); ++y) {
+      for (int x = 0; x < 3; ++x) {
+        ASSERT_TRUE(ColorNear(image.At(x, y), kWhite))
+            << y0 << ": ink at (" << x << ", " << y << ")";
+      }
+    }
+  }
+}
+
+// A requested size smaller than the margins (a colour bar's, a title's) must not leave a
+// negative room for the plot, which flipped the world.
+TEST(Figure, ASizeSmallerThanTheMarginsKeepsTheWorldTheRightWayRound) {
+  FigureOptions narrow = Options(100, 800);
+  narrow.colorbar = true;
+  FigureOptions low = Options(800, 0);
+  low.title = "low";
+  for (const FigureOptions& options : {narrow, low}) {
+    const Figure figure(World(0, 0, 1, 1), options);
+    const Vec2 origin = figure.ToDevice({0, 0}), corner = figure.ToDevice({1, 1});
+    EXPECT_LT(origin.x(), corner.x());
+    EXPECT_GT(origin.y(), corner.y());
+    EXPECT_GE(corner.x(), 0.0);
+    EXPECT_LE(corner.x(), figure.width_px());
+    EXPECT_GE(corner.y(), 0.0);
+    EXPECT_LE(origin.y(), figure.height_px());
+  }
+}
+
+// An arc of a thousand radians is one circle: Cairo would draw each of its 159 turns (of an arc of
+// 1e300 radians, 65536 turns, for minutes).
+TEST(Figure, AnArcOfManyTurnsIsDrawnAsOneCircle) {
+  const TempDir dir;
+  Figure circle(World(0, 0, 4, 4), Plain());
+  circle.Arc({2, 2}, 1.0, 0.0, 2 * M_PI, {});
+  circle.Save(dir / "circle.svg");
+  Figure turns(World(0, 0, 4, 4), Plain());
+  turns.Arc({2, 2}, 1.0, 0.0, 1000.0, {});
+  turns.Save(dir / "turns.svg");
+  EXPECT_LE(fs::file_size(dir / "turns.svg"), fs::file_size(dir / "circle.svg") + 200);
 }
 
 // --- Contracts ---------------------------------------------------------------------------------

@@ -302,6 +302,34 @@ TEST(LinePlot, SeriesConstantUpToRoundingSaves) {
   EXPECT_GT(PngImage(dir / "rounding.png").Count(Like(kCrimson)), 100);
 }
 
+// A bound that diverged to infinity cannot set the axis, and is left out; the data are drawn.
+TEST(LinePlot, AnInfiniteHorizontalLineIsLeftOut) {
+  const TempDir dir;
+  LinePlot plot;
+  plot.Add(Line({0, 1, 2}, {0, 2, 1}, kCrimson));
+  plot.AddHorizontalLine(std::numeric_limits<double>::infinity(), kMagenta, "3 sigma");
+  plot.Save(dir / "infinite.png");
+  const PngImage image(dir / "infinite.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_GT(image.Count(Like(kCrimson)), 100);
+}
+
+// Data from one end of the doubles to the other: the padded range overflowed to infinity.
+TEST(LinePlot, DataSpanningAllDoublesAreDrawn) {
+  const TempDir dir;
+  const double big = std::numeric_limits<double>::max();
+  LinePlot plot;
+  plot.Add(Line({0, 1, 2}, {-big, 0, big}, kCrimson));
+  plot.Save(dir / "span.png");
+  const PngImage image(dir / "span.png");
+  ASSERT_TRUE(image.ok());
+  const std::optional<Frame> frame = FindFrame(image);
+  ASSERT_TRUE(frame.has_value());
+  // The middle point, (1, 0), is at the centre of the plot.
+  const Vec2 centre((frame->left + frame->right) / 2, (frame->top + frame->bottom) / 2);
+  EXPECT_TRUE(Like(kCrimson)(image.At(centre))) << priormap::testing::Describe(image.At(centre));
+}
+
 TEST(LinePlot, EmptyExplicitRangeIsAContractError) {
   const TempDir dir;
   LinePlotOptions options;

@@ -4,6 +4,8 @@
 #include <limits>
 #include <optional>
 #include <ostream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <gmock/gmock.h>
@@ -212,6 +214,49 @@ TEST(TickLabel, LabelsOfNiceTicksAreDistinct) {
       EXPECT_NE(TickLabel(ticks[i], step), TickLabel(ticks[i - 1], step)) << lo << ".." << hi;
     }
   }
+}
+
+// A tick label longer than 8 characters runs off a plot's margin: a range of 1e13 (a diverged
+// filter's NEES) or of 1e-12 is labelled in scientific notation, each label still its own.
+TEST(TickLabel, LabelsOfHugeAndTinyRangesAreShortAndDistinct) {
+  for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{
+           {0.0, 1e13}, {0.0, 1e-12}, {-1e18, 1e18}, {1e-300, 1e-299}, {-3e-9, 7e-9}}) {
+    const std::vector<double> ticks = NiceTicks(lo, hi);
+    ASSERT_GE(ticks.size(), 2u);
+    const double step = ticks[1] - ticks[0];
+    for (std::size_t i = 0; i < ticks.size(); ++i) {
+      const std::string label = TickLabel(ticks[i], step);
+      EXPECT_LE(label.size(), 8u) << label;
+      EXPECT_NEAR(std::stod(label), ticks[i], 1e-6 * step) << label;
+      if (i > 0) {
+        EXPECT_NE(label, TickLabel(ticks[i - 1], step)) << lo << ".." << hi;
+      }
+    }
+  }
+  EXPECT_EQ(TickLabel(5e12, 1e12), "5e+12");
+  EXPECT_EQ(TickLabel(1.5e12, 5e11), "1.5e+12");
+  EXPECT_EQ(TickLabel(2e-13, 2e-13), "2e-13");
+  EXPECT_EQ(TickLabel(0.0, 2e-13), "0");
+  // Where scientific notation is no shorter, the fixed label stays.
+  EXPECT_EQ(TickLabel(1000000000.5, 0.5), "1000000000.5");
+}
+
+TEST(SpacedNiceTicks, ThinAxesGetFewerTicksNoCloserThanAsked) {
+  // 0.5 m over 4 pixels: eight ticks would be a smear of labels.
+  const std::vector<double> thin = SpacedNiceTicks(-0.25, 0.25, 8, 4.0, 14.0);
+  ASSERT_FALSE(thin.empty());
+  EXPECT_EQ(thin.size(), 1u);
+  for (const double length : {30.0, 60.0, 120.0, 250.0}) {
+    const std::vector<double> ticks = SpacedNiceTicks(0.0, 10.0, 8, length, 14.0);
+    ASSERT_FALSE(ticks.empty()) << length;
+    if (ticks.size() > 1) {
+      EXPECT_GE((ticks[1] - ticks[0]) / 10.0 * length, 14.0) << length;
+    }
+  }
+  // An axis with room for them keeps NiceTicks' ticks.
+  EXPECT_EQ(SpacedNiceTicks(0.0, 10.0, 8, 700.0, 14.0), NiceTicks(0.0, 10.0, 8));
+  const double big = std::numeric_limits<double>::max();
+  EXPECT_GE(SpacedNiceTicks(-big, big, 8, 700.0, 14.0).size(), 2u);
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ struct LineStyle {
 enum class LegendPlace { kBelow, kTopLeft, kTopRight, kBottomLeft, kBottomRight };
 
 struct FigureOptions {
-  int width_px = 800;       ///< total width, including margins
+  int width_px = 800;       ///< total width, including margins (grown when they leave no plot)
   int max_height_px = 800;  ///< the height follows the world's aspect ratio, up to this
   std::string title{};
   bool axes = true;         ///< metre ticks along the left and bottom edges
@@ -54,7 +54,8 @@ class Figure {
   void FilledPolygon(const Polygon& polygon, const Color& fill,
                      const LineStyle& stroke = {{}, 0.0, {}});
   void CircleOutline(const Circle& circle, const LineStyle& style);
-  /// The arc of the circle about `center` from world angle `from` counter-clockwise to `to`.
+  /// The arc of the circle about `center` from world angle `from` counter-clockwise to `to` (at
+  /// most one turn).
   void Arc(const Vec2& center, double radius, double from, double to, const LineStyle& style);
   void FilledCircle(const Circle& circle, const Color& fill);
   /// The ellipse {x : (x - mean)^T cov^-1 (x - mean) = n_sigma^2}. Precondition: cov SPD.
@@ -70,7 +71,8 @@ class Figure {
             const Color& color = palette::kBlack);
   /// A grid of cells over `extent`: values(iy, ix) covers the cell whose lower-left corner is
   /// extent.min() + (ix, iy) * cell size, so row 0 is at the bottom. NaN cells are left blank.
-  /// With FigureOptions::colorbar, draws a colour bar labelled `label`.
+  /// With FigureOptions::colorbar, draws a colour bar labelled `label`. Precondition: vmin < vmax,
+  /// both finite.
   void HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap colormap, double vmin,
                double vmax, const std::string& label = "");
   /// A legend entry (drawn where FigureOptions::legend says, when saving).
