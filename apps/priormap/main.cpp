@@ -21,6 +21,10 @@
 
 namespace {
 
+// The exit statuses (README, "The command line"): 0 done, 1 an error in the input or the run,
+// 2 a usage error, 3 an internal error, 128 + the signal for a run stopped by SIGINT or SIGTERM.
+constexpr int kUsageError = 2;
+
 // One "priormap: error: " prefix per line, so multi-line diagnostics stay greppable.
 void PrintError(std::string_view message) {
   std::size_t start = 0;
@@ -77,7 +81,7 @@ int main(int argc, char** argv) {
     if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
       PrintError(fmt::format("unknown command '{}' (expected one of: {}); run 'priormap --help'",
                              argv[1], fmt::join(names, ", ")));
-      return 2;
+      return kUsageError;
     }
   }
   try {
@@ -92,7 +96,10 @@ int main(int argc, char** argv) {
     fmt::print(stderr,
                "priormap: error: {}\nRun 'priormap --help' or 'priormap <command> --help'.\n",
                e.what());
-    return e.get_exit_code() != 0 ? e.get_exit_code() : 2;
+    // Every usage error exits 2, as an unknown command does above (and getopt tools do):
+    // CLI11's own codes (105 for a value out of range, 106 for a missing option, ...) would tell
+    // a script nothing a message does not, and look like crashes or signals to a scheduler.
+    return kUsageError;
   } catch (const priormap::app::UserError& e) {
     PrintError(e.what());
     return 1;

@@ -264,6 +264,26 @@ TEST_F(Cli, UnsignedOptionsRefuseSignsAndReadLeadingZerosAsDecimal) {
               HasSubstr("'-2' is not an index"));
 }
 
+// Exit statuses tell a script what went wrong: 2 for every usage error (CLI11's own codes, 105,
+// 106, 109, ... said no more and looked like crashes), 1 for bad input, 0 for help.
+TEST_F(Cli, UsageErrorsExitWithTwoAndInputErrorsWithOne) {
+  const std::vector<std::vector<std::string>> usage = {
+      {"frobnicate"},                                      // unknown command
+      {"simulate", "--scene"},                             // an option without its value
+      {"scan", "--prior", "rectangular", "-i", "a.json"},  // -o is required
+      {"simulate", "--beams", "0", "-o", "a.json"},        // out of its range
+      {"simulate", "--no-such-option", "-o", "a.json"},    // unknown option
+      {"grid", "--log", "a.json", "-o", "g", "--resolution", "-1"}};
+  for (const std::vector<std::string>& args : usage) {
+    const RunResult r = Fails(args);
+    EXPECT_EQ(r.status, 2) << fmt::format("{}", fmt::join(args, " ")) << "\n" << r.err;
+    EXPECT_THAT(r.err, StartsWith("priormap: error: "));
+  }
+  EXPECT_EQ(Fails({"scan", "--prior", "rectangular", "-i", "missing.json", "-o", "m.json"}).status,
+            1);
+  EXPECT_EQ(Run({"simulate", "--help"}).status, 0);
+}
+
 TEST_F(Cli, SameSeedGivesIdenticalLogs) {
   Ok({"simulate", "--log", "--sensor", "lms200", "--seed", "3", "-o", "a.json"});
   Ok({"simulate", "--log", "--sensor", "lms200", "--seed", "3", "-o", "b.json"});
