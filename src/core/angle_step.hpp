@@ -55,15 +55,21 @@ namespace priormap::detail {
     }
     return from;
   };
-  for (std::size_t i = n - 1; i >= 1; --i) {  // the last angle narrows the steps the most
+  // Narrowed angle by angle only until few candidates are left, which are then tried in
+  // increasing order: the smallest step that reproduces every angle, as narrowing down to the
+  // first angle would give, without a bisection per angle (angles evenly spaced far from 0, such
+  // as a narrow field of view about a heading of 3 rad, come here on every scan of a log).
+  constexpr std::uint64_t kFewCandidates = 64;
+  for (std::size_t i = n - 1; i >= 1 && hi - lo >= kFewCandidates; --i) {
     const std::uint64_t first = first_above(i, lo, hi, true);
     const std::uint64_t past = first_above(i, lo, hi, false);
     if (first >= past) return std::nullopt;  // no step gives angle i exactly
     lo = first;
     hi = past - 1;
   }
-  const double step = std::bit_cast<double>(lo);
-  return reproduces(step) ? std::optional<double>(step) : std::nullopt;
+  for (std::uint64_t bits = lo; bits <= hi; ++bits)
+    if (reproduces(std::bit_cast<double>(bits))) return std::bit_cast<double>(bits);
+  return std::nullopt;
 }
 
 }  // namespace priormap::detail

@@ -331,7 +331,11 @@ void Figure::Arc(const Vec2& center, double radius, double from, double to,
                  const LineStyle& style) {
   // Cairo draws every turn of a longer arc (up to 65536 of them): minutes, and an SVG of
   // megabytes, for what looks like one circle.
-  if (to - from > 2 * M_PI) to = from + 2 * M_PI;
+  // From an angle of 1e17 a turn is below its resolution: reduced first, the turn stays one.
+  if (to - from > 2 * M_PI) {
+    from = std::remainder(from, 2 * M_PI);
+    to = from + 2 * M_PI;
+  }
   cairo_t* c = impl_->cr();
   const Vec2 d = impl_->ToDevice(center);
   cairo_new_path(c);

@@ -607,6 +607,17 @@ TEST(Figure, AnArcOfManyTurnsIsDrawnAsOneCircle) {
   turns.Arc({2, 2}, 1.0, 0.0, 1000.0, {});
   turns.Save(dir / "turns.svg");
   EXPECT_LE(fs::file_size(dir / "turns.svg"), fs::file_size(dir / "circle.svg") + 200);
+  // From 1e17 rad a turn is below the angle's resolution (1e17 + 2 pi == 1e17): still a circle,
+  // as much ink as the one from 0.
+  const auto ink = [&](double from, const char* name) {
+    Figure figure(World(0, 0, 4, 4), Plain());
+    figure.Arc({2, 2}, 1.0, from, from + 100.0, {});
+    figure.Save(dir / name);
+    return PngImage(dir / name).Count([](const testing::Rgba& p) { return p.r + p.g + p.b < 600; });
+  };
+  const int near = ink(0.0, "near.png");
+  EXPECT_GT(near, 100);
+  EXPECT_NEAR(ink(1e17, "far.png"), near, 0.05 * near);
 }
 
 // --- Contracts ---------------------------------------------------------------------------------
