@@ -52,6 +52,17 @@ CLI::Validator PositiveValueUpTo(double max, const std::string& unit) {
       fmt::format("POSITIVE up to {}", max));
 }
 
+CLI::Validator OpenUnitInterval() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+        if (value > 0.0 && value < 1.0) return {};
+        return fmt::format("{} is not in (0, 1), 0 and 1 excluded", text);
+      },
+      "PROBABILITY in (0, 1)");
+}
+
 void RefuseNonFiniteNumbers(CLI::App& app) {
   const CLI::Validator finite(
       [](std::string& text) -> std::string {

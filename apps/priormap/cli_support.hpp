@@ -48,6 +48,9 @@ T ValueOrThrow(Result<T> result) {
 /// A positive number at most `max` (in `unit`): for lengths and speeds whose huge values would
 /// overflow the geometry they make, long after parsing.
 [[nodiscard]] CLI::Validator PositiveValueUpTo(double max, const std::string& unit);
+/// A probability strictly between 0 and 1, for those at whose bounds a model degenerates (0 x
+/// log 0: slam's p_point_on_line).
+[[nodiscard]] CLI::Validator OpenUnitInterval();
 
 /// Refuses NaN and infinite values of every floating-point option of `app` and its subcommands
 /// (CLI11's ranges let NaN through, as every comparison with it is false). Call it once every

@@ -30,18 +30,6 @@ namespace fs = std::filesystem;
 
 // --- shared ------------------------------------------------------------------------------------
 
-// A probability strictly between 0 and 1 (StructurePriors::p_point_on_line says why).
-CLI::Validator OpenUnitInterval() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
-        if (value > 0.0 && value < 1.0) return {};
-        return fmt::format("{} is not in (0, 1), 0 and 1 excluded", text);
-      },
-      "PROBABILITY in (0, 1)");
-}
-
 // The filter's thresholds (Sec. V-A, VI), shared by both subcommands as advanced options.
 void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
   const char* group = "Advanced (structure inference, Sec. V-A)";

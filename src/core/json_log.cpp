@@ -533,14 +533,11 @@ std::optional<std::string> ScanRefusal(const Scan& scan) {
   if (const std::vector<std::string> problems = scan.Problems(); !problems.empty())
     return "inconsistent scan: " + problems.front();
   // The sizes agree, as Problems() checked them.
-  const auto below_minus_one = [](const std::vector<int>& ids) -> std::optional<std::size_t> {
+  const auto id_refusal = [](const char* field,
+                             const std::vector<int>& ids) -> std::optional<std::string> {
     const auto it = std::ranges::find_if(ids, [](int id) { return id < -1; });
-    return it == ids.end() ? std::nullopt : std::optional(std::size_t(it - ids.begin()));
-  };
-  const auto id_refusal = [&](const char* field, const std::vector<int>& ids) {
-    const auto i = below_minus_one(ids);
-    return i ? std::optional(fmt::format("{} {} = {}, below -1 (nothing)", field, *i, ids[*i]))
-             : std::nullopt;
+    if (it == ids.end()) return std::nullopt;
+    return fmt::format("{} {} = {}, below -1 (nothing)", field, it - ids.begin(), *it);
   };
   if (scan.truth) {
     if (auto refused = id_refusal("true_surface", scan.truth->surface)) return refused;

@@ -10,37 +10,10 @@
 
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/map_server.hpp>
+#include <priormap/core/utf8.hpp>
 
 namespace priormap {
 namespace {
-
-// The code point of the UTF-8 sequence at `text[at]` and its length, or nullopt when the bytes
-// there are not one (overlong, surrogate, beyond U+10FFFF, cut short).
-std::optional<std::pair<std::uint32_t, std::size_t>> DecodeUtf8(std::string_view text,
-                                                                std::size_t at) {
-  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[at + k]); };
-  const unsigned char lead = byte(0);
-  if (lead < 0x80) return std::pair<std::uint32_t, std::size_t>{lead, 1};
-  std::size_t length = 0;
-  std::uint32_t code = 0;
-  std::uint32_t smallest = 0;
-  if ((lead & 0xE0) == 0xC0) {
-    length = 2, code = lead & 0x1Fu, smallest = 0x80;
-  } else if ((lead & 0xF0) == 0xE0) {
-    length = 3, code = lead & 0x0Fu, smallest = 0x800;
-  } else if ((lead & 0xF8) == 0xF0) {
-    length = 4, code = lead & 0x07u, smallest = 0x10000;
-  } else {
-    return std::nullopt;
-  }
-  if (at + length > text.size()) return std::nullopt;
-  for (std::size_t k = 1; k < length; ++k) {
-    if ((byte(k) & 0xC0) != 0x80) return std::nullopt;
-    code = code << 6 | (byte(k) & 0x3Fu);
-  }
-  if (code < smallest || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return std::nullopt;
-  return std::pair<std::uint32_t, std::size_t>{code, length};
-}
 
 // Characters a YAML double-quoted scalar must not hold as they are: the non-printable ones (YAML
 // 1.2, 5.1), and those YAML 1.1 parsers (map_server's yaml-cpp) take as line breaks (NEL, LS, PS),
@@ -69,7 +42,7 @@ std::optional<std::string> YamlScalar(std::string_view text) {
   if (IsPlainSafe(text)) return std::string(text);
   std::string out = "\"";
   for (std::size_t at = 0; at < text.size();) {
-    const auto decoded = DecodeUtf8(text, at);
+    const std::optional<Utf8Char> decoded = DecodeUtf8(text, at);
     if (!decoded) return std::nullopt;
     const auto [code, length] = *decoded;
     if (code == '"' || code == '\\') {

@@ -1,12 +1,14 @@
 #include "canvas.hpp"
 
 #include <algorithm>
+#include <optional>
 
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <fmt/format.h>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/utf8.hpp>
 
 namespace priormap::render::detail {
 namespace {
@@ -76,36 +78,12 @@ void SetColor(cairo_t* cr, const Color& color) {
 std::string ValidUtf8(std::string_view text) {
   std::string out;
   out.reserve(text.size());
-  std::size_t i = 0;
-  while (i < text.size()) {
-    const auto lead = static_cast<unsigned char>(text[i]);
-    // Sequence length and the range of its second byte (which rules out overlong forms,
-    // surrogates and code points above U+10FFFF).
-    std::size_t length = 0;
-    unsigned char low = 0x80, high = 0xBF;
-    if (lead < 0x80) {
-      length = 1;
-    } else if (lead >= 0xC2 && lead <= 0xDF) {
-      length = 2;
-    } else if (lead >= 0xE0 && lead <= 0xEF) {
-      length = 3;
-      if (lead == 0xE0) low = 0xA0;
-      if (lead == 0xED) high = 0x9F;
-    } else if (lead >= 0xF0 && lead <= 0xF4) {
-      length = 4;
-      if (lead == 0xF0) low = 0x90;
-      if (lead == 0xF4) high = 0x8F;
-    }
-    bool valid = length > 0 && i + length <= text.size();
-    for (std::size_t k = 1; valid && k < length; ++k) {
-      const auto byte = static_cast<unsigned char>(text[i + k]);
-      valid = k == 1 ? (byte >= low && byte <= high) : (byte >= 0x80 && byte <= 0xBF);
-    }
-    if (valid) {
-      out.append(text.substr(i, length));
-      i += length;
+  for (std::size_t i = 0; i < text.size();) {
+    if (const std::optional<Utf8Char> c = DecodeUtf8(text, i)) {
+      out.append(text.substr(i, c->length));
+      i += c->length;
     } else {
-      out.append("\xEF\xBF\xBD");  // U+FFFD
+      out.append("\xEF\xBF\xBD");  // U+FFFD for the one byte
       ++i;
     }
   }
