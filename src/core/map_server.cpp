@@ -58,6 +58,14 @@ std::optional<std::string> YamlScalar(std::string_view text) {
   return out + "\"";
 }
 
+std::string YamlFloat(double value) {
+  const std::string shortest = fmt::format("{}", value);
+  const std::size_t exponent = shortest.find('e');
+  std::string mantissa = shortest.substr(0, exponent);
+  if (mantissa.find('.') == std::string::npos) mantissa += ".0";
+  return exponent == std::string::npos ? mantissa : mantissa + shortest.substr(exponent);
+}
+
 unsigned char MapServerPixel(double probability) {
   if (std::isnan(probability)) return 205;
   const double p = std::clamp(probability, 0.0, 1.0);
@@ -99,7 +107,8 @@ void WriteMapServerMap(const std::filesystem::path& yaml_path, const OccupancyRa
   WriteTextFileAtomically(
       yaml_path, fmt::format("image: {}\nresolution: {}\norigin: [{}, {}, 0.0]\nnegate: 0\n"
                              "occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n",
-                             *image, raster.resolution, raster.origin.x(), raster.origin.y()));
+                             *image, YamlFloat(raster.resolution), YamlFloat(raster.origin.x()),
+                             YamlFloat(raster.origin.y())));
 }
 
 }  // namespace priormap

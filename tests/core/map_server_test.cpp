@@ -2,9 +2,11 @@
 // whatever characters it holds, and values map_server refuses are never written.
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <regex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -114,8 +116,44 @@ TEST(MapServerYaml, APlainFileNameIsWrittenAsMapSaverWritesIt) {
   testing::TempDir dir;
   WriteMapServerMap(dir / "grid.yaml", SmallRaster());
   EXPECT_EQ(testing::ReadAll(dir / "grid.yaml"),
-            "image: grid.pgm\nresolution: 0.1\norigin: [-1.5, 2, 0.0]\nnegate: 0\n"
+            "image: grid.pgm\nresolution: 0.1\norigin: [-1.5, 2.0, 0.0]\nnegate: 0\n"
             "occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n");
+}
+
+// YAML 1.1's float (yaml.org/type/float.html), without the base-60 and special forms, which
+// PyYAML and other YAML 1.1 parsers use: a '.' is required, and an exponent's sign.
+bool IsYaml11Float(const std::string& text) {
+  static const std::regex kFloat(R"([-+]?([0-9][0-9_]*)?\.[0-9.]*([eE][-+][0-9]+)?)");
+  return std::regex_match(text, kFloat);
+}
+
+TEST(MapServerYaml, NumbersAreFloatsToYaml11Parsers) {
+  // The shortest forms 1e-05, 1e+20 and 2 are a string, a string and an integer to PyYAML.
+  for (const double value : {1e-5, 1e20, 2.0, -3.0, 0.0, -0.0, 0.1, 1.5e-7, 123456789.0}) {
+    const std::string text = YamlFloat(value);
+    EXPECT_TRUE(IsYaml11Float(text)) << text;
+    EXPECT_EQ(std::strtod(text.c_str(), nullptr), value) << text;
+  }
+  EXPECT_EQ(YamlFloat(1e-5), "1.0e-05");
+  EXPECT_EQ(YamlFloat(2.0), "2.0");
+  EXPECT_EQ(YamlFloat(0.05), "0.05");
+  OccupancyRaster raster = SmallRaster();
+  raster.resolution = 1e-5;
+  raster.origin = Vec2(1e20, -4.0);
+  testing::TempDir dir;
+  WriteMapServerMap(dir / "grid.yaml", raster);
+  EXPECT_THAT(testing::ReadAll(dir / "grid.yaml"),
+              HasSubstr("resolution: 1.0e-05\norigin: [1.0e+20, -4.0, 0.0]\n"));
+}
+
+RC_GTEST_PROP(MapServerYaml, AnyFiniteNumberIsAFloatThatReadsBackExactly, ()) {
+  const double value = *rc::gen::arbitrary<double>();
+  RC_PRE(std::isfinite(value));
+  const std::string text = YamlFloat(value);
+  RC_ASSERT(IsYaml11Float(text));
+  const double back = std::strtod(text.c_str(), nullptr);
+  RC_ASSERT(back == value);
+  RC_ASSERT(std::signbit(back) == std::signbit(value));
 }
 
 TEST(MapServerYaml, TheImageNameReadsBackAsThePgmsFileName) {

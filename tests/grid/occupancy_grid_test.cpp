@@ -326,7 +326,7 @@ TEST(MapServer, WritesThePgmTopRowFirstAndTheYamlKeys) {
   EXPECT_EQ(pixel(4), 0);
   EXPECT_EQ(pixel(5), 205);
   const std::string yaml = testing::ReadAll(dir.path() / "map.yaml");
-  for (const char* key : {"image: map.pgm", "resolution: 0.1", "origin: [-1.5, 2, 0.0]",
+  for (const char* key : {"image: map.pgm", "resolution: 0.1", "origin: [-1.5, 2.0, 0.0]",
                           "negate: 0", "occupied_thresh: 0.65", "free_thresh: 0.196"})
     EXPECT_NE(yaml.find(key), std::string::npos) << key;
 }

@@ -32,6 +32,11 @@ struct OccupancyRaster {
 /// line separators) as \xXX or \uXXXX. nullopt when `text` is not UTF-8: YAML holds only Unicode.
 [[nodiscard]] std::optional<std::string> YamlScalar(std::string_view text);
 
+/// A finite `value` as the shortest text that reads back exactly and that YAML 1.1 parsers
+/// (PyYAML) as well as 1.2 ones (yaml-cpp) resolve to a float: 1.0e-05 and 2.0, not the shortest
+/// 1e-05 and 2, which YAML 1.1 reads as a string and an integer.
+[[nodiscard]] std::string YamlFloat(double value);
+
 /// Writes `yaml_path` and the PGM beside it (same stem, .pgm), each atomically; the YAML names the
 /// PGM by its file name (YamlScalar). Throws IoError, before writing anything, for a resolution
 /// that is not finite and > 0, a non-finite origin, or a file name that is not UTF-8.
