@@ -1,6 +1,7 @@
 // priormap prf fit-sonar: the sonar model's parameters by maximum likelihood on readings whose
 // true map is known, from simulated rings in scenes or from a log of a surveyed scene
 // (docs/sonar.md).
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -13,6 +14,7 @@
 
 #include <priormap/core/log_io.hpp>
 #include <priormap/core/scene_truth.hpp>
+#include <priormap/core/simulate.hpp>
 #include <priormap/core/sonar_simulate.hpp>
 #include <priormap/prf/sonar_fit.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
@@ -37,6 +39,10 @@ struct FitSonarCliOptions {
   std::string out;
   prf::SonarFitOptions fit;
 };
+
+// The most simulated readings a fit takes: 270 times the default's 3,728, about a gigabyte of
+// views and ten minutes of CPU (37,024 readings, --rate 20, took 50 MB and 20 s).
+constexpr double kMaxFitReadings = 1e6;
 
 // The readings with their true views, from --log and --scene or simulated in --scenes.
 std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
@@ -72,10 +78,25 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
   SonarSensor ring = *sensor;
   if (o.max_range) ring.max_range = *o.max_range;
   if (std::string why; !ring.IsValid(&why)) throw UserError(fmt::format("--max-range: {}", why));
+  std::vector<Scene> scenes;
+  double rings = 0.0;  // along every scene's path
   for (const std::string& name : o.scenes) {
-    const Scene scene = LoadScene(name);
+    Scene scene = LoadScene(name);
     if (std::string problem = WaypointPathProblem(scene); !problem.empty())
       throw UserError(problem);
+    rings += TrajectoryPoseCount(scene.waypoints, o.speed, o.rate);
+    scenes.push_back(std::move(scene));
+  }
+  // Refused before anything is simulated: a slower speed or a higher rate is a typo, and would
+  // exhaust memory (or run for hours) before the fit ends.
+  const double simulated = rings * static_cast<double>(ring.bearings.size());
+  if (!(simulated <= kMaxFitReadings))
+    throw UserError(fmt::format(
+        "--speed {} m/s and --rate {} per s make {:.3g} rings of {} transducers in the scenes, "
+        "{:.3g} readings, more than the {:.0e} a fit takes: use a lower --rate or a higher "
+        "--speed",
+        o.speed, o.rate, rings, ring.bearings.size(), simulated, kMaxFitReadings));
+  for (const Scene& scene : scenes) {
     const Log log =
         SimulateSonarLog(scene, ring, TrajectoryFromWaypoints(scene.waypoints, o.speed, o.rate),
                          prf::SonarStudyCaseSeed(o.seed, scene.name, ring.name));

@@ -62,8 +62,9 @@ T Member(const nlohmann::json& document, const char* key, const fs::path& path) 
   }
 }
 
-// R̂ is +inf when every half of every chain is constant but the halves differ, and NaN when
-// log-posteriors near ±1e308 overflow its sums; neither is "not computed" (null).
+// R̂ is +inf when every half of every chain is constant but the halves differ, which is not "not
+// computed" (null). PoolRhat maps huge log-posteriors into range first, so NaN is not expected;
+// should one come, it is written "nan".
 nlohmann::ordered_json RhatJson(double rhat) {
   if (std::isnan(rhat)) return "nan";
   return nlohmann::ordered_json(NumberOrInfinityText(rhat));
@@ -145,8 +146,9 @@ LoadedRun LoadRun(const std::string& dir) {
       prf::ParseLogPosteriorTrace(ValueOrThrow(ReadFileText(trace_path)), trace_path.string()));
   const int chains = loaded.options.mapping.chains;
   if (chains < 1 || static_cast<std::size_t>(chains) != traces.log_posterior.size())
-    throw UserError(fmt::format("{} has {} chains, {} says {}", trace_path.string(),
-                                traces.log_posterior.size(), run_path.string(), chains));
+    throw UserError(fmt::format("{}:1:1: expected a column for each chain, {} as {} says, found {}",
+                                trace_path.string(), chains, run_path.string(),
+                                traces.log_posterior.size()));
   for (int c = 0; c < chains; ++c)
     loaded.pooled.chain_seeds.push_back(loaded.options.mapping.seed +
                                         static_cast<std::uint64_t>(c));
@@ -154,6 +156,15 @@ LoadedRun LoadRun(const std::string& dir) {
   if (fs::exists(point_path))
     traces = ValueOrThrow(prf::ParsePointTraces(ValueOrThrow(ReadFileText(point_path)),
                                                 point_path.string(), std::move(traces)));
+  // A point's position in summary.json is found by its index in point_traces.csv: both must
+  // hold as many points.
+  if (!traces.point_colours.empty() && loaded.trace_points.is_array() &&
+      loaded.trace_points.size() != traces.point_colours[0].size())
+    throw UserError(fmt::format(
+        "{}:1:1: expected a column per chain for each trace point, {} as {} lists, found {} "
+        "per chain",
+        point_path.string(), loaded.trace_points.size(), summary_path.string(),
+        traces.point_colours[0].size()));
   loaded.pooled.traces = std::move(traces);
   return loaded;
 }

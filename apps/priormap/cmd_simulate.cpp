@@ -125,9 +125,7 @@ void Run(const SimulateOptions& o) {
   const double readings_per_scan =
       sonar ? static_cast<double>(sonar->bearings.size()) : sensor.num_beams;
   if (o.log) {
-    double path = 0.0;
-    for (std::size_t i = 0; i + 1 < scene.waypoints.size(); ++i)
-      path += (scene.waypoints[i + 1] - scene.waypoints[i]).norm();
+    const double path = WaypointPathLength(scene.waypoints);
     if (!(path > 0.0))
       throw UserError(fmt::format(
           "--log: the waypoints of scene '{}' all coincide: no path to follow", scene.name));

@@ -114,15 +114,10 @@ Log Parse(std::string_view measurements, const std::string& measurements_name,
   const std::vector<Line> z_lines = SplitLines(measurements);
   const std::vector<Line> pose_lines = SplitLines(poses);
   if (z_lines.empty()) Fail(measurements_name, 1, 1, "no measurement lines (t_ms z_0 .. z_7)");
+  // The lines are read in step before their counts are compared, so that a line split in two,
+  // two lines joined or a line lost in the middle of one file is reported where the files go
+  // out of step (a field count or a time that differs), not as a count at the end.
   const std::size_t rings = std::min(z_lines.size(), pose_lines.size());
-  if (z_lines.size() != pose_lines.size()) {
-    const bool fewer_poses = pose_lines.size() < z_lines.size();
-    const std::string& name = fewer_poses ? poses_name : measurements_name;
-    const Line& unmatched = fewer_poses ? z_lines[rings] : pose_lines[rings];
-    Fail(fewer_poses ? measurements_name : poses_name, unmatched.number, 1,
-         fmt::format("this is line {} with data, but {} has {} (one pose per measurement line)",
-                     rings + 1, name, rings));
-  }
   Log log;
   log.pose_source = PoseSource::kGroundTruth;
   const double max_range = options.no_echo_mm / 1000.0;
@@ -164,6 +159,14 @@ Log Parse(std::string_view measurements, const std::string& measurements_name,
            ExpectedReturnWithinWorld("a range", fmt::format("{} mm", scan.ranges[*i] * 1000.0),
                                      scan.max_range));
     log.scans.push_back(std::move(scan));
+  }
+  if (z_lines.size() != pose_lines.size()) {
+    const bool fewer_poses = pose_lines.size() < z_lines.size();
+    const std::string& name = fewer_poses ? poses_name : measurements_name;
+    const Line& unmatched = fewer_poses ? z_lines[rings] : pose_lines[rings];
+    Fail(fewer_poses ? measurements_name : poses_name, unmatched.number, 1,
+         fmt::format("this is line {} with data, but {} has {} (one pose per measurement line)",
+                     rings + 1, name, rings));
   }
   return log;
 }

@@ -76,6 +76,17 @@ Scan SimulateScan(const SceneRayCaster& caster, const RangeSensor& sensor, const
   return scan;
 }
 
+double WaypointPathLength(const std::vector<Vec2>& waypoints) {
+  double length = 0.0;
+  for (std::size_t i = 0; i + 1 < waypoints.size(); ++i)
+    length += (waypoints[i + 1] - waypoints[i]).norm();
+  return length;
+}
+
+double TrajectoryPoseCount(const std::vector<Vec2>& waypoints, double speed, double rate) {
+  return std::floor(WaypointPathLength(waypoints) / (speed / rate) + 1e-9) + 1.0;
+}
+
 std::vector<TimedPose> TrajectoryFromWaypoints(const std::vector<Vec2>& waypoints, double speed,
                                                double rate) {
   PRIORMAP_CHECK(speed > 0.0 && rate > 0.0, "speed and rate must be positive");
@@ -88,7 +99,7 @@ std::vector<TimedPose> TrajectoryFromWaypoints(const std::vector<Vec2>& waypoint
   double total = 0.0;
   for (const Segment& leg : legs) total += leg.Length();
   const double step = speed / rate;
-  const auto num_poses = static_cast<std::size_t>(std::floor(total / step + 1e-9)) + 1;
+  const auto num_poses = static_cast<std::size_t>(TrajectoryPoseCount(waypoints, speed, rate));
 
   std::vector<TimedPose> poses;
   poses.reserve(num_poses);

@@ -6,6 +6,7 @@
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/sonar_sensor.hpp>
+#include <priormap/core/world_bounds.hpp>
 
 namespace priormap {
 namespace {
@@ -55,6 +56,13 @@ bool SonarSensor::IsValid(std::string* why) const {
   } else if (!(min_range >= 0.0 && max_range > min_range && std::isfinite(max_range))) {
     reason =
         fmt::format("need 0 <= min_range < max_range < inf (got {} and {})", min_range, max_range);
+  } else if (!(max_range <= kMaxWorldCoordinate)) {
+    // A spurious reading is uniform below the max range: beyond the bound, the log it is in
+    // could not be written (docs/formats.md).
+    reason = fmt::format(
+        "max_range {:g} m is beyond {:g} m, the bound priormap puts on returns (a spurious "
+        "reading could be that long)",
+        max_range, kMaxWorldCoordinate);
   } else if (!(sigma_relative >= 0.0 && std::isfinite(sigma_relative)) ||
              !PositiveFinite(sigma_min)) {
     reason = fmt::format("need sigma_relative >= 0 and sigma_min > 0 (got {} and {})",

@@ -97,6 +97,41 @@ std::optional<Diagnostic> CheckHeader(const std::string& name, const CsvLine& he
   return std::nullopt;
 }
 
+// The values v of some traces mapped to (v - mid) / half, and back.
+struct AffineMap {
+  double mid = 0.0, half = 1.0;
+  double lo = 0.0, hi = 0.0;  // the values' range, which a mean mapped back stays in
+  bool identity = true;
+  [[nodiscard]] double Unmap(double x) const {
+    return identity ? x : std::clamp(mid + half * x, lo, hi);
+  }
+};
+
+// Split-R̂ is unchanged by an affine map of the values (a shift cancels out, a scale factor
+// divides out of B/W), but its sums of squares overflow to NaN for values beyond about 1e154 in
+// magnitude, which a trace.csv may hold (any finite number is read). Traces that hold such
+// values are mapped into [-1, 1]; ordinary log-posteriors are left exactly as they are, so that
+// one run's pooled R̂ equals its own.
+AffineMap MapIntoUnitRange(std::vector<std::vector<double>>* traces) {
+  constexpr double kLargestLeftAsIs = 1e100;
+  AffineMap map;
+  map.lo = std::numeric_limits<double>::infinity();
+  map.hi = -map.lo;
+  for (const std::vector<double>& trace : *traces)
+    for (const double v : trace) {
+      map.lo = std::min(map.lo, v);
+      map.hi = std::max(map.hi, v);
+    }
+  if (!(std::max(std::abs(map.lo), std::abs(map.hi)) > kLargestLeftAsIs)) return map;
+  map.identity = false;
+  // Halves first: hi - lo may overflow, hi / 2 - lo / 2 cannot.
+  map.mid = map.lo / 2.0 + map.hi / 2.0;
+  map.half = map.hi / 2.0 - map.lo / 2.0;
+  for (std::vector<double>& trace : *traces)
+    for (double& v : trace) v = map.half > 0.0 ? (v - map.mid) / map.half : 0.0;
+  return map;
+}
+
 }  // namespace
 
 std::string FormatLogPosteriorTrace(const RunTraces& traces) {
@@ -253,10 +288,22 @@ std::variant<PooledRhat, std::string> PoolRhat(const std::vector<PooledRun>& run
 
   std::vector<std::vector<double>> traces;
   for (const PooledRun& run : runs)
-    for (const std::vector<double>& trace : run.traces.log_posterior) {
+    for (const std::vector<double>& trace : run.traces.log_posterior)
       traces.emplace_back(trace.begin(), trace.begin() + static_cast<std::ptrdiff_t>(records));
-      pooled.second_half_means.push_back(SecondHalfMean(traces.back()));
+  for (const std::vector<double>& trace : traces) {
+    double mean = SecondHalfMean(trace);
+    if (!std::isfinite(mean)) {
+      // Its sum overflowed: the mean of its values mapped into [-1, 1], mapped back (mapped
+      // with the other chains' values, an ordinary chain's mean would lose its digits).
+      std::vector<std::vector<double>> alone = {trace};
+      const AffineMap map = MapIntoUnitRange(&alone);
+      mean = map.Unmap(SecondHalfMean(alone[0]));
     }
+    pooled.second_half_means.push_back(mean);
+  }
+  // Mapped together, chains whose values differ by more than ~1e16 times their own spread
+  // become constant, and R̂ saturates at +inf: the pool has not converged either way.
+  (void)MapIntoUnitRange(&traces);
   pooled.log_posterior = SplitRhat(traces);
 
   // The colours, when every run recorded them (runs made before point_traces.csv did not).

@@ -4,6 +4,7 @@
 #include <nlopt.h>
 #include <utility>
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <priormap/core/check.hpp>
@@ -209,7 +210,18 @@ std::variant<std::vector<SonarFitReading>, std::string> ViewsOfScene(
   auto coloring = SceneColoring(scene, truth, WindowAround(*data, margin), cell_size);
   if (auto* problem = std::get_if<std::string>(&coloring))
     return "scene " + scene.name + ": " + *problem;
-  return ViewsOf(data, std::get<Coloring>(coloring));
+  const Coloring& true_map = std::get<Coloring>(coloring);
+  // A transducer inside a wall has no view: a message, not ViewsOf's contract failure.
+  for (std::size_t s = 0; s < data->sensors.size(); ++s) {
+    const Vec2& sensor = data->sensors[s];
+    if (true_map.ColourAt(sensor) == Colour::kBlack)
+      return fmt::format(
+          "transducer position {} of the log, ({}, {}), lies inside the walls of scene {}: the "
+          "log was not recorded in this scene, its poses are off, or its path runs closer to a "
+          "wall than the transducers sit from the robot's centre",
+          s, sensor.x(), sensor.y(), scene.name);
+  }
+  return ViewsOf(data, true_map);
 }
 
 double FitLogLikelihood(std::span<const SonarFitReading> readings, const SonarModel& model) {

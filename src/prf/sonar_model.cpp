@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <tuple>
 
@@ -60,10 +61,14 @@ std::string SonarModel::Problem() const {
     return "the logistic coefficients must be finite";
   if (!(max_return > 0.0 && max_return < 1.0))
     return fmt::format("max_return {} is not in (0, 1)", max_return);
-  if (!(sigma_min > 0.0 && std::isfinite(sigma_min)) ||
-      !(sigma_relative >= 0.0 && std::isfinite(sigma_relative)))
-    return fmt::format("need sigma_min > 0 and sigma_relative >= 0 (got {} and {})", sigma_min,
-                       sigma_relative);
+  // Each message starts with the parameter's name, so that a file's reader reports it at its
+  // value. A subnormal sigma_min (below 2.2e-308) is refused: the density of a reading at its
+  // feature's distance, 1/(sigma sqrt(2 pi)), would overflow to +inf.
+  if (!(std::isnormal(sigma_min) && sigma_min > 0.0))
+    return fmt::format("sigma_min {} is not a positive number of at least {} m", sigma_min,
+                       std::numeric_limits<double>::min());
+  if (!(sigma_relative >= 0.0 && std::isfinite(sigma_relative)))
+    return fmt::format("sigma_relative {} is not a finite number >= 0", sigma_relative);
   if (!(exponential_rate > 0.0 && std::isfinite(exponential_rate)))
     return fmt::format("exponential_rate {} is not positive", exponential_rate);
   for (const auto& [which, u, e, m] :

@@ -68,6 +68,17 @@ std::string SonarStudyOptions::Problem() const {
     return fmt::format("scene '{}' is given twice (each case runs once)", *name);
   if (std::string why; !sensor.IsValid(&why)) return "sonar: " + why;
   if (!(speed > 0.0 && rate > 0.0)) return "the speed and the ring rate must be positive";
+  double readings = 0.0;
+  for (const Scene& scene : scenes)
+    readings += TrajectoryPoseCount(scene.waypoints, speed, rate) *
+                static_cast<double>(sensor.bearings.size());
+  // Refused before anything is simulated: a typo of the speed or the rate would exhaust memory,
+  // or run chains for days; the paper's whole data set is 29,120 readings.
+  if (!(readings <= kMaxSonarStudyReadings))
+    return fmt::format(
+        "the speed {} m/s and the ring rate {} per s make {:.3g} readings in the scenes, more "
+        "than the {:.0e} a study takes: use a lower rate or a higher speed",
+        speed, rate, readings, kMaxSonarStudyReadings);
   if (!(resolution > 0.0 && band >= 0.0 && truth_resolution > 0.0))
     return "the resolutions must be positive and the band not negative";
   if (std::string problem = StudyResolutionProblem(resolution, truth_resolution); !problem.empty())

@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
+#include <sstream>
 #include <string>
 #include <sys/wait.h>
 #include <vector>
@@ -556,6 +558,152 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
       RunFailing({"prf", "--log", "sonar.json", "--sonar-model", "bad.json", "-o", "b"}).err,
       HasSubstr("bad.json:2:15"));
   EXPECT_FALSE(std::filesystem::exists(Work("b")));
+}
+
+// A log fitted against a scene it was not recorded in puts transducers inside walls: a user
+// error saying so, not an internal one. Speeds and rates that would simulate more readings than a
+// fit can take are refused before anything is simulated (not a std::bad_alloc, nor hours of run).
+TEST_F(SonarCli, FitSonarRefusesTheWrongSceneAndMoreReadingsThanAFitTakes) {
+  ASSERT_EQ(Run({"simulate", "--scene", "office", "--sensor", "pioneer8", "--log", "--rate", "1",
+                 "--seed", "2", "-o", "office.json"})
+                .status,
+            0);
+  const auto wrong = RunFailing(
+      {"prf", "fit-sonar", "--log", "office.json", "--scene", "l-office", "-o", "m.json"});
+  EXPECT_EQ(wrong.status, 1);
+  EXPECT_THAT(wrong.err, HasSubstr("lies inside the walls of scene l-office: the log was not "
+                                   "recorded in this scene, its poses are off"));
+  // A waypoint path 5 cm from a wall: a Pioneer's rear transducers (26 cm behind its centre)
+  // are inside it.
+  WriteText("tight.json", R"({"format": "priormap.scene", "version": 1, "name": "tight",
+    "surfaces": [{"type": "polyline", "points": [[-2, -2], [2, -2], [2, 2], [-2, 2]],
+                  "closed": true}],
+    "waypoints": [[-1.95, 0], [1.95, 0]]})");
+  const auto tight = RunFailing({"prf", "fit-sonar", "--scenes", "tight.json", "-o", "m.json"});
+  EXPECT_EQ(tight.status, 1);
+  EXPECT_THAT(tight.err, HasSubstr("lies inside the walls of scene tight"));
+  const std::vector<std::vector<std::string>> trajectories = {
+      {"--rate", "1e12"}, {"--speed", "1e-9"}, {"--rate", "1000"}};
+  for (const std::vector<std::string>& trajectory : trajectories) {
+    std::vector<std::string> args = {"prf", "fit-sonar", "-o", "m.json"};
+    args.insert(args.end(), trajectory.begin(), trajectory.end());
+    const auto r = RunFailing(args);
+    EXPECT_EQ(r.status, 1) << trajectory[0];
+    EXPECT_THAT(r.err, HasSubstr("more than the 1e+06 a fit takes: use a lower --rate or a higher "
+                                 "--speed"))
+        << trajectory[0];
+  }
+}
+
+// A max range beyond priormap's bound on returns (1e9 m) is refused before the simulation: a
+// spurious reading, uniform below it, would make a log that cannot be written (or read back).
+TEST_F(SonarCli, SimulateRefusesASonarMaxRangeBeyondTheWorldsBound) {
+  for (const bool log : {false, true}) {
+    std::vector<std::string> args = {"simulate",  "--scene", "office", "--sensor",
+                                     "pioneer16", "--seed",  "1",      "--max-range",
+                                     "1e10",      "-o",      "r.json"};
+    if (log) args.push_back("--log");
+    const auto r = RunFailing(args);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_THAT(r.err, HasSubstr("max_range 1e+10 m is beyond 1e+09 m")) << log;
+  }
+  ASSERT_EQ(Run({"simulate", "--scene", "office", "--sensor", "pioneer16", "--max-range", "1e9",
+                 "-o", "r.json"})
+                .status,
+            0);
+}
+
+// A sigma out of range is reported at its value, like every other parameter, and a subnormal
+// sigma_min (whose Gaussian density at its mean is +inf) is refused.
+TEST_F(SonarCli, ASonarModelsBadSigmaIsReportedAtItsValue) {
+  WriteSonarLog("sonar.json");
+  const auto refused = [&](const std::string& member) {
+    WriteText("bad.json",
+              "{\"format\": \"priormap.sonar_model\", \"version\": 1,\n " + member + "}");
+    const auto r = RunFailing({"prf", "--log", "sonar.json", "--sonar-model", "bad.json",
+                               "--samples", "100", "--burn-in", "100", "-o", "b"});
+    EXPECT_EQ(r.status, 1) << member;
+    return r.err;
+  };
+  EXPECT_THAT(refused("\"sigma_min\": -0.01"),
+              HasSubstr("bad.json:2:15: not a usable sonar model: sigma_min -0.01 is not"));
+  EXPECT_THAT(refused("\"sigma_min\": 0"), HasSubstr("bad.json:2:15:"));
+  EXPECT_THAT(refused("\"sigma_min\": 1e-310"),
+              HasSubstr("bad.json:2:15: not a usable sonar model: sigma_min 1e-310 is not"));
+  EXPECT_THAT(refused("\"sigma_relative\": -0.5"),
+              HasSubstr("bad.json:2:20: not a usable sonar model: sigma_relative -0.5 is not"));
+}
+
+// Each line of `text` with `edit` applied to it.
+std::string EachLine(const std::string& text,
+                     const std::function<std::string(const std::string&)>& edit) {
+  std::istringstream in(text);
+  std::string out, line;
+  while (std::getline(in, line)) out += edit(line) + "\n";
+  return out;
+}
+
+// `prf rhat` on traces whose (finite) log-posteriors are huge: R-hat and the chains' means are
+// numbers, not "nan" and null; a trace.csv or point_traces.csv that does not match the run's
+// own record is reported at its file:line:col.
+TEST_F(SonarCli, RhatOfHugeLogPosteriorsIsANumberAndMismatchedTracesAreLocated) {
+  WriteSonarLog("sonar.json");
+  for (const std::string seed : {"1", "2"})
+    ASSERT_EQ(Run({"prf", "--log", "sonar.json", "--samples", "2000", "--burn-in", "500",
+                   "--chains", "1", "--trace-every", "100", "--seed", seed, "-o", "run" + seed})
+                  .status,
+              0);
+  const auto rhat = [&] {
+    const auto r = Run({"prf", "rhat", "run1", "run2"});
+    EXPECT_EQ(r.status, 0) << r.err;
+    return r.status == 0 ? json::parse(r.out) : json();
+  };
+  const json before = rhat();
+  ASSERT_TRUE(before["rhat"]["log_posterior"].is_number()) << before.dump();
+  // Every log-posterior of run2 times 1e300 (their squares overflow a double), then its last
+  // one the most negative double.
+  const std::string original = testing::ReadAll(Work("run2") / "trace.csv");
+  std::string huge = EachLine(original, [](const std::string& line) {
+    return line.starts_with("sample") ? line : line + "e300";
+  });
+  for (int variant = 0; variant < 2; ++variant) {
+    WriteText("run2/trace.csv", huge);
+    const json after = rhat();
+    EXPECT_TRUE(after["rhat"]["log_posterior"].is_number()) << after.dump();
+    if (after["rhat"]["log_posterior"].is_number()) {
+      EXPECT_GT(after["rhat"]["log_posterior"].get<double>(), 1.0);
+    }
+    for (const json& run : after["runs"])
+      for (const json& mean : run["second_half_means"]) EXPECT_TRUE(mean.is_number()) << mean;
+    // run1's chain keeps its own mean, to the last digit.
+    EXPECT_EQ(after["runs"][0]["second_half_means"], before["runs"][0]["second_half_means"]);
+    huge.replace(huge.rfind(',') + 1, std::string::npos, "-1.7976931348623157e308\n");
+  }
+  WriteText("run2/trace.csv", original);
+  EXPECT_EQ(rhat(), before);
+
+  // A trace.csv of two chains for a run of one.
+  WriteText("run2/trace.csv", EachLine(original, [](const std::string& line) {
+              return line + (line.starts_with("sample") ? ",chain1" : ",-5");
+            }));
+  auto r = RunFailing({"prf", "rhat", "run1", "run2"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err, HasSubstr("run2/trace.csv:1:1: expected a column for each chain, 1 as "
+                               "run2/run.json says, found 2"));
+  WriteText("run2/trace.csv", original);
+  // point_traces.csv without the last trace point's column, in both runs, whose summary.json
+  // lists it: the points' positions would be matched to the wrong columns.
+  ASSERT_GT(Summary("run1")["trace_points"].size(), 1u);
+  for (const char* run : {"run1", "run2"}) {
+    const std::string path = std::string(run) + "/point_traces.csv";
+    WriteText(path, EachLine(testing::ReadAll(Work(path)), [](const std::string& line) {
+                return line.substr(0, line.rfind(','));
+              }));
+  }
+  r = RunFailing({"prf", "rhat", "run1", "run2"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err, HasSubstr("run1/point_traces.csv:1:1: expected a column per chain for each "
+                               "trace point, "));
 }
 
 }  // namespace

@@ -222,6 +222,18 @@ TEST(Trajectory, FollowsWaypointsAtConstantSpeed) {
   EXPECT_TRUE(poses.back().pose.translation().isApprox(Vec2(2, 1)));
 }
 
+TEST(Trajectory, ItsPoseCountIsKnownBeforeThePosesAreMade) {
+  const std::vector<Vec2> path = {{0, 0}, {2, 0}, {2, 0}, {2, 1}, {-0.3, 1.7}};
+  EXPECT_DOUBLE_EQ(WaypointPathLength(path), 3.0 + std::hypot(2.3, 0.7));
+  for (const double speed : {0.07, 0.25, 0.5, 1.0, 3.0})
+    for (const double rate : {0.5, 2.0, 5.0, 18.0})
+      EXPECT_EQ(TrajectoryPoseCount(path, speed, rate),
+                static_cast<double>(TrajectoryFromWaypoints(path, speed, rate).size()))
+          << speed << " m/s, " << rate << " per s";
+  EXPECT_EQ(TrajectoryPoseCount(path, 0.5, 5.0), 31.0 + std::floor(std::hypot(2.3, 0.7) / 0.1));
+  EXPECT_GT(TrajectoryPoseCount(path, 1e-300, 1e300), 1e300);  // refusable, not wrapped round
+}
+
 TEST(SimulateLog, IsLocalizedReproducibleAndIndependentOfThreads) {
   const Scene scene = *BuiltinScene("l-room");
   const RangeSensor sensor = *RangeSensor::Preset("lms200");

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -175,6 +176,42 @@ TEST(RoboNdSonar, ReportsBadLinesAtFileLineAndColumn) {
   EXPECT_THAT(errors(good_z, "100 0 -2e12 0\n"),
               ElementsAre(DiagnosticAt("p.txt", 1, 7, "expected y in mm at most 1e+12")));
   EXPECT_TRUE(ParseRoboNdSonar(good_z, "m.txt", "100 1e12 -1e12 0\n", "p.txt").ok());
+}
+
+// A line garbled in the middle of one file (split in two, joined to the next, or lost) is
+// reported where the two files go out of step, not as a count mismatch at the end of the
+// longer file, hundreds of lines from the damage.
+TEST(RoboNdSonar, AGarbledLineIsReportedWhereTheFilesGoOutOfStep) {
+  std::string z, p;
+  for (int k = 1; k <= 5; ++k) {
+    z += fmt::format("{}00 1000 1100 1200 1300 1400 1500 1600 1700\n", k);
+    p += fmt::format("{}00 {}0 0 0\n", k, k);
+  }
+  const auto errors = [](const std::string& measurements, const std::string& poses) {
+    const Result<Log> r = ParseRoboNdSonar(measurements, "m.txt", poses, "p.txt");
+    EXPECT_FALSE(r.ok());
+    return r.diagnostics();
+  };
+  using testing::DiagnosticAt;
+  // Line 2 of the measurements split after its fourth field: 6 lines against 5.
+  std::string split = z;
+  split.replace(split.find(" 1300", split.find("\n200 ")), 1, "\n");
+  EXPECT_THAT(errors(split, p),
+              ElementsAre(DiagnosticAt("m.txt", 2, 19, "expected 9 fields (t_ms and 8 ranges")));
+  // Lines 2 and 3 of the poses joined: 4 lines against 5.
+  std::string joined = p;
+  joined[joined.find('\n', joined.find("\n200 ") + 1)] = ' ';
+  EXPECT_THAT(errors(z, joined), ElementsAre(DiagnosticAt("p.txt", 2, 12, "expected 4 fields")));
+  // Line 3 of the poses lost: line 3 is the fourth ring's pose.
+  std::string lost = p;
+  const std::size_t third = lost.find("\n300 ") + 1;
+  lost.erase(third, lost.find('\n', third) + 1 - third);
+  EXPECT_THAT(errors(z, lost), ElementsAre(DiagnosticAt("p.txt", 3, 1,
+                                                        "time 400 ms differs from the 300 ms of "
+                                                        "m.txt:3")));
+  // Files that are only of different lengths still say so, at the first unmatched line.
+  EXPECT_THAT(errors(z, p.substr(0, p.find("500 "))),
+              ElementsAre(DiagnosticAt("m.txt", 5, 1, "p.txt has 4")));
 }
 
 // The sensor's no-echo code (5110 mm) keeps returns short; a caller's no-echo value beyond the

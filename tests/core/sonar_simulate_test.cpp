@@ -82,6 +82,74 @@ TEST(SonarSimulator, AnObliqueWallAloneIsASpecularMiss) {
   EXPECT_EQ(ring.sonar->true_feature[0], 0);
 }
 
+// docs/sonar.md, step 3: a surface whose least incidence in the cone is ι echoes with
+// probability surface_return · σ((ι_c − ι)/s) / σ(ι_c/s). A wall too long for its ends to be in
+// the cone, the axis turned φ from its normal: ι = 0 while the foot of the perpendicular is in
+// the cone (φ <= 10°), else φ − 10° (the cone's edge ray). Without multipath and spurious
+// readings, the share of surface echoes at each φ is binomial around that probability: within 4
+// standard deviations (and 0.002, for the probabilities near 0) of it.
+TEST(SonarSimulator, TheShareOfSpecularMissesFollowsTheDocumentedLogistic) {
+  const SonarScene scene(WallsScene({Polyline{{Vec2(3, -100), Vec2(3, 100)}, false}}));
+  SonarSensor sensor = OneTransducer();
+  sensor.multipath_probability = 0.0;
+  const double half = sensor.spread / 2.0;
+  const auto sigma = [](double x) { return 1.0 / (1.0 + std::exp(-x)); };
+  const auto documented = [&](double incidence) {
+    return sensor.surface_return *
+           sigma((sensor.critical_incidence - incidence) / sensor.incidence_softness) /
+           sigma(sensor.critical_incidence / sensor.incidence_softness);
+  };
+  Rng rng(21);
+  const int rings = 4000;
+  for (const double degrees : {0.0, 9.0, 12.0, 14.0, 15.0, 16.0, 17.0, 18.0, 20.0, 25.0, 35.0}) {
+    const double phi = DegToRad(degrees);
+    int surface = 0;
+    for (int k = 0; k < rings; ++k) {
+      const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0, phi), rng);
+      const SonarEcho echo = ring.sonar->true_echo[0];
+      ASSERT_TRUE(echo == SonarEcho::kSurface || echo == SonarEcho::kNone) << degrees;
+      surface += echo == SonarEcho::kSurface;
+    }
+    const double p = documented(std::max(0.0, phi - half));
+    EXPECT_NEAR(surface / static_cast<double>(rings), p,
+                std::max(0.002, 4.0 * std::sqrt(p * (1 - p) / rings)))
+        << "axis " << degrees << " deg off the wall's normal";
+  }
+}
+
+// docs/sonar.md, step 5: after a specular miss, with multipath_probability the reading is the
+// mirrored path (here 3 m to the oblique wall, then 1.5 m up to the other one) with the 1 %
+// range noise, and otherwise max range; the share of multipath readings is binomial around it.
+TEST(SonarSimulator, ASpecularMissIsMultipathAsOftenAsStated) {
+  const SonarScene scene(WallsScene({Polyline{{Vec2(1, -2), Vec2(5, 2)}, false},
+                                     Polyline{{Vec2(-5, 1.5), Vec2(5, 1.5)}, false}}));
+  SonarSensor sensor = OneTransducer();
+  Rng rng(22);
+  const int rings = 8000;
+  int multipath = 0;
+  double sum = 0.0, sum_squares = 0.0;
+  for (int k = 0; k < rings; ++k) {
+    const Scan ring = SimulateSonarRing(scene, sensor, Se2(0, 0, 0), rng);
+    const SonarEcho echo = ring.sonar->true_echo[0];
+    ASSERT_TRUE(echo == SonarEcho::kMultipath || echo == SonarEcho::kNone);
+    if (echo == SonarEcho::kNone) {
+      EXPECT_EQ(ring.status[0], BeamStatus::kMaxRange);
+      continue;
+    }
+    ++multipath;
+    EXPECT_EQ(ring.sonar->true_feature[0], 0);  // the oblique wall mirrored the axis
+    EXPECT_NEAR(ring.truth->range[0], 4.5, 1e-5);
+    const double error = ring.ranges[0] - ring.truth->range[0];
+    sum += error;
+    sum_squares += error * error;
+  }
+  const double p = sensor.multipath_probability;
+  EXPECT_NEAR(multipath / static_cast<double>(rings), p, 4.0 * std::sqrt(p * (1 - p) / rings));
+  const double sigma = sensor.Sigma(4.5);
+  EXPECT_NEAR(sum / multipath, 0.0, 4.0 * sigma / std::sqrt(multipath));
+  EXPECT_NEAR(std::sqrt(sum_squares / multipath), sigma, 0.1 * sigma);
+}
+
 TEST(SonarSimulator, ACornerSeenFromInsideEchoesAtItsDistance) {
   // Two walls meeting at (3, 0) at 90 deg, each at 45 deg to the axis: no surface echoes.
   const Scene walls = WallsScene({Polyline{{Vec2(1, 2), Vec2(3, 0), Vec2(1, -2)}, false}});
@@ -233,6 +301,14 @@ TEST(SonarSensor, ReportsBadParameters) {
   sensor = OneTransducer();
   sensor.multipath_probability = 1.5;
   EXPECT_FALSE(sensor.IsValid(&why));
+  // A spurious reading is uniform below the max range: beyond priormap's bound on returns
+  // (1e9 m) the log could not be written.
+  sensor = OneTransducer();
+  sensor.max_range = 1e10;
+  EXPECT_FALSE(sensor.IsValid(&why));
+  EXPECT_NE(why.find("max_range 1e+10 m is beyond 1e+09 m"), std::string::npos) << why;
+  sensor.max_range = 1e9;
+  EXPECT_TRUE(sensor.IsValid(&why)) << why;
   EXPECT_FALSE(SonarSensor::Preset("nonesuch"));
   for (const std::string& name : SonarSensor::PresetNames())
     EXPECT_TRUE(SonarSensor::Preset(name)->IsValid(&why)) << name << ": " << why;

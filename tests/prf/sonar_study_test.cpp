@@ -72,6 +72,12 @@ TEST(SonarStudy, ReportsBadOptions) {
   options.scenes = {*BuiltinScene("office")};
   options.rate = 0.0;
   EXPECT_NE(options.Problem().find("rate"), std::string::npos);
+  // A typo of the rate: refused before 1e12 rings are simulated.
+  options.rate = 1e12;
+  EXPECT_NE(options.Problem().find("more than the 1e+06 a study takes"), std::string::npos)
+      << options.Problem();
+  options.rate = 2.0;  // about 1,600 readings in the office
+  EXPECT_EQ(options.Problem(), "");
 }
 
 }  // namespace

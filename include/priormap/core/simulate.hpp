@@ -21,6 +21,15 @@ struct TimedPose {
   Se2 pose;
 };
 
+/// Length of the polyline through `waypoints`, m.
+[[nodiscard]] double WaypointPathLength(const std::vector<Vec2>& waypoints);
+
+/// How many poses TrajectoryFromWaypoints gives, computed without making them, so that a caller
+/// can refuse a typo of speed or rate before it exhausts memory. speed > 0, rate > 0; may be
+/// +inf, not a count to allocate.
+[[nodiscard]] double TrajectoryPoseCount(const std::vector<Vec2>& waypoints, double speed,
+                                         double rate);
+
 /// Poses along the polyline through `waypoints` at constant `speed` (m/s), one every
 /// 1 / `rate` seconds, heading along the path. Preconditions: >= 2 distinct waypoints,
 /// speed > 0, rate > 0.

@@ -21,7 +21,7 @@ struct SonarSensor {
   std::vector<Vec2> offsets;
   double spread = 0.3490658503988659;  ///< full cone angle, rad (20 deg)
   double min_range = 0.17;             ///< echoes closer than this are not heard, m
-  double max_range = 5.0;              ///< no echo within it: a max-range reading, m
+  double max_range = 5.0;              ///< no echo within it: a max-range reading, m (<= 1e9)
 
   /// Range noise: Gaussian with standard deviation max(sigma_min, sigma_relative * range).
   double sigma_relative = 0.01;
@@ -30,8 +30,8 @@ struct SonarSensor {
   /// Echo probability of a surface whose perpendicular foot lies in the cone (normal incidence).
   double surface_return = 0.95;
   /// Otherwise the echo fades with the smallest incidence angle ι seen in the cone (angle
-  /// between the wave and the surface normal): surface_return / (1 + exp((ι − critical) /
-  /// softness)).
+  /// between the wave and the surface normal): surface_return · σ((critical − ι) / softness) /
+  /// σ(critical / softness), σ the logistic function, so that it is surface_return at ι = 0.
   double critical_incidence = 0.1;    ///< rad (about 6 deg: surface roughness)
   double incidence_softness = 0.025;  ///< rad
   /// Echo probability of a corner seen from inside (two walls forming a reflector).

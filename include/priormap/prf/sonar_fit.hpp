@@ -39,8 +39,8 @@ struct SonarFitReading {
 
 /// The sonar readings of a localized log of `scene` (its rings up to `max_range`) with their
 /// views of the scene's true map (SceneColoring), in the window a mapping run would use
-/// (`margin` around the readings, `cell_size`). A message when the log has no sonar reading or
-/// the scene has no true coloring.
+/// (`margin` around the readings, `cell_size`). A message when the log has no sonar reading,
+/// the scene has no true coloring, or a transducer lies on a wall or inside one.
 [[nodiscard]] std::variant<std::vector<SonarFitReading>, std::string> ViewsOfScene(
     const Log& log, const Scene& scene, double max_range, double margin = 1.0,
     double cell_size = 0.5);

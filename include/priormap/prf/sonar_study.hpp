@@ -31,6 +31,9 @@
 
 namespace priormap::prf {
 
+/// The most readings a sonar study simulates over its scenes (SonarStudyOptions::Problem).
+inline constexpr double kMaxSonarStudyReadings = 1e6;
+
 struct SonarStudyOptions {
   std::vector<Scene> scenes;  ///< each with a waypoint path
   SonarSensor sensor = *SonarSensor::Preset("pioneer16");
