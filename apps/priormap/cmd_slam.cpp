@@ -75,6 +75,17 @@ void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str()
       ->group(group);
+  cmd->add_flag_callback(
+         "--keep-same-walls", [&o] { o.merge_same_walls = false; },
+         "Do not merge prior segments that are the same wall (collinear and overlapping within "
+         "their std, as a wall two footprints share)")
+      ->group(group);
+  cmd->add_option("--same-wall-chi2", o.same_wall_chi2,
+                  "Two prior segments are the same wall below this (chi2, 2 dof, of each one's "
+                  "endpoints off the other's line)")
+      ->check(NonNegativeValue())
+      ->capture_default_str()
+      ->group(group);
   cmd->add_flag("--building-relations", o.building_relations,
                 "Relate a landmark at a corner to some wall of its building (eq. 3 mixture)")
       ->group(group);
@@ -188,6 +199,8 @@ std::string NonDefaultFilterOptions(const slam::SlamOptions& s) {
   number("--max-cluster-pairs", s.max_cluster_pairs, d.max_cluster_pairs);
   number("--recheck-chi2", s.recheck_chi2, d.recheck_chi2);
   number("--recheck-frames", s.recheck_frames, d.recheck_frames);
+  number("--same-wall-chi2", s.same_wall_chi2, d.same_wall_chi2);
+  if (!s.merge_same_walls) out += " --keep-same-walls";
   if (s.building_relations) out += " --building-relations";
   if (!s.first_estimates_jacobians) out += " --first-order-ekf";
   return out;
@@ -402,6 +415,14 @@ void PrintRun(const slam::SlamResult& r, double seconds) {
   fmt::print("{}: {} created ({} in the state at the end), {} in the state\n",
              Plural(r.frames.size(), "frame"), Plural(r.landmarks_created, "landmark"),
              r.landmarks.size(), Plural(r.segments.size(), "segment"));
+  if (!r.same_walls.empty()) {
+    std::size_t merged = 0;
+    for (const std::vector<int>& group : r.same_walls) merged += group.size();
+    fmt::print(
+        "{} of the prior map filtered as {} (the same wall more than once; each named by "
+        "its first segment)\n",
+        Plural(merged, "segment"), Plural(r.same_walls.size(), "wall"));
+  }
   fmt::print("{} applied ({} flagged), {}, {} rejected updates\n",
              Plural(r.relations.size(), "relation"), flagged,
              fmt::format("{} association hypotheses", r.inference.hypotheses), r.rejected_updates);
@@ -436,7 +457,15 @@ void RunOnFiles(const RunOptions& o) {
                   read_odometry.diagnostics().end());
   if (read_map)
     problems.insert(problems.end(), read_map->diagnostics().begin(), read_map->diagnostics().end());
-  if (!read_frames || !read_odometry || (read_map && !*read_map))
+  // Each row is within the world's bound; where they take the vehicle together, from the start
+  // pose, must be too (at the row that first leaves it).
+  std::optional<Diagnostic> beyond;
+  if (read_odometry) {
+    beyond = slam::FirstPoseBeyondWorld(input.initial_pose, read_odometry.value(),
+                                        input.motion_noise.wheelbase, o.odometry);
+    if (beyond) problems.push_back(*beyond);
+  }
+  if (!read_frames || !read_odometry || (read_map && !*read_map) || beyond)
     throw UserError(DescribeDiagnostics(problems));
   std::vector<slam::ObservationFrame> frames = std::move(read_frames).value();
   slam::Odometry odometry = std::move(read_odometry).value();

@@ -13,6 +13,7 @@
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/world_bounds.hpp>
 #include <priormap/slam/slam_io.hpp>
+#include <priormap/slam/vehicle_model.hpp>
 
 #include "csv_table.hpp"
 
@@ -142,6 +143,34 @@ Se2 Increment(const CsvTable& table, const CsvRow& row, const Columns& columns, 
   return {dx, dy, dtheta};
 }
 
+// A row's bicycle controls. As every value read, each is bounded: a speed above the world's
+// bound per second (1e9 m/s, three times the speed of light) and a steering angle outside
+// [-pi, pi] are errors in the file, most likely of units, as is a dtheta outside [-pi, pi].
+BicycleControl Control(const CsvTable& table, const CsvRow& row, const Columns& columns) {
+  const double speed = table.FiniteNumber(row, columns.control[0]);
+  const double steer = table.FiniteNumber(row, columns.control[1]);
+  if (!IsWithinWorld(speed)) {
+    table.Fail(
+        row, columns.control[0],
+        fmt::format("speed must be at most {:.0e} m/s in magnitude (the bound of world "
+                    "coordinates, per second), found {}",
+                    kMaxWorldCoordinate, QuoteForMessage(row.cells[columns.control[0]].text)));
+  }
+  if (!(-kPi <= steer && steer <= kPi)) {
+    table.Fail(row, columns.control[1],
+               fmt::format("steer must be in [-pi, pi] rad, found {} (degrees?)",
+                           QuoteForMessage(row.cells[columns.control[1]].text)));
+  }
+  return {speed, steer};
+}
+
+// The distance a speed held over dt covers, |speed| dt, within the world's bound as an
+// increment's dx and dy are: a longer step would put the poses after it beyond any world the
+// other readers accept (and 1e9 m/s held for 1e300 s is not even finite).
+bool IsStepWithinWorld(double speed, double dt) {
+  return std::abs(speed) * dt <= kMaxWorldCoordinate;
+}
+
 // The increment's 1-sigma errors; NaN where the column or the cell is empty.
 Vec3 IncrementStd(const CsvTable& table, const CsvRow& row, const Columns& columns) {
   Vec3 sigma = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
@@ -166,17 +195,37 @@ Odometry ReadOdometry(const CsvTable& table) {
   std::optional<double> previous;
   int previous_line = 0;
   std::optional<BicycleControl> held;  // the previous row's controls
+  int held_col = 0;                    // and the column of its speed
   for (const CsvRow& row : rows) {
     const double time = RowTime(table, row, columns.time, previous, previous_line);
     if (columns.bicycle) {
-      const BicycleControl control{table.FiniteNumber(row, columns.control[0]),
-                                   table.FiniteNumber(row, columns.control[1])};
-      if (held) odometry.steps.push_back({time, time - *previous, *held});
+      const BicycleControl control = Control(table, row, columns);
+      if (held) {
+        const double dt = time - *previous;
+        if (!IsStepWithinWorld(held->speed, dt)) {
+          table.Fail(previous_line, held_col,
+                     fmt::format("speed {} m/s held from t = {} to t = {} (line {}) covers {} m "
+                                 "in one step, more than {:.0e} m (the bound of world "
+                                 "coordinates)",
+                                 detail::FormatNumber(held->speed), detail::FormatNumber(*previous),
+                                 detail::FormatNumber(time), row.line, std::abs(held->speed) * dt,
+                                 kMaxWorldCoordinate));
+        }
+        MotionStep& step = odometry.steps.emplace_back(MotionStep{time, dt, *held});
+        step.line = previous_line;
+        step.col = held_col;
+      }
       held = control;
+      held_col = row.cells[columns.control[0]].col;
     } else {
       const Se2 increment = Increment(table, row, columns, !previous.has_value());
       const Vec3 sigma = IncrementStd(table, row, columns);
-      if (previous) odometry.steps.push_back({time, time - *previous, increment, sigma});
+      if (previous) {
+        MotionStep& step =
+            odometry.steps.emplace_back(MotionStep{time, time - *previous, increment, sigma});
+        step.line = row.line;
+        step.col = row.cells[columns.control[0]].col;
+      }
     }
     if (!previous) odometry.start_time = time;
     previous = time;
@@ -208,8 +257,15 @@ void CheckWritable(const Odometry& odometry) {
                                "the previous one ended at {}",
                                step.time, step.dt, previous));
     if (const auto* control = std::get_if<BicycleControl>(&step.motion)) {
-      PRIORMAP_CHECK(std::isfinite(control->speed) && std::isfinite(control->steer),
-                     "bicycle controls must be finite");
+      // As the reader, with the dt it reads back (the difference of the written times).
+      PRIORMAP_CHECK(IsWithinWorld(control->speed) && -kPi <= control->steer &&
+                         control->steer <= kPi &&
+                         IsStepWithinWorld(control->speed, step.time - previous),
+                     fmt::format("bicycle controls must be finite, |speed| at most {:.0e} m/s "
+                                 "and {:.0e} m per step, steer in [-pi, pi]: speed {}, steer {}, "
+                                 "dt {}",
+                                 kMaxWorldCoordinate, kMaxWorldCoordinate, control->speed,
+                                 control->steer, step.time - previous));
     } else {
       const Se2& increment = std::get<Se2>(step.motion);
       PRIORMAP_CHECK(IsWithinWorld(increment.x()) && IsWithinWorld(increment.y()) &&
@@ -272,6 +328,32 @@ std::string FormatOdometryCsv(const Odometry& odometry) {
     out += '\n';
   }
   return out;
+}
+
+std::optional<Diagnostic> FirstPoseBeyondWorld(const Se2& initial_pose, const Odometry& odometry,
+                                               double wheelbase, const std::string& name) {
+  Se2 pose = initial_pose;
+  for (const MotionStep& step : odometry.steps) {
+    const Se2 start = pose;
+    if (const auto* control = std::get_if<BicycleControl>(&step.motion)) {
+      pose = BicycleMotion(pose, *control, step.dt, wheelbase);
+    } else {
+      pose = IncrementMotion(pose, std::get<Se2>(step.motion));
+    }
+    if (!pose.vector().allFinite()) return std::nullopt;  // the filter says so, and why
+    if (IsWithinWorld(pose.x()) && IsWithinWorld(pose.y())) continue;
+    return Diagnostic{
+        .file = name,
+        .line = step.line,
+        .col = step.col,
+        .message = fmt::format(
+            "this row's motion takes the pose from ({}, {}) to ({}, {}) m at t = {} s, beyond "
+            "{:.0e} m in x or y (the bound of world coordinates): the odometry dead-reckoned "
+            "from the initial pose ({}, {}) leaves the world",
+            start.x(), start.y(), pose.x(), pose.y(), detail::FormatNumber(step.time),
+            kMaxWorldCoordinate, initial_pose.x(), initial_pose.y())};
+  }
+  return std::nullopt;
 }
 
 Result<Odometry> ReadOdometryCsv(const std::filesystem::path& path) {

@@ -3,6 +3,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <span>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -10,6 +11,7 @@
 #include <priormap/core/angles.hpp>
 #include <priormap/core/check.hpp>
 #include <priormap/core/segment.hpp>
+#include <priormap/core/world_bounds.hpp>
 #include <priormap/slam/prior_map_slam.hpp>
 #include <priormap/slam/pseudo_observation.hpp>
 #include <priormap/slam/range_bearing.hpp>
@@ -51,6 +53,15 @@ struct PriorMapSlam::Impl {
     if (prior_map) {
       for (const PriorSegment& s : prior_map->segments)
         PRIORMAP_CHECK(IsValidPriorStd(s.std), fmt::format("prior segment std {}", s.std));
+      if (options.merge_same_walls) {
+        // From here on a "segment" is a wall of the merged map; Record and Finish name it by
+        // its first prior segment.
+        walls = MergeSameWalls(*prior_map, options.same_wall_chi2);
+        prior_map = &walls->map;
+        for (const std::vector<int>& group : walls->members) {
+          if (group.size() > 1) result.same_walls.push_back(group);
+        }
+      }
       inference.emplace(*prior_map, options);
       book.segments.resize(prior_map->segments.size());
     }
@@ -69,7 +80,8 @@ struct PriorMapSlam::Impl {
   double time = 0.0;
   MotionNoise motion_noise;
   SensorNoise sensor_noise;
-  const PriorMap* prior_map;
+  const PriorMap* prior_map;       // the walls the filter uses: the merged map, with walls
+  std::optional<SameWalls> walls;  // merge_same_walls: the walls and their prior segments
   SlamOptions options;
   const RelationTruth* truth;
   std::optional<detail::StructureInference> inference;
@@ -118,17 +130,34 @@ struct PriorMapSlam::Impl {
     }
     state.PredictPose(next, F, Q);
     time = step.time;
-    RequireFinitePose("a motion step");
+    RequireFinitePose("a", "motion step", step.line);
   }
 
   // A filter whose pose is no longer finite would write NaN maps and trajectories and still
-  // report success: it stops here, saying when.
-  void RequireFinitePose(const char* after) const {
-    if (state.pose().vector().allFinite() && state.pose_covariance().allFinite()) return;
-    throw SlamDiverged(fmt::format(
-        "the filter diverged after {} at t = {} s: its pose or pose covariance is no longer "
-        "finite (check the noise and vehicle settings)",
-        after, time));
+  // report success: it stops here, saying when. So does one whose pose leaves the world that
+  // every reader bounds (kMaxWorldCoordinate): its trajectory could not be read back as
+  // positions. (`priormap slam run` refuses odometry that leaves it before filtering, at its row:
+  // FirstPoseBeyondWorld; this catches the rest, e.g. a library caller's own input.)
+  // `line`: where the step or frame was read (0: not from a file). The message is made only
+  // when it is thrown: this runs after every step and frame.
+  void RequireFinitePose(const char* article, const char* kind, int line) const {
+    const auto after = [&] {
+      return line > 0 ? fmt::format("the {} read at line {}", kind, line)
+                      : fmt::format("{} {}", article, kind);
+    };
+    const Se2 pose = state.pose();
+    if (!pose.vector().allFinite() || !state.pose_covariance().allFinite()) {
+      throw SlamDiverged(fmt::format(
+          "the filter diverged after {} at t = {} s: its pose or pose covariance is no longer "
+          "finite (check the noise and vehicle settings)",
+          after(), time));
+    }
+    if (!IsWithinWorld(pose.x()) || !IsWithinWorld(pose.y())) {
+      throw SlamDiverged(fmt::format(
+          "the filter's pose left the world after {} at t = {} s: ({}, {}) m, beyond {:.0e} m "
+          "in x or y (the bound of world coordinates)",
+          after(), time, pose.x(), pose.y(), kMaxWorldCoordinate));
+    }
   }
 
   // Nearest neighbour by Mahalanobis distance among the landmarks in range; each landmark
@@ -309,22 +338,42 @@ struct PriorMapSlam::Impl {
     }
   }
 
+  // The prior segments of wall `wall` (itself, unless walls were merged), and its name.
+  [[nodiscard]] std::span<const int> SegmentsOf(const int& wall) const {
+    return walls ? std::span<const int>(walls->members[static_cast<std::size_t>(wall)])
+                 : std::span<const int>(&wall, 1);
+  }
+  [[nodiscard]] int PriorSegmentOf(int wall) const {
+    return walls ? walls->members[static_cast<std::size_t>(wall)].front() : wall;
+  }
+
   void Record(const detail::Relation& relation, int most_probable_segment) {
     book.Apply(relation);
     bad_frames.push_back(0);
     RelationRecord record;
     record.landmark = landmarks.at(relation.landmark).external;
-    record.segment = most_probable_segment;
+    record.segment = PriorSegmentOf(most_probable_segment);
     record.time = time;
     if (relation.building >= 0) {
       record.building = relation.building;
-      record.walls = relation.segments;
+      for (int wall : relation.segments) record.walls.push_back(PriorSegmentOf(wall));
     }
     if (truth) {
-      record.correct = std::any_of(relation.segments.begin(), relation.segments.end(),
-                                   [&](int s) { return truth->Correct(record.landmark, s); });
-      record.spurious_segment = std::any_of(relation.segments.begin(), relation.segments.end(),
-                                            [&](int s) { return truth->Spurious(s); });
+      // A merged wall is the landmark's wall when one of its segments is, and spurious only when
+      // all of them are.
+      const auto correct = [&](int wall) {
+        const std::span<const int> segments = SegmentsOf(wall);
+        return std::any_of(segments.begin(), segments.end(),
+                           [&](int s) { return truth->Correct(record.landmark, s); });
+      };
+      const auto spurious = [&](int wall) {
+        const std::span<const int> segments = SegmentsOf(wall);
+        return std::all_of(segments.begin(), segments.end(),
+                           [&](int s) { return truth->Spurious(s); });
+      };
+      record.correct = std::any_of(relation.segments.begin(), relation.segments.end(), correct);
+      record.spurious_segment =
+          std::any_of(relation.segments.begin(), relation.segments.end(), spurious);
     }
     result.relations.push_back(record);
   }
@@ -458,7 +507,7 @@ struct PriorMapSlam::Impl {
       if (r.correct) (*r.correct ? record.relations_correct : record.relations_incorrect)++;
       if (r.spurious_segment) ++record.relations_spurious;
     }
-    RequireFinitePose("an observation frame");
+    RequireFinitePose("an", "observation frame", frame.line);
     result.frames.push_back(record);
     return record;
   }
@@ -488,7 +537,7 @@ struct PriorMapSlam::Impl {
       if (block.kind == BlockKind::kLandmark) {
         out.landmarks.push_back(EstimateOf(block));
       } else {
-        out.segments.push_back({block.id, state.mean().segment<2>(block.offset),
+        out.segments.push_back({PriorSegmentOf(block.id), state.mean().segment<2>(block.offset),
                                 state.mean().segment<2>(block.offset + 2),
                                 state.covariance().block<4, 4>(block.offset, block.offset)});
       }

@@ -564,7 +564,10 @@ RC_GTEST_PROP(OdometryCsv, WriteThenReadIsTheIdentity, ()) {
     step.time = times[k + 1];
     step.dt = times[k + 1] - times[k];
     if (bicycle) {
-      step.motion = BicycleControl{*FiniteNumber(), *FiniteNumber()};
+      // Within the reader's bounds: |speed| <= 1e9 m/s and 1e9 m per step, steer in [-pi, pi].
+      double speed = *WithinWorld(FiniteNumber());
+      if (!(std::abs(speed) * step.dt <= 1e9)) speed = 0.0;
+      step.motion = BicycleControl{speed, *Angle()};
     } else {
       step.motion = Se2(*WithinWorld(FiniteNumber()), *WithinWorld(FiniteNumber()), *Angle());
       if (with_std) {

@@ -26,6 +26,7 @@
 #include <priormap/slam/association_hypotheses.hpp>
 #include <priormap/slam/joint_state.hpp>
 #include <priormap/slam/prior_map.hpp>
+#include <priormap/slam/same_walls.hpp>
 #include <priormap/slam/slam_input.hpp>
 
 namespace priormap::slam {
@@ -84,6 +85,12 @@ struct SlamOptions {
   bool building_relations = false;
   double recheck_chi2 = 10.83;  ///< flag an applied relation above this ...
   int recheck_frames = 3;       ///< ... on this many consecutive frames
+  /// Prior segments that are the same wall (collinear and overlapping within their std, as a wall
+  /// two footprints share) are merged into one wall before filtering (same_walls.hpp). Without
+  /// it, a point on such a wall splits its probability between the copies under
+  /// `one_line_per_point` and is never related to the wall.
+  bool merge_same_walls = true;
+  double same_wall_chi2 = kSameWallChi2;  ///< the merge's gate (same_walls.hpp)
 };
 
 /// What the filter knows about the world's truth, to score relations (simulation only).
@@ -98,7 +105,9 @@ struct RelationTruth {
 
 struct RelationRecord {
   int landmark = -1;
-  int segment = -1;      ///< building level: the wall with the largest posterior weight
+  /// The prior segment (building level: the wall with the largest posterior weight); a wall of
+  /// several segments (SlamResult::same_walls) is named by its first.
+  int segment = -1;
   double time = 0.0;     ///< when it was applied
   bool flagged = false;  ///< its innovation became implausible
   double flagged_time = 0.0;
@@ -149,7 +158,8 @@ struct SegmentEstimate {
   Mat4 covariance = Mat4::Zero();
 };
 
-/// Thrown by PriorMapSlam (and RunSlam) when the filter's pose stops being finite.
+/// Thrown by PriorMapSlam (and RunSlam) when the filter's pose stops being finite, or leaves the
+/// world's bound (kMaxWorldCoordinate in x or y), saying after which step or frame.
 class SlamDiverged : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -171,6 +181,9 @@ struct SlamResult {
   std::size_t rejected_updates = 0;
   std::size_t building_relations = 0;  ///< of `relations`, those to some wall of a building
   std::size_t landmarks_created = 0;
+  /// The groups of two or more prior segments filtered as one wall (SlamOptions::
+  /// merge_same_walls), each ascending; relations and `segments` name such a wall by its first.
+  std::vector<std::vector<int>> same_walls;
 };
 
 class PriorMapSlam {

@@ -26,6 +26,10 @@ struct MotionStep {
   std::variant<BicycleControl, Se2> motion;
   /// For an increment: its 1-sigma errors (x, y, theta); NaN entries mean "use MotionNoise".
   Vec3 increment_std = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// Where its motion was read (1-based): the cell of the row's speed (bicycle controls, held
+  /// from that row on) or dx (an increment), for messages; 0 when not read from a file.
+  int line = 0;
+  int col = 0;
 };
 
 /// One range-bearing measurement of a point landmark in the vehicle frame.

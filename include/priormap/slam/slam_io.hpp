@@ -18,6 +18,7 @@
 /// caller) throws ContractError.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -46,14 +47,31 @@ struct Odometry {
 };
 /// Errors: missing or unknown columns, bicycle and increment columns mixed, non-numbers,
 /// NaN/inf, times not strictly increasing, a first increment that is not zero, |dx| or |dy|
-/// above 1e9 m (kMaxWorldCoordinate), dtheta outside [-pi, pi], negative standard deviations, fewer
+/// above 1e9 m (kMaxWorldCoordinate), dtheta outside [-pi, pi], a speed above 1e9 m/s in
+/// magnitude, a steering angle outside [-pi, pi], a speed held for so long that the step is
+/// longer than 1e9 m (|speed| dt, as |dx| for an increment), negative standard deviations, fewer
 /// than two rows. Bicycle: N rows give N - 1 steps, the last row's controls are not used.
 /// Increments: an empty sx/sy/stheta cell (or a missing column) is NaN, "use MotionNoise".
+/// Each step keeps the line and column of its speed or dx cell (MotionStep::line, col).
+/// Each row is bounded on its own; where the rows take the vehicle together depends on the start
+/// pose, which the file does not hold: FirstPoseBeyondWorld checks that.
 [[nodiscard]] Result<Odometry> ParseOdometryCsv(std::string_view text, const std::string& name);
 /// Bicycle steps or increments (all steps must be of one kind; ContractError otherwise). Only
 /// times are written, so the steps must be contiguous (each starts where the previous ended,
 /// the first at start_time); reading gives dt back as the difference of the times.
 [[nodiscard]] std::string FormatOdometryCsv(const Odometry& odometry);
+
+/// The odometry dead-reckoned from `initial_pose` (the steps' mean motion; bicycle steps with
+/// `wheelbase`): where it first takes the pose beyond kMaxWorldCoordinate in x or y, a Diagnostic
+/// at that step's row (MotionStep::line, col) in `name`; nullopt when every pose stays within the
+/// world. Rows of 9e8 m each pass the readers one by one, but two of them leave a world whose
+/// positions every reader bounds at 1e9 m, and the trajectory and map written from them could not
+/// be read back as positions. A pose that stops being finite (a heading made infinite by a tiny
+/// wheelbase) is left to the filter, which stops with SlamDiverged.
+[[nodiscard]] std::optional<Diagnostic> FirstPoseBeyondWorld(const Se2& initial_pose,
+                                                             const Odometry& odometry,
+                                                             double wheelbase,
+                                                             const std::string& name);
 
 /// Segments in file order, grouped by feature; building k is feature k, named by its
 /// properties' `name`, else their `id`, else the feature's `id`, else "feature k". Null

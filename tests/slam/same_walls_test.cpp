@@ -1,0 +1,246 @@
+// Prior segments that are the same wall (same_walls.hpp): a wall that two footprints share is
+// one wall to the filter, parallel walls beyond their uncertainty are not, and on simulated data
+// with a shared copy of every wall the landmarks on those walls are related to them again.
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <priormap/core/angles.hpp>
+#include <priormap/core/rng.hpp>
+#include <priormap/slam/prior_map_slam.hpp>
+#include <priormap/slam/range_bearing.hpp>
+#include <priormap/slam/same_walls.hpp>
+#include <priormap/slam/study.hpp>
+#include <priormap/slam/urban_scenario.hpp>
+
+namespace priormap::slam {
+namespace {
+
+using ::testing::ElementsAre;
+
+PriorSegment Wall(double ax, double ay, double bx, double by, double std = 1.0, int building = 0) {
+  return {Vec2(ax, ay), Vec2(bx, by), std, building};
+}
+
+TEST(SameWalls, ASharedWallIsOneWallWhicheverWayItIsDrawn) {
+  const PriorSegment wall = Wall(0, 0, 20, 0);
+  EXPECT_TRUE(IsSameWall(wall, Wall(20, 0, 0, 0, 1.0, 1)));   // the neighbour's ring, reversed
+  EXPECT_TRUE(IsSameWall(wall, Wall(0.3, -0.4, 19.6, 0.5)));  // digitised again, 1 m std
+  // Digitised independently, 1.2 m apart: two walls by default, one for an overlaid map's gate.
+  EXPECT_FALSE(IsSameWall(wall, Wall(0.8, -0.9, 19.1, 1.2)));
+  EXPECT_TRUE(IsSameWall(wall, Wall(0.8, -0.9, 19.1, 1.2), 2.0));
+  EXPECT_TRUE(IsSameWall(wall, Wall(5, 0, 12, 0)));   // a smaller neighbour's part of it
+  EXPECT_TRUE(IsSameWall(wall, Wall(10, 0, 30, 0)));  // staggered: half of each shared
+}
+
+TEST(SameWalls, ParallelWallsBeyondTheirUncertaintyAreDistinct) {
+  // 1 m std: walls 1 m or more apart are two (the statistic is d^2 / std^2 = 1 for 1 m, above
+  // the gate 0.5), 0.5 m apart they are one; the study's neighbours stand 2-6 m apart.
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(0, 1, 20, 1)));
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(0, 2, 20, 2)));
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(0, 4, 20, 4)));
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(0, 4, 20, 4), 9.21));  // even at 99 %
+  EXPECT_TRUE(IsSameWall(Wall(0, 0, 20, 0), Wall(0, 0.5, 20, 0.5)));
+  // 0.1 m std, as precise footprints: 0.5 m apart are two walls (a wall and a fence, say).
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0, 0.1), Wall(0, 0.5, 20, 0.5, 0.1)));
+  EXPECT_TRUE(IsSameWall(Wall(0, 0, 20, 0, 0.1), Wall(0, 0.05, 20, -0.05, 0.1)));
+  // Not parallel: 20 m walls at 30 degrees.
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(0, 0, 17.3, 10)));
+}
+
+TEST(SameWalls, WallsThatContinueEachOtherAreNotOne) {
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(20, 0, 35, 0)));  // split at a vertex
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(24, 0, 40, 0)));  // the next building
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(18, 0, 38, 0)));  // overlapping by 2 m of 20
+  EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(0, 0, 0, 0)));    // no length
+}
+
+// Two adjacent footprints (squares) that share the wall x = 10, as GeoJSON gives them: 8
+// segments, 7 walls.
+PriorMap TwoAdjacentBuildings() {
+  PriorMap map;
+  map.buildings = {"west", "east"};
+  const auto ring = [&](double x0, double x1, int building) {
+    const Vec2 c[4] = {{x0, 0}, {x1, 0}, {x1, 10}, {x0, 10}};
+    for (int i = 0; i < 4; ++i) map.segments.push_back({c[i], c[(i + 1) % 4], 0.5, building});
+  };
+  ring(0, 10, 0);   // segment 1: (10, 0) -> (10, 10)
+  ring(10, 20, 1);  // segment 7: (10, 10) -> (10, 0)
+  return map;
+}
+
+TEST(SameWalls, MergesTheSharedWallOfTwoFootprintsAndKeepsTheRest) {
+  const SameWalls walls = MergeSameWalls(TwoAdjacentBuildings());
+  ASSERT_EQ(walls.map.segments.size(), 7u);
+  ASSERT_EQ(walls.members.size(), 7u);
+  EXPECT_THAT(walls.members[1], ElementsAre(1, 7));
+  for (std::size_t w = 0; w < 7; ++w) {
+    if (w != 1) {
+      EXPECT_EQ(walls.members[w].size(), 1u) << w;
+    }
+  }
+  // Identical copies give the segment back: same endpoints, same std (not fused to 0.35 m).
+  const PriorSegment& shared = walls.map.segments[1];
+  EXPECT_TRUE(shared.a.isApprox(Vec2(10, 0), 1e-12));
+  EXPECT_TRUE(shared.b.isApprox(Vec2(10, 10), 1e-12));
+  EXPECT_DOUBLE_EQ(shared.std, 0.5);
+  EXPECT_EQ(shared.building, 0);
+  EXPECT_EQ(walls.map.buildings, TwoAdjacentBuildings().buildings);
+}
+
+TEST(SameWalls, APartOfAWallMergesIntoTheWholeWithTheirSpreadInItsStd) {
+  PriorMap map;
+  map.buildings = {"long", "short"};
+  map.segments = {Wall(0, 0, 20, 0, 0.5, 0), Wall(14, 0.15, 4, 0.15, 0.2, 1)};
+  const SameWalls walls = MergeSameWalls(map);
+  ASSERT_EQ(walls.map.segments.size(), 1u);
+  const PriorSegment& merged = walls.map.segments[0];
+  // Through all four endpoints, spanning them, in the first segment's direction.
+  EXPECT_NEAR(merged.a.x(), 0.0, 0.01);
+  EXPECT_NEAR(merged.b.x(), 20.0, 0.01);
+  EXPECT_GT(merged.a.y(), 0.0);
+  EXPECT_LT(merged.a.y(), 0.15);
+  // The larger std grown by the largest distance of an endpoint from the fitted line.
+  EXPECT_GT(merged.std, 0.5);
+  EXPECT_LT(merged.std, std::hypot(0.5, 0.15));
+}
+
+// A vehicle standing still at the origin facing +x; five beacons on the wall x = 10, which the
+// prior map holds twice (two buildings sharing it), 0.8 m off.
+struct SharedWallWorld {
+  std::vector<Vec2> beacons{{10.0, -6.0}, {10.0, -3.0}, {10.0, 0.0}, {10.0, 3.0}, {10.0, 6.0}};
+  PriorMap map;
+  SharedWallWorld() {
+    map.buildings = {"west", "east"};
+    map.segments.push_back({Vec2(10.8, -10.0), Vec2(10.8, 10.0), 1.0, 0});
+    map.segments.push_back({Vec2(10.8, 10.0), Vec2(10.8, -10.0), 1.0, 1});
+  }
+};
+
+SlamResult FilterSharedWall(bool merge) {
+  const SharedWallWorld world;
+  MotionNoise motion;
+  motion.speed_std = 1e-3;
+  motion.steer_std = 1e-3;
+  const SensorNoise sensor;
+  SlamOptions options;
+  options.merge_same_walls = merge;
+  PriorMapSlam slam(Se2(), 0.0, motion, sensor, &world.map, options);
+  Rng rng(4);
+  for (int f = 1; f <= 20; ++f) {
+    slam.Predict({0.2 * f, 0.2, BicycleControl{0.0, 0.0}});
+    ObservationFrame frame;
+    frame.time = 0.2 * f;
+    for (std::size_t i = 0; i < world.beacons.size(); ++i) {
+      const Vec2 z = ObserveRangeBearing(Se2(), world.beacons[i]);
+      frame.observations.push_back({static_cast<int>(i), z.x() + rng.Normal(0.0, sensor.range_std),
+                                    WrapAngle(z.y() + rng.Normal(0.0, sensor.bearing_std))});
+    }
+    slam.Observe(frame);
+  }
+  return slam.Finish();
+}
+
+TEST(SameWalls, PointsOnAWallTheMapHoldsTwiceAreRelatedToIt) {
+  // Without the merge the probability of each point splits between the copies: no relation.
+  EXPECT_TRUE(FilterSharedWall(false).relations.empty());
+  const SlamResult merged = FilterSharedWall(true);
+  ASSERT_EQ(merged.relations.size(), 5u);
+  for (const RelationRecord& r : merged.relations) EXPECT_EQ(r.segment, 0);  // named by its first
+  EXPECT_THAT(merged.same_walls, ElementsAre(ElementsAre(0, 1)));
+  ASSERT_EQ(merged.segments.size(), 1u);
+  EXPECT_EQ(merged.segments[0].segment, 0);
+  EXPECT_NEAR(merged.segments[0].a.x(), 10.0, 0.05);
+  EXPECT_NEAR(merged.segments[0].b.x(), 10.0, 0.05);
+}
+
+// The urban study (seed 1) with every true wall also held by a neighbouring footprint: an exact
+// copy (shared vertices) or one digitised again (independent 1 m noise). Scored against the
+// truth: relations applied, and the error of the mapped on-wall beacons.
+struct Score {
+  std::size_t correct = 0, incorrect = 0;
+  double landmark_rms = 0.0;
+};
+
+Score DuplicatedWallsStudy(int copies, bool merge, int runs, double gate = kSameWallChi2) {
+  const UrbanScenarioOptions scenario;
+  const UrbanWorld world = MakeUrbanWorld(scenario, 1);
+  Score score;
+  double sum2 = 0.0;
+  std::size_t n = 0;
+  for (int r = 0; r < runs; ++r) {
+    UrbanRun run = SimulateUrbanRun(world, scenario, 1, r);
+    Rng rng = Rng::ForStream(7, static_cast<std::uint64_t>(r));
+    const std::size_t segments = run.prior_map.segments.size();
+    for (std::size_t i = 0; copies > 0 && i < segments; ++i) {
+      if (run.segment_wall[i] < 0) continue;
+      PriorSegment copy = run.prior_map.segments[i];
+      if (copies == 2) {
+        const Segment& truth = world.walls[static_cast<std::size_t>(run.segment_wall[i])];
+        copy.a = truth.a + copy.std * Vec2(rng.Normal(), rng.Normal());
+        copy.b = truth.b + copy.std * Vec2(rng.Normal(), rng.Normal());
+      }
+      std::swap(copy.a, copy.b);  // the neighbour's ring runs the other way
+      copy.building = static_cast<int>(run.prior_map.buildings.size());
+      run.prior_map.buildings.push_back("neighbour " + std::to_string(i));
+      run.prior_map.segments.push_back(copy);
+      run.segment_wall.push_back(run.segment_wall[i]);
+    }
+    const RelationTruth truth = TruthOf(world, run);
+    SlamOptions options;
+    options.merge_same_walls = merge;
+    options.same_wall_chi2 = gate;
+    const SlamResult result = RunSlam(run.input, &run.prior_map, options, &truth);
+    for (const RelationRecord& relation : result.relations)
+      ++(relation.correct.value() ? score.correct : score.incorrect);
+    for (const MappedLandmark& mapped : result.all_landmarks) {
+      const Beacon& beacon = world.beacons[static_cast<std::size_t>(mapped.estimate.id)];
+      if (!beacon.on_wall) continue;
+      sum2 += (mapped.estimate.position - beacon.position).squaredNorm();
+      ++n;
+    }
+  }
+  score.landmark_rms = std::sqrt(sum2 / static_cast<double>(n));
+  return score;
+}
+
+TEST(SameWalls, LandmarksOnWallsThatNeighboursShareAreRelatedAndMappedAsWithoutTheCopies) {
+  const int runs = 5;
+  const Score plain = DuplicatedWallsStudy(0, true, runs);  // the study's own map
+  // There the merge finds few pairs (distinct walls stand 2 m or more apart, 2 std) and changes
+  // little.
+  const Score unmerged = DuplicatedWallsStudy(0, false, runs);
+  EXPECT_LT(plain.landmark_rms, 1.02 * unmerged.landmark_rms);
+  EXPECT_LE(plain.incorrect, unmerged.incorrect + 2);
+  // Every wall twice, shared vertices: without the merge no landmark is ever related (the
+  // probability splits between the copies) and the map is as bad as with no prior map at all.
+  const Score split = DuplicatedWallsStudy(1, false, runs);
+  EXPECT_EQ(split.correct, 0u);
+  EXPECT_GT(split.landmark_rms, 3.0 * plain.landmark_rms);
+  // Merged, the relations and the map's error are those of the map without the copies.
+  const Score shared = DuplicatedWallsStudy(1, true, runs);
+  EXPECT_GE(static_cast<double>(shared.correct), 0.95 * static_cast<double>(plain.correct));
+  EXPECT_LE(shared.incorrect, plain.incorrect + 2);
+  EXPECT_LT(shared.landmark_rms, 1.05 * plain.landmark_rms);
+  // Digitised twice, independently (1 m noise each): with the gate for overlaid maps (2) two
+  // copies of three merge, and the error falls.
+  const Score twice = DuplicatedWallsStudy(2, false, runs);
+  const Score twice_merged = DuplicatedWallsStudy(2, true, runs, 2.0);
+  EXPECT_LT(twice.correct, 5u);
+  EXPECT_GT(static_cast<double>(twice_merged.correct), 0.4 * static_cast<double>(plain.correct));
+  EXPECT_LT(twice_merged.landmark_rms, 0.6 * twice.landmark_rms);
+  std::printf(
+      "on-wall landmark RMS, m (relations correct/incorrect), %d runs:\n"
+      "  study's map %.3f (%zu/%zu); every wall twice: %.3f (%zu/%zu) -> merged %.3f "
+      "(%zu/%zu); digitised twice: %.3f (%zu/%zu) -> merged %.3f (%zu/%zu)\n",
+      runs, plain.landmark_rms, plain.correct, plain.incorrect, split.landmark_rms, split.correct,
+      split.incorrect, shared.landmark_rms, shared.correct, shared.incorrect, twice.landmark_rms,
+      twice.correct, twice.incorrect, twice_merged.landmark_rms, twice_merged.correct,
+      twice_merged.incorrect);
+}
+
+}  // namespace
+}  // namespace priormap::slam
