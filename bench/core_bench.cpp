@@ -8,6 +8,7 @@
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/json_io.hpp>
 #include <priormap/core/simulate.hpp>
+#include <priormap/render/figure.hpp>
 #include <priormap/render/scene_drawing.hpp>
 
 namespace priormap {
@@ -84,6 +85,23 @@ void BM_RenderScanPng(benchmark::State& state) {
   std::filesystem::remove(path);
 }
 BENCHMARK(BM_RenderScanPng)->Unit(benchmark::kMillisecond);
+
+// Making a figure with axes: its layout measures about 30 tick labels (the y labels for the
+// left margin, the x labels for their spacing and for the margins the end labels need), then
+// draws the axes. Nothing is saved.
+void BM_FigureLayout(benchmark::State& state) {
+  for (auto _ : state) {
+    render::Figure figure(LRoom().Bounds(), {.title = "l-room"});
+    benchmark::DoNotOptimize(figure.width_px());
+  }
+}
+BENCHMARK(BM_FigureLayout)->Unit(benchmark::kMicrosecond);
+
+// One tick label's width, as the layouts measure it.
+void BM_TextWidth(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(render::TextWidth("1000000", 11.0));
+}
+BENCHMARK(BM_TextWidth)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace priormap

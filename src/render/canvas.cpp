@@ -1,14 +1,17 @@
 #include "canvas.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <fmt/format.h>
 
+#include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/utf8.hpp>
+#include <priormap/render/figure_size.hpp>
 
 namespace priormap::render::detail {
 namespace {
@@ -22,10 +25,57 @@ void CheckStatus(cairo_status_t status, const std::filesystem::path& path) {
   }
 }
 
+// One context a thread, kept for measuring text: layouts measure their labels before their
+// canvas exists, and a surface and context made and destroyed for each label cost more than
+// the measurement. A thread's own, so that figures may be drawn on several threads.
+class TextMeasurer {
+ public:
+  TextMeasurer() = default;
+  TextMeasurer(const TextMeasurer&) = delete;
+  TextMeasurer& operator=(const TextMeasurer&) = delete;
+  ~TextMeasurer() { Reset(); }
+
+  // The context with the figures' font selected. A context in error (a NaN size puts it there,
+  // and it then measures everything as 0) is replaced, as a fresh one per label never was.
+  cairo_t* Get() {
+    if (cr_ != nullptr && cairo_status(cr_) != CAIRO_STATUS_SUCCESS) Reset();
+    if (cr_ == nullptr) {
+      surface_ = cairo_recording_surface_create(CAIRO_CONTENT_ALPHA, nullptr);
+      cr_ = cairo_create(surface_);
+      cairo_select_font_face(cr_, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    }
+    return cr_;
+  }
+
+ private:
+  void Reset() {
+    if (cr_ != nullptr) cairo_destroy(cr_);
+    if (surface_ != nullptr) cairo_surface_destroy(surface_);
+    cr_ = nullptr;
+    surface_ = nullptr;
+  }
+
+  cairo_surface_t* surface_ = nullptr;
+  cairo_t* cr_ = nullptr;
+};
+
 }  // namespace
 
-Canvas::Canvas(double width, double height) : width_(width), height_(height) {
-  const cairo_rectangle_t extents{0.0, 0.0, width, height};
+void CheckFigureSize(double width, double height) {
+  PRIORMAP_CHECK(
+      FigureSizeFits(width, height),
+      fmt::format("a figure of {:.0f} x {:.0f} px is too large to draw: figures are at "
+                  "most {} px a side (the largest image Cairo makes) and {} px in all "
+                  "(8192 x 8192)",
+                  std::ceil(width), std::ceil(height), kMaxFigureSidePx, kMaxFigurePixels));
+}
+
+// Whole pixels: a PNG has them, and an SVG or PDF of the same figure should be the same size.
+Canvas::Canvas(double width, double height) {
+  CheckFigureSize(width, height);
+  width_ = std::ceil(width);
+  height_ = std::ceil(height);
+  const cairo_rectangle_t extents{0.0, 0.0, width_, height_};
   recording_.reset(cairo_recording_surface_create(CAIRO_CONTENT_COLOR_ALPHA, &extents));
   cr_.reset(cairo_create(recording_.get()));
   cairo_set_source_rgb(cr(), 1.0, 1.0, 1.0);
@@ -105,16 +155,31 @@ void DrawText(cairo_t* cr, const std::string& raw_text, double x, double y, doub
 }
 
 double TextWidth(const std::string& raw_text, double size) {
-  cairo_surface_t* surface = cairo_recording_surface_create(CAIRO_CONTENT_ALPHA, nullptr);
-  cairo_t* cr = cairo_create(surface);
-  cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  thread_local TextMeasurer measurer;
+  cairo_t* cr = measurer.Get();
   cairo_set_font_size(cr, size);
   cairo_text_extents_t extents;
   cairo_text_extents(cr, ValidUtf8(raw_text).c_str(), &extents);
-  cairo_destroy(cr);
-  cairo_surface_destroy(surface);
   return extents.x_advance;
 }
+
+}  // namespace priormap::render::detail
+
+namespace priormap::render {
+
+bool FigureSizeFits(double width_px, double height_px) {
+  const double width = std::ceil(width_px), height = std::ceil(height_px);
+  return width >= 1.0 && height >= 1.0 && width <= kMaxFigureSidePx && height <= kMaxFigureSidePx &&
+         width * height <= static_cast<double>(kMaxFigurePixels);
+}
+
+double TextWidth(const std::string& text, double size_px) {
+  return detail::TextWidth(text, size_px);
+}
+
+}  // namespace priormap::render
+
+namespace priormap::render::detail {
 
 namespace {
 constexpr double kLegendFont = 11.0, kLegendRow = 18.0;

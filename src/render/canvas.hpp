@@ -17,7 +17,8 @@ namespace priormap::render::detail {
 
 class Canvas {
  public:
-  /// A white canvas of width x height pixels (points in SVG/PDF).
+  /// A white canvas of width x height pixels (points in SVG/PDF), each rounded up to a whole
+  /// pixel. Throws ContractError, before allocating anything, for a size FigureSizeFits refuses.
   Canvas(double width, double height);
 
   [[nodiscard]] cairo_t* cr() const { return cr_.get(); }
@@ -36,11 +37,14 @@ class Canvas {
   struct ContextDeleter {
     void operator()(cairo_t* c) const { cairo_destroy(c); }
   };
-  double width_;
-  double height_;
+  double width_ = 0.0;
+  double height_ = 0.0;
   std::unique_ptr<cairo_surface_t, SurfaceDeleter> recording_;
   std::unique_ptr<cairo_t, ContextDeleter> cr_;
 };
+
+/// Throws ContractError naming the size and the limits unless FigureSizeFits(width, height).
+void CheckFigureSize(double width, double height);
 
 void SetColor(cairo_t* cr, const Color& color);
 /// `text` with each byte that is not part of a valid UTF-8 sequence replaced by U+FFFD: Cairo
@@ -51,7 +55,8 @@ void SetColor(cairo_t* cr, const Color& color);
 void DrawText(cairo_t* cr, const std::string& text, double x, double y, double size, double align_x,
               double align_y, bool bold = false);
 
-/// The advance width of `text` drawn by DrawText at `size`, without a canvas to draw on.
+/// The advance width of `text` drawn by DrawText at `size` (not bold), without a canvas to draw
+/// on: measured with one context kept for the calling thread.
 [[nodiscard]] double TextWidth(const std::string& text, double size);
 
 /// Height in pixels of a legend box with `entries` rows.

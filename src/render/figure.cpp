@@ -1,9 +1,12 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include <Eigen/Eigenvalues>
+#include <fmt/format.h>
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
@@ -11,7 +14,9 @@
 #include <priormap/render/figure.hpp>
 #include <priormap/render/ticks.hpp>
 
+#include "axis_labels.hpp"
 #include "canvas.hpp"
+#include "clip.hpp"
 #include "raster_image.hpp"
 
 namespace priormap::render {
@@ -30,6 +35,14 @@ constexpr double kMaxMaskPixels = 16e6;
 constexpr int kAxisTicks = 8;
 // Left of the y tick labels: the gap to the axis and the rotated "y (m)" beyond them.
 constexpr double kYLabelGap = 8.0, kYTitleRoom = 22.0;
+// Between a tick label and the figure's edge, at least.
+constexpr double kEdgeGap = 2.0;
+// A plot is at least this wide and tall, the figure grown if need be.
+constexpr double kMinPlotPx = 10.0;
+// Right of the plot with a colour bar: the bar, its tick labels and its label (rotated).
+constexpr double kColorbarGap = 18.0, kColorbarWidth = 16.0, kColorbarTitleOffset = 52.0;
+// Tick labels of the colour bar at most this wide leave room for its label at its place.
+constexpr double kColorbarLabelRoom = 36.0;
 
 // The width of the widest label of the ticks NiceTicks puts on [lo, hi].
 double WidestTickLabel(double lo, double hi) {
@@ -64,6 +77,16 @@ void StrokePath(cairo_t* cr, std::span<const Vec2> device, bool closed, const Li
   cairo_stroke(cr);
 }
 
+// "×10⁵", "×10⁻⁴": the unit of ticks written in powers of ten.
+std::string PowerOfTen(int exponent) {
+  static const std::array<const char*, 10> kDigits = {"⁰", "¹", "²", "³", "⁴",
+                                                      "⁵", "⁶", "⁷", "⁸", "⁹"};
+  std::string out = exponent < 0 ? "×10⁻" : "×10";
+  for (const char digit : std::to_string(std::abs(exponent)))
+    out += kDigits[static_cast<std::size_t>(digit - '0')];
+  return out;
+}
+
 }  // namespace
 
 struct Figure::Impl {
@@ -72,6 +95,7 @@ struct Figure::Impl {
   Margins margins{};
   double scale = 1.0;  // pixels per metre
   double plot_width = 0.0, plot_height = 0.0;
+  double x_label_spacing = 0.0;  // the least distance between x ticks, in pixels
   std::unique_ptr<detail::Canvas> canvas;
   std::vector<std::pair<std::string, Color>> legend;
 
@@ -85,6 +109,120 @@ struct Figure::Impl {
     return device;
   }
   cairo_t* cr() const { return canvas->cr(); }
+
+  // The plot's scale and size for the margins; returns the figure's width.
+  double LayOut() {
+    const Vec2 size = world.sizes();
+    // A size smaller than the margins grows to leave a plot: a negative room would flip the world.
+    const double width = std::ceil(
+        std::max(std::max(options.width_px, 100) * 1.0, margins.left + margins.right + kMinPlotPx));
+    const double max_plot_height =
+        std::max(std::max(options.max_height_px, 100) - margins.top - margins.bottom, kMinPlotPx);
+    scale = (width - margins.left - margins.right) / size.x();
+    if (size.y() * scale > max_plot_height) scale = max_plot_height / size.y();
+    plot_width = size.x() * scale;
+    plot_height = size.y() * scale;
+    return width;
+  }
+
+  // The x ticks and their labels: labels side by side need their width apart.
+  detail::TickLabels XTicks() const {
+    return detail::LabelTicks(
+        SpacedNiceTicks(world.min().x(), world.max().x(), kAxisTicks, plot_width, x_label_spacing),
+        kAxisFont);
+  }
+
+  // What may be drawn: the world and as much again on each side, at least 64 pixels, so that
+  // lines and outlines clipped to it end out of sight (the plot shows the world). Cairo's
+  // fixed-point coordinates wrap far outside the figure, which turned long lines round.
+  Box2 Shown() const {
+    const Vec2 reach = world.sizes().cwiseMax(Vec2::Constant(64.0 / scale));
+    return {world.min() - reach, world.max() + reach};
+  }
+
+  // A polyline clipped to what is shown, broken at non-finite points.
+  void StrokeClipped(std::span<const Vec2> points, bool closed, const LineStyle& style) const {
+    const detail::ClippedPolyline clipped = detail::ClipPolyline(points, closed, Shown());
+    for (const std::vector<Vec2>& piece : clipped.pieces)
+      StrokePath(cr(), ToDevice(piece), clipped.closed, style);
+  }
+
+  // Whether a device point is near enough the figure to draw a mark of a few pixels at.
+  static bool Drawable(const Vec2& device) {
+    return device.cwiseAbs().maxCoeff() < kFarOutsidePx;  // also false for NaN
+  }
+
+  // Whether Cairo can draw the circle of device centre `d` and radius `radius_px` as it is.
+  static bool CairoCircle(const Vec2& d, double radius_px) {
+    return Drawable(d) && std::abs(radius_px) < kFarOutsidePx;
+  }
+
+  // Where a circle too large for Cairo (a radius of a million pixels and more) can be seen: the
+  // angles [centre - half, centre + half] (world) that hold every point of it within what is
+  // shown, seen from the circle's centre; nullopt when the circle passes by or encloses it all.
+  struct Cone {
+    double centre, half;
+  };
+  std::optional<Cone> ConeOnShown(const Circle& circle, bool* encloses = nullptr) const {
+    const Box2 shown = Shown();
+    const Vec2 towards = shown.center() - circle.center;
+    const double reach = shown.sizes().norm() / 2, distance = towards.norm();
+    const double radius = std::abs(circle.radius);
+    if (encloses != nullptr) *encloses = distance + reach <= radius;
+    if (distance > radius + reach || distance + reach <= radius) return std::nullopt;
+    return Cone{std::atan2(towards.y(), towards.x()),
+                distance > reach ? std::asin(reach / distance) : M_PI};
+  }
+
+  // Points of the circle at angles [from, to] (to >= from), close enough that the chords stay
+  // within a tenth of a pixel of it.
+  std::vector<Vec2> SampleArc(const Circle& circle, double from, double to) const {
+    const double radius = std::abs(circle.radius);
+    const double step = std::sqrt(8.0 * 0.1 / (radius * scale));
+    const double steps = std::ceil((to - from) / step);  // NaN only for a radius of 1e308
+    const auto n = static_cast<std::size_t>(!(steps > 8.0) ? 8.0 : std::min(steps, 1e5));
+    std::vector<Vec2> points(n + 1);
+    for (std::size_t i = 0; i <= n; ++i) {
+      const double angle = from + (to - from) * static_cast<double>(i) / static_cast<double>(n);
+      points[i] = circle.center + radius * Vec2(std::cos(angle), std::sin(angle));
+    }
+    return points;
+  }
+
+  // The parts of the arc [from, to] (to >= from, at most a turn apart) of a circle too large for
+  // Cairo that lie near what is shown, as polylines.
+  std::vector<std::vector<Vec2>> VisibleArcs(const Circle& circle, double from, double to) const {
+    std::vector<std::vector<Vec2>> arcs;
+    const std::optional<Cone> cone = ConeOnShown(circle);
+    if (!cone) return arcs;
+    // From within [-pi, pi), as the cone's centre is: the arc then ends below 3 pi.
+    const double turns = std::floor((from + M_PI) / (2 * M_PI));
+    from -= 2 * M_PI * turns;
+    to -= 2 * M_PI * turns;
+    for (int turn = -1; turn <= 2; ++turn) {
+      const double lo = std::max(from, cone->centre - cone->half + 2 * M_PI * turn);
+      const double hi = std::min(to, cone->centre + cone->half + 2 * M_PI * turn);
+      if (lo < hi) arcs.push_back(SampleArc(circle, lo, hi));
+    }
+    return arcs;
+  }
+
+  // The disc of a circle too large for Cairo within what is shown, as a polygon (empty: none).
+  // What is shown lies in the cone, so the disc there is the sector of the cone, clipped.
+  std::vector<Vec2> VisibleDisc(const Circle& circle) const {
+    const Box2 shown = Shown();
+    bool encloses = false;
+    const std::optional<Cone> cone = ConeOnShown(circle, &encloses);
+    if (encloses) {
+      return {shown.corner(Box2::BottomLeft), shown.corner(Box2::BottomRight),
+              shown.corner(Box2::TopRight), shown.corner(Box2::TopLeft)};
+    }
+    if (!cone) return {};
+    std::vector<Vec2> sector =
+        SampleArc(circle, cone->centre - cone->half, cone->centre + cone->half);
+    if (cone->half < M_PI) sector.push_back(circle.center);
+    return detail::ClipPolygon(sector, shown);
+  }
 
   // A log's millions of points, each kept as an arc, cost the recorded drawing half a gigabyte
   // and an SVG tens of megabytes. Drawn into one coverage mask of the figure at up to kMaskScale
@@ -159,20 +297,17 @@ struct Figure::Impl {
     detail::SetColor(c, palette::kBlack);
     cairo_set_line_width(c, 1.0);
     // Labels side by side need their width apart, labels one above the other their height.
-    const std::vector<double> xs =
-        SpacedNiceTicks(world.min().x(), world.max().x(), kAxisTicks, plot_width,
-                        WidestTickLabel(world.min().x(), world.max().x()) + kAxisFont);
+    const detail::TickLabels xs = XTicks();
     const std::vector<double> ys =
         SpacedNiceTicks(world.min().y(), world.max().y(), kAxisTicks, plot_height, kAxisFont + 3);
-    const double x_step = xs.size() > 1 ? xs[1] - xs[0] : 1.0;
     const double y_step = ys.size() > 1 ? ys[1] - ys[0] : 1.0;
     const double bottom = margins.top + plot_height;
-    for (double x : xs) {
-      const double dx = ToDevice({x, 0.0}).x();
+    for (std::size_t i = 0; i < xs.ticks.size(); ++i) {
+      const double dx = ToDevice({xs.ticks[i], 0.0}).x();
       cairo_move_to(c, dx, bottom);
       cairo_line_to(c, dx, bottom + 5);
       cairo_stroke(c);
-      detail::DrawText(c, TickLabel(x, x_step), dx, bottom + 8, kAxisFont, 0.5, 0.0);
+      detail::DrawText(c, xs.labels[i], dx, bottom + 8, kAxisFont, 0.5, 0.0);
     }
     for (double y : ys) {
       const double dy = ToDevice({0.0, y}).y();
@@ -193,8 +328,8 @@ struct Figure::Impl {
     cairo_t* c = cr();
     cairo_save(c);
     cairo_reset_clip(c);
-    const double x = margins.left + plot_width + 18, width = 16, top = margins.top,
-                 height = plot_height;
+    const double x = margins.left + plot_width + kColorbarGap, width = kColorbarWidth,
+                 top = margins.top, height = plot_height;
     constexpr int kSteps = 96;
     for (int i = 0; i < kSteps; ++i) {
       const double t = (i + 0.5) / kSteps;
@@ -207,21 +342,33 @@ struct Figure::Impl {
     cairo_set_line_width(c, 1.0);
     cairo_rectangle(c, x, top, width, height);
     cairo_stroke(c);
-    if (vmax > vmin) {
-      const std::vector<double> ticks = NiceTicks(vmin, vmax, 5);
-      const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1.0;
-      for (double v : ticks) {
-        const double y = top + height * (1.0 - (v - vmin) / (vmax - vmin));
-        cairo_move_to(c, x + width, y);
-        cairo_line_to(c, x + width + 4, y);
-        cairo_stroke(c);
-        detail::DrawText(c, TickLabel(v, step), x + width + 6, y, kAxisFont, 0.0, 0.5);
-      }
+    // The margin has room for tick labels kColorbarLabelRoom wide, then the bar's label. Wider
+    // ones (values in the millions, or of 1e-5) overlapped the label and ran off the figure: they
+    // are written in units of a power of ten instead, which the label names.
+    std::string title = label;
+    const std::vector<double> ticks = NiceTicks(vmin, vmax, 5);
+    detail::TickLabels labels = detail::LabelTicks(ticks, kAxisFont);
+    if (labels.Widest() > kColorbarLabelRoom) {
+      const int exponent =
+          static_cast<int>(std::floor(std::log10(std::max(std::abs(vmin), std::abs(vmax)))));
+      const double unit = std::pow(10.0, exponent);
+      std::vector<double> scaled;
+      for (const double v : ticks) scaled.push_back(v / unit);
+      labels = detail::LabelTicks(std::move(scaled), kAxisFont);
+      title = label.empty() ? PowerOfTen(exponent) : label + " (" + PowerOfTen(exponent) + ")";
     }
-    if (!label.empty()) {
-      cairo_translate(c, x + width + 52, top + height / 2);
+    for (std::size_t i = 0; i < ticks.size(); ++i) {
+      const double y = top + height * (1.0 - (ticks[i] / 2 - vmin / 2) / (vmax / 2 - vmin / 2));
+      cairo_move_to(c, x + width, y);
+      cairo_line_to(c, x + width + 4, y);
+      cairo_stroke(c);
+      detail::DrawText(c, labels.labels[i], x + width + 6, y, kAxisFont, 0.0, 0.5);
+    }
+    if (!title.empty()) {
+      const double offset = std::max(kColorbarTitleOffset, 6 + labels.Widest() + 14);
+      cairo_translate(c, x + width + offset, top + height / 2);
       cairo_rotate(c, -M_PI / 2);
-      detail::DrawText(c, label, 0.0, 0.0, kAxisFont, 0.5, 0.5);
+      detail::DrawText(c, title, 0.0, 0.0, kAxisFont, 0.5, 0.5);
     }
     cairo_restore(c);
   }
@@ -253,10 +400,14 @@ struct Figure::Impl {
 Figure::Figure(const Box2& world, FigureOptions options) : impl_(std::make_unique<Impl>()) {
   PRIORMAP_CHECK(!world.isEmpty() && world.min().allFinite() && world.max().allFinite(),
                  "a figure needs a non-empty, finite world box");
+  PRIORMAP_CHECK(std::isfinite(options.padding_m), "a figure's padding must be finite");
   Impl& f = *impl_;
   f.options = std::move(options);
   const Vec2 pad = Vec2::Constant(std::max(f.options.padding_m, 1e-6));
   f.world = Box2(world.min() - pad, world.max() + pad);
+  PRIORMAP_CHECK(
+      f.world.sizes().allFinite(),
+      "a figure's world box, with its padding, must be narrower than the largest double");
   // The bottom margin always has room for a legend row: entries arrive after the layout is fixed.
   f.margins = {
       f.options.axes ? 60.0 : 10.0, f.options.colorbar ? 100.0 : 16.0,
@@ -268,22 +419,30 @@ Figure::Figure(const Box2& world, FigureOptions options) : impl_(std::make_uniqu
     f.margins.left =
         std::max(f.margins.left,
                  WidestTickLabel(f.world.min().y(), f.world.max().y()) + kYLabelGap + kYTitleRoom);
+    f.x_label_spacing = WidestTickLabel(f.world.min().x(), f.world.max().x()) + kAxisFont;
   }
-  const Vec2 size = f.world.sizes();
-  // A size smaller than the margins grows to leave a plot: a negative room would flip the world.
-  constexpr double kMinPlotPx = 10.0;
-  const double width = std::max(std::max(f.options.width_px, 100) * 1.0,
-                                f.margins.left + f.margins.right + kMinPlotPx);
-  const double max_plot_height = std::max(
-      std::max(f.options.max_height_px, 100) - f.margins.top - f.margins.bottom, kMinPlotPx);
-  f.scale = (width - f.margins.left - f.margins.right) / size.x();
-  if (size.y() * f.scale > max_plot_height) f.scale = max_plot_height / size.y();
-  f.plot_width = size.x() * f.scale;
-  f.plot_height = size.y() * f.scale;
+  double width = f.LayOut();
+  // The x labels are centred on their ticks: one at an end of the axis reaches half its width
+  // beyond the plot, and was cut at the figure's edge where that is wider than the margin
+  // ("1000000" at the right). The margins grow until the labels fit; ticks and labels may change
+  // with the plot's width. Each round leaves at most half of the shortfall (the part of the plot
+  // beyond the end tick shrinks with the plot, and centring gives each side half of a gain).
+  for (int round = 0; f.options.axes && round < 24; ++round) {
+    const auto [before, after] =
+        detail::LabelOverhang(f.XTicks(), f.world.min().x(), f.world.max().x(), f.plot_width);
+    const double centring = (width - f.margins.left - f.margins.right - f.plot_width) / 2;
+    const double short_left = before + kEdgeGap - (f.margins.left + centring);
+    const double short_right = after + kEdgeGap - (f.margins.right + centring);
+    if (short_left <= 0.0 && short_right <= 0.0) break;
+    // A little more than short, so that the rounds end.
+    if (short_left > 0.0) f.margins.left += short_left + 0.25;
+    if (short_right > 0.0) f.margins.right += short_right + 0.25;
+    width = f.LayOut();
+  }
   const double height = std::ceil(f.margins.top + f.plot_height + f.margins.bottom);
   // Centre the plot horizontally when the height limit made it narrower than the figure.
   f.margins.left += (width - f.margins.left - f.margins.right - f.plot_width) / 2;
-  f.canvas = std::make_unique<detail::Canvas>(width, height);
+  f.canvas = std::make_unique<detail::Canvas>(width, height);  // checks the size first
   f.DrawTitleAndAxes();
   f.ClipToPlot();
 }
@@ -308,7 +467,7 @@ void Figure::Points(std::span<const Vec2> points, const Color& color, double rad
   detail::SetColor(c, color);
   for (const Vec2& p : points) {
     const Vec2 d = impl_->ToDevice(p);
-    if (!(d.cwiseAbs().maxCoeff() < kFarOutsidePx)) continue;  // also leaves out NaN
+    if (!Impl::Drawable(d)) continue;  // also leaves out NaN
     cairo_new_sub_path(c);
     cairo_arc(c, d.x(), d.y(), radius_px, 0.0, 2 * M_PI);
   }
@@ -316,12 +475,10 @@ void Figure::Points(std::span<const Vec2> points, const Color& color, double rad
 }
 
 void Figure::Line(const Vec2& a, const Vec2& b, const LineStyle& style) {
-  // Clipped first to the world and as much again on each side (what the margins could show):
-  // Cairo's fixed-point coordinates wrap far outside the figure, which turned a long ray round.
+  // Clipped first to what is shown: Cairo's fixed-point coordinates wrap far outside the figure,
+  // which turned a long ray round.
   if (!a.allFinite() || !b.allFinite()) return;
-  const Box2 shown(impl_->world.min() - impl_->world.sizes(),
-                   impl_->world.max() + impl_->world.sizes());
-  const std::optional<Segment> clipped = ClipSegmentToBox({a, b}, shown);
+  const std::optional<Segment> clipped = ClipSegmentToBox({a, b}, impl_->Shown());
   if (!clipped) return;
   const Vec2 device[2] = {impl_->ToDevice(clipped->a), impl_->ToDevice(clipped->b)};
   StrokePath(impl_->cr(), device, false, style);
@@ -329,6 +486,9 @@ void Figure::Line(const Vec2& a, const Vec2& b, const LineStyle& style) {
 
 void Figure::Arc(const Vec2& center, double radius, double from, double to,
                  const LineStyle& style) {
+  // Cairo asserts, and aborts the program, on a NaN angle.
+  if (!center.allFinite() || !std::isfinite(radius) || !std::isfinite(from) || !std::isfinite(to))
+    return;
   // Cairo draws every turn of a longer arc (up to 65536 of them): minutes, and an SVG of
   // megabytes, for what looks like one circle.
   // From an angle of 1e17 a turn is below its resolution: reduced first, the turn stays one.
@@ -336,8 +496,15 @@ void Figure::Arc(const Vec2& center, double radius, double from, double to,
     from = std::remainder(from, 2 * M_PI);
     to = from + 2 * M_PI;
   }
-  cairo_t* c = impl_->cr();
   const Vec2 d = impl_->ToDevice(center);
+  if (!impl_->CairoCircle(d, radius * impl_->scale)) {
+    // Cairo's arc runs counter-clockwise from `from` to `to` less whole turns, up to one below.
+    if (to < from) to += 2 * M_PI * std::ceil((from - to) / (2 * M_PI));
+    for (const std::vector<Vec2>& piece : impl_->VisibleArcs({center, radius}, from, to))
+      impl_->StrokeClipped(piece, false, style);
+    return;
+  }
+  cairo_t* c = impl_->cr();
   cairo_new_path(c);
   // Device y points down, so a counter-clockwise world arc is a negative device one.
   cairo_arc_negative(c, d.x(), d.y(), radius * impl_->scale, -from, -to);
@@ -347,25 +514,45 @@ void Figure::Arc(const Vec2& center, double radius, double from, double to,
 }
 
 void Figure::Polyline(std::span<const Vec2> points, bool closed, const LineStyle& style) {
-  StrokePath(impl_->cr(), impl_->ToDevice(points), closed, style);
+  impl_->StrokeClipped(points, closed, style);
 }
 
 void Figure::FilledPolygon(const Polygon& polygon, const Color& fill, const LineStyle& stroke) {
-  const std::vector<Vec2> device = impl_->ToDevice(polygon.vertices);
-  if (device.empty()) return;
+  const std::vector<Vec2>& vertices = polygon.vertices;
+  // A vertex that is not finite leaves no shape to fill (Cairo drew one to some other point).
+  if (vertices.empty() ||
+      !std::all_of(vertices.begin(), vertices.end(), [](const Vec2& v) { return v.allFinite(); }))
+    return;
+  const Box2 shown = impl_->Shown();
+  const bool inside = std::all_of(vertices.begin(), vertices.end(),
+                                  [&](const Vec2& v) { return shown.contains(v); });
+  const std::vector<Vec2> device =
+      impl_->ToDevice(inside ? vertices : detail::ClipPolygon(vertices, shown));
   cairo_t* c = impl_->cr();
-  cairo_new_path(c);
-  cairo_move_to(c, device[0].x(), device[0].y());
-  for (std::size_t i = 1; i < device.size(); ++i) cairo_line_to(c, device[i].x(), device[i].y());
-  cairo_close_path(c);
-  detail::SetColor(c, fill);
-  cairo_fill(c);
-  StrokePath(c, device, true, stroke);
+  if (!device.empty()) {
+    cairo_new_path(c);
+    cairo_move_to(c, device[0].x(), device[0].y());
+    for (std::size_t i = 1; i < device.size(); ++i) cairo_line_to(c, device[i].x(), device[i].y());
+    cairo_close_path(c);
+    detail::SetColor(c, fill);
+    cairo_fill(c);
+  }
+  if (inside) {
+    StrokePath(c, device, true, stroke);
+  } else if (stroke.width_px > 0.0) {
+    impl_->StrokeClipped(vertices, true, stroke);
+  }
 }
 
 void Figure::CircleOutline(const Circle& circle, const LineStyle& style) {
-  cairo_t* c = impl_->cr();
+  if (!circle.center.allFinite() || !std::isfinite(circle.radius)) return;
   const Vec2 d = impl_->ToDevice(circle.center);
+  if (!impl_->CairoCircle(d, circle.radius * impl_->scale)) {
+    for (const std::vector<Vec2>& piece : impl_->VisibleArcs(circle, 0.0, 2 * M_PI))
+      impl_->StrokeClipped(piece, false, style);
+    return;
+  }
+  cairo_t* c = impl_->cr();
   cairo_new_path(c);
   cairo_arc(c, d.x(), d.y(), circle.radius * impl_->scale, 0.0, 2 * M_PI);
   SetLineStyle(c, style);
@@ -373,10 +560,19 @@ void Figure::CircleOutline(const Circle& circle, const LineStyle& style) {
 }
 
 void Figure::FilledCircle(const Circle& circle, const Color& fill) {
-  cairo_t* c = impl_->cr();
+  if (!circle.center.allFinite() || !std::isfinite(circle.radius)) return;
   const Vec2 d = impl_->ToDevice(circle.center);
+  cairo_t* c = impl_->cr();
   cairo_new_path(c);
-  cairo_arc(c, d.x(), d.y(), circle.radius * impl_->scale, 0.0, 2 * M_PI);
+  if (impl_->CairoCircle(d, circle.radius * impl_->scale)) {
+    cairo_arc(c, d.x(), d.y(), circle.radius * impl_->scale, 0.0, 2 * M_PI);
+  } else {
+    const std::vector<Vec2> device = impl_->ToDevice(impl_->VisibleDisc(circle));
+    if (device.empty()) return;
+    cairo_move_to(c, device[0].x(), device[0].y());
+    for (std::size_t i = 1; i < device.size(); ++i) cairo_line_to(c, device[i].x(), device[i].y());
+    cairo_close_path(c);
+  }
   detail::SetColor(c, fill);
   cairo_fill(c);
 }
@@ -404,9 +600,11 @@ void Figure::Ticks(std::span<const Vec2> points, std::span<const double> angles,
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!std::isfinite(angles[i])) continue;
     const Vec2 d = impl_->ToDevice(points[i]);
+    const Vec2 end(d.x() + length_px * std::cos(angles[i]),
+                   d.y() - length_px * std::sin(angles[i]));
+    if (!Impl::Drawable(d) || !Impl::Drawable(end)) continue;  // also NaN
     cairo_move_to(c, d.x(), d.y());
-    cairo_line_to(c, d.x() + length_px * std::cos(angles[i]),
-                  d.y() - length_px * std::sin(angles[i]));
+    cairo_line_to(c, end.x(), end.y());
   }
   SetLineStyle(c, style);
   cairo_stroke(c);
@@ -415,6 +613,8 @@ void Figure::Ticks(std::span<const Vec2> points, std::span<const double> angles,
 void Figure::PoseMarker(const Se2& pose, const Color& color, double size_px) {
   cairo_t* c = impl_->cr();
   const Vec2 d = impl_->ToDevice(pose.translation());
+  if (!Impl::Drawable(d) || !std::isfinite(pose.theta()) || !(std::abs(size_px) < kFarOutsidePx))
+    return;
   const Vec2 forward(std::cos(pose.theta()), -std::sin(pose.theta()));  // device y points down
   const Vec2 left(forward.y(), -forward.x());
   const Vec2 tip = d + size_px * forward;
@@ -435,7 +635,10 @@ void Figure::PoseMarker(const Se2& pose, const Color& color, double size_px) {
 
 void Figure::Text(const Vec2& position, const std::string& text, double size_px,
                   const Color& color) {
+  // Cairo refuses a NaN size, and then draws nothing more of the figure.
+  PRIORMAP_CHECK(std::isfinite(size_px) && size_px >= 0.0, "text needs a finite size, at least 0");
   const Vec2 d = impl_->ToDevice(position);
+  if (!Impl::Drawable(d)) return;  // NaN was drawn at some point
   detail::SetColor(impl_->cr(), color);
   detail::DrawText(impl_->cr(), text, d.x(), d.y(), size_px, 0.0, 1.0);
 }
@@ -445,6 +648,10 @@ void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap
   PRIORMAP_CHECK(values.rows() > 0 && values.cols() > 0, "empty heat map");
   PRIORMAP_CHECK(std::isfinite(vmin) && std::isfinite(vmax) && vmax > vmin,
                  "heat map needs finite vmin < vmax");
+  // Else Cairo refuses the image's scale, and then draws nothing more of the figure.
+  PRIORMAP_CHECK(extent.min().allFinite() && extent.max().allFinite() &&
+                     (extent.max() - extent.min()).minCoeff() > 0.0,
+                 "heat map needs a finite extent of some width and height");
   const detail::RasterImage image = detail::ColormapImage(values, colormap, vmin, vmax, false);
   const Vec2 top_left = impl_->ToDevice({extent.min().x(), extent.max().y()});
   const Vec2 bottom_right = impl_->ToDevice({extent.max().x(), extent.min().y()});

@@ -7,12 +7,24 @@
 #include <priormap/render/line_plot.hpp>
 #include <priormap/render/ticks.hpp>
 
+#include "axis_labels.hpp"
 #include "canvas.hpp"
+#include "clip.hpp"
 
 namespace priormap::render {
 namespace {
 
 constexpr double kFont = 11.0;
+constexpr int kXTicks = 8, kYTicks = 6;
+constexpr double kMinWidth = 200, kMinHeight = 150;
+// Left of the plot: the y tick labels end kYLabelGap before it, and the rotated y label, centred
+// kYTitleX from the figure's edge, needs kYTitleRoom of the margin.
+constexpr double kLeft = 72, kYLabelGap = 6, kYTitleX = 16, kYTitleRoom = 26;
+constexpr double kRight = 20;
+// Between a tick label and the figure's edge, at least.
+constexpr double kEdgeGap = 2;
+// A plot is at least this wide, the figure grown if need be.
+constexpr double kMinPlotWidth = 50;
 
 std::pair<double, double> DataRange(const std::vector<Series>& series, bool use_x,
                                     const std::vector<std::pair<double, Color>>& extra) {
@@ -59,6 +71,11 @@ void LinePlot::AddHorizontalLine(double y, const Color& color, std::string label
   horizontal_lines_.push_back(std::move(s));
 }
 
+LinePlot::LinePlot(LinePlotOptions options) : options_(std::move(options)) {
+  detail::CheckFigureSize(std::max<double>(options_.width_px, kMinWidth),
+                          std::max<double>(options_.height_px, kMinHeight));
+}
+
 void LinePlot::Save(const std::filesystem::path& path) const {
   for (const Series& s : series_) {
     PRIORMAP_CHECK(s.x.size() == s.y.size(), "a series needs as many x as y values");
@@ -72,16 +89,49 @@ void LinePlot::Save(const std::filesystem::path& path) const {
       options_.y_range.value_or(DataRange(series_, false, lines));
   const double x_lo = x_range.first, x_hi = x_range.second, y_lo = y_range.first,
                y_hi = y_range.second;
-  PRIORMAP_CHECK(x_lo < x_hi && y_lo < y_hi, "plot ranges must not be empty");
+  PRIORMAP_CHECK(std::isfinite(x_lo) && std::isfinite(x_hi) && std::isfinite(y_lo) &&
+                     std::isfinite(y_hi) && x_lo < x_hi && y_lo < y_hi,
+                 "plot ranges must be finite and not empty");
 
-  const double width = std::max(options_.width_px, 200), height = std::max(options_.height_px, 150);
-  const double left = 72, right = 20, top = options_.title.empty() ? 16 : 38, bottom = 52;
-  const double plot_w = width - left - right, plot_h = height - top - bottom;
-  // Halves, so that a range wider than the largest double does not overflow.
-  const auto to_device = [&](double x, double y) {
-    return Vec2(left + (x / 2 - x_lo / 2) / (x_hi / 2 - x_lo / 2) * plot_w,
-                top + (y_hi / 2 - y / 2) / (y_hi / 2 - y_lo / 2) * plot_h);
+  // The layout: margins that hold the tick labels, and ticks no closer than their labels need.
+  double width = std::max<double>(options_.width_px, kMinWidth);
+  const double height = std::max<double>(options_.height_px, kMinHeight);
+  const double top = options_.title.empty() ? 16 : 38, bottom = 52;
+  const double plot_h = height - top - bottom;
+  const detail::TickLabels ys =
+      detail::LabelTicks(SpacedNiceTicks(y_lo, y_hi, kYTicks, plot_h, kFont + 3), kFont);
+  // Wide y labels (values in the millions) ran into the y label: the margin grows.
+  double left = std::max(kLeft, ys.Widest() + kYLabelGap + kYTitleRoom), right = kRight;
+  const double x_spacing =
+      detail::LabelTicks(NiceTicks(x_lo, x_hi, kXTicks), kFont).Widest() + kFont;
+  double plot_w = 0.0;
+  detail::TickLabels xs;
+  // The x labels are centred on their ticks, and the last was cut at the figure's edge when
+  // wider than twice the margin ("1000000"): the margins grow until the labels fit, each round
+  // leaving at most the part of the shortfall beyond the end tick.
+  for (int round = 0;; ++round) {
+    width = std::ceil(std::max(width, left + right + kMinPlotWidth));
+    plot_w = width - left - right;
+    xs = detail::LabelTicks(SpacedNiceTicks(x_lo, x_hi, kXTicks, plot_w, x_spacing), kFont);
+    const auto [before, after] = detail::LabelOverhang(xs, x_lo, x_hi, plot_w);
+    const double short_left = before + kEdgeGap - left, short_right = after + kEdgeGap - right;
+    if ((short_left <= 0.0 && short_right <= 0.0) || round == 24) break;
+    if (short_left > 0.0) left += short_left + 0.25;  // a little more, so that the rounds end
+    if (short_right > 0.0) right += short_right + 0.25;
+  }
+  // Where a point falls across the plot: 0 to 1 from its left (top) edge, in halves so that a
+  // range wider than the largest double does not overflow.
+  const auto across = [&](double x, double y) {
+    return Vec2((x / 2 - x_lo / 2) / (x_hi / 2 - x_lo / 2),
+                (y_hi / 2 - y / 2) / (y_hi / 2 - y_lo / 2));
   };
+  const auto to_device = [&](const Vec2& a) {
+    return Vec2(left + a.x() * plot_w, top + a.y() * plot_h);
+  };
+  // Data is clipped to the plot and as much again around it before Cairo sees it: its
+  // fixed-point coordinates wrap beyond about 8 million pixels, which drew a line to a point far
+  // beyond an explicit range short, or elsewhere.
+  const Box2 shown(Vec2(-1.0, -1.0), Vec2(2.0, 2.0));
 
   detail::Canvas canvas(width, height);
   cairo_t* c = canvas.cr();
@@ -90,31 +140,28 @@ void LinePlot::Save(const std::filesystem::path& path) const {
     detail::DrawText(c, options_.title, left + plot_w / 2, 12, 14.0, 0.5, 0.0, true);
 
   // Grid and tick labels.
-  const std::vector<double> xs = NiceTicks(x_lo, x_hi, 8), ys = NiceTicks(y_lo, y_hi, 6);
-  const double x_step = xs.size() > 1 ? xs[1] - xs[0] : 1.0,
-               y_step = ys.size() > 1 ? ys[1] - ys[0] : 1.0;
   cairo_set_line_width(c, 1.0);
-  for (double x : xs) {
-    const double dx = to_device(x, y_lo).x();
+  for (std::size_t i = 0; i < xs.ticks.size(); ++i) {
+    const double dx = to_device(across(xs.ticks[i], y_lo)).x();
     detail::SetColor(c, palette::kLightGray);
     cairo_move_to(c, dx, top);
     cairo_line_to(c, dx, top + plot_h);
     cairo_stroke(c);
     detail::SetColor(c, palette::kBlack);
-    detail::DrawText(c, TickLabel(x, x_step), dx, top + plot_h + 6, kFont, 0.5, 0.0);
+    detail::DrawText(c, xs.labels[i], dx, top + plot_h + 6, kFont, 0.5, 0.0);
   }
-  for (double y : ys) {
-    const double dy = to_device(x_lo, y).y();
+  for (std::size_t i = 0; i < ys.ticks.size(); ++i) {
+    const double dy = to_device(across(x_lo, ys.ticks[i])).y();
     detail::SetColor(c, palette::kLightGray);
     cairo_move_to(c, left, dy);
     cairo_line_to(c, left + plot_w, dy);
     cairo_stroke(c);
     detail::SetColor(c, palette::kBlack);
-    detail::DrawText(c, TickLabel(y, y_step), left - 6, dy, kFont, 1.0, 0.5);
+    detail::DrawText(c, ys.labels[i], left - kYLabelGap, dy, kFont, 1.0, 0.5);
   }
   detail::DrawText(c, options_.x_label, left + plot_w / 2, height - 18, kFont, 0.5, 0.0);
   cairo_save(c);
-  cairo_translate(c, 16, top + plot_h / 2);
+  cairo_translate(c, kYTitleX, top + plot_h / 2);
   cairo_rotate(c, -M_PI / 2);
   detail::DrawText(c, options_.y_label, 0, 0, kFont, 0.5, 0.5);
   cairo_restore(c);
@@ -128,32 +175,43 @@ void LinePlot::Save(const std::filesystem::path& path) const {
     detail::SetColor(c, color);
     if (s.markers) {
       for (std::size_t i = 0; i < s.x.size(); ++i) {
-        if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
-        const Vec2 d = to_device(s.x[i], s.y[i]);
+        const Vec2 a = across(s.x[i], s.y[i]);
+        if (!shown.contains(a)) continue;  // also leaves out NaN
+        const Vec2 d = to_device(a);
         cairo_new_sub_path(c);
         cairo_arc(c, d.x(), d.y(), std::max(1.5, s.width_px), 0, 2 * M_PI);
       }
       cairo_fill(c);
     } else {
       cairo_new_path(c);
-      bool pen_down = false;
-      for (std::size_t i = 0; i < s.x.size(); ++i) {
-        if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) {
-          pen_down = false;
-          continue;
-        }
-        const Vec2 d = to_device(s.x[i], s.y[i]);
-        if (pen_down) {
-          cairo_line_to(c, d.x(), d.y());
-        } else {
+      // Each run of finite points, clipped; a point between gaps is a segment of no length,
+      // which the round cap draws as a dot.
+      std::vector<Vec2> run;
+      const auto end_run = [&] {
+        if (run.size() == 1 && shown.contains(run[0])) {
+          const Vec2 d = to_device(run[0]);
           cairo_move_to(c, d.x(), d.y());
-          const bool isolated =
-              i + 1 == s.x.size() || !std::isfinite(s.x[i + 1]) || !std::isfinite(s.y[i + 1]);
-          // A point between gaps: a segment of no length, which the round cap draws as a dot.
-          if (isolated) cairo_line_to(c, d.x(), d.y());
+          cairo_line_to(c, d.x(), d.y());
+        } else if (run.size() > 1) {
+          for (const std::vector<Vec2>& piece : detail::ClipPolyline(run, false, shown).pieces) {
+            const Vec2 first = to_device(piece[0]);
+            cairo_move_to(c, first.x(), first.y());
+            for (std::size_t k = 1; k < piece.size(); ++k) {
+              const Vec2 d = to_device(piece[k]);
+              cairo_line_to(c, d.x(), d.y());
+            }
+          }
         }
-        pen_down = true;
+        run.clear();
+      };
+      for (std::size_t i = 0; i < s.x.size(); ++i) {
+        if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) {
+          run.push_back(across(s.x[i], s.y[i]));
+        } else {
+          end_run();
+        }
       }
+      end_run();
       cairo_set_line_width(c, s.width_px);
       cairo_set_dash(c, s.dash_px.data(), static_cast<int>(s.dash_px.size()), 0.0);
       cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);

@@ -10,13 +10,20 @@
 #include <priormap/core/check.hpp>
 #include <priormap/render/ticks.hpp>
 
+#include "axis_labels.hpp"
 #include "canvas.hpp"
+#include "clip.hpp"
 #include "raster_image.hpp"
 
 namespace priormap::render::detail {
 namespace {
 
 constexpr double kAxisFont = 11.0, kTitleFont = 13.0, kLegendFont = 11.0;
+// Left of the plot: the y tick labels end kYLabelGap before it; the rotated y label, centred
+// kYTitleInset into the cell, needs kYTitleRoom of the margin.
+constexpr double kLeft = 70, kYLabelGap = 7, kYTitleInset = 14, kYTitleRoom = 24;
+// Between a tick label and the cell's edge, at least.
+constexpr double kEdgeGap = 2;
 
 void SetStroke(cairo_t* cr, const Color& color, double width_px, std::span<const double> dash_px) {
   SetColor(cr, color);
@@ -62,11 +69,35 @@ Panel::Panel(cairo_t* cr, const Rect& cell, double x_lo, double x_hi, double y_l
   x_hi_ = x_hi;
   y_lo_ = options_.log_y ? std::log10(y_lo) : y_lo;
   y_hi_ = options_.log_y ? std::log10(y_hi) : y_hi;
-  const double left = 70, top = options_.title.empty() ? 10 : 38;
-  const double bottom = 46 + (options_.legend_row ? 24 : 0);
-  plot_ = {cell.x + left, cell.y + top,
-           std::max(cell.width - left - options_.right_margin_px, 10.0),
-           std::max(cell.height - top - bottom, 10.0)};
+  top_ = options_.title.empty() ? 10 : 38;
+  bottom_ = 46 + (options_.legend_row ? 24 : 0);
+  double left = kLeft, right = options_.right_margin_px;
+  LayOut(left, right);
+  // Wide y labels ran into the y label: the margin grows (measured on the ticks of this height;
+  // equal_aspect may give fewer, no wider).
+  double widest = 0.0;
+  for (const std::string& label : YLabels(YTicks()))
+    widest = std::max(widest, TextWidth(label, kAxisFont));
+  left = std::max(left, widest + kYLabelGap + kYTitleRoom);
+  y_title_ = left - kYTitleInset;
+  LayOut(left, right);
+  // The x labels are centred on their ticks: the margins grow until those at the ends stay in
+  // the cell (the last was cut at the figure's edge, or ran into the next panel).
+  for (int round = 0; round < 24; ++round) {
+    const auto [before, after] =
+        detail::LabelOverhang(detail::LabelTicks(XTicks(), kAxisFont), x_lo_, x_hi_, plot_.width);
+    const double short_left = before + kEdgeGap - (plot_.x - cell_.x);
+    const double short_right = after + kEdgeGap - (cell_.x + cell_.width - plot_.x - plot_.width);
+    if (short_left <= 0.0 && short_right <= 0.0) break;
+    if (short_left > 0.0) left += short_left + 0.25;  // a little more, so that the rounds end
+    if (short_right > 0.0) right += short_right + 0.25;
+    LayOut(left, right);
+  }
+}
+
+void Panel::LayOut(double left, double right) {
+  plot_ = {cell_.x + left, cell_.y + top_, std::max(cell_.width - left - right, 10.0),
+           std::max(cell_.height - top_ - bottom_, 10.0)};
   if (options_.equal_aspect) {
     const double scale = std::min(plot_.width / (x_hi_ - x_lo_), plot_.height / (y_hi_ - y_lo_));
     const double width = (x_hi_ - x_lo_) * scale;
@@ -74,6 +105,23 @@ Panel::Panel(cairo_t* cr, const Rect& cell, double x_lo, double x_hi, double y_l
     plot_.width = width;
     plot_.height = (y_hi_ - y_lo_) * scale;
   }
+}
+
+std::vector<double> Panel::XTicks() const {
+  return NiceTicks(x_lo_, x_hi_, std::max(2, static_cast<int>(plot_.width / 80)));
+}
+
+std::vector<double> Panel::YTicks() const {
+  return options_.log_y ? LogTicks(y_lo_, y_hi_)
+                        : NiceTicks(y_lo_, y_hi_, std::max(2, static_cast<int>(plot_.height / 45)));
+}
+
+std::vector<std::string> Panel::YLabels(const std::vector<double>& ticks) const {
+  const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1.0;
+  std::vector<std::string> labels;
+  for (const double y : ticks)
+    labels.push_back(options_.log_y ? fmt::format("{:g}", std::pow(10.0, y)) : TickLabel(y, step));
+  return labels;
 }
 
 double Panel::YValue(double y) const {
@@ -95,13 +143,10 @@ void Panel::DrawFrame() const {
              true);
   }
   const double bottom = plot_.y + plot_.height;
-  const std::vector<double> xs =
-      NiceTicks(x_lo_, x_hi_, std::max(2, static_cast<int>(plot_.width / 80)));
-  const std::vector<double> ys =
-      options_.log_y ? LogTicks(y_lo_, y_hi_)
-                     : NiceTicks(y_lo_, y_hi_, std::max(2, static_cast<int>(plot_.height / 45)));
+  const std::vector<double> xs = XTicks();
+  const std::vector<double> ys = YTicks();
+  const std::vector<std::string> y_labels = YLabels(ys);
   const double x_step = xs.size() > 1 ? xs[1] - xs[0] : 1.0;
-  const double y_step = ys.size() > 1 ? ys[1] - ys[0] : 1.0;
   cairo_set_line_width(c, 1.0);
   cairo_set_dash(c, nullptr, 0, 0.0);
   for (double x : xs) {
@@ -118,7 +163,8 @@ void Panel::DrawFrame() const {
     cairo_stroke(c);
     DrawText(c, TickLabel(x, x_step), dx, bottom + 7, kAxisFont, 0.5, 0.0);
   }
-  for (double y : ys) {
+  for (std::size_t i = 0; i < ys.size(); ++i) {
+    const double y = ys[i];
     const double ty = (y - y_lo_) / (y_hi_ - y_lo_);
     const double dy = plot_.y + (options_.invert_y ? ty : 1.0 - ty) * plot_.height;
     if (options_.grid) {
@@ -131,13 +177,11 @@ void Panel::DrawFrame() const {
     cairo_move_to(c, plot_.x - 4, dy);
     cairo_line_to(c, plot_.x, dy);
     cairo_stroke(c);
-    const std::string label =
-        options_.log_y ? fmt::format("{:g}", std::pow(10.0, y)) : TickLabel(y, y_step);
-    DrawText(c, label, plot_.x - 7, dy, kAxisFont, 1.0, 0.5);
+    DrawText(c, y_labels[i], plot_.x - kYLabelGap, dy, kAxisFont, 1.0, 0.5);
   }
   DrawText(c, options_.x_label, plot_.x + plot_.width / 2, bottom + 25, kAxisFont, 0.5, 0.0);
   cairo_save(c);
-  cairo_translate(c, plot_.x - 56, plot_.y + plot_.height / 2);
+  cairo_translate(c, plot_.x - y_title_, plot_.y + plot_.height / 2);
   cairo_rotate(c, -M_PI / 2);
   DrawText(c, options_.y_label, 0.0, 0.0, kAxisFont, 0.5, 0.5);
   cairo_restore(c);
@@ -181,19 +225,15 @@ void Panel::Polyline(std::span<const Vec2> points, const Color& color, double wi
   cairo_save(cr_);
   Clip();
   cairo_new_path(cr_);
-  bool pen_down = false;
-  for (const Vec2& p : points) {
-    const Vec2 d = ToDevice(p);
-    if (!d.allFinite()) {
-      pen_down = false;
-      continue;
-    }
-    if (pen_down) {
-      cairo_line_to(cr_, d.x(), d.y());
-    } else {
-      cairo_move_to(cr_, d.x(), d.y());
-    }
-    pen_down = true;
+  std::vector<Vec2> device(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) device[i] = ToDevice(points[i]);
+  // Clipped to the plot and as much again around it: Cairo's fixed-point coordinates wrap far
+  // outside the figure. A lone point (between gaps) stays a move, as it was.
+  const Box2 shown(Vec2(plot_.x - plot_.width, plot_.y - plot_.height),
+                   Vec2(plot_.x + 2 * plot_.width, plot_.y + 2 * plot_.height));
+  for (const std::vector<Vec2>& piece : ClipPolyline(device, false, shown).pieces) {
+    cairo_move_to(cr_, piece[0].x(), piece[0].y());
+    for (std::size_t i = 1; i < piece.size(); ++i) cairo_line_to(cr_, piece[i].x(), piece[i].y());
   }
   SetStroke(cr_, color, width_px, dash_px);
   cairo_stroke(cr_);
@@ -206,7 +246,7 @@ void Panel::Dots(std::span<const Vec2> points, const Color& color, double radius
   cairo_new_path(cr_);
   for (const Vec2& p : points) {
     const Vec2 d = ToDevice(p);
-    if (!d.allFinite()) continue;
+    if (!(d.cwiseAbs().maxCoeff() < 1e6)) continue;  // NaN, or far beyond the plot
     cairo_new_sub_path(cr_);
     cairo_arc(cr_, d.x(), d.y(), radius_px, 0.0, 2 * M_PI);
   }
@@ -221,7 +261,7 @@ void Panel::Crosses(std::span<const Vec2> points, const Color& color, double hal
   cairo_new_path(cr_);
   for (const Vec2& p : points) {
     const Vec2 d = ToDevice(p);
-    if (d.allFinite()) CrossPath(cr_, d, half_size_px);
+    if (d.cwiseAbs().maxCoeff() < 1e6) CrossPath(cr_, d, half_size_px);  // not NaN, nor far
   }
   SetStroke(cr_, color, 1.5, {});
   cairo_stroke(cr_);

@@ -44,7 +44,8 @@ struct PanelOptions {
 class Panel {
  public:
   /// A panel filling `cell` and showing [x_lo, x_hi] x [y_lo, y_hi] (with equal_aspect the
-  /// plot area shrinks to keep the aspect, centred). Preconditions: x_lo < x_hi, y_lo < y_hi,
+  /// plot area shrinks to keep the aspect, centred). The margins grow for tick labels that
+  /// would run into the y label or out of the cell. Preconditions: x_lo < x_hi, y_lo < y_hi,
   /// and y_lo > 0 with log_y.
   Panel(cairo_t* cr, const Rect& cell, double x_lo, double x_hi, double y_lo, double y_hi,
         PanelOptions options);
@@ -58,7 +59,7 @@ class Panel {
   void DrawNote(const std::string& note) const;
 
   // Data, clipped to the plot area. Points with a non-finite coordinate are skipped (and break
-  // polylines).
+  // polylines); lines to points far beyond the plot are drawn to where they leave it.
   void Polyline(std::span<const Vec2> points, const Color& color, double width_px,
                 std::span<const double> dash_px = {}) const;
   void Dots(std::span<const Vec2> points, const Color& color, double radius_px) const;
@@ -78,11 +79,18 @@ class Panel {
  private:
   void Clip() const;
   [[nodiscard]] double YValue(double y) const;  // log10 with log_y
+  // The plot area within the cell for the margins (left, right).
+  void LayOut(double left, double right);
+  [[nodiscard]] std::vector<double> XTicks() const;
+  [[nodiscard]] std::vector<double> YTicks() const;  // log10 with log_y
+  [[nodiscard]] std::vector<std::string> YLabels(const std::vector<double>& ticks) const;
 
   cairo_t* cr_;
   Rect cell_;
   Rect plot_;
   double x_lo_, x_hi_, y_lo_, y_hi_;  // y in log10 with log_y
+  double top_ = 0.0, bottom_ = 0.0;   // margins
+  double y_title_ = 56.0;             // from the plot's left edge to the y label's middle
   PanelOptions options_;
 };
 

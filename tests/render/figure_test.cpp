@@ -5,8 +5,11 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
+#include <cairo/cairo.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/check.hpp>
@@ -15,6 +18,7 @@
 #include <priormap/core/simulate.hpp>
 #include <priormap/render/color.hpp>
 #include <priormap/render/figure.hpp>
+#include <priormap/render/figure_size.hpp>
 #include <priormap/render/scene_drawing.hpp>
 
 #include "testing/png_image.hpp"
@@ -81,6 +85,37 @@ bool AnyNear(const PngImage& image, const Vec2& device, int radius,
       if (x >= 0 && y >= 0 && x < image.width() && y < image.height() && predicate(image.At(x, y)))
         return true;
   return false;
+}
+
+// The runs of columns that hold ink (text is black, anti-aliased) in rows [row_from, row_to),
+// split where at least `gap` columns hold none: along a row of tick labels, one run a label.
+std::vector<std::pair<int, int>> InkRuns(const PngImage& image, int row_from, int row_to,
+                                         int gap = 5) {
+  std::vector<std::pair<int, int>> runs;
+  int blank = gap;
+  for (int x = 0; x < image.width(); ++x) {
+    bool ink = false;
+    for (int y = std::max(row_from, 0); y < std::min(row_to, image.height()) && !ink; ++y) {
+      const Rgba p = image.At(x, y);
+      ink = p.r < 128 && p.g < 128 && p.b < 128;
+    }
+    if (!ink) {
+      ++blank;
+      continue;
+    }
+    if (blank >= gap) {
+      runs.emplace_back(x, x);
+    } else {
+      runs.back().second = x;
+    }
+    blank = 0;
+  }
+  return runs;
+}
+
+// Pixels that are not white.
+int Ink(const PngImage& image) {
+  return image.Count([](const Rgba& p) { return p.r + p.g + p.b < 3 * 255 - 30; });
 }
 
 // --- Files -------------------------------------------------------------------------------------
@@ -173,6 +208,54 @@ TEST(Figure, SupportedFigurePathsArePngSvgAndPdf) {
   EXPECT_FALSE(IsSupportedFigurePath("b.jpg"));
   EXPECT_FALSE(IsSupportedFigurePath("b"));
   EXPECT_FALSE(IsSupportedFigurePath("png"));
+}
+
+// --- Size --------------------------------------------------------------------------------------
+
+// Cairo makes no image over 32767 px a side: such a figure was drawn in full and failed only when
+// saved, after allocating (30,000 x 30,000 px: 3.6 GB). It is refused when made, saying why.
+TEST(Figure, ASideBeyondCairosImagesIsRefusedWhenTheFigureIsMade) {
+  try {
+    const Figure figure(World(0, 0, 1, 1), Options(30000, 30000));
+    ADD_FAILURE() << "made a figure of " << figure.width_px() << " x " << figure.height_px();
+  } catch (const ContractError& e) {
+    EXPECT_NE(std::string(e.what()).find("30000 x 30000 px"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("32767"), std::string::npos) << e.what();
+  }
+  // One side too long is enough, whatever the total.
+  EXPECT_THROW(Figure(World(0, 0, 1000, 1), Options(32768, 100)), ContractError);
+  EXPECT_NO_THROW(Figure(World(0, 0, 1000, 1), Options(32767, 100)));
+}
+
+// 20,000 x 20,000 px is within Cairo's sides but 1.6 GB of image: beyond the 8192 x 8192 px cap.
+TEST(Figure, MorePixelsThanTheCapAreRefusedWhenTheFigureIsMade) {
+  try {
+    const Figure figure(World(0, 0, 1, 1), Options(20000, 20000));
+    ADD_FAILURE() << "made a figure of " << figure.width_px() << " x " << figure.height_px();
+  } catch (const ContractError& e) {
+    EXPECT_NE(std::string(e.what()).find("20000 x 20000 px"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(std::to_string(kMaxFigurePixels)), std::string::npos)
+        << e.what();
+  }
+  // The command line's largest (plot --width 8000 of a square world) fits, as does the cap.
+  const Figure largest(World(0, 0, 1, 1), Options(8000, 8000));
+  EXPECT_LE(std::int64_t{largest.width_px()} * largest.height_px(), kMaxFigurePixels);
+  EXPECT_NO_THROW(Figure(World(0, 0, 1, 1), Options(8192, 8192)));
+  EXPECT_THROW(Figure(World(0, 0, 1, 1), Options(8193, 8193)), ContractError);
+}
+
+TEST(FigureSizeFits, HoldsUpToEitherLimit) {
+  EXPECT_TRUE(FigureSizeFits(800, 600));
+  EXPECT_TRUE(FigureSizeFits(kMaxFigureSidePx, 2048));
+  EXPECT_TRUE(FigureSizeFits(8192, 8192));
+  EXPECT_TRUE(FigureSizeFits(8191.5, 8192));  // whole pixels: 8192
+  EXPECT_FALSE(FigureSizeFits(8192.5, 8192));
+  EXPECT_FALSE(FigureSizeFits(kMaxFigureSidePx + 1, 1));
+  EXPECT_FALSE(FigureSizeFits(1, kMaxFigureSidePx + 1));
+  EXPECT_FALSE(FigureSizeFits(0, 100));
+  EXPECT_FALSE(FigureSizeFits(-5, 100));
+  EXPECT_FALSE(FigureSizeFits(kNaN, 100));
+  EXPECT_FALSE(FigureSizeFits(100, std::numeric_limits<double>::infinity()));
 }
 
 // --- Geometry ----------------------------------------------------------------------------------
@@ -620,6 +703,265 @@ TEST(Figure, AnArcOfManyTurnsIsDrawnAsOneCircle) {
   EXPECT_NEAR(ink(1e17, "far.png"), near, 0.05 * near);
 }
 
+// --- Tick labels -------------------------------------------------------------------------------
+
+// The x labels are centred on their ticks: the last, at the plot's right end, reaches half its
+// width beyond it, and "1000000" (48 px) was cut by the 16 px margin. The margin grows, as the
+// left one does for wide y labels: the label is whole, centred on its tick.
+TEST(Figure, TheLastXTickLabelIsWholeAndCentredOnItsTick) {
+  const TempDir dir;
+  for (const bool colorbar : {false, true}) {
+    FigureOptions options = Options(800);
+    options.padding_m = 0.0;
+    options.colorbar = colorbar;
+    const Figure figure(World(0, 0, 1e6, 5e5), options);
+    figure.Save(dir / "labels.png");
+    const PngImage image(dir / "labels.png");
+    ASSERT_TRUE(image.ok());
+    const Vec2 tick = figure.ToDevice({1e6, 0.0});
+    // The labels' row: under the tick marks (5 px), above "x (m)".
+    const int row = static_cast<int>(tick.y());
+    const std::vector<std::pair<int, int>> labels = InkRuns(image, row + 6, row + 21);
+    ASSERT_GE(labels.size(), 3u);
+    const auto [first, last] = labels.back();
+    EXPECT_LT(last, image.width() - 2) << "the label runs to the figure's edge";
+    EXPECT_NEAR((first + last + 1) / 2.0, tick.x(), 2.0) << "colour bar " << colorbar;
+    EXPECT_GE(last + 1 - first, TextWidth("1000000", 11.0) - 3.0) << "colour bar " << colorbar;
+  }
+  // Labels that fit leave the layout as it was: the plot ends 16 px from the edge.
+  const Figure small(World(0, 0, 10, 5), Options(800));
+  EXPECT_NEAR(small.ToDevice({10.25, 0.0}).x(), 800 - 16, 1e-9);
+}
+
+// Colour-bar labels of values in the millions ("10000000") ran into the bar's label and off the
+// figure: they are written in units of 10⁷, which the label names, and the label keeps clear.
+TEST(Figure, WideColourBarLabelsAreWrittenInAPowerOfTen) {
+  const TempDir dir;
+  for (const double vmax : {1.0, 1e7, 2.5e-5}) {
+    FigureOptions options = Options(500);
+    options.colorbar = true;
+    Figure figure(World(0, 0, 4, 4), options);
+    Eigen::MatrixXd values(1, 2);
+    values << 0.0, vmax;
+    figure.HeatMap(values, World(0, 0, 4, 4), Colormap::kViridis, 0.0, vmax, "counts");
+    figure.Save(dir / "colorbar.png");
+    const PngImage image(dir / "colorbar.png");
+    ASSERT_TRUE(image.ok());
+    // Right of the bar and its tick marks (18 + 16 + 4 px right of the plot), the columns with
+    // ink along the bar's height: the tick labels, a gap, the bar's label (rotated).
+    const int from = static_cast<int>(std::ceil(figure.ToDevice({4.25, 0.0}).x())) + 39;
+    const int top = static_cast<int>(figure.ToDevice({0.0, 4.25}).y()) - 6;
+    const int bottom = static_cast<int>(figure.ToDevice({0.0, -0.25}).y()) + 6;
+    std::vector<std::pair<int, int>> runs;  // split where 4 columns hold no ink
+    int blank = 4;
+    for (int x = from; x < image.width(); ++x) {
+      bool ink = false;
+      for (int y = top; y < bottom && !ink; ++y) {
+        const Rgba p = image.At(x, y);
+        ink = p.r < 160 && p.g < 160 && p.b < 160;
+      }
+      if (!ink) {
+        ++blank;
+        continue;
+      }
+      if (blank >= 4) {
+        runs.emplace_back(x, x);
+      } else {
+        runs.back().second = x;
+      }
+      blank = 0;
+    }
+    ASSERT_EQ(runs.size(), 2u) << vmax << ": the tick labels run into the bar's label";
+    EXPECT_LT(runs.back().second, image.width() - 2) << vmax;
+    EXPECT_GE(runs.back().second - runs.back().first, 5) << vmax;  // text, rotated
+  }
+}
+
+// --- TextWidth ---------------------------------------------------------------------------------
+
+// The width the figures laid their labels out with before TextWidth kept one context a thread:
+// a surface and a context made for each measurement. `text` is valid UTF-8.
+double FreshContextWidth(const std::string& text, double size) {
+  cairo_surface_t* surface = cairo_recording_surface_create(CAIRO_CONTENT_ALPHA, nullptr);
+  cairo_t* cr = cairo_create(surface);
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t extents;
+  cairo_text_extents(cr, text.c_str(), &extents);
+  cairo_destroy(cr);
+  cairo_surface_destroy(surface);
+  return extents.x_advance;
+}
+
+// Texts as measured, and as valid UTF-8 (bytes that are not become U+FFFD).
+const std::vector<std::pair<std::string, std::string>> kTexts = {
+    {"", ""},
+    {"0", "0"},
+    {"1000000", "1000000"},
+    {"-2.5e+12", "-2.5e+12"},
+    {"x (m)", "x (m)"},
+    {"σ_ρ (m), ±3σ, θ error (deg)", "σ_ρ (m), ±3σ, θ error (deg)"},
+    {"日本語の地図", "日本語の地図"},
+    {"caf\xe9 \xff.json", "caf\xEF\xBF\xBD \xEF\xBF\xBD.json"}};
+
+TEST(TextWidth, MeasuresWhatAContextOfItsOwnMeasures) {
+  const double nan = kNaN;
+  // Sizes in an order that changes at every call, and with the ones Cairo refuses (NaN puts a
+  // context in error, after which it measures everything as 0) between the others.
+  for (const double size : {11.0, 14.0, nan, 11.0, 0.5, 100.0, 0.0, 12.0, -5.0, 11.0, 1e-3}) {
+    for (const auto& [text, valid] : kTexts) {
+      const double expected = FreshContextWidth(valid, size);
+      const double measured = TextWidth(text, size);
+      EXPECT_EQ(measured, expected) << "'" << valid << "' at " << size;
+    }
+  }
+  EXPECT_GT(TextWidth("1000000", 11.0), 40.0);
+  EXPECT_EQ(TextWidth("1000000", 11.0), FreshContextWidth("1000000", 11.0));
+}
+
+// Each thread measures with its own context: the same widths, concurrently.
+TEST(TextWidth, MeasuresTheSameOnSeveralThreads) {
+  std::vector<double> expected;
+  for (const auto& [text, valid] : kTexts) expected.push_back(FreshContextWidth(valid, 11.0));
+  std::vector<std::vector<double>> measured(4);
+  std::vector<std::thread> threads;
+  for (std::size_t t = 0; t < measured.size(); ++t) {
+    threads.emplace_back([&, t] {
+      for (int repeat = 0; repeat < 200; ++repeat)
+        for (const auto& [text, valid] : kTexts)
+          measured[t].push_back(TextWidth(text, repeat % 2 == 0 ? 11.0 : 17.0));
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (const std::vector<double>& widths : measured) {
+    ASSERT_EQ(widths.size(), 200 * kTexts.size());
+    for (std::size_t i = 0; i < kTexts.size(); ++i) EXPECT_EQ(widths[i], expected[i]) << i;
+  }
+}
+
+// --- Non-finite and far input ------------------------------------------------------------------
+
+// Cairo asserted on a NaN angle (an arc from -inf reduces to one), aborting the whole program.
+TEST(Figure, AnArcWithANonFiniteAngleOrRadiusIsNotDrawn) {
+  const TempDir dir;
+  const double inf = std::numeric_limits<double>::infinity();
+  const Color red{1.0, 0.0, 0.0};
+  Figure figure(World(0, 0, 4, 4), Plain());
+  figure.Arc({2, 2}, 1.0, 0.0, kNaN, {red, 3.0, {}});
+  figure.Arc({2, 2}, 1.0, kNaN, 1.0, {red, 3.0, {}});
+  figure.Arc({2, 2}, 1.0, -inf, 1.0, {red, 3.0, {}});
+  figure.Arc({2, 2}, 1.0, 0.0, inf, {red, 3.0, {}});
+  figure.Arc({2, 2}, kNaN, 0.0, 1.0, {red, 3.0, {}});
+  figure.Arc({kNaN, 2}, 1.0, 0.0, 1.0, {red, 3.0, {}});
+  figure.Arc({2, 2}, 1.0, 0.0, M_PI / 2, {palette::kBlue, 3.0, {}});  // still drawn after them
+  figure.Save(dir / "arc.png");
+  const PngImage image(dir / "arc.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_EQ(image.Count(Like(red)), 0);
+  EXPECT_GT(image.Count(Like(palette::kBlue)), 100);
+}
+
+// A polyline is broken at a non-finite point, as a line plot's is: Cairo drew a NaN as some
+// point, with lines to it across the figure.
+TEST(Figure, APolylineIsBrokenAtANonFinitePoint) {
+  const TempDir dir;
+  const Color red{1.0, 0.0, 0.0};
+  for (const double bad : {kNaN, std::numeric_limits<double>::infinity()}) {
+    Figure figure(World(0, 0, 4, 4), Plain());
+    const std::vector<Vec2> points = {{1, 1}, {bad, 2}, {3, 3}, {3, 1}, {1, 1}, {1, bad}};
+    figure.Polyline(points, false, {red, 3.0, {}});
+    figure.Save(dir / "broken.png");
+    const PngImage image(dir / "broken.png");
+    ASSERT_TRUE(image.ok());
+    // Only (3, 3) - (3, 1) - (1, 1) is drawn: every red pixel is near one of its two segments.
+    const Vec2 corner = figure.ToDevice({3, 1});
+    const Vec2 top = figure.ToDevice({3, 3}), left = figure.ToDevice({1, 1});
+    int red_pixels = 0, astray = 0;
+    for (int y = 0; y < image.height(); ++y) {
+      for (int x = 0; x < image.width(); ++x) {
+        if (!Like(red)(image.At(x, y))) continue;
+        ++red_pixels;
+        const Vec2 p(x + 0.5, y + 0.5);
+        const bool on_vertical =
+            std::abs(p.x() - corner.x()) < 3 && p.y() > top.y() - 3 && p.y() < corner.y() + 3;
+        const bool on_horizontal =
+            std::abs(p.y() - corner.y()) < 3 && p.x() > left.x() - 3 && p.x() < corner.x() + 3;
+        astray += on_vertical || on_horizontal ? 0 : 1;
+      }
+    }
+    EXPECT_GT(red_pixels, 800) << bad;
+    EXPECT_EQ(astray, 0) << bad;
+  }
+}
+
+// Cairo's fixed-point coordinates wrap beyond 8.4 million pixels: a line to a point 1e7 m away
+// (1e9 px) stopped a metre from where it started, and a far polygon filled the wrong part.
+TEST(Figure, ShapesReachingFarBeyondTheFigureAreClippedWhereTheyLeaveIt) {
+  const TempDir dir;
+  const Color red{1.0, 0.0, 0.0}, blue{0.0, 0.0, 1.0};
+  for (const double far : {1e3, 1e5, 1e7, 1e9, 1e15}) {
+    Figure figure(World(0, 0, 4, 4), Plain());
+    const std::vector<Vec2> line = {{1, 1}, {far, 1}, {1, 1.5}};
+    figure.Polyline(line, false, {red, 3.0, {}});
+    // A band from x = 1 to far away, between y = 2.5 and 3.5.
+    figure.FilledPolygon(Polygon{{{1, 2.5}, {far, 2.5}, {far, 3.5}, {1, 3.5}}}, blue);
+    figure.Save(dir / "far.png");
+    const PngImage image(dir / "far.png");
+    ASSERT_TRUE(image.ok());
+    for (const double x : {1.2, 2.0, 3.0, 3.9}) {
+      EXPECT_TRUE(Like(red)(image.At(figure.ToDevice({x, 1.0})))) << far << " at x " << x;
+      EXPECT_TRUE(Like(blue)(image.At(figure.ToDevice({x, 3.0})))) << far << " at x " << x;
+      EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({x, 2.0})), kWhite)) << far << " at x " << x;
+    }
+    EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({0.5, 3.0})), kWhite)) << far;
+  }
+}
+
+// A circle whose radius is a million pixels and more: Cairo filled the whole figure, or drew
+// nothing. It is drawn from points along the part that can be seen.
+TEST(Figure, CirclesFarLargerThanTheFigureAreDrawnWhereTheyPass) {
+  const TempDir dir;
+  const Color red{1.0, 0.0, 0.0}, blue{0.0, 0.0, 1.0};
+  for (const double r : {10.0, 1e4, 1e6, 1e8, 1e12}) {
+    Figure figure(World(0, 0, 4, 4), Plain());
+    figure.FilledCircle(Circle{{2, 2.5 - r}, r}, red);               // the disc below y = 2.5
+    figure.CircleOutline(Circle{{2, 3.5 + r}, r}, {blue, 3.0, {}});  // through (2, 3.5)
+    figure.FilledCircle(Circle{{1e3 * r, 2}, r}, blue);              // far to the east
+    figure.Save(dir / "circles.png");
+    const PngImage image(dir / "circles.png");
+    ASSERT_TRUE(image.ok());
+    EXPECT_TRUE(Like(red)(image.At(figure.ToDevice({2, 2.3})))) << r;
+    EXPECT_TRUE(Like(red)(image.At(figure.ToDevice({0.1, 0.1})))) << r;
+    EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2, 2.7})), kWhite)) << r;
+    EXPECT_TRUE(Like(blue)(image.At(figure.ToDevice({2, 3.5}) + Vec2(0.5, 0.0)))) << r;
+    EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2, 3.8})), kWhite)) << r;
+    EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({2, 3.2})), kWhite)) << r;
+  }
+}
+
+// A shape at a non-finite position is not drawn: Cairo drew it at some point.
+TEST(Figure, ShapesAtNonFinitePositionsAreNotDrawn) {
+  const TempDir dir;
+  const Color red{1.0, 0.0, 0.0};
+  Figure figure(World(0, 0, 4, 4), Plain());
+  figure.FilledPolygon(Polygon{{{1, 1}, {3, 1}, {kNaN, 3}}}, red, {red, 2.0, {}});
+  figure.Text({kNaN, 1.0}, "label", 30.0, red);
+  figure.Text({1e12, 1.0}, "label", 30.0, red);
+  figure.PoseMarker(Se2(kNaN, 1.0, 0.0), red, 20.0);
+  figure.PoseMarker(Se2(2.0, 2.0, kNaN), red, 20.0);
+  figure.FilledCircle(Circle{{kNaN, 2.0}, 1.0}, red);
+  figure.FilledCircle(Circle{{2.0, 2.0}, kNaN}, red);
+  figure.CircleOutline(Circle{{2.0, kNaN}, 1.0}, {red, 3.0, {}});
+  const std::vector<Vec2> points = {{kNaN, 1.0}, {1e12, 1.0}};
+  const std::vector<double> angles = {0.0, 0.0};
+  figure.Ticks(points, angles, 40.0, {red, 3.0, {}});
+  figure.CovarianceEllipse({kNaN, 1.0}, Mat2::Identity(), 1.0, {red, 3.0, {}});
+  figure.Save(dir / "nowhere.png");
+  const PngImage image(dir / "nowhere.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_EQ(Ink(image), 0);
+}
+
 // --- Contracts ---------------------------------------------------------------------------------
 
 TEST(Figure, CovarianceEllipseWithANonPsdMatrixIsAContractError) {
@@ -655,6 +997,44 @@ TEST(Figure, EmptyOrNonFiniteWorldIsAContractError) {
   EXPECT_THROW(Figure{Box2()}, ContractError);
   EXPECT_THROW(Figure{World(0, 0, kNaN, 1)}, ContractError);
   EXPECT_THROW(Figure{World(0, 0, std::numeric_limits<double>::infinity(), 1)}, ContractError);
+}
+
+// These made a figure that could not be saved ("invalid matrix", "invalid value"): refused when
+// made, naming what is wrong.
+TEST(Figure, ANonFinitePaddingOrAWorldWiderThanTheDoublesIsAContractError) {
+  const double big = std::numeric_limits<double>::max();
+  for (const double padding : {kNaN, std::numeric_limits<double>::infinity()}) {
+    FigureOptions options;
+    options.padding_m = padding;
+    EXPECT_THROW(Figure(World(0, 0, 1, 1), options), ContractError) << padding;
+  }
+  EXPECT_THROW(Figure{World(-big, -big, big, big)}, ContractError);
+  FigureOptions options;
+  options.padding_m = 1e308;
+  EXPECT_THROW(Figure(World(0, 0, 1, 1), options), ContractError);
+}
+
+TEST(Figure, TextOfANonFiniteOrNegativeSizeIsAContractError) {
+  Figure figure(World(0, 0, 1, 1));
+  EXPECT_THROW(figure.Text({0.5, 0.5}, "a", kNaN), ContractError);
+  EXPECT_THROW(figure.Text({0.5, 0.5}, "a", std::numeric_limits<double>::infinity()),
+               ContractError);
+  EXPECT_THROW(figure.Text({0.5, 0.5}, "a", -12.0), ContractError);
+  EXPECT_NO_THROW(figure.Text({0.5, 0.5}, "a", 0.0));
+  const TempDir dir;
+  EXPECT_NO_THROW(figure.Save(dir / "text.png"));  // the figure is still whole
+}
+
+TEST(Figure, AHeatMapExtentNotFiniteOrOfNoAreaIsAContractError) {
+  Figure figure(World(0, 0, 1, 1));
+  const Eigen::MatrixXd values = Eigen::MatrixXd::Zero(2, 2);
+  for (const Box2& extent :
+       {World(kNaN, 0, 1, 1), World(0, 0, std::numeric_limits<double>::infinity(), 1), Box2(),
+        World(0, 0, 0, 1), World(0, 0, 1, 0)}) {
+    EXPECT_THROW(figure.HeatMap(values, extent, Colormap::kViridis, 0, 1), ContractError);
+  }
+  const TempDir dir;
+  EXPECT_NO_THROW(figure.Save(dir / "heat.png"));
 }
 
 // Cairo stops drawing at a string that is not UTF-8; such bytes (a file name in the title) are

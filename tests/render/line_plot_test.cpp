@@ -11,6 +11,7 @@
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/render/figure.hpp>
 #include <priormap/render/line_plot.hpp>
 
 #include "testing/png_image.hpp"
@@ -156,6 +157,32 @@ std::set<int> RowsWith(const PngImage& image, const PixelPredicate& predicate) {
   return rows;
 }
 
+// The runs of columns that hold ink (text is black, anti-aliased) in rows [row_from, row_to),
+// split where at least `gap` columns hold none: along a row of tick labels, one run a label.
+std::vector<std::pair<int, int>> InkRuns(const PngImage& image, int row_from, int row_to,
+                                         int gap = 4) {
+  std::vector<std::pair<int, int>> runs;
+  int blank = gap;
+  for (int x = 0; x < image.width(); ++x) {
+    bool ink = false;
+    for (int y = std::max(row_from, 0); y < std::min(row_to, image.height()) && !ink; ++y) {
+      const Rgba p = image.At(x, y);
+      ink = p.r < 128 && p.g < 128 && p.b < 128;
+    }
+    if (!ink) {
+      ++blank;
+      continue;
+    }
+    if (blank >= gap) {
+      runs.emplace_back(x, x);
+    } else {
+      runs.back().second = x;
+    }
+    blank = 0;
+  }
+  return runs;
+}
+
 TEST(LinePlot, SavesPngSvgAndPdfWithTheRequestedSize) {
   const TempDir dir;
   LinePlotOptions options = Size(640, 360);
@@ -201,6 +228,18 @@ TEST(LinePlot, SavesPngSvgAndPdfWithTheRequestedSize) {
   EXPECT_TRUE(pdf.starts_with("%PDF"));
   EXPECT_NE(pdf.find("/MediaBox [ 0 0 640 360 ]"), std::string::npos);
   EXPECT_FALSE(HasTemporaryFile(dir.path()));
+}
+
+// A line plot has its size from the start: refused when made, not when saved.
+TEST(LinePlot, ASizeBeyondTheLimitsIsRefusedWhenMade) {
+  LinePlotOptions options;
+  options.width_px = 40000;
+  EXPECT_THROW(LinePlot{options}, ContractError);
+  options.width_px = 9000;
+  options.height_px = 9000;
+  EXPECT_THROW(LinePlot{options}, ContractError);
+  options.height_px = 450;
+  EXPECT_NO_THROW(LinePlot{options});
 }
 
 TEST(LinePlot, SeriesWithMismatchedSizesIsAContractErrorAndWritesNothing) {
@@ -478,6 +517,150 @@ TEST(LinePlot, HorizontalLineSpansTheWholeXAxis) {
   ASSERT_FALSE(columns.empty());
   // The line is dashed, but reaches across most of the figure.
   EXPECT_GT(*columns.rbegin() - *columns.begin(), image.width() * 3 / 4);
+}
+
+// The x labels are centred on their ticks, and the last tick is at the plot's right end when the
+// data end on a round number: "1000000" (48 px) was cut by the 20 px margin. The margin grows:
+// the label is whole, centred on the frame's right edge.
+TEST(LinePlot, TheLastXTickLabelIsWholeAndCentredOnItsTick) {
+  const TempDir dir;
+  for (const double end : {1e6, 1e7, -1e6}) {
+    LinePlot plot;
+    plot.Add(Xy({end < 0 ? end : 0.0, end < 0 ? 0.0 : end}, {0, 1}));
+    plot.Save(dir / "labels.png");
+    const PngImage image(dir / "labels.png");
+    ASSERT_TRUE(image.ok());
+    const std::optional<Frame> frame = FindFrame(image);
+    ASSERT_TRUE(frame.has_value());
+    const int row = static_cast<int>(frame->bottom);
+    const std::vector<std::pair<int, int>> labels = InkRuns(image, row + 3, row + 18);
+    ASSERT_GE(labels.size(), 3u) << end;
+    for (const auto& [first, last] : {labels.front(), labels.back()}) {
+      EXPECT_GT(first, 1) << end;
+      EXPECT_LT(last, image.width() - 2) << end << ": the label runs to the figure's edge";
+    }
+    // The label at the end of the data is whole, centred on its tick at the frame's edge.
+    const auto [first, last] = end < 0 ? labels.front() : labels.back();
+    const double tick = end < 0 ? frame->left : frame->right;
+    EXPECT_NEAR((first + last + 1) / 2.0, tick, 2.0) << end;
+    EXPECT_GE(last + 1 - first, TextWidth(end == 1e7 ? "10000000" : "1000000", 11.0) - 3.0) << end;
+  }
+  // Labels that fit leave the layout as it was: the frame ends 20 px from the edge.
+  LinePlot plain;
+  plain.Add(Xy({0, 10}, {0, 1}));
+  plain.Save(dir / "plain.png");
+  const std::optional<Frame> frame = FindFrame(PngImage(dir / "plain.png"));
+  ASSERT_TRUE(frame.has_value());
+  EXPECT_NEAR(frame->right, 800 - 20, 1.0);
+  EXPECT_NEAR(frame->left, 72, 1.0);
+}
+
+// The y label (rotated, 16 px from the edge) and the y tick labels, drawn the same with and
+// without it: the pixels that differ are the y label's, and no tick label's ink may be near them.
+// Values in the millions had labels that ran into it; the left margin grows.
+TEST(LinePlot, WideYTickLabelsKeepClearOfTheYLabel) {
+  const TempDir dir;
+  const auto draw = [&](const std::string& y_label, double width, const std::string& name) {
+    LinePlotOptions options = Size(static_cast<int>(width), 450);
+    options.y_label = y_label;
+    LinePlot plot(options);
+    plot.Add(Xy({0, 1}, {-1e6, 1e6}));
+    plot.Save(dir / name);
+    return PngImage(dir / name);
+  };
+  for (const double width : {800.0, 200.0}) {
+    const PngImage without = draw("", width, "without.png");
+    const PngImage with = draw("range of the beam, measured (m)", width, "with.png");
+    ASSERT_TRUE(without.ok() && with.ok());
+    const auto dark = [](const Rgba& p) { return p.r < 160 && p.g < 160 && p.b < 160; };
+    int label_pixels = 0, touching = 0;
+    for (int y = 0; y < with.height(); ++y) {
+      for (int x = 0; x < with.width(); ++x) {
+        if (Near(with.At(x, y), without.At(x, y), 8)) continue;
+        ++label_pixels;
+        for (int v = std::max(y - 2, 0); v <= std::min(y + 2, with.height() - 1); ++v)
+          for (int u = std::max(x - 2, 0); u <= std::min(x + 2, with.width() - 1); ++u)
+            touching += dark(without.At(u, v)) ? 1 : 0;
+      }
+    }
+    EXPECT_GT(label_pixels, 100) << width;
+    EXPECT_EQ(touching, 0) << width;
+  }
+}
+
+// The smallest plot (200 x 150) put six x labels of "100000" where two fit: they ran into each
+// other. Ticks are no closer than their labels need, along both axes.
+TEST(LinePlot, TickLabelsOfASmallPlotDoNotRunIntoEachOther) {
+  const TempDir dir;
+  LinePlot plot(Size(200, 150));
+  plot.Add(Xy({0, 1e5}, {0, 1}));
+  plot.Save(dir / "small.png");
+  const PngImage image(dir / "small.png");
+  ASSERT_TRUE(image.ok());
+  const std::optional<Frame> frame = FindFrame(image);
+  ASSERT_TRUE(frame.has_value());
+  // Along the x labels' row: separate labels, none wider than the widest.
+  const int row = static_cast<int>(frame->bottom);
+  const std::vector<std::pair<int, int>> xs = InkRuns(image, row + 3, row + 18, 3);
+  ASSERT_GE(xs.size(), 2u);
+  for (const auto& [first, last] : xs)
+    EXPECT_LE(last + 1 - first, TextWidth("100000", 11.0)) << first;
+  // Down the y labels' column: separate labels, each a line of digits high.
+  std::vector<std::pair<int, int>> ys;
+  int blank = 2;
+  for (int y = static_cast<int>(frame->top) - 8; y < static_cast<int>(frame->bottom) + 8; ++y) {
+    bool ink = false;
+    for (int x = static_cast<int>(frame->left) - 40; x < static_cast<int>(frame->left) - 3; ++x) {
+      const Rgba p = image.At(x, y);
+      ink = ink || (p.r < 128 && p.g < 128 && p.b < 128);
+    }
+    if (!ink) {
+      ++blank;
+      continue;
+    }
+    if (blank >= 2) {
+      ys.emplace_back(y, y);
+    } else {
+      ys.back().second = y;
+    }
+    blank = 0;
+  }
+  ASSERT_GE(ys.size(), 2u);
+  for (const auto& [first, last] : ys) EXPECT_LE(last + 1 - first, 10) << first;
+}
+
+// Cairo's fixed-point coordinates wrap beyond 8.4 million pixels: a line to a point far beyond
+// an explicit range (1e5, 70 million pixels away) stopped in the middle of the plot, or ran
+// elsewhere. It is clipped where it leaves the plot; far markers are not drawn.
+TEST(LinePlot, DataFarBeyondAnExplicitRangeIsClippedWhereItLeavesThePlot) {
+  const TempDir dir;
+  for (const double far : {1e3, 1e5, 1e7, 1e12, 1e300}) {
+    LinePlotOptions options;
+    options.x_range = std::pair{0.0, 1.0};
+    options.y_range = std::pair{0.0, 1.0};
+    LinePlot plot(options);
+    plot.Add(Line({0.25, far}, {0.25, far}, kCrimson));  // the diagonal, out at the top right
+    Series dots = Line({far, 0.5, -far}, {0.5, far, 0.5}, kMagenta);
+    dots.markers = true;
+    plot.Add(dots);
+    plot.Save(dir / "far.png");
+    const PngImage image(dir / "far.png");
+    ASSERT_TRUE(image.ok());
+    const std::optional<Frame> frame = FindFrame(image);
+    ASSERT_TRUE(frame.has_value());
+    const std::set<int> columns = image.ColumnsWith(Like(kCrimson));
+    ASSERT_FALSE(columns.empty()) << far;
+    EXPECT_NEAR(*columns.begin(), frame->left + 0.25 * (frame->right - frame->left), 3.0) << far;
+    EXPECT_GT(*columns.rbegin(), frame->right - 4.0) << far;
+    // On the diagonal all the way.
+    for (const double t : {0.3, 0.5, 0.7, 0.9}) {
+      const Vec2 d = frame->ToDevice(t, t, {0.0, 1.0}, {0.0, 1.0});
+      const std::optional<double> row = MeanRow(image, static_cast<int>(d.x()), Like(kCrimson));
+      ASSERT_TRUE(row.has_value()) << far << " at " << t;
+      EXPECT_NEAR(*row, d.y(), 2.0) << far << " at " << t;
+    }
+    EXPECT_EQ(image.Count(Like(kMagenta)), 0) << far;
+  }
 }
 
 }  // namespace

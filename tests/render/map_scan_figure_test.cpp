@@ -8,7 +8,9 @@
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/check.hpp>
+#include <priormap/render/figure.hpp>
 #include <priormap/render/map_scan_figure.hpp>
+#include <priormap/render/slam_figures.hpp>
 
 #include "testing/png_image.hpp"
 #include "testing/temp_dir.hpp"
@@ -215,6 +217,80 @@ TEST(MapScanFigure, RejectsAMapScanOfAnotherScan) {
   s = MakeSynthetic();
   s.posterior.posterior_std_rho.pop_back();
   EXPECT_THROW(MapScanFigure(s.scan, s.map, s.posterior), ContractError);
+}
+
+// The figure's height follows its width (1.2 times): a width that fits Cairo's images gives a
+// height that does not. Refused when made, before any panel is drawn.
+TEST(MapScanFigure, ASizeBeyondTheLimitsIsRefusedWhenMade) {
+  const Synthetic s = MakeSynthetic();
+  try {
+    const MapScanFigure figure(s.scan, s.map, s.posterior, {.width_px = 28000});
+    ADD_FAILURE() << "made a figure of " << figure.width_px() << " x " << figure.height_px();
+  } catch (const ContractError& e) {
+    EXPECT_NE(std::string(e.what()).find("28000 x 33600 px"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(MapScanFigure(s.scan, s.map, s.posterior, {.width_px = 8000}), ContractError);
+  const MapScanFigure largest(s.scan, s.map, s.posterior, {.width_px = 7400});
+  EXPECT_TRUE(FigureSizeFits(largest.width_px(), largest.height_px()));
+}
+
+// A study of 12 days: the time axis ends on "1000000" (48 px) at the figure's right edge, which
+// cut it (20 px margin). The panel's margin grows: the label is whole, centred on its tick.
+TEST(StudyPlot, TheLastTimeLabelIsWholeAtTheFiguresEdge) {
+  const TempDir dir;
+  slam::StudyResult study;
+  study.times = {0.0, 5e5, 1e6};
+  slam::RunTrace run;
+  run.error.assign(3, Vec3(0.1, 0.2, 0.01));
+  run.sigma.assign(3, Vec3(0.2, 0.2, 0.02));
+  run.nees = {2.0, 3.0, 4.0};
+  study.with_prior = {run};
+  study.without_prior = {run};
+  study.nees_band_low = 1.5;
+  study.nees_band_high = 4.5;
+  const StudyPlot plot(study, StudyPlotKind::kNees, {.width_px = 800});
+  plot.Save(dir / "nees.png");
+  const PngImage image(dir / "nees.png");
+  ASSERT_TRUE(image.ok());
+  // The x labels' row: right under the frame, whose bottom edge is the lowest row darker than
+  // the grid (anti-aliased, it may be grey) along most of the plot's width.
+  const auto frame = [](const Rgba& p) { return p.r < 200; };
+  int bottom = -1;
+  for (int y = 0; y < image.height(); ++y) {
+    int dark = 0;
+    for (int x = 0; x < image.width(); ++x) dark += frame(image.At(x, y)) ? 1 : 0;
+    if (dark > image.width() / 2) bottom = y;
+  }
+  ASSERT_GT(bottom, 0);
+  std::vector<std::pair<int, int>> labels;  // runs of columns with ink, 5 blank ones apart
+  int blank = 5;
+  for (int x = 0; x < image.width(); ++x) {
+    bool ink = false;
+    for (int y = bottom + 5; y < bottom + 18; ++y) ink = ink || image.At(x, y).r < 128;
+    if (!ink) {
+      ++blank;
+      continue;
+    }
+    if (blank >= 5) {
+      labels.emplace_back(x, x);
+    } else {
+      labels.back().second = x;
+    }
+    blank = 0;
+  }
+  ASSERT_GE(labels.size(), 2u);
+  const auto [first, last] = labels.back();
+  EXPECT_LT(last, image.width() - 2) << "the label runs to the figure's edge";
+  EXPECT_GE(last + 1 - first, TextWidth("1000000", 11.0) - 3.0);
+  // Centred on the frame's right edge: the rightmost column dark down most of the plot.
+  int right = -1;
+  for (int x = 0; x < image.width(); ++x) {
+    int dark = 0;
+    for (int y = 0; y < bottom; ++y) dark += frame(image.At(x, y)) ? 1 : 0;
+    if (dark > bottom / 2) right = x;
+  }
+  ASSERT_GT(right, 0);
+  EXPECT_NEAR((first + last + 1) / 2.0, right, 2.0);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <priormap/core/polygon.hpp>
 #include <priormap/core/se2.hpp>
 #include <priormap/render/color.hpp>
+#include <priormap/render/figure_size.hpp>
 
 namespace priormap::render {
 
@@ -32,13 +33,15 @@ struct FigureOptions {
   std::string title{};
   bool axes = true;         ///< metre ticks along the left and bottom edges
   bool colorbar = false;    ///< reserve room on the right for a heat map's colour bar
-  double padding_m = 0.25;  ///< added around the world box
+  double padding_m = 0.25;  ///< added around the world box; finite (below 1e-6 counts as 1e-6)
   LegendPlace legend = LegendPlace::kBelow;
 };
 
 class Figure {
  public:
-  /// A figure showing `world` (plus padding). Precondition: `world` is not empty.
+  /// A figure showing `world` (plus padding). Preconditions (else ContractError): `world` is
+  /// not empty, and it and its padded size are finite; the figure's size fits
+  /// (figure_size.hpp), which is checked before anything is drawn.
   Figure(const Box2& world, FigureOptions options = {});
   ~Figure();
   Figure(Figure&&) noexcept;
@@ -47,6 +50,10 @@ class Figure {
   /// Discs of `radius_px`. More than 20,000 points (a log's) are drawn as one raster layer at
   /// twice the figure's resolution, so that their number does not set the memory, time and
   /// SVG/PDF size; a PNG looks the same either way.
+  ///
+  /// Whatever is drawn may reach beyond the world, and is clipped to the plot. Shapes with a
+  /// non-finite coordinate are not drawn (points, ticks, markers, text, circles, arcs, filled
+  /// polygons), except that a polyline is broken at such a point.
   void Points(std::span<const Vec2> points, const Color& color, double radius_px = 1.5);
   void Line(const Vec2& a, const Vec2& b, const LineStyle& style);
   void Polyline(std::span<const Vec2> points, bool closed, const LineStyle& style);
@@ -66,13 +73,14 @@ class Figure {
              const LineStyle& style);
   /// A pose marker: a triangle pointing along theta.
   void PoseMarker(const Se2& pose, const Color& color, double size_px = 10.0);
-  /// Text with its left baseline at `position`.
+  /// Text with its left baseline at `position`. Precondition: size_px finite and not negative.
   void Text(const Vec2& position, const std::string& text, double size_px = 12.0,
             const Color& color = palette::kBlack);
   /// A grid of cells over `extent`: values(iy, ix) covers the cell whose lower-left corner is
   /// extent.min() + (ix, iy) * cell size, so row 0 is at the bottom. NaN cells are left blank.
-  /// With FigureOptions::colorbar, draws a colour bar labelled `label`. Precondition: vmin < vmax,
-  /// both finite.
+  /// With FigureOptions::colorbar, draws a colour bar labelled `label` (its ticks in units of a
+  /// power of ten, named after the label, when plain ones would not fit beside it).
+  /// Preconditions: vmin < vmax, both finite; `extent` not empty, finite.
   void HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap colormap, double vmin,
                double vmax, const std::string& label = "");
   /// A legend entry (drawn where FigureOptions::legend says, when saving).
@@ -93,5 +101,9 @@ class Figure {
 
 /// ".png", ".svg", ".pdf".
 [[nodiscard]] bool IsSupportedFigurePath(const std::filesystem::path& path);
+
+/// The advance width, in pixels, of `text` as Figure::Text draws it at `size_px`: the figures
+/// lay their labels out with it (bytes that are not UTF-8 count as U+FFFD). Thread-safe.
+[[nodiscard]] double TextWidth(const std::string& text, double size_px = 12.0);
 
 }  // namespace priormap::render

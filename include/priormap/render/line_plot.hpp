@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <priormap/render/color.hpp>
+#include <priormap/render/figure_size.hpp>
 
 namespace priormap::render {
 
@@ -22,25 +23,27 @@ struct Series {
 };
 
 struct LinePlotOptions {
-  int width_px = 800;
-  int height_px = 450;
+  int width_px = 800;   ///< at least 200 (grown when tick labels leave no plot)
+  int height_px = 450;  ///< at least 150
   std::string title{};
   std::string x_label{};
   std::string y_label{};
-  std::optional<std::pair<double, double>> x_range{};  ///< default: the data's
+  /// Default: the data's. Given: finite, lo < hi; data beyond it is clipped.
+  std::optional<std::pair<double, double>> x_range{};
   std::optional<std::pair<double, double>> y_range{};
 };
 
 class LinePlot {
  public:
-  explicit LinePlot(LinePlotOptions options = {}) : options_(std::move(options)) {}
+  /// Throws ContractError when the plot's size does not fit (figure_size.hpp).
+  explicit LinePlot(LinePlotOptions options = {});
 
   void Add(Series series) { series_.push_back(std::move(series)); }
   /// A horizontal reference line (e.g. zero error, a 3-sigma bound).
   void AddHorizontalLine(double y, const Color& color, std::string label = "");
 
   /// Writes PNG, SVG or PDF according to the extension, atomically. Throws IoError, and
-  /// ContractError when a series has x and y of different sizes.
+  /// ContractError when a series has x and y of different sizes or a range is not as above.
   void Save(const std::filesystem::path& path) const;
 
  private:

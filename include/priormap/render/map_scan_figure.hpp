@@ -19,6 +19,7 @@
 #include <priormap/core/scan.hpp>
 #include <priormap/priorlets/engine.hpp>
 #include <priormap/priorlets/posterior.hpp>
+#include <priormap/render/figure_size.hpp>
 
 namespace priormap::render {
 
@@ -39,7 +40,8 @@ class MapScanFigure {
   /// Draws the figure of `map` = EstimateMapScan(scan, ...) and `posterior` = AnalysePosterior(
   /// scan, ..., map, ...). Preconditions: the per-beam vectors of `map` (and of `posterior` when
   /// computed) have scan.size() entries; range_covariance, when not empty, is m x m with
-  /// m = map.inmodel_beams.size().
+  /// m = map.inmodel_beams.size(); the figure's size fits (figure_size.hpp: width_px up to
+  /// 7,461 with a title, 7,478 without), which is checked before anything is drawn.
   MapScanFigure(const Scan& scan, const priorlets::MapScan& map,
                 const priorlets::Posterior& posterior, const MapScanFigureOptions& options = {});
   ~MapScanFigure();

@@ -37,8 +37,8 @@ struct StudyPlotOptions {
 /// A plot over time of a study's frames, drawn once and saved as PNG, SVG or PDF.
 class StudyPlot {
  public:
-  /// Draws the plot of `kind`. Precondition: every trace of the study has one entry per frame
-  /// (study.times).
+  /// Draws the plot of `kind`. Preconditions: every trace of the study has one entry per frame
+  /// (study.times); the plot's size fits (figure_size.hpp), checked before anything is drawn.
   StudyPlot(const slam::StudyResult& study, StudyPlotKind kind,
             const StudyPlotOptions& options = {});
   ~StudyPlot();
