@@ -65,15 +65,14 @@ std::optional<Vec2> IntersectSegments(const Segment& s, const Segment& t) {
   return s.a + u * r;
 }
 
-std::optional<Segment> ClipSegmentToBox(const Segment& segment, const Box2& box) {
-  const Vec2& a = segment.a;
-  const Vec2 d = segment.b - a;
+std::pair<double, double> ClipParametersToBox(const Vec2& a, const Vec2& b, const Box2& box) {
+  const Vec2 d = b - a;
   double t0 = 0.0, t1 = 1.0;
   for (int k = 0; k < 2; ++k) {
     for (const auto& [p, q] :
          {std::pair{-d[k], a[k] - box.min()[k]}, std::pair{d[k], box.max()[k] - a[k]}}) {
       if (p == 0.0) {
-        if (q < 0.0) return std::nullopt;
+        if (q < 0.0) return {1.0, 0.0};
         continue;
       }
       const double t = q / p;
@@ -83,8 +82,14 @@ std::optional<Segment> ClipSegmentToBox(const Segment& segment, const Box2& box)
         t1 = std::min(t1, t);
     }
   }
+  return {t0, t1};
+}
+
+std::optional<Segment> ClipSegmentToBox(const Segment& segment, const Box2& box) {
+  const auto [t0, t1] = ClipParametersToBox(segment.a, segment.b, box);
   if (t0 > t1) return std::nullopt;
-  return Segment{a + t0 * d, a + t1 * d};
+  const Vec2 d = segment.b - segment.a;
+  return Segment{segment.a + t0 * d, segment.a + t1 * d};
 }
 
 }  // namespace priormap

@@ -3,32 +3,9 @@
 #include <algorithm>
 #include <utility>
 
+#include <priormap/core/segment.hpp>
+
 namespace priormap::render::detail {
-namespace {
-
-// The parameters [t0, t1] of the part of a + t (b - a), t in [0, 1], inside the box; t0 > t1
-// when there is none (Liang & Barsky).
-std::pair<double, double> ClipParameters(const Vec2& a, const Vec2& b, const Box2& box) {
-  const Vec2 d = b - a;
-  double t0 = 0.0, t1 = 1.0;
-  for (int k = 0; k < 2; ++k) {
-    for (const auto& [p, q] :
-         {std::pair{-d[k], a[k] - box.min()[k]}, std::pair{d[k], box.max()[k] - a[k]}}) {
-      if (p == 0.0) {
-        if (q < 0.0) return {1.0, 0.0};
-        continue;
-      }
-      const double t = q / p;
-      if (p < 0.0)
-        t0 = std::max(t0, t);
-      else
-        t1 = std::min(t1, t);
-    }
-  }
-  return {t0, t1};
-}
-
-}  // namespace
 
 ClippedPolyline ClipPolyline(std::span<const Vec2> points, bool closed, const Box2& box) {
   ClippedPolyline out;
@@ -52,7 +29,7 @@ ClippedPolyline ClipPolyline(std::span<const Vec2> points, bool closed, const Bo
       joined = false;
       continue;
     }
-    const auto [t0, t1] = ClipParameters(a, b, box);
+    const auto [t0, t1] = ClipParametersToBox(a, b, box);
     if (!(t0 <= t1)) {
       joined = false;
       continue;

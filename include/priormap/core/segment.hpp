@@ -2,6 +2,7 @@
 /// Line segments, and distances of points to segments and to infinite lines.
 
 #include <optional>
+#include <utility>
 
 #include <priormap/core/types.hpp>
 
@@ -41,6 +42,12 @@ struct Segment {
 /// The intersection point of two closed segments, if they meet in exactly one point
 /// (collinear overlapping segments give nullopt).
 [[nodiscard]] std::optional<Vec2> IntersectSegments(const Segment& s, const Segment& t);
+
+/// The parameters [t0, t1] of the part of a + t (b - a), t in [0, 1], inside the closed box
+/// (Liang & Barsky); t0 > t1 when there is none. Exactly 0 and 1 for an end inside the box, so
+/// that a caller can keep the end itself rather than a + 1 (b - a).
+[[nodiscard]] std::pair<double, double> ClipParametersToBox(const Vec2& a, const Vec2& b,
+                                                            const Box2& box);
 
 /// The part of `segment` inside the closed box (Liang & Barsky), if any; a segment that only
 /// touches the box gives a single point (a == b).
