@@ -195,7 +195,7 @@ TEST(RoboNdSonar, AGarbledLineIsReportedWhereTheFilesGoOutOfStep) {
   using testing::DiagnosticAt;
   // Line 2 of the measurements split after its fourth field: 6 lines against 5.
   std::string split = z;
-  split.replace(split.find(" 1300", split.find("\n200 ")), 1, "\n");
+  split[split.find(" 1300", split.find("\n200 "))] = '\n';
   EXPECT_THAT(errors(split, p),
               ElementsAre(DiagnosticAt("m.txt", 2, 19, "expected 9 fields (t_ms and 8 ranges")));
   // Lines 2 and 3 of the poses joined: 4 lines against 5.
