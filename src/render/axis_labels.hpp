@@ -27,4 +27,20 @@ struct TickLabels {
 [[nodiscard]] std::pair<double, double> LabelOverhang(const TickLabels& labels, double lo,
                                                       double hi, double length_px);
 
+/// Grows the margins `left` and `right` until the labels at the ends of an axis fit.
+/// `lay_out(left, right)` lays the figure out with those margins and returns by how much the end
+/// labels overrun them, {left, right} (<= 0 where they fit). A margin grows by its shortfall and
+/// a little more, so that the rounds end; the layout may change its ticks as the plot narrows, so
+/// this is repeated, at most kMaxMarginRounds times. The layout of the last call stands.
+inline constexpr int kMaxMarginRounds = 24;
+template <typename LayOut>
+void GrowMarginsForEndLabels(double& left, double& right, LayOut lay_out) {
+  for (int round = 0;; ++round) {
+    const auto [short_left, short_right] = lay_out(left, right);
+    if ((short_left <= 0.0 && short_right <= 0.0) || round == kMaxMarginRounds) return;
+    if (short_left > 0.0) left += short_left + 0.25;
+    if (short_right > 0.0) right += short_right + 0.25;
+  }
+}
+
 }  // namespace priormap::render::detail

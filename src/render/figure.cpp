@@ -65,12 +65,17 @@ void SetLineStyle(cairo_t* cr, const LineStyle& style) {
   cairo_set_dash(cr, style.dash_px.data(), static_cast<int>(style.dash_px.size()), 0.0);
 }
 
-void StrokePath(cairo_t* cr, std::span<const Vec2> device, bool closed, const LineStyle& style) {
-  if (device.empty() || style.width_px <= 0.0) return;
-  cairo_new_path(cr);
+// Adds the path through the device points `device` (not empty) to the current one.
+void AddPath(cairo_t* cr, std::span<const Vec2> device, bool closed) {
   cairo_move_to(cr, device[0].x(), device[0].y());
   for (std::size_t i = 1; i < device.size(); ++i) cairo_line_to(cr, device[i].x(), device[i].y());
   if (closed) cairo_close_path(cr);
+}
+
+void StrokePath(cairo_t* cr, std::span<const Vec2> device, bool closed, const LineStyle& style) {
+  if (device.empty() || style.width_px <= 0.0) return;
+  cairo_new_path(cr);
+  AddPath(cr, device, closed);
   SetLineStyle(cr, style);
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
@@ -421,22 +426,22 @@ Figure::Figure(const Box2& world, FigureOptions options) : impl_(std::make_uniqu
                  WidestTickLabel(f.world.min().y(), f.world.max().y()) + kYLabelGap + kYTitleRoom);
     f.x_label_spacing = WidestTickLabel(f.world.min().x(), f.world.max().x()) + kAxisFont;
   }
-  double width = f.LayOut();
-  // The x labels are centred on their ticks: one at an end of the axis reaches half its width
-  // beyond the plot, and was cut at the figure's edge where that is wider than the margin
-  // ("1000000" at the right). The margins grow until the labels fit; ticks and labels may change
-  // with the plot's width. Each round leaves at most half of the shortfall (the part of the plot
-  // beyond the end tick shrinks with the plot, and centring gives each side half of a gain).
-  for (int round = 0; f.options.axes && round < 24; ++round) {
-    const auto [before, after] =
-        detail::LabelOverhang(f.XTicks(), f.world.min().x(), f.world.max().x(), f.plot_width);
-    const double centring = (width - f.margins.left - f.margins.right - f.plot_width) / 2;
-    const double short_left = before + kEdgeGap - (f.margins.left + centring);
-    const double short_right = after + kEdgeGap - (f.margins.right + centring);
-    if (short_left <= 0.0 && short_right <= 0.0) break;
-    // A little more than short, so that the rounds end.
-    if (short_left > 0.0) f.margins.left += short_left + 0.25;
-    if (short_right > 0.0) f.margins.right += short_right + 0.25;
+  double width = 0.0;
+  if (f.options.axes) {
+    // The x labels are centred on their ticks: one at an end of the axis reaches half its width
+    // beyond the plot, and was cut at the figure's edge where that is wider than the margin
+    // ("1000000" at the right). Each round leaves at most half of the shortfall (the part of the
+    // plot beyond the end tick shrinks with the plot, and centring gives each side half a gain).
+    detail::GrowMarginsForEndLabels(
+        f.margins.left, f.margins.right, [&](double left, double right) {
+          width = f.LayOut();
+          const auto [before, after] =
+              detail::LabelOverhang(f.XTicks(), f.world.min().x(), f.world.max().x(), f.plot_width);
+          const double centring = (width - left - right - f.plot_width) / 2;
+          return std::pair{before + kEdgeGap - (left + centring),
+                           after + kEdgeGap - (right + centring)};
+        });
+  } else {
     width = f.LayOut();
   }
   const double height = std::ceil(f.margins.top + f.plot_height + f.margins.bottom);
@@ -531,9 +536,7 @@ void Figure::FilledPolygon(const Polygon& polygon, const Color& fill, const Line
   cairo_t* c = impl_->cr();
   if (!device.empty()) {
     cairo_new_path(c);
-    cairo_move_to(c, device[0].x(), device[0].y());
-    for (std::size_t i = 1; i < device.size(); ++i) cairo_line_to(c, device[i].x(), device[i].y());
-    cairo_close_path(c);
+    AddPath(c, device, true);
     detail::SetColor(c, fill);
     cairo_fill(c);
   }
@@ -569,9 +572,7 @@ void Figure::FilledCircle(const Circle& circle, const Color& fill) {
   } else {
     const std::vector<Vec2> device = impl_->ToDevice(impl_->VisibleDisc(circle));
     if (device.empty()) return;
-    cairo_move_to(c, device[0].x(), device[0].y());
-    for (std::size_t i = 1; i < device.size(); ++i) cairo_line_to(c, device[i].x(), device[i].y());
-    cairo_close_path(c);
+    AddPath(c, device, true);
   }
   detail::SetColor(c, fill);
   cairo_fill(c);

@@ -109,16 +109,13 @@ void LinePlot::Save(const std::filesystem::path& path) const {
   // The x labels are centred on their ticks, and the last was cut at the figure's edge when
   // wider than twice the margin ("1000000"): the margins grow until the labels fit, each round
   // leaving at most the part of the shortfall beyond the end tick.
-  for (int round = 0;; ++round) {
-    width = std::ceil(std::max(width, left + right + kMinPlotWidth));
-    plot_w = width - left - right;
+  detail::GrowMarginsForEndLabels(left, right, [&](double l, double r) {
+    width = std::ceil(std::max(width, l + r + kMinPlotWidth));
+    plot_w = width - l - r;
     xs = detail::LabelTicks(SpacedNiceTicks(x_lo, x_hi, kXTicks, plot_w, x_spacing), kFont);
     const auto [before, after] = detail::LabelOverhang(xs, x_lo, x_hi, plot_w);
-    const double short_left = before + kEdgeGap - left, short_right = after + kEdgeGap - right;
-    if ((short_left <= 0.0 && short_right <= 0.0) || round == 24) break;
-    if (short_left > 0.0) left += short_left + 0.25;  // a little more, so that the rounds end
-    if (short_right > 0.0) right += short_right + 0.25;
-  }
+    return std::pair{before + kEdgeGap - l, after + kEdgeGap - r};
+  });
   // Where a point falls across the plot: 0 to 1 from its left (top) edge, in halves so that a
   // range wider than the largest double does not overflow.
   const auto across = [&](double x, double y) {

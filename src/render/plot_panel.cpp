@@ -24,6 +24,8 @@ constexpr double kAxisFont = 11.0, kTitleFont = 13.0, kLegendFont = 11.0;
 constexpr double kLeft = 70, kYLabelGap = 7, kYTitleInset = 14, kYTitleRoom = 24;
 // Between a tick label and the cell's edge, at least.
 constexpr double kEdgeGap = 2;
+// Marks this far beyond the figure are left out: Cairo's fixed point wraps at ~8.4 M px.
+constexpr double kFarOutsidePx = 1e6;
 
 void SetStroke(cairo_t* cr, const Color& color, double width_px, std::span<const double> dash_px) {
   SetColor(cr, color);
@@ -80,19 +82,15 @@ Panel::Panel(cairo_t* cr, const Rect& cell, double x_lo, double x_hi, double y_l
     widest = std::max(widest, TextWidth(label, kAxisFont));
   left = std::max(left, widest + kYLabelGap + kYTitleRoom);
   y_title_ = left - kYTitleInset;
-  LayOut(left, right);
   // The x labels are centred on their ticks: the margins grow until those at the ends stay in
   // the cell (the last was cut at the figure's edge, or ran into the next panel).
-  for (int round = 0; round < 24; ++round) {
+  GrowMarginsForEndLabels(left, right, [&](double l, double r) {
+    LayOut(l, r);
     const auto [before, after] =
-        detail::LabelOverhang(detail::LabelTicks(XTicks(), kAxisFont), x_lo_, x_hi_, plot_.width);
-    const double short_left = before + kEdgeGap - (plot_.x - cell_.x);
-    const double short_right = after + kEdgeGap - (cell_.x + cell_.width - plot_.x - plot_.width);
-    if (short_left <= 0.0 && short_right <= 0.0) break;
-    if (short_left > 0.0) left += short_left + 0.25;  // a little more, so that the rounds end
-    if (short_right > 0.0) right += short_right + 0.25;
-    LayOut(left, right);
-  }
+        LabelOverhang(LabelTicks(XTicks(), kAxisFont), x_lo_, x_hi_, plot_.width);
+    return std::pair{before + kEdgeGap - (plot_.x - cell_.x),
+                     after + kEdgeGap - (cell_.x + cell_.width - plot_.x - plot_.width)};
+  });
 }
 
 void Panel::LayOut(double left, double right) {
@@ -246,7 +244,7 @@ void Panel::Dots(std::span<const Vec2> points, const Color& color, double radius
   cairo_new_path(cr_);
   for (const Vec2& p : points) {
     const Vec2 d = ToDevice(p);
-    if (!(d.cwiseAbs().maxCoeff() < 1e6)) continue;  // NaN, or far beyond the plot
+    if (!(d.cwiseAbs().maxCoeff() < kFarOutsidePx)) continue;  // NaN, or far beyond the plot
     cairo_new_sub_path(cr_);
     cairo_arc(cr_, d.x(), d.y(), radius_px, 0.0, 2 * M_PI);
   }
@@ -261,7 +259,7 @@ void Panel::Crosses(std::span<const Vec2> points, const Color& color, double hal
   cairo_new_path(cr_);
   for (const Vec2& p : points) {
     const Vec2 d = ToDevice(p);
-    if (d.cwiseAbs().maxCoeff() < 1e6) CrossPath(cr_, d, half_size_px);  // not NaN, nor far
+    if (d.cwiseAbs().maxCoeff() < kFarOutsidePx) CrossPath(cr_, d, half_size_px);  // not NaN
   }
   SetStroke(cr_, color, 1.5, {});
   cairo_stroke(cr_);

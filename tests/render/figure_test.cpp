@@ -87,32 +87,6 @@ bool AnyNear(const PngImage& image, const Vec2& device, int radius,
   return false;
 }
 
-// The runs of columns that hold ink (text is black, anti-aliased) in rows [row_from, row_to),
-// split where at least `gap` columns hold none: along a row of tick labels, one run a label.
-std::vector<std::pair<int, int>> InkRuns(const PngImage& image, int row_from, int row_to,
-                                         int gap = 5) {
-  std::vector<std::pair<int, int>> runs;
-  int blank = gap;
-  for (int x = 0; x < image.width(); ++x) {
-    bool ink = false;
-    for (int y = std::max(row_from, 0); y < std::min(row_to, image.height()) && !ink; ++y) {
-      const Rgba p = image.At(x, y);
-      ink = p.r < 128 && p.g < 128 && p.b < 128;
-    }
-    if (!ink) {
-      ++blank;
-      continue;
-    }
-    if (blank >= gap) {
-      runs.emplace_back(x, x);
-    } else {
-      runs.back().second = x;
-    }
-    blank = 0;
-  }
-  return runs;
-}
-
 // Pixels that are not white.
 int Ink(const PngImage& image) {
   return image.Count([](const Rgba& p) { return p.r + p.g + p.b < 3 * 255 - 30; });
@@ -721,7 +695,7 @@ TEST(Figure, TheLastXTickLabelIsWholeAndCentredOnItsTick) {
     const Vec2 tick = figure.ToDevice({1e6, 0.0});
     // The labels' row: under the tick marks (5 px), above "x (m)".
     const int row = static_cast<int>(tick.y());
-    const std::vector<std::pair<int, int>> labels = InkRuns(image, row + 6, row + 21);
+    const std::vector<std::pair<int, int>> labels = image.InkRuns(row + 6, row + 21, 5);
     ASSERT_GE(labels.size(), 3u);
     const auto [first, last] = labels.back();
     EXPECT_LT(last, image.width() - 2) << "the label runs to the figure's edge";

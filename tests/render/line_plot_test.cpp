@@ -157,32 +157,6 @@ std::set<int> RowsWith(const PngImage& image, const PixelPredicate& predicate) {
   return rows;
 }
 
-// The runs of columns that hold ink (text is black, anti-aliased) in rows [row_from, row_to),
-// split where at least `gap` columns hold none: along a row of tick labels, one run a label.
-std::vector<std::pair<int, int>> InkRuns(const PngImage& image, int row_from, int row_to,
-                                         int gap = 4) {
-  std::vector<std::pair<int, int>> runs;
-  int blank = gap;
-  for (int x = 0; x < image.width(); ++x) {
-    bool ink = false;
-    for (int y = std::max(row_from, 0); y < std::min(row_to, image.height()) && !ink; ++y) {
-      const Rgba p = image.At(x, y);
-      ink = p.r < 128 && p.g < 128 && p.b < 128;
-    }
-    if (!ink) {
-      ++blank;
-      continue;
-    }
-    if (blank >= gap) {
-      runs.emplace_back(x, x);
-    } else {
-      runs.back().second = x;
-    }
-    blank = 0;
-  }
-  return runs;
-}
-
 TEST(LinePlot, SavesPngSvgAndPdfWithTheRequestedSize) {
   const TempDir dir;
   LinePlotOptions options = Size(640, 360);
@@ -533,7 +507,7 @@ TEST(LinePlot, TheLastXTickLabelIsWholeAndCentredOnItsTick) {
     const std::optional<Frame> frame = FindFrame(image);
     ASSERT_TRUE(frame.has_value());
     const int row = static_cast<int>(frame->bottom);
-    const std::vector<std::pair<int, int>> labels = InkRuns(image, row + 3, row + 18);
+    const std::vector<std::pair<int, int>> labels = image.InkRuns(row + 3, row + 18, 4);
     ASSERT_GE(labels.size(), 3u) << end;
     for (const auto& [first, last] : {labels.front(), labels.back()}) {
       EXPECT_GT(first, 1) << end;
@@ -601,7 +575,7 @@ TEST(LinePlot, TickLabelsOfASmallPlotDoNotRunIntoEachOther) {
   ASSERT_TRUE(frame.has_value());
   // Along the x labels' row: separate labels, none wider than the widest.
   const int row = static_cast<int>(frame->bottom);
-  const std::vector<std::pair<int, int>> xs = InkRuns(image, row + 3, row + 18, 3);
+  const std::vector<std::pair<int, int>> xs = image.InkRuns(row + 3, row + 18, 3);
   ASSERT_GE(xs.size(), 2u);
   for (const auto& [first, last] : xs)
     EXPECT_LE(last + 1 - first, TextWidth("100000", 11.0)) << first;

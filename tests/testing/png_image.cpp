@@ -1,5 +1,6 @@
 #include "testing/png_image.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -100,6 +101,29 @@ std::set<int> PngImage::ColumnsWith(const PixelPredicate& predicate) const {
     }
   }
   return columns;
+}
+
+std::vector<std::pair<int, int>> PngImage::InkRuns(int row_from, int row_to, int gap) const {
+  std::vector<std::pair<int, int>> runs;
+  int blank = gap;
+  for (int x = 0; x < width_; ++x) {
+    bool ink = false;
+    for (int y = std::max(row_from, 0); y < std::min(row_to, height_) && !ink; ++y) {
+      const Rgba p = At(x, y);
+      ink = p.r < 128 && p.g < 128 && p.b < 128;
+    }
+    if (!ink) {
+      ++blank;
+      continue;
+    }
+    if (blank >= gap) {
+      runs.emplace_back(x, x);
+    } else {
+      runs.back().second = x;
+    }
+    blank = 0;
+  }
+  return runs;
 }
 
 }  // namespace priormap::testing

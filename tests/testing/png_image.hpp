@@ -5,6 +5,7 @@
 #include <functional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -58,6 +59,11 @@ class PngImage {
   [[nodiscard]] int Count(const PixelPredicate& predicate) const;
   /// How many pixels are Near `color`.
   [[nodiscard]] int Count(const Rgba& color, int tolerance = 1) const;
+
+  /// The runs [first, last] of columns that hold ink (black text, anti-aliased: every channel
+  /// below 128) in rows [row_from, row_to), split where at least `gap` columns hold none: along
+  /// a row of tick labels, one run a label.
+  [[nodiscard]] std::vector<std::pair<int, int>> InkRuns(int row_from, int row_to, int gap) const;
 
   /// Columns that hold at least one pixel satisfying `predicate`.
   [[nodiscard]] std::set<int> ColumnsWith(const PixelPredicate& predicate) const;
