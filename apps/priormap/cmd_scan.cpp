@@ -36,6 +36,7 @@ struct ScanOptions {
   std::string out;
   double beta = priorlets::EngineOptions{}.beta;
   bool no_refine = false;
+  bool open_full_turn = false;
   std::optional<double> max_range;
   std::string covariance = "conditional";
   int eigenvariations = priorlets::PosteriorOptions{}.eigenvariations;
@@ -52,7 +53,7 @@ std::uint64_t AllScansFingerprint(const ScanOptions& o, const dsl::CompiledPrior
   std::string identity =
       fmt::format("priormap {}\n{}\n{}\n{}\n{}\n{}\n{}\n{}\n", PRIORMAP_VERSION, o.prior, o.input,
                   o.beta, o.no_refine, o.max_range.value_or(-1.0), o.covariance, o.eigenvariations);
-  identity += fmt::format("{}\n", o.max_free_dimension);
+  identity += fmt::format("{}\n{}\n", o.max_free_dimension, o.open_full_turn);
   for (const dsl::PriorOrigin& origin : prior.chain()) {
     identity += origin.name + "\n" + origin.path + "\n";
     if (const Result<std::string> text = ReadFileText(origin.path); text.ok())
@@ -179,6 +180,7 @@ void Run(const ScanOptions& o) {
   priorlets::EngineOptions engine;
   engine.beta = o.beta;
   engine.refine_borders = !o.no_refine;
+  engine.close_full_turn = !o.open_full_turn;
   // Sec. IV; the m x m range covariance only for the figure (it is not written to JSON).
   priorlets::PosteriorOptions posterior_options;
   posterior_options.form = o.covariance == "projected" ? priorlets::CovarianceForm::kProjected
@@ -255,6 +257,10 @@ void AddScanCommand(CLI::App& app) {
       ->check(CLI::Range(1e-6, 1.0 - 1e-6))
       ->capture_default_str();
   cmd->add_flag("--no-refine", o->no_refine, "Keep the greedy topology (no border refinement)");
+  cmd->add_flag("--open-full-turn", o->open_full_turn,
+                "Treat a full-turn scan as a chain from its first beam to its last (by default its "
+                "last reading and its first are neighbours, so a wall across the seam is one "
+                "region)");
   cmd->add_option("--max-range", o->max_range,
                   "CARMEN input: readings at or above this are max-range")
       ->check(PositiveValue());

@@ -301,10 +301,15 @@ class UnionFind {
   std::vector<std::size_t> size_;
 };
 
-/// Step 1: checks and scales the rows, groups the variables into components.
+/// Step 1: checks and scales the rows, groups the variables into components. `scales`: empty, or
+/// per variable the divisor of its column (the rows in the variables z = S x).
 std::vector<Component> BuildComponents(std::size_t n, std::span<const ConstraintRow> rows,
-                                       double min_row_norm, std::vector<std::size_t>* free,
-                                       std::size_t* num_rows_used) {
+                                       double min_row_norm, std::span<const double> scales,
+                                       std::vector<std::size_t>* free, std::size_t* num_rows_used) {
+  // Coefficient j of a row in the variables z (as given when there are no scales).
+  const auto coefficient = [&](const ConstraintRow& row, std::size_t j) {
+    return scales.empty() ? row.coefficients[j] : row.coefficients[j] / scales[row.first + j];
+  };
   std::vector<double> norms(rows.size(), 0.0);  // 0: row not used
   std::vector<std::uint8_t> used(n, 0);
   UnionFind sets(n);
@@ -314,27 +319,35 @@ std::vector<Component> BuildComponents(std::size_t n, std::span<const Constraint
                    fmt::format("constraint row {} (first {}, {} coefficients) exceeds {} variables",
                                r, row.first, row.coefficients.size(), n));
     double largest = 0.0;
-    for (double c : row.coefficients) {
+    for (std::size_t j = 0; j < row.coefficients.size(); ++j) {
       // The prior's own terms can leave their domain at the estimate (sqrt of a negative
       // number): the user's prior, not this code, is at fault, and is told so.
-      if (!std::isfinite(c))
+      if (!std::isfinite(row.coefficients[j]))
         throw std::domain_error(
             fmt::format("constraint {} of the prior is not finite at the estimate: a term or its "
                         "derivative is not finite there (the square root of a negative number, or "
                         "sqrt(abs(x)) at x = 0, say)",
                         r));
-      largest = std::max(largest, std::abs(c));
+      largest = std::max(largest, std::abs(coefficient(row, j)));
     }
     if (largest == 0.0) continue;
     double sum = 0.0;  // scaled by the largest entry: no overflow or underflow
-    for (double c : row.coefficients) sum += (c / largest) * (c / largest);
-    const double norm = largest * std::sqrt(sum);
-    if (norm <= min_row_norm) continue;
-    norms[r] = norm;
+    for (std::size_t j = 0; j < row.coefficients.size(); ++j) {
+      const double c = coefficient(row, j) / largest;
+      sum += c * c;
+    }
+    // min_row_norm is in the caller's units: judged on the row as given.
+    const double given_norm = scales.empty()
+                                  ? largest * std::sqrt(sum)
+                                  : Eigen::Map<const Eigen::VectorXd>(
+                                        row.coefficients.data(), ToIndex(row.coefficients.size()))
+                                        .stableNorm();
+    if (given_norm <= min_row_norm) continue;
+    norms[r] = largest * std::sqrt(sum);
     ++*num_rows_used;
     std::size_t previous = n;
     for (std::size_t j = 0; j < row.coefficients.size(); ++j) {
-      if (row.coefficients[j] == 0.0) continue;
+      if (coefficient(row, j) == 0.0) continue;
       used[row.first + j] = 1;
       if (previous != n) sets.Unite(previous, row.first + j);
       previous = row.first + j;
@@ -369,10 +382,10 @@ std::vector<Component> BuildComponents(std::size_t n, std::span<const Constraint
     std::size_t id = n;
     double row_sum = 0.0;
     for (std::size_t j = 0; j < row.coefficients.size(); ++j) {
-      if (row.coefficients[j] == 0.0) continue;
+      if (coefficient(row, j) == 0.0) continue;
       const std::size_t v = row.first + j;
       if (id == n) id = component_of_root[sets.Find(v)];
-      const double value = row.coefficients[j] / norms[r];
+      const double value = coefficient(row, j) / norms[r];
       components[id].rows.index.push_back(local[v]);
       components[id].rows.value.push_back(value);
       column_sums[id][local[v]] += std::abs(value);
@@ -411,6 +424,36 @@ void ScatterAddRows(const Eigen::MatrixXd& y, const std::vector<std::size_t>& va
   for (Index i = 0; i < s; ++i) x->row(ToIndex(variables[i])) += y.row(i);
 }
 
+/// Blocks of one component's kernel in z = S x (orthonormal there) as an orthonormal basis of
+/// the same kernel in x = S^-1 z. Blocks come in post-order of the divide and conquer (a node's
+/// after its subtree's): a node's range holds its descendants' ranges, is disjoint from those of
+/// the other earlier blocks, and its descendants' blocks are the run of blocks just before it
+/// inside its range. So orthonormalising each block against that run (twice: classical
+/// Gram-Schmidt with reorthogonalisation), then within itself, gives orthonormal columns that
+/// keep every block's support and span S^-1 of the same space.
+void MapBackToGivenUnits(const std::vector<std::size_t>& variables, std::span<const double> scales,
+                         std::vector<LocalBlock>* blocks) {
+  for (std::size_t b = 0; b < blocks->size(); ++b) {
+    LocalBlock& block = (*blocks)[b];
+    Eigen::MatrixXd& v = block.basis;
+    for (std::size_t i = block.lo; i < block.hi; ++i)
+      v.row(ToIndex(i - block.lo)) /= scales[variables[i]];
+    std::size_t first = b;  // the run of descendants: blocks first .. b - 1
+    while (first > 0 && (*blocks)[first - 1].lo >= block.lo && (*blocks)[first - 1].hi <= block.hi)
+      --first;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (std::size_t e = first; e < b; ++e) {
+        const LocalBlock& earlier = (*blocks)[e];
+        auto rows = v.middleRows(ToIndex(earlier.lo - block.lo), ToIndex(earlier.hi - earlier.lo));
+        const Eigen::MatrixXd c = earlier.basis.transpose() * rows;
+        rows.noalias() -= earlier.basis * c;
+      }
+    }
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(v);
+    v = qr.householderQ() * Eigen::MatrixXd::Identity(v.rows(), v.cols());
+  }
+}
+
 }  // namespace
 
 bool KernelOptions::IsValid(std::string* why) const {
@@ -436,20 +479,33 @@ ConstraintKernel::ConstraintKernel(std::size_t num_variables)
 }
 
 ConstraintKernel ComputeKernel(std::size_t num_variables, std::span<const ConstraintRow> rows,
-                               const KernelOptions& options) {
+                               const KernelOptions& options,
+                               std::span<const double> variable_scales) {
   std::string why;
   PRIORMAP_CHECK(options.IsValid(&why), why);
+  PRIORMAP_CHECK(
+      variable_scales.empty() || variable_scales.size() == num_variables,
+      fmt::format("{} variable scales for {} variables", variable_scales.size(), num_variables));
+  for (std::size_t v = 0; v < variable_scales.size(); ++v) {
+    PRIORMAP_CHECK(variable_scales[v] > 0.0 && std::isfinite(variable_scales[v]),
+                   fmt::format("variable scale {} must be positive and finite (got {})", v,
+                               variable_scales[v]));
+  }
   ConstraintKernel kernel;
   kernel.num_variables_ = num_variables;
   KernelSummary& summary = kernel.summary_;
   summary.num_variables = num_variables;
-  const std::vector<Component> components = BuildComponents(
-      num_variables, rows, options.min_row_norm, &kernel.free_variables_, &summary.num_rows);
+  const std::vector<Component> components =
+      BuildComponents(num_variables, rows, options.min_row_norm, variable_scales,
+                      &kernel.free_variables_, &summary.num_rows);
 
   std::vector<NodeResult> results(components.size());
   tbb::parallel_for(std::size_t{0}, components.size(), [&](std::size_t id) {
     results[id] =
         ComponentSolver(components[id], options.relative_tolerance, options.parallel_grain).Solve();
+    if (!variable_scales.empty()) {
+      MapBackToGivenUnits(components[id].variables, variable_scales, &results[id].final_blocks);
+    }
   });
 
   RankStats stats;

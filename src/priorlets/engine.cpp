@@ -141,11 +141,44 @@ class LineFitter {
   std::vector<Moments> sums_;
 };
 
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
 // The state of Algorithm 1: which valid beams are in the model and how consecutive ones relate.
+// A closed topology is a ring (the points of a scan that covers a full turn): it has one link
+// per point, links.back() relating the last point to the first. An open one is a chain: the
+// scan's points in order, or a slice of a ring (RefineBorders, SettleCorners) that may cross
+// its seam, continuing from the scan's last beams at its first ones a turn on.
 struct Topology {
-  std::vector<std::size_t> beams;  // in-model beams, increasing
-  std::vector<Link> links;         // links[j] between beams[j] and beams[j + 1]
+  std::vector<std::size_t> beams;  // in-model beams in scan order
+  std::vector<Link> links;         // links[j] between points j and j + 1 (mod size when closed)
+  bool closed = false;
+
+  // 2 pi for the points of an open slice that lie past the seam (their bearings, and normals,
+  // are a turn on from the scan's), else 0. Such a slice holds less than a turn, so those are
+  // exactly its points of smaller beam index than its first.
+  [[nodiscard]] double Turn(std::size_t j) const {
+    return !closed && j > 0 && beams[j] < beams[0] ? kTwoPi : 0.0;
+  }
+  // The link before point j and after it: none (nullopt) at the ends of a chain.
+  [[nodiscard]] std::optional<std::size_t> LinkBefore(std::size_t j) const {
+    if (j > 0) return j - 1;
+    return closed && !beams.empty() ? std::optional<std::size_t>(links.size() - 1) : std::nullopt;
+  }
+  [[nodiscard]] std::optional<std::size_t> LinkAfter(std::size_t j) const {
+    if (j < links.size()) return j;
+    return std::nullopt;
+  }
+  // The point after link l (l + 1, or 0 after a ring's closing link).
+  [[nodiscard]] std::size_t PointAfter(std::size_t l) const {
+    return l + 1 < beams.size() ? l + 1 : 0;
+  }
 };
+
+// a mod n for a signed a, n > 0.
+std::size_t Mod(long a, std::size_t n) {
+  const long r = a % static_cast<long>(n);
+  return static_cast<std::size_t>(r < 0 ? r + static_cast<long>(n) : r);
+}
 
 // How clearly the largest penalty of a relaxable link stands out: its ratio to the median.
 double Prominence(const std::vector<double>& penalties, const Topology& topology) {
@@ -166,11 +199,29 @@ double Sum(const std::vector<double>& values) {
   return std::accumulate(values.begin(), values.end(), 0.0);
 }
 
+// Points in the run [first, last] of `topology` (Runs), round the seam of a ring.
+std::size_t RunLength(const Topology& topology, std::size_t first, std::size_t last) {
+  return last >= first ? last - first + 1 : last + topology.beams.size() - first + 1;
+}
+
 // Maximal runs [first, last] of consecutive points whose links are all `joining` or stricter:
-// regions for kSameRegion, surfaces for kDifferentRegion.
+// regions for kSameRegion, surfaces for kDifferentRegion. In a ring, the run across the seam has
+// first > last and is listed last; a ring without a border is the one run [0, m - 1].
 std::vector<std::pair<std::size_t, std::size_t>> Runs(const Topology& topology, Link joining) {
   std::vector<std::pair<std::size_t, std::size_t>> runs;
   const std::size_t m = topology.beams.size();
+  if (topology.closed && m > 0) {
+    std::vector<std::size_t> borders;
+    for (std::size_t l = 0; l < m; ++l) {
+      if (topology.links[l] > joining) borders.push_back(l);
+    }
+    if (borders.empty()) return {{0, m - 1}};
+    if (borders.back() == m - 1) runs.emplace_back(0, borders.front());
+    for (std::size_t b = 0; b + 1 < borders.size(); ++b)
+      runs.emplace_back(borders[b] + 1, borders[b + 1]);
+    if (borders.back() != m - 1) runs.emplace_back(borders.back() + 1, borders.front());
+    return runs;
+  }
   for (std::size_t j = 0; j < m;) {
     std::size_t e = j;
     while (e + 1 < m && topology.links[e] <= joining) ++e;
@@ -181,23 +232,37 @@ std::vector<std::pair<std::size_t, std::size_t>> Runs(const Topology& topology, 
 }
 
 // Moves the border at links[from] to links[to], of the same kind; false (links untouched) when
-// `to` is outside the links or another border lies on the way.
-bool MoveBorder(std::vector<Link>& links, std::size_t from, long to) {
-  if (to < 0 || to >= static_cast<long>(links.size())) return false;
+// `to` is outside the links or another border lies on the way. In a ring (`closed`) `to` counts
+// round the seam (mod the number of links), less than a turn away.
+bool MoveBorder(std::vector<Link>& links, std::size_t from, long to, bool closed = false) {
+  const auto n = static_cast<long>(links.size());
+  if (closed) {
+    if (to - static_cast<long>(from) >= n || static_cast<long>(from) - to >= n) return false;
+  } else if (to < 0 || to >= n) {
+    return false;
+  }
   const long step = to > static_cast<long>(from) ? 1 : -1;
   for (long k = static_cast<long>(from) + step; k != to + step; k += step) {
-    if (links[static_cast<std::size_t>(k)] != Link::kSameRegion) return false;
+    if (links[closed ? Mod(k, links.size()) : static_cast<std::size_t>(k)] != Link::kSameRegion)
+      return false;
   }
-  links[static_cast<std::size_t>(to)] = links[from];
+  const std::size_t target = closed ? Mod(to, links.size()) : static_cast<std::size_t>(to);
+  links[target] = links[from];
   links[from] = Link::kSameRegion;
   return true;
 }
 
 // The points of the regions on each side of the border at links[border] (link l joins points l
-// and l + 1); a slice's end counts as a border.
+// and l + 1); a slice's end counts as a border. In a ring they count round the seam.
 std::pair<std::size_t, std::size_t> RegionsBeside(const std::vector<Link>& links,
-                                                  std::size_t border) {
+                                                  std::size_t border, bool closed = false) {
   std::size_t left = 1, right = 1;
+  if (closed) {
+    const std::size_t n = links.size();
+    while (left < n && links[(border + n - left) % n] == Link::kSameRegion) ++left;
+    while (right < n && links[(border + right) % n] == Link::kSameRegion) ++right;
+    return {left, right};
+  }
   while (left <= border && links[border - left] == Link::kSameRegion) ++left;
   while (border + right < links.size() && links[border + right] == Link::kSameRegion) ++right;
   return {left, right};
@@ -206,11 +271,12 @@ std::pair<std::size_t, std::size_t> RegionsBeside(const std::vector<Link>& links
 // MoveBorder that also keeps both regions beside the moved border at min_points or more, as the
 // greedy rounds leave every region (RemoveLonelyPoints): false, links untouched, otherwise.
 bool MoveBorderKeepingRegions(std::vector<Link>& links, std::size_t from, long to,
-                              std::size_t min_points) {
-  if (!MoveBorder(links, from, to)) return false;
-  const auto [left, right] = RegionsBeside(links, static_cast<std::size_t>(to));
+                              std::size_t min_points, bool closed = false) {
+  if (!MoveBorder(links, from, to, closed)) return false;
+  const std::size_t target = closed ? Mod(to, links.size()) : static_cast<std::size_t>(to);
+  const auto [left, right] = RegionsBeside(links, target, closed);
   if (left >= min_points && right >= min_points) return true;
-  MoveBorder(links, static_cast<std::size_t>(to), static_cast<long>(from));
+  MoveBorder(links, target, static_cast<long>(from) + (static_cast<long>(target) - to), closed);
   return false;
 }
 
@@ -224,7 +290,8 @@ class Engine {
  private:
   // True when readings a < b cannot be on one surface (Fig. 5a): a max-range reading between
   // them, or a range jump no visible surface of curvature <= max_curvature explains even with
-  // both ranges moved to their bounds.
+  // both ranges moved to their bounds. a > b: across the seam of a scan that covers a full
+  // turn, from a to the scan's end and on from its start to b.
   [[nodiscard]] bool GeometricBreak(std::size_t a, std::size_t b) const;
   [[nodiscard]] Link InitialLink(std::size_t a, std::size_t b) const {
     return GeometricBreak(a, b) ? Link::kDifferentSurface : Link::kSameRegion;
@@ -271,10 +338,10 @@ class Engine {
   // nullopt (links untouched) when there is none or either is a geometric break.
   [[nodiscard]] std::optional<std::size_t> DissolveRegion(Topology& topology, std::size_t border,
                                                           int direction) const;
-  // CheckCorner for the border after point `at` of the slice first..last of `topology`, solved
-  // as x.
+  // CheckCorner for the border after point `at` of the slice of `count` points from `first` of
+  // `topology` (round the seam of a ring), solved as x.
   [[nodiscard]] CornerCheck CornerAt(const Topology& topology, const Eigen::VectorXd& x,
-                                     std::size_t first, std::size_t last, std::size_t at) const;
+                                     std::size_t first, std::size_t count, std::size_t at) const;
   // Every different_region link claims a corner: its border moves to where the two regions'
   // lines meet (corner_geometry.hpp; not when that leaves either region below the minimum), or,
   // when they meet nowhere near it, it becomes different_surface (one region hides the other, Fig.
@@ -292,9 +359,24 @@ class Engine {
     return ComparableCost(solution.x);
   }
   [[nodiscard]] double ComparableCost(const Eigen::VectorXd& x);
-  // In-model points first..last with their links.
+  // The `count` in-model points from `first` on (round the seam of a ring) with the links
+  // between them: a chain.
   [[nodiscard]] static Topology Slice(const Topology& topology, std::size_t first,
-                                      std::size_t last);
+                                      std::size_t count);
+  // The slice of RefineBorders and SettleCorners around link l: up to kRefineHalfWindow points
+  // on each side (fewer at a chain's ends; a ring shorter than two half windows whole, cut
+  // opposite l). Returns its first point and size, and l's place in it.
+  struct SliceAround {
+    std::size_t first = 0, count = 0, at = 0;
+  };
+  [[nodiscard]] static SliceAround Around(const Topology& topology, std::size_t l);
+  // x of `slice` (from `first` of `topology`, Slice) pasted into x of `topology`.
+  static void Paste(const Topology& topology, const Topology& slice, std::size_t first,
+                    const Eigen::VectorXd& slice_x, Eigen::VectorXd& x);
+  // The fewest points a ring keeps (fewer: a chain): more than the prior's order, and 3.
+  [[nodiscard]] std::size_t MinRingPoints() const {
+    return std::max<std::size_t>(3, static_cast<std::size_t>(prior_.order()) + 1);
+  }
 
   const Scan& scan_;
   const dsl::CompiledPrior& prior_;
@@ -305,10 +387,15 @@ class Engine {
 };
 
 bool Engine::GeometricBreak(std::size_t a, std::size_t b) const {
-  for (std::size_t i = a + 1; i < b; ++i) {
+  const bool seam = b < a;
+  for (std::size_t i = a + 1; i < (seam ? scan_.size() : b); ++i) {
     if (scan_.status[i] == BeamStatus::kMaxRange) return true;
   }
-  const double dphi = std::abs(scan_.angles[b] - scan_.angles[a]);
+  for (std::size_t i = 0; seam && i < b; ++i) {
+    if (scan_.status[i] == BeamStatus::kMaxRange) return true;
+  }
+  const double dphi = seam ? scan_.angles[b] + kTwoPi - scan_.angles[a]
+                           : std::abs(scan_.angles[b] - scan_.angles[a]);
   const double slack_a = options_.rho_bound_sigmas * scan_.sigma[a];
   const double slack_b = options_.rho_bound_sigmas * scan_.sigma[b];
   const bool a_near = scan_.ranges[a] <= scan_.ranges[b];
@@ -333,19 +420,35 @@ bool Engine::GeometricBreak(std::size_t a, std::size_t b) const {
 std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
   const std::size_t m = topology.beams.size();
   std::vector<ProblemPoint> points(m);
-  // Region of each in-model point.
+  // Windows are runs of indices into the points; a ring's points are laid out three times over
+  // so that a window round its seam is one too: point j at u = j + offset.
+  const bool ring = topology.closed;
+  const std::size_t offset = ring ? m : 0, copies = ring ? 3 : 1;
+  // Region of each in-model point, as indices u.
   std::vector<std::size_t> region_start(m), region_end(m);
   for (const auto& [first, last] : Runs(topology, Link::kSameRegion)) {
-    std::fill(region_start.begin() + static_cast<long>(first),
-              region_start.begin() + static_cast<long>(last) + 1, first);
-    std::fill(region_end.begin() + static_cast<long>(first),
-              region_end.begin() + static_cast<long>(last) + 1, last);
+    if (!ring) {
+      std::fill(region_start.begin() + static_cast<long>(first),
+                region_start.begin() + static_cast<long>(last) + 1, first);
+      std::fill(region_end.begin() + static_cast<long>(first),
+                region_end.begin() + static_cast<long>(last) + 1, last);
+      continue;
+    }
+    const std::size_t length = RunLength(topology, first, last);
+    const bool borderless = topology.links[(first + m - 1) % m] == Link::kSameRegion;
+    for (std::size_t t = 0; t < length; ++t) {
+      const std::size_t j = (first + t) % m;
+      // A ring without borders: any m consecutive points, centred on j.
+      region_start[j] = borderless ? j + m - (m - 1) / 2 : j + m - t;
+      region_end[j] = region_start[j] + (borderless ? m : length) - 1;
+    }
   }
-  std::vector<Vec2> xy(m);
-  std::vector<double> weight(m);
-  for (std::size_t j = 0; j < m; ++j) {
-    xy[j] = scan_.PointInSensorFrame(topology.beams[j]);
-    weight[j] = 1.0 / (scan_.sigma[topology.beams[j]] * scan_.sigma[topology.beams[j]]);
+  std::vector<Vec2> xy(copies * m);
+  std::vector<double> weight(copies * m);
+  for (std::size_t u = 0; u < copies * m; ++u) {
+    const std::size_t beam = topology.beams[u % m];
+    xy[u] = scan_.PointInSensorFrame(beam);
+    weight[u] = 1.0 / (scan_.sigma[beam] * scan_.sigma[beam]);
   }
   const LineFitter line_fit(xy, weight);
   const auto h = static_cast<std::size_t>(std::max(1, options_.normal_half_window));
@@ -358,7 +461,7 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t beam = topology.beams[j];
     ProblemPoint& pt = points[j];
-    pt.phi = scan_.angles[beam];
+    pt.phi = scan_.angles[beam] + topology.Turn(j);
     pt.rho_measured = scan_.ranges[beam];
     const double slack = options_.rho_bound_sigmas * scan_.sigma[beam];
     pt.rho_lower = std::max(pt.rho_measured - slack, 0.5 * pt.rho_measured);
@@ -373,20 +476,20 @@ std::vector<ProblemPoint> Engine::MakePoints(const Topology& topology) const {
     // and on a curved wall the normal of the chord, which a centred window does not bias);
     // when not even the smallest one fits (next to a corner or jump the topology does not know
     // yet) the one-sided window that fits best, so that the normals do not smear across it.
-    const std::size_t rs = region_start[j], re = region_end[j];
+    const std::size_t rs = region_start[j], re = region_end[j], u = j + offset;
     std::optional<LineFitter::Fit> fit;
     for (std::size_t half = h; 2 * half <= std::min(re - rs, 2 * kMaxNormalHalfWindow * h);
          half *= 2) {
-      const bool centred = j >= rs + half && j + half <= re;
+      const bool centred = u >= rs + half && u + half <= re;
       if (!centred && !shift) break;
-      const std::size_t lo = std::clamp(j, rs + half, re - half) - half;
+      const std::size_t lo = std::clamp(u, rs + half, re - half) - half;
       const std::optional<LineFitter::Fit> wider = line_fit(lo, lo + 2 * half);
       if (!wider || !wider->Consistent()) break;
       fit = wider;
     }
     if (!fit) {
-      for (const auto& [lo, hi] : {std::pair{std::max(rs, j >= 2 * h ? j - 2 * h : 0), j},
-                                   std::pair{j, std::min(re, j + 2 * h)}}) {
+      for (const auto& [lo, hi] : {std::pair{std::max(rs, u >= 2 * h ? u - 2 * h : 0), u},
+                                   std::pair{u, std::min(re, u + 2 * h)}}) {
         const std::optional<LineFitter::Fit> side = line_fit(lo, hi);
         if (side && (!fit || side->NormalisedResidual() < fit->NormalisedResidual())) fit = side;
       }
@@ -404,7 +507,7 @@ InnerProblem Engine::MakeProblem(const Topology& topology) const {
   std::vector<double> sigma(topology.beams.size());
   for (std::size_t j = 0; j < sigma.size(); ++j) sigma[j] = scan_.sigma[topology.beams[j]];
   return InnerProblem(prior_, MakePoints(topology), topology.links, std::move(sigma),
-                      InModelRangePrecision(scan_, topology.beams));
+                      InModelRangePrecision(scan_, topology.beams), topology.closed);
 }
 
 Eigen::VectorXd Engine::WarmStart(const Topology& from, const Eigen::VectorXd& x,
@@ -414,22 +517,28 @@ Eigen::VectorXd Engine::WarmStart(const Topology& from, const Eigen::VectorXd& x
   // starts again from the data and the normal fitted in its new region (its old normal may be
   // the neighbouring wall's, halfway between the branches of a corner constraint).
   // (At the ends of `to`, a slice of `from` in border refinement, only the inner side counts.)
+  // Neighbours and links round the seam of a ring count as any others.
   const auto same_link = [&](std::size_t i, std::size_t j, int side) {
-    if (side < 0) {
-      if (j == 0) return true;
-      return i > 0 && from.beams[i - 1] == to.beams[j - 1] && from.links[i - 1] == to.links[j - 1];
-    }
-    if (j + 1 == to.beams.size()) return true;
-    return i + 1 < from.beams.size() && from.beams[i + 1] == to.beams[j + 1] &&
-           from.links[i] == to.links[j];
+    const std::optional<std::size_t> to_link = side < 0 ? to.LinkBefore(j) : to.LinkAfter(j);
+    if (!to_link) return true;
+    const std::optional<std::size_t> from_link = side < 0 ? from.LinkBefore(i) : from.LinkAfter(i);
+    if (!from_link) return false;
+    const std::size_t to_other = side < 0 ? *to_link : to.PointAfter(*to_link);
+    const std::size_t from_other = side < 0 ? *from_link : from.PointAfter(*from_link);
+    return from.beams[from_other] == to.beams[to_other] &&
+           from.links[*from_link] == to.links[*to_link];
   };
-  std::size_t i = 0;
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> index_in_from(scan_.size(), kNone);
+  for (std::size_t i = 0; i < from.beams.size(); ++i) index_in_from[from.beams[i]] = i;
   for (std::size_t j = 0; j < to.beams.size(); ++j) {
-    while (i < from.beams.size() && from.beams[i] < to.beams[j]) ++i;
-    if (i < from.beams.size() && from.beams[i] == to.beams[j] && same_link(i, j, -1) &&
-        same_link(i, j, +1)) {
+    const std::size_t i = index_in_from[to.beams[j]];
+    if (i != kNone && same_link(i, j, -1) && same_link(i, j, +1)) {
       start[static_cast<Eigen::Index>(2 * j)] = x[static_cast<Eigen::Index>(2 * i)];
       start[static_cast<Eigen::Index>(2 * j + 1)] = x[static_cast<Eigen::Index>(2 * i + 1)];
+      // A normal past the seam of a slice is a turn on from the same normal in the ring.
+      const double turn = to.Turn(j) - from.Turn(i);
+      if (turn != 0.0) start[static_cast<Eigen::Index>(2 * j + 1)] += turn;
     }
   }
   return start;
@@ -466,21 +575,30 @@ bool Engine::BreakLinks(Topology& topology, const std::vector<double>& penalties
     std::size_t peak;
     double mass;
   };
+  const auto in_zone = [&](std::size_t l) { return penalties[l] > threshold && relaxable(l); };
+  // A ring's links are visited from one after a link outside every zone, so that no zone is cut
+  // at the seam (all in one zone: the whole ring is that zone).
+  std::size_t start = 0;
+  if (topology.closed) {
+    while (start < n && in_zone(start)) ++start;
+    start = start < n ? start + 1 : 0;
+  }
+  const auto link = [&](std::size_t t) { return start + t < n ? start + t : start + t - n; };
   std::vector<Zone> zones;
-  for (std::size_t l = 0; l < n;) {
-    if (!(penalties[l] > threshold) || !relaxable(l)) {
-      ++l;
+  for (std::size_t t = 0; t < n;) {
+    if (!in_zone(link(t))) {
+      ++t;
       continue;
     }
-    Zone zone{l, 0.0};
-    std::size_t e = l;
-    while (e < n && penalties[e] > threshold && relaxable(e)) {
-      if (penalties[e] > penalties[zone.peak]) zone.peak = e;
-      zone.mass += penalties[e];
+    Zone zone{link(t), 0.0};
+    std::size_t e = t;
+    while (e < n && in_zone(link(e))) {
+      if (penalties[link(e)] > penalties[zone.peak]) zone.peak = link(e);
+      zone.mass += penalties[link(e)];
       ++e;
     }
     zones.push_back(zone);
-    l = e;
+    t = e;
   }
   double heaviest = 0.0;
   for (const Zone& zone : zones) heaviest = std::max(heaviest, zone.mass);
@@ -504,6 +622,14 @@ Topology Engine::Keep(const Topology& topology, const std::vector<char>& keep) c
     }
     next.beams.push_back(topology.beams[j]);
   }
+  // A ring stays one while it has enough points; the closing link is kept when both its points
+  // are.
+  if (topology.closed && next.beams.size() >= MinRingPoints()) {
+    next.links.push_back(keep.back() && keep.front()
+                             ? topology.links.back()
+                             : InitialLink(next.beams.back(), next.beams.front()));
+    next.closed = true;
+  }
   return next;
 }
 
@@ -516,39 +642,49 @@ bool Engine::RemoveLonelyPoints(Topology& topology, const Topology* before) {
   // An older border l that may move: not one geometry demands.
   const auto movable = [&](std::size_t l) {
     return !is_new(l) && topology.links[l] != Link::kSameRegion &&
-           !GeometricBreak(topology.beams[l], topology.beams[l + 1]);
+           !GeometricBreak(topology.beams[l], topology.beams[topology.PointAfter(l)]);
   };
-  std::vector<char> keep(topology.beams.size(), 1);
+  const std::size_t m = topology.beams.size();
+  const auto length = [&](const std::pair<std::size_t, std::size_t>& run) {
+    return RunLength(topology, run.first, run.second);
+  };
+  std::vector<char> keep(m, 1);
   bool changed = false;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const auto [first, last] = runs[r];
-    if (last - first + 1 >= min_points) continue;
+    const std::size_t points = length(runs[r]);
+    if (points >= min_points) continue;
     changed = true;
     bool moved_before = false;
-    for (std::size_t j = first; j <= last; ++j)
-      moved_before = moved_before || moved_[topology.beams[j]];
-    // The run joins its neighbour across an older border when the other side is new.
+    for (std::size_t t = 0; t < points; ++t)
+      moved_before = moved_before || moved_[topology.beams[(first + t) % m]];
+    // The run joins its neighbour across an older border when the other side is new. (In a
+    // ring every run of several lies between two borders.)
     std::optional<std::size_t> old_border, new_border;
-    if (first > 0 && r > 0 && last + 1 < topology.beams.size() && r + 1 < runs.size()) {
-      if (is_new(first - 1) && movable(last) &&
-          runs[r + 1].second - runs[r + 1].first + 1 >= min_points) {
-        new_border = first - 1;
-        old_border = last;
-      } else if (is_new(last) && movable(first - 1) &&
-                 runs[r - 1].second - runs[r - 1].first + 1 >= min_points) {
-        new_border = last;
-        old_border = first - 1;
+    const bool between_borders = topology.closed
+                                     ? runs.size() > 1
+                                     : first > 0 && r > 0 && last + 1 < m && r + 1 < runs.size();
+    if (between_borders) {
+      const std::size_t border_before = first > 0 ? first - 1 : m - 1, border_after = last;
+      const auto& run_after = runs[r + 1 < runs.size() ? r + 1 : 0];
+      const auto& run_before = runs[r > 0 ? r - 1 : runs.size() - 1];
+      if (is_new(border_before) && movable(border_after) && length(run_after) >= min_points) {
+        new_border = border_before;
+        old_border = border_after;
+      } else if (is_new(border_after) && movable(border_before) &&
+                 length(run_before) >= min_points) {
+        new_border = border_after;
+        old_border = border_before;
       }
     }
     if (old_border && !moved_before) {
       topology.links[*new_border] =
           std::max(topology.links[*new_border], topology.links[*old_border]);
       topology.links[*old_border] = Link::kSameRegion;
-      for (std::size_t j = first; j <= last; ++j) moved_[topology.beams[j]] = 1;
+      for (std::size_t t = 0; t < points; ++t) moved_[topology.beams[(first + t) % m]] = 1;
       continue;
     }
-    std::fill(keep.begin() + static_cast<long>(first), keep.begin() + static_cast<long>(last) + 1,
-              0);
+    for (std::size_t t = 0; t < points; ++t) keep[(first + t) % m] = 0;
   }
   if (std::find(keep.begin(), keep.end(), 0) != keep.end()) topology = Keep(topology, keep);
   return changed;
@@ -560,45 +696,52 @@ bool Engine::RemoveSpikes(Topology& topology) const {
       kSpikeWindowFactor * static_cast<std::size_t>(std::max(1, options_.normal_half_window));
   const auto max_run = static_cast<std::size_t>(std::max(1, options_.min_region_points - 1));
   if (m < 2 * k + 1) return false;
-  std::vector<Vec2> xy(m);
-  std::vector<double> weight(m);
-  // borders[j]: links before point j that are not same_region (a window must not cross one).
-  std::vector<std::size_t> borders(m, 0);
-  for (std::size_t j = 0; j < m; ++j) {
-    const std::size_t beam = topology.beams[j];
-    xy[j] = scan_.PointInSensorFrame(beam);
-    weight[j] = 1.0 / (scan_.sigma[beam] * scan_.sigma[beam]);
-    if (j > 0) borders[j] = borders[j - 1] + (topology.links[j - 1] != Link::kSameRegion ? 1 : 0);
+  // Windows are runs of indices u; a ring's points are laid out three times over, point j at
+  // u = j + m, so that every point is judged, also next to the seam.
+  const bool ring = topology.closed;
+  if (ring && m < 2 * k + max_run) return false;
+  const std::size_t offset = ring ? m : 0, total = (ring ? 3 : 1) * m;
+  std::vector<Vec2> xy(total);
+  std::vector<double> weight(total);
+  // borders[u]: links before u that are not same_region (a window must not cross one).
+  std::vector<std::size_t> borders(total, 0);
+  for (std::size_t u = 0; u < total; ++u) {
+    const std::size_t beam = topology.beams[u % m];
+    xy[u] = scan_.PointInSensorFrame(beam);
+    weight[u] = 1.0 / (scan_.sigma[beam] * scan_.sigma[beam]);
+    if (u > 0)
+      borders[u] = borders[u - 1] + (topology.links[(u - 1) % m] != Link::kSameRegion ? 1 : 0);
   }
   const LineFitter line_fit(xy, weight);
-  // How far beyond its range bound reading j lies from `fit`, in sigmas of the line's position
+  // How far beyond its range bound reading u lies from `fit`, in sigmas of the line's position
   // there (positive: it cannot reach the line).
-  const auto beyond = [&](const LineFitter::Fit& fit, std::size_t j) {
-    const std::size_t beam = topology.beams[j];
+  const auto beyond = [&](const LineFitter::Fit& fit, std::size_t u) {
+    const std::size_t beam = topology.beams[u % m];
     const Vec2 normal(std::cos(fit.normal), std::sin(fit.normal));
-    const Vec2 ray = xy[j] / scan_.ranges[beam];
+    const Vec2 ray = xy[u] / scan_.ranges[beam];
     const double incidence = std::abs(normal.dot(ray));
     if (incidence < 1e-3) return 0.0;  // the line runs along the ray: no range reaches it
     // The range at which the ray meets the line, and how far the reading is from it.
     const double reach = fit.centroid.dot(normal) / normal.dot(ray);
     const double excess =
         std::abs(scan_.ranges[beam] - reach) - options_.rho_bound_sigmas * scan_.sigma[beam];
-    return excess * incidence / fit.PositionSigma(xy[j]);
+    return excess * incidence / fit.PositionSigma(xy[u]);
   };
   std::vector<char> keep(m, 1);
   bool removed = false;
-  for (std::size_t j = k; j + k < m; ++j) {
-    for (std::size_t len = 1; len <= max_run && j + len - 1 + k < m; ++len) {
+  for (std::size_t j = offset + (ring ? 0 : k); ring ? j < offset + m : j + k < m; ++j) {
+    for (std::size_t len = 1; len <= max_run && j + len - 1 + k < total; ++len) {
       const std::size_t lo = j - k, hi = j + len - 1 + k;
       if (borders[hi] != borders[lo]) break;  // the window crosses a border
       bool spike = true;
-      for (std::size_t i = lo; i <= hi && spike; ++i) spike = keep[i] || (i >= j && i < j + len);
+      for (std::size_t i = lo; i <= hi && spike; ++i)
+        spike = keep[i % m] || (i >= j && i < j + len);
       if (!spike) break;  // a spike found already is among the neighbours
       const std::optional<LineFitter::Fit> fit = line_fit.Without(lo, hi, j, j + len - 1);
       if (!fit || !fit->Consistent()) continue;
       for (std::size_t i = j; i < j + len && spike; ++i) spike = beyond(*fit, i) > kSpikeLineSigmas;
       if (!spike) continue;
-      std::fill(keep.begin() + static_cast<long>(j), keep.begin() + static_cast<long>(j + len), 0);
+      for (std::size_t i = j; i < j + len; ++i) keep[i % m] = 0;
       removed = true;
       j += len - 1;
       break;
@@ -614,7 +757,7 @@ void Engine::RemoveWorstPoints(Topology& topology, const std::vector<double>& pe
   const std::size_t worst = static_cast<std::size_t>(
       std::max_element(penalties.begin(), penalties.end()) - penalties.begin());
   std::vector<char> keep(topology.beams.size(), 1);
-  keep[topology.beams.size() == 1 ? 0 : worst + 1] = 0;
+  keep[topology.beams.size() == 1 ? 0 : topology.PointAfter(worst)] = 0;
   topology = Keep(topology, keep);
 }
 
@@ -633,13 +776,51 @@ double Engine::ComparableCost(const Eigen::VectorXd& x) {
   return ranges + problem_->Evaluate(x, 0.0, 0.0, nullptr, nullptr).energy;
 }
 
-Topology Engine::Slice(const Topology& topology, std::size_t first, std::size_t last) {
+Topology Engine::Slice(const Topology& topology, std::size_t first, std::size_t count) {
   Topology sub;
-  sub.beams.assign(topology.beams.begin() + static_cast<long>(first),
-                   topology.beams.begin() + static_cast<long>(last) + 1);
-  sub.links.assign(topology.links.begin() + static_cast<long>(first),
-                   topology.links.begin() + static_cast<long>(last));
+  const std::size_t m = topology.beams.size();
+  if (first + count <= m) {
+    sub.beams.assign(topology.beams.begin() + static_cast<long>(first),
+                     topology.beams.begin() + static_cast<long>(first + count));
+    sub.links.assign(topology.links.begin() + static_cast<long>(first),
+                     topology.links.begin() + static_cast<long>(first + count - 1));
+    return sub;
+  }
+  for (std::size_t t = 0; t < count; ++t) {  // round the seam of a ring
+    sub.beams.push_back(topology.beams[(first + t) % m]);
+    if (t + 1 < count) sub.links.push_back(topology.links[(first + t) % m]);
+  }
   return sub;
+}
+
+Engine::SliceAround Engine::Around(const Topology& topology, std::size_t l) {
+  const std::size_t m = topology.beams.size(), half = kRefineHalfWindow;
+  SliceAround slice;
+  if (!topology.closed) {
+    slice.first = l >= half ? l - half + 1 : 0;
+    slice.count = std::min(m - 1, l + half) - slice.first + 1;
+    slice.at = l - slice.first;
+    return slice;
+  }
+  slice.count = std::min(m, 2 * half);
+  slice.at = slice.count / 2 - 1;
+  slice.first = (l + m - slice.at) % m;
+  return slice;
+}
+
+void Engine::Paste(const Topology& topology, const Topology& slice, std::size_t first,
+                   const Eigen::VectorXd& slice_x, Eigen::VectorXd& x) {
+  const std::size_t m = topology.beams.size(), count = slice.beams.size();
+  if (first + count <= m && !topology.closed) {
+    x.segment(static_cast<Eigen::Index>(2 * first), slice_x.size()) = slice_x;
+    return;
+  }
+  for (std::size_t t = 0; t < count; ++t) {
+    const auto j = static_cast<Eigen::Index>((first + t) % m), i = static_cast<Eigen::Index>(t);
+    x[2 * j] = slice_x[2 * i];
+    x[2 * j + 1] =
+        slice_x[2 * i + 1] - (slice.Turn(t) - topology.Turn(static_cast<std::size_t>(j)));
+  }
 }
 
 std::optional<std::size_t> Engine::DissolveRegion(Topology& topology, std::size_t border,
@@ -677,17 +858,15 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
   // border's local problem and the final solve start (the greedy solution no longer fits the
   // points a moved border handed to the next region).
   Eigen::VectorXd pasted = solution.x;
-  const auto half = static_cast<std::size_t>(kRefineHalfWindow);
+  const std::size_t m = topology.beams.size();
   for (std::size_t l = 0; l < topology.links.size(); ++l) {
     if (topology.links[l] == Link::kSameRegion) continue;
     if (topology.links[l] == Link::kDifferentSurface &&
-        GeometricBreak(topology.beams[l], topology.beams[l + 1])) {
+        GeometricBreak(topology.beams[l], topology.beams[topology.PointAfter(l)])) {
       continue;
     }
-    const std::size_t first = l >= half ? l - half + 1 : 0;
-    const std::size_t last = std::min(topology.beams.size() - 1, l + half);
-    Topology local = Slice(topology, first, last);
-    const std::size_t at = l - first;
+    const auto [first, count, at] = Around(topology, l);
+    Topology local = Slice(topology, first, count);
     // The local problem's own minimum, so that its fit compares with those of the trials,
     // which reach theirs (at the final penalty weight, where it stays feasible).
     InnerControl settle;
@@ -712,7 +891,7 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
     }
     if (merged_back) {
       topology.links[l] = local.links[at];
-      pasted.segment(static_cast<Eigen::Index>(2 * first), current.x.size()) = current.x;
+      Paste(topology, local, first, current.x, pasted);
       continue;
     }
     // Move the border while the fit improves. A trial is abandoned as soon as its fit is
@@ -759,10 +938,12 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
       }
       if (border != at) break;  // moved one way: the other way leads back
     }
-    for (std::size_t j = 0; j < local.links.size(); ++j) topology.links[first + j] = local.links[j];
-    if (border != at)
-      pasted.segment(static_cast<Eigen::Index>(2 * first), current.x.size()) = current.x;
-    l = std::max(l, first + border);
+    for (std::size_t j = 0; j < local.links.size(); ++j)
+      topology.links[first + j < m ? first + j : first + j - m] = local.links[j];
+    if (border != at) Paste(topology, local, first, current.x, pasted);
+    // On after the border's new place (a ring's border moved past the seam ends the pass).
+    l = static_cast<std::size_t>(
+        std::max(static_cast<long>(l), static_cast<long>(l + border) - static_cast<long>(at)));
   }
   if (topology.links == before.links) return;
   // Only the seams of the pasted pieces are off the constraints: resume at the final weight.
@@ -779,14 +960,17 @@ void Engine::RefineBorders(Topology& topology, InnerResult& solution) {
 }
 
 CornerCheck Engine::CornerAt(const Topology& topology, const Eigen::VectorXd& x, std::size_t first,
-                             std::size_t last, std::size_t at) const {
-  const std::size_t m = last - first + 1;
-  std::vector<double> phi(m), rho(m), alpha(m);
-  for (std::size_t j = 0; j < m; ++j) {
-    const auto k = static_cast<Eigen::Index>(2 * (first + j));
-    phi[j] = scan_.angles[topology.beams[first + j]];
+                             std::size_t count, std::size_t at) const {
+  const std::size_t m = topology.beams.size();
+  std::vector<double> phi(count), rho(count), alpha(count);
+  for (std::size_t j = 0; j < count; ++j) {
+    // Past the seam of a ring, bearings and normals go on a turn later.
+    const std::size_t p = first + j < m ? first + j : first + j - m;
+    const double turn = p < first ? kTwoPi : 0.0;
+    const auto k = static_cast<Eigen::Index>(2 * p);
+    phi[j] = scan_.angles[topology.beams[p]] + topology.Turn(p) + turn;
     rho[j] = x[k];
-    alpha[j] = x[k + 1];
+    alpha[j] = x[k + 1] + turn;
   }
   return CheckCorner(phi, rho, alpha, at);
 }
@@ -799,15 +983,13 @@ void Engine::UseProblemOf(const Topology& topology) {
 }
 
 void Engine::SettleCorners(Topology& topology, InnerResult& solution) {
-  const std::size_t half = kRefineHalfWindow;
   for (int pass = 0; pass < kCornerPasses; ++pass) {
     Topology settled = topology;
     long moved_beams = 0;
     for (std::size_t l = 0; l < topology.links.size(); ++l) {
       if (topology.links[l] != Link::kDifferentRegion) continue;
-      const std::size_t first = l >= half ? l - half + 1 : 0;
-      const std::size_t last = std::min(topology.beams.size() - 1, l + half);
-      const CornerCheck corner = CornerAt(topology, solution.x, first, last, l - first);
+      const auto [first, count, at] = Around(topology, l);
+      const CornerCheck corner = CornerAt(topology, solution.x, first, count, at);
       if (corner.step ||
           (corner.turned && (!corner.corner || std::abs(corner.shift) > kMaxCornerShift))) {
         settled.links[l] = Link::kDifferentSurface;
@@ -816,7 +998,7 @@ void Engine::SettleCorners(Topology& topology, InnerResult& solution) {
       }
       if (!corner.corner || corner.shift == 0) continue;
       if (MoveBorderKeepingRegions(settled.links, l, static_cast<long>(l) + corner.shift,
-                                   MinRegionPoints()))
+                                   MinRegionPoints(), topology.closed))
         moved_beams += std::abs(corner.shift);
     }
     if (settled.links == topology.links) return;
@@ -848,6 +1030,13 @@ MapScan Engine::Run() {
     if (!scan_.IsValid(i)) continue;
     if (!topology.beams.empty()) topology.links.push_back(InitialLink(topology.beams.back(), i));
     topology.beams.push_back(i);
+  }
+  // A scan that covers a full turn closes into a ring: its last reading and its first are
+  // neighbours (the seam is only where the scan's indices start).
+  if (options_.close_full_turn && CoversFullTurn(scan_) &&
+      topology.beams.size() >= MinRingPoints()) {
+    topology.links.push_back(InitialLink(topology.beams.back(), topology.beams.front()));
+    topology.closed = true;
   }
   // Points that cannot form a region are outliers from the start, and so are spikes.
   RemoveLonelyPoints(topology);
@@ -905,6 +1094,11 @@ MapScan Engine::Run() {
   out.inmodel.assign(n, 0);
   out.inmodel_beams = solved.beams;
   out.links = solved.links;
+  out.closed = solved.closed;
+  if (solved.closed) {
+    out.closing_link = out.links.back();
+    out.links.pop_back();
+  }
   for (std::size_t j = 0; j < solved.beams.size(); ++j) {
     const std::size_t beam = solved.beams[j];
     const ProblemPoint& pt = problem_->points()[j];
@@ -932,6 +1126,16 @@ MapScan Engine::Run() {
 }
 
 }  // namespace
+
+bool CoversFullTurn(const Scan& scan) {
+  const std::size_t n = scan.angles.size();
+  if (scan.sonar || n < 3) return false;
+  const double first = scan.angles.front(), last = scan.angles.back();
+  if (!std::isfinite(first) || !std::isfinite(last) || !(last > first)) return false;
+  const double step = (last - first) / static_cast<double>(n - 1);
+  const double gap = first + kTwoPi - last;
+  return std::abs(gap - step) <= kFullTurnStepTolerance * step;
+}
 
 MapScan EstimateMapScan(const Scan& scan, const dsl::CompiledPrior& prior,
                         const EngineOptions& options) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include <Eigen/Eigenvalues>
 
@@ -52,25 +53,36 @@ const char* ToString(Link link) {
 
 InnerProblem::InnerProblem(const dsl::CompiledPrior& prior, std::vector<ProblemPoint> points,
                            std::vector<Link> links, std::vector<double> range_sigma,
-                           std::optional<SymmetricBandedMatrix> range_precision)
-    : order_(prior.order()), points_(std::move(points)), links_(std::move(links)) {
+                           std::optional<SymmetricBandedMatrix> range_precision, bool closed)
+    : order_(prior.order()), points_(std::move(points)), links_(std::move(links)), closed_(closed) {
   const std::size_t m = points_.size();
   const auto k = static_cast<std::size_t>(order_);
-  PRIORMAP_CHECK(links_.size() + 1 == std::max<std::size_t>(m, 1),
-                 "one link between consecutive points");
+  if (closed_) {
+    PRIORMAP_CHECK(m > k && links_.size() == m,
+                   "a closed problem has more points than the prior's order and one link each");
+  } else {
+    PRIORMAP_CHECK(links_.size() + 1 == std::max<std::size_t>(m, 1),
+                   "one link between consecutive points");
+  }
   PRIORMAP_CHECK(range_sigma.size() == m, "one sigma per point");
   for (int kind = 0; kind < dsl::kNumBlockKinds; ++kind) {
     windows_[static_cast<std::size_t>(kind)].block = prior.block(static_cast<dsl::BlockKind>(kind));
   }
   // A window takes the block of its weakest link: a window across a region border is a
-  // different_region window, one across a surface border a different_surface window.
-  for (std::size_t first = 0; m >= k && first + k <= m; ++first) {
+  // different_region window, one across a surface border a different_surface window. A ring has
+  // a window starting at every point; those across the seam see their later points a turn on.
+  const std::size_t num_windows = closed_ ? m : (m >= k ? m - k + 1 : 0);
+  for (std::size_t first = 0; first < num_windows; ++first) {
     Link weakest = Link::kSameRegion;
-    for (std::size_t l = first; l + 1 < first + k; ++l) weakest = std::max(weakest, links_[l]);
+    for (std::size_t l = first; l + 1 < first + k; ++l)
+      weakest = std::max(weakest, links_[l < m ? l : l - m]);
     BlockWindows& bw = windows_[static_cast<std::size_t>(weakest)];
     if (bw.block == nullptr || bw.block->num_terms() == 0) continue;
     bw.first_point.push_back(first);
-    for (std::size_t i = 0; i < k; ++i) bw.phi.push_back(points_[first + i].phi);
+    for (std::size_t i = 0; i < k; ++i) {
+      const std::size_t q = first + i;
+      bw.phi.push_back(q < m ? points_[q].phi : points_[q - m].phi + 2.0 * std::numbers::pi);
+    }
   }
   for (BlockWindows& bw : windows_) {
     if (bw.first_point.empty()) continue;
@@ -89,6 +101,21 @@ InnerProblem::InnerProblem(const dsl::CompiledPrior& prior, std::vector<ProblemP
     PRIORMAP_CHECK(range_precision->size() == m, "range precision of the wrong size");
     bandwidth_ = std::max(bandwidth_, 2 * range_precision->bandwidth() + 1);
   }
+  // A ring's Hessian order: point p at position 2p in the first half, 2 (m - 1 - p) + 1 in the
+  // second. Points d apart along the ring (either way round) are at most 2 d apart there, so
+  // a window (d <= k - 1) spans at most 4 k - 3 unknowns, the range precision 4 b + 1.
+  std::size_t hessian_bandwidth = bandwidth_;
+  if (closed_) {
+    hessian_index_.resize(2 * m);
+    for (std::size_t p = 0; p < m; ++p) {
+      const std::size_t position = 2 * p < m ? 2 * p : 2 * (m - 1 - p) + 1;
+      hessian_index_[2 * p] = 2 * position;
+      hessian_index_[2 * p + 1] = 2 * position + 1;
+    }
+    hessian_bandwidth = std::max<std::size_t>(1, 4 * k - 3);
+    if (range_precision)
+      hessian_bandwidth = std::max(hessian_bandwidth, 4 * range_precision->bandwidth() + 1);
+  }
   // The data term is the quadratic 1/2 (x - target)^T information (x - target), fixed for the
   // whole solve.
   data_information_ = SymmetricBandedMatrix(num_unknowns(), bandwidth_);
@@ -106,6 +133,32 @@ InnerProblem::InnerProblem(const dsl::CompiledPrior& prior, std::vector<ProblemP
     data_target_[static_cast<Eigen::Index>(2 * p)] = points_[p].rho_measured;
     data_target_[static_cast<Eigen::Index>(2 * p + 1)] = points_[p].alpha_initial;
   }
+  if (closed_) {
+    hessian_data_information_ = SymmetricBandedMatrix(num_unknowns(), hessian_bandwidth);
+    const std::size_t n = num_unknowns();
+    for (std::size_t j = 0; j < n; ++j) {
+      for (std::size_t i = j; i <= std::min(n - 1, j + bandwidth_); ++i) {
+        const double v = data_information_(i, j);
+        if (v != 0.0) hessian_data_information_.Add(hessian_index_[i], hessian_index_[j], v);
+      }
+    }
+  }
+}
+
+Eigen::VectorXd InnerProblem::ToHessianOrder(const Eigen::VectorXd& v) const {
+  if (hessian_index_.empty()) return v;
+  Eigen::VectorXd out(v.size());
+  for (std::size_t u = 0; u < hessian_index_.size(); ++u)
+    out[static_cast<Eigen::Index>(hessian_index_[u])] = v[static_cast<Eigen::Index>(u)];
+  return out;
+}
+
+Eigen::VectorXd InnerProblem::FromHessianOrder(const Eigen::VectorXd& v) const {
+  if (hessian_index_.empty()) return v;
+  Eigen::VectorXd out(v.size());
+  for (std::size_t u = 0; u < hessian_index_.size(); ++u)
+    out[static_cast<Eigen::Index>(u)] = v[static_cast<Eigen::Index>(hessian_index_[u])];
+  return out;
 }
 
 double InnerProblem::data_weight() const {
@@ -161,13 +214,23 @@ double InnerProblem::MaxStep(const Eigen::VectorXd& x, const Eigen::VectorXd& d,
 
 void InnerProblem::EvaluateWindows(const Eigen::VectorXd& x, int level) {
   const auto k = static_cast<std::size_t>(order_);
-  const std::size_t nv = 2 * k;
+  const std::size_t nv = 2 * k, m = points_.size();
   for (BlockWindows& bw : windows_) {
     if (bw.first_point.empty()) continue;
     for (std::size_t w = 0; w < bw.first_point.size(); ++w) {
+      const std::size_t first = bw.first_point[w];
+      if (closed_ && first + k > m) {
+        // Across the seam: the normals of the points past it a turn on, as their phi.
+        for (std::size_t v = 0; v < nv; ++v) {
+          const bool later = v >= k && first + (v - k) >= m;
+          bw.x[w * nv + v] = x[static_cast<Eigen::Index>(WindowUnknown(first, v))] +
+                             (later ? 2.0 * std::numbers::pi : 0.0);
+        }
+        continue;
+      }
       for (int v = 0; v < static_cast<int>(nv); ++v) {
-        bw.x[w * nv + static_cast<std::size_t>(v)] = x[static_cast<Eigen::Index>(
-            2 * bw.first_point[w] + global_index_[static_cast<std::size_t>(v)])];
+        bw.x[w * nv + static_cast<std::size_t>(v)] =
+            x[static_cast<Eigen::Index>(2 * first + global_index_[static_cast<std::size_t>(v)])];
       }
     }
     bw.evaluator->EvaluateBatch(bw.first_point.size(), bw.x, bw.phi, bw.values.data(),
@@ -186,7 +249,7 @@ ObjectiveValue InnerProblem::Evaluate(const Eigen::VectorXd& x, double lambda,
   const Eigen::VectorXd weighted = data_information_.Multiply(residual);
   value.data = 0.5 * residual.dot(weighted);
   if (gradient) *gradient = weighted;
-  if (hessian) *hessian = data_information_;
+  if (hessian) *hessian = closed_ ? hessian_data_information_ : data_information_;
 
   // Log barrier of the bounds.
   for (std::size_t p = 0; p < m; ++p) {
@@ -204,7 +267,10 @@ ObjectiveValue InnerProblem::Evaluate(const Eigen::VectorXd& x, double lambda,
       value.barrier -= std::log(a * b);
       if (gradient)
         (*gradient)[static_cast<Eigen::Index>(i)] += barrier_weight * (-1.0 / a + 1.0 / b);
-      if (hessian) hessian->Add(i, i, barrier_weight * (1.0 / (a * a) + 1.0 / (b * b)));
+      if (hessian) {
+        const std::size_t h = HessianIndex(i);
+        hessian->Add(h, h, barrier_weight * (1.0 / (a * a) + 1.0 / (b * b)));
+      }
     }
   }
 
@@ -245,7 +311,7 @@ ObjectiveValue InnerProblem::Evaluate(const Eigen::VectorXd& x, double lambda,
       if (!gradient && !hessian) continue;
       const std::size_t p = bw.first_point[w];
       for (std::size_t a = 0; a < nv; ++a) {
-        const std::size_t ga = 2 * p + global_index_[a];
+        const std::size_t ga = WindowUnknown(p, a);
         if (gradient) {
           (*gradient)[static_cast<Eigen::Index>(ga)] +=
               window_gradient[static_cast<Eigen::Index>(a)];
@@ -254,7 +320,7 @@ ObjectiveValue InnerProblem::Evaluate(const Eigen::VectorXd& x, double lambda,
         for (std::size_t b = 0; b <= a; ++b) {
           const double h =
               window_hessian(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
-          if (h != 0.0) hessian->Add(ga, 2 * p + global_index_[b], h);
+          if (h != 0.0) hessian->Add(HessianIndex(ga), HessianIndex(WindowUnknown(p, b)), h);
         }
       }
     }
@@ -285,10 +351,11 @@ std::vector<double> InnerProblem::LinkPenalties(const Eigen::VectorXd& x) {
                            .constraint;
       const std::size_t first = bw.first_point[w];
       for (std::size_t l = first; l + 1 < first + static_cast<std::size_t>(order_); ++l)
-        penalties[l] += c;
+        penalties[l < links_.size() ? l : l - links_.size()] += c;
       // An order-1 prior has no links inside a window: blame the links around the point.
       if (order_ == 1) {
         if (first > 0) penalties[first - 1] += c;
+        if (closed_ && first == 0) penalties.back() += c;
         if (first < links_.size()) penalties[first] += c;
       }
     }
@@ -320,9 +387,19 @@ std::vector<ConstraintRow> InnerProblem::EqualityRows(const Eigen::VectorXd& x) 
           continue;
         }
         ConstraintRow row;
-        row.first = 2 * bw.first_point[w];
-        row.coefficients.assign(nv, 0.0);
-        for (std::size_t v = 0; v < nv; ++v) row.coefficients[global_index_[v]] = grads[t * nv + v];
+        const std::size_t first = bw.first_point[w];
+        if (closed_ && first + static_cast<std::size_t>(order_) > points_.size()) {
+          // Across the seam: a row over all unknowns, zero but at both ends.
+          row.first = 0;
+          row.coefficients.assign(num_unknowns(), 0.0);
+          for (std::size_t v = 0; v < nv; ++v)
+            row.coefficients[WindowUnknown(first, v)] = grads[t * nv + v];
+        } else {
+          row.first = 2 * first;
+          row.coefficients.assign(nv, 0.0);
+          for (std::size_t v = 0; v < nv; ++v)
+            row.coefficients[global_index_[v]] = grads[t * nv + v];
+        }
         rows.push_back(std::move(row));
       }
     }

@@ -4,6 +4,14 @@
 //
 // Unknowns are interleaved per in-model point, x[2p] = rho_p and x[2p + 1] = alpha_p, so that a
 // window of k consecutive points touches 2k consecutive unknowns and every Hessian is banded.
+//
+// A closed problem (a ring: the points of a scan that covers a full turn, engine.hpp) also has
+// the link from its last point to its first, links[m - 1], and the k - 1 windows across it. Such
+// a window sees its points past the seam a turn later (phi and alpha + 2 pi), so that angles stay
+// unwrapped along it as along every other window. Its unknowns sit at both ends of x, so the
+// Hessian of a closed problem is banded in another order of the unknowns: the points folded as
+// 0, m - 1, 1, m - 2, 2, ... (ring neighbours d apart are at most 2 d apart there), about twice
+// the bandwidth. Evaluate's Hessian is in that order (HessianIndex); x and the gradient are not.
 #include <array>
 #include <memory>
 #include <optional>
@@ -59,15 +67,27 @@ struct ObjectiveValue {
 class InnerProblem {
  public:
   // `range_precision`: the information matrix of the in-model ranges (banded), or null for
-  // independent noise with the sigmas in `range_sigma`.
+  // independent noise with the sigmas in `range_sigma`. `closed`: a ring, with one link per
+  // point (links[m - 1] joins the last point to the first); it needs more points than the
+  // prior's order. Points are in scan order with phi increasing (a ring's last point is a turn
+  // short of its first).
   InnerProblem(const dsl::CompiledPrior& prior, std::vector<ProblemPoint> points,
                std::vector<Link> links, std::vector<double> range_sigma,
-               std::optional<SymmetricBandedMatrix> range_precision);
+               std::optional<SymmetricBandedMatrix> range_precision, bool closed = false);
 
   [[nodiscard]] std::size_t num_points() const { return points_.size(); }
   [[nodiscard]] std::size_t num_unknowns() const { return 2 * points_.size(); }
   [[nodiscard]] const std::vector<ProblemPoint>& points() const { return points_; }
   [[nodiscard]] const std::vector<Link>& links() const { return links_; }
+  [[nodiscard]] bool closed() const { return closed_; }
+
+  // Where unknown u sits in the Hessians of Evaluate: u itself, but for a closed problem.
+  [[nodiscard]] std::size_t HessianIndex(std::size_t u) const {
+    return hessian_index_.empty() ? u : hessian_index_[u];
+  }
+  // A vector over the unknowns in the Hessians' order, and back.
+  [[nodiscard]] Eigen::VectorXd ToHessianOrder(const Eigen::VectorXd& v) const;
+  [[nodiscard]] Eigen::VectorXd FromHessianOrder(const Eigen::VectorXd& v) const;
 
   // The measurements with the initial normals, pulled strictly inside the bounds.
   [[nodiscard]] Eigen::VectorXd InitialPoint() const;
@@ -79,7 +99,8 @@ class InnerProblem {
 
   // Objective pieces; with `gradient`/`hessian`, also the derivatives of
   // Total(lambda, barrier_weight): penalties in Gauss-Newton form, energies with each window's
-  // Hessian block made positive semi-definite, so the Hessian is positive definite.
+  // Hessian block made positive semi-definite, so the Hessian is positive definite. The Hessian
+  // is in HessianIndex order.
   ObjectiveValue Evaluate(const Eigen::VectorXd& x, double lambda, double barrier_weight,
                           Eigen::VectorXd* gradient, SymmetricBandedMatrix* hessian);
 
@@ -89,7 +110,8 @@ class InnerProblem {
   // The rows of grad_x f_T at x (Sec. IV-B): every equality of every window, and within a
   // disjunction those of its smallest branch (inequalities leave directions free).
   [[nodiscard]] std::vector<ConstraintRow> EqualityRows(const Eigen::VectorXd& x);
-  // The information of the data term (measurements and the initial normals' weak prior).
+  // The information of the data term (measurements and the initial normals' weak prior), in
+  // the order of x (it couples no ring neighbours across the seam).
   [[nodiscard]] const SymmetricBandedMatrix& data_information() const { return data_information_; }
   // Its largest diagonal entry: the scale at which penalties start to outweigh the data.
   [[nodiscard]] double data_weight() const;
@@ -108,10 +130,18 @@ class InnerProblem {
   // Fills every block's x from the global unknowns and evaluates up to `level` (0 values,
   // 1 gradients, 2 Hessians).
   void EvaluateWindows(const Eigen::VectorXd& x, int level);
+  // Global unknown of block unknown v of the window starting at point p.
+  [[nodiscard]] std::size_t WindowUnknown(std::size_t p, std::size_t v) const {
+    const std::size_t u = 2 * p + global_index_[v];
+    return u < 2 * points_.size() ? u : u - 2 * points_.size();
+  }
   int order_;
   std::vector<ProblemPoint> points_;
   std::vector<Link> links_;
+  bool closed_ = false;
+  std::vector<std::size_t> hessian_index_;  // empty for an open problem
   SymmetricBandedMatrix data_information_;
+  SymmetricBandedMatrix hessian_data_information_;  // in Hessian order (closed problems)
   Eigen::VectorXd data_target_;  // measured ranges and initial normals, interleaved
   std::array<BlockWindows, 3> windows_;
   std::size_t bandwidth_ = 1;

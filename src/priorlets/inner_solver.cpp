@@ -63,14 +63,22 @@ double DataCostBound(const InnerProblem& problem) {
   return bound;
 }
 
+// Solves H d = -g for the Newton direction, H (a Cholesky factor of it) in the problem's
+// Hessian order, g and d in the unknowns' order.
+Eigen::VectorXd NewtonDirection(const InnerProblem& problem, const BandedCholesky& chol,
+                                const Eigen::VectorXd& gradient) {
+  return -problem.FromHessianOrder(chol.Solve(problem.ToHessianOrder(gradient)));
+}
+
 // Replaces `direction` by the blocked Newton direction when that goes further and descends.
+// `hessian` is in the problem's Hessian order, the vectors in the unknowns' order.
 void BlockAtBounds(const InnerProblem& problem, const Eigen::VectorXd& x,
                    const Eigen::VectorXd& gradient, const SymmetricBandedMatrix& hessian,
                    Eigen::VectorXd& direction) {
   double t = problem.MaxStep(x, direction, 1.0);
   if (t >= kBlockedStep) return;
   const std::size_t n = problem.num_unknowns(), band = hessian.bandwidth();
-  std::vector<char> fixed(n, 0);
+  std::vector<char> fixed(n, 0);  // in the Hessian's order, as `delta`
   Eigen::VectorXd delta = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
   Eigen::VectorXd candidate = direction;
   for (int round = 0; round < kMaxBlockRounds; ++round) {
@@ -78,14 +86,14 @@ void BlockAtBounds(const InnerProblem& problem, const Eigen::VectorXd& x,
     for (std::size_t p = 0; p < problem.num_points(); ++p) {
       const ProblemPoint& pt = problem.points()[p];
       for (std::size_t which = 0; which < 2; ++which) {
-        const std::size_t i = 2 * p + which;
-        const auto e = static_cast<Eigen::Index>(i);
+        const std::size_t u = 2 * p + which, i = problem.HessianIndex(u);
+        const auto e = static_cast<Eigen::Index>(u);
         const double lo = which == 0 ? pt.rho_lower : pt.alpha_lower;
         const double hi = which == 0 ? pt.rho_upper : pt.alpha_upper;
         const double to = x[e] + candidate[e];
         if (fixed[i] || (to > lo && to < hi)) continue;
         fixed[i] = 1;
-        delta[e] = kToBoundary * ((to >= hi ? hi : lo) - x[e]);
+        delta[static_cast<Eigen::Index>(i)] = kToBoundary * ((to >= hi ? hi : lo) - x[e]);
         added = true;
       }
     }
@@ -93,7 +101,7 @@ void BlockAtBounds(const InnerProblem& problem, const Eigen::VectorXd& x,
     // The Newton system with the fixed unknowns eliminated: their rows and columns become
     // identity rows with their steps on the right.
     SymmetricBandedMatrix reduced = hessian;
-    Eigen::VectorXd rhs = -gradient;
+    Eigen::VectorXd rhs = -problem.ToHessianOrder(gradient);
     for (std::size_t i = 0; i < n; ++i) {
       if (!fixed[i]) continue;
       const std::size_t lo = i >= band ? i - band : 0, hi = std::min(n - 1, i + band);
@@ -110,7 +118,7 @@ void BlockAtBounds(const InnerProblem& problem, const Eigen::VectorXd& x,
     }
     const std::optional<BandedCholesky> chol = BandedCholesky::Factor(reduced);
     if (!chol) return;
-    candidate = chol->Solve(rhs);
+    candidate = problem.FromHessianOrder(chol->Solve(rhs));
   }
   const double candidate_t = problem.MaxStep(x, candidate, 1.0);
   if (candidate_t > t && gradient.dot(candidate) < 0.0) direction = candidate;
@@ -181,7 +189,7 @@ InnerResult SolveInner(InnerProblem& problem, const Eigen::VectorXd* x0,
       chol = BandedCholesky::Factor(damped);
     }
     if (!chol) return std::nullopt;
-    Eigen::VectorXd direction = -chol->Solve(gradient);
+    Eigen::VectorXd direction = NewtonDirection(problem, *chol, gradient);
     BlockAtBounds(problem, result.x, gradient, hessian, direction);
     const double slope = gradient.dot(direction);
     if (!(slope < 0.0)) return std::nullopt;
@@ -320,7 +328,7 @@ Eigen::VectorXd TightenFeasibility(InnerProblem& problem, const Eigen::VectorXd&
           problem.Evaluate(x, lambda, 0.0, &gradient, &hessian).Total(lambda, 0.0);
       const std::optional<BandedCholesky> chol = BandedCholesky::Factor(hessian);
       if (!chol) break;
-      const Eigen::VectorXd direction = -chol->Solve(gradient);
+      const Eigen::VectorXd direction = NewtonDirection(problem, *chol, gradient);
       const double slope = gradient.dot(direction);
       if (!(slope < 0.0)) break;
       bool accepted = false;

@@ -66,7 +66,12 @@ LineSegments ExtractLineSegments(const Scan& scan, const MapScan& map, const Pos
 
   for (const BeamRange& region : map.regions) {
     std::vector<std::size_t> beams;
-    for (std::size_t i = region.first; i <= region.last; ++i)
+    // A region across the seam of a closed (full-turn) map scan runs on from the scan's end at
+    // its start: in that order, as the wall is.
+    const bool across_seam = region.first > region.last;
+    for (std::size_t i = region.first; i < (across_seam ? scan.size() : region.last + 1); ++i)
+      if (map.inmodel[i] != 0) beams.push_back(i);
+    for (std::size_t i = 0; across_seam && i <= region.last; ++i)
       if (map.inmodel[i] != 0) beams.push_back(i);
     if (beams.size() < std::max<std::size_t>(options.min_points, 2)) continue;
     std::vector<double> ranges, bearings;

@@ -84,6 +84,9 @@ std::string MapScanToJson(const MapScan& map, const MapScanJsonContext& context,
   nlohmann::json topology = nlohmann::json::array();
   for (Link l : map.links) topology.push_back(ToString(l));
   j["topology"] = std::move(topology);
+  // A full-turn scan's in-model points form a ring: the link from the last to the first.
+  j["closed"] = map.closed;
+  if (map.closed) j["closing_link"] = ToString(map.closing_link);
   j["regions"] = Ranges(map.regions);
   j["surfaces"] = Ranges(map.surfaces);
   j["stats"] = {{"outer_rounds", map.stats.outer_rounds},

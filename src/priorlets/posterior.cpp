@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -56,8 +57,10 @@ InnerProblem MakeFinalProblem(const Scan& scan, const dsl::CompiledPrior& prior,
     pt.alpha_upper = pt.rho_upper;
     sigma[j] = scan.sigma[b];
   }
-  return InnerProblem(prior, std::move(points), map.links, std::move(sigma),
-                      InModelRangePrecision(scan, beams));
+  std::vector<Link> links = map.links;
+  if (map.closed) links.push_back(map.closing_link);  // a ring (a full-turn scan)
+  return InnerProblem(prior, std::move(points), std::move(links), std::move(sigma),
+                      InModelRangePrecision(scan, beams), map.closed);
 }
 
 // Curvature d alpha / d s of one region's points by central differences over up to
@@ -99,9 +102,46 @@ Eigen::MatrixXd InterleavedExtrinsicJacobian(const Scan& scan, const MapScan& ma
     alpha[j] = x[static_cast<Eigen::Index>(2 * j + 1)];
     phi[j] = scan.angles[beams[j]];
   }
-  for (std::size_t j = 0; j < m;) {
+  // The region across the seam of a ring (its points from `start` on, round the seam, a turn
+  // on past it, reach points more on each side when it has no border): gathered in order.
+  const auto ring_region = [&](std::size_t start, std::size_t count, std::size_t reach) {
+    const std::size_t total = count + 2 * reach;
+    std::vector<double> r(total), a(total), p(total), k(total);
+    for (std::size_t t = 0; t < total; ++t) {
+      const long u = static_cast<long>(start + t) - static_cast<long>(reach);
+      const long turns = u < 0 ? -1 : u / static_cast<long>(m);
+      const auto j = static_cast<std::size_t>(u - turns * static_cast<long>(m));
+      r[t] = rho[j];
+      a[t] = alpha[j] + 2.0 * std::numbers::pi * static_cast<double>(turns);
+      p[t] = phi[j] + 2.0 * std::numbers::pi * static_cast<double>(turns);
+    }
+    RegionCurvature(r, a, p, k);
+    for (std::size_t t = 0; t < count; ++t) curvature[(start + t) % m] = k[t + reach];
+  };
+  std::size_t open_first = 0, open_end = m;  // the points left for the chain loop
+  if (map.closed) {
+    // Start after the last border; none: the whole ring is one region.
+    std::size_t last_border = m;
+    for (std::size_t l = m; l-- > 0;) {
+      if ((l + 1 < m ? map.links[l] : map.closing_link) != Link::kSameRegion) {
+        last_border = l;
+        break;
+      }
+    }
+    if (last_border == m) {
+      ring_region(0, m, std::min(kCurvatureReach, m / 2));
+      open_first = m;
+    } else if (last_border + 1 < m) {
+      std::size_t e = 0;  // the region across the seam ends at the first border
+      while (map.links[e] == Link::kSameRegion) ++e;
+      ring_region(last_border + 1, m - last_border + e, 0);
+      open_first = e + 1;
+      open_end = last_border + 1;
+    }
+  }
+  for (std::size_t j = open_first; j < open_end;) {
     std::size_t e = j;
-    while (e + 1 < m && map.links[e] == Link::kSameRegion) ++e;
+    while (e + 1 < open_end && map.links[e] == Link::kSameRegion) ++e;
     const std::size_t count = e - j + 1;
     RegionCurvature(std::span(rho).subspan(j, count), std::span(alpha).subspan(j, count),
                     std::span(phi).subspan(j, count), std::span(curvature).subspan(j, count));
@@ -318,11 +358,21 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
   // continuum of singular values that no point separates, and its decision at the tighter
   // tolerance is as arbitrary, so the engine's point, which the JSON's max_violation describes,
   // is kept for it.
+  // The rank is decided with every unknown in metres (ComputeKernel's variable scales): a range
+  // as it is, a normal times its range (how far a turn of it moves the surface at the hit).
+  // Otherwise the normals' coefficients, ~ rho dphi, hide the ranges' as the scene grows: a
+  // straight wall seen by 200 beams over 1 rad keeps its two degrees of freedom up to 2e6 m and
+  // has 18 at 2e7 m, 200 at 2e8 m.
   const auto decide = [&](Eigen::VectorXd at, double violation,
                           const std::vector<ConstraintRow>& rows) {
     KernelDecision d{std::move(at), {}, {}};
     d.options.relative_tolerance = std::max(options.kernel_tolerance, 100.0 * violation);
-    d.kernel = ComputeKernel(2 * m, rows, d.options);
+    std::vector<double> scales(2 * m, 1.0);
+    for (std::size_t j = 0; j < m; ++j) {
+      const double rho = std::abs(d.x[static_cast<Eigen::Index>(2 * j)]);
+      if (rho > 0.0 && std::isfinite(rho)) scales[2 * j + 1] = rho;
+    }
+    d.kernel = ComputeKernel(2 * m, rows, d.options, scales);
     return d;
   };
   const auto decide_tightened = [&]() -> std::optional<KernelDecision> {
@@ -374,7 +424,8 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
     out.prior_std_alpha[b] = map.initial_alpha_sigma[b];
   }
 
-  // A = Sigma_0^-1 + Hess h (energies made convex per window, as in the solve).
+  // A = Sigma_0^-1 + Hess h (energies made convex per window, as in the solve), in the
+  // problem's Hessian order (that of the unknowns, but for a ring: InnerProblem::HessianIndex).
   SymmetricBandedMatrix information;
   (void)problem.Evaluate(x, 0.0, 0.0, nullptr, &information);
 
@@ -387,8 +438,8 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
       // Nothing constrained: Sigma_x = A^-1, whose diagonal banded solves give in O(n^2 b).
       const std::vector<double> std_x = MarginalStd(information);
       for (std::size_t j = 0; j < m; ++j) {
-        out.posterior_std_rho[map.inmodel_beams[j]] = std_x[2 * j];
-        out.posterior_std_alpha[map.inmodel_beams[j]] = std_x[2 * j + 1];
+        out.posterior_std_rho[map.inmodel_beams[j]] = std_x[problem.HessianIndex(2 * j)];
+        out.posterior_std_alpha[map.inmodel_beams[j]] = std_x[problem.HessianIndex(2 * j + 1)];
       }
     } else {
       out.note += " nor standard deviations";
@@ -400,7 +451,10 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
   Eigen::MatrixXd c(d, d);  // Sigma_x = N c N^T
   if (options.form == CovarianceForm::kConditional) {
     Eigen::MatrixXd an(basis.rows(), d);
-    for (Eigen::Index k = 0; k < d; ++k) an.col(k) = information.Multiply(basis.col(k));
+    for (Eigen::Index k = 0; k < d; ++k) {
+      an.col(k) =
+          problem.FromHessianOrder(information.Multiply(problem.ToHessianOrder(basis.col(k))));
+    }
     const Eigen::MatrixXd reduced = basis.transpose() * an;
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(reduced);
     c = ldlt.solve(Eigen::MatrixXd::Identity(d, d));
@@ -408,7 +462,9 @@ Posterior AnalysePosterior(const Scan& scan, const dsl::CompiledPrior& prior, co
     const std::optional<BandedCholesky> chol = BandedCholesky::Factor(information);
     PRIORMAP_CHECK(chol.has_value(), "the data information is positive definite");
     Eigen::MatrixXd solved(basis.rows(), d);
-    for (Eigen::Index k = 0; k < d; ++k) solved.col(k) = chol->Solve(basis.col(k));
+    for (Eigen::Index k = 0; k < d; ++k) {
+      solved.col(k) = problem.FromHessianOrder(chol->Solve(problem.ToHessianOrder(basis.col(k))));
+    }
     c = basis.transpose() * solved;
   }
   c = 0.5 * (c + c.transpose());

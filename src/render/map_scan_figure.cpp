@@ -85,14 +85,29 @@ Box2 SensorFrameBounds(const Scan& scan, const priorlets::MapScan& map) {
   return {box.min() - Vec2::Constant(pad), box.max() + Vec2::Constant(pad)};
 }
 
-// The in-model points as a polyline, broken where the surface changes (different_surface).
+// Link l of the in-model points, between points l and l + 1; in a closed map (a full turn) the
+// last one, l = links.size(), is the closing link from the last point round to the first.
+Link LinkAt(const priorlets::MapScan& map, std::size_t l) {
+  return l < map.links.size() ? map.links[l] : map.closing_link;
+}
+std::size_t DrawnLinks(const priorlets::MapScan& map) {
+  return map.links.size() + (map.closed ? 1 : 0);
+}
+
+// The in-model points as a polyline, broken where the surface changes (different_surface);
+// round to the first point again when the map is closed.
 std::vector<Vec2> SurfacePolyline(const Inputs& in, const std::vector<double>& delta_rho) {
   std::vector<Vec2> points;
-  for (std::size_t j = 0; j < in.map.inmodel_beams.size(); ++j) {
+  const std::vector<std::size_t>& beams = in.map.inmodel_beams;
+  const auto point = [&](std::size_t beam) {
+    return Corrected(in, beam, delta_rho.empty() ? 0.0 : delta_rho[beam]);
+  };
+  for (std::size_t j = 0; j < beams.size(); ++j) {
     if (j > 0 && in.map.links[j - 1] == Link::kDifferentSurface) points.emplace_back(kNaN, kNaN);
-    const std::size_t beam = in.map.inmodel_beams[j];
-    points.push_back(Corrected(in, beam, delta_rho.empty() ? 0.0 : delta_rho[beam]));
+    points.push_back(point(beams[j]));
   }
+  if (in.map.closed && !beams.empty() && in.map.closing_link != Link::kDifferentSurface)
+    points.push_back(point(beams.front()));
   return points;
 }
 
@@ -120,12 +135,14 @@ void DrawScanPanel(cairo_t* cr, const Rect& cell, const Inputs& in) {
   panel.Dots(measured, kMeasured, 1.7);
   // A short radial line across each border, between the two corrected points it separates.
   const double half_length = 0.035 * in.world.sizes().maxCoeff();
-  for (std::size_t j = 0; j < in.map.links.size(); ++j) {
-    if (in.map.links[j] == Link::kSameRegion) continue;
-    const Vec2 mid =
-        0.5 * (Corrected(in, in.map.inmodel_beams[j]) + Corrected(in, in.map.inmodel_beams[j + 1]));
+  const std::vector<std::size_t>& beams = in.map.inmodel_beams;
+  for (std::size_t j = 0; j < DrawnLinks(in.map); ++j) {
+    const Link link = LinkAt(in.map, j);
+    if (link == Link::kSameRegion) continue;
+    const std::size_t next = j + 1 < beams.size() ? j + 1 : 0;
+    const Vec2 mid = 0.5 * (Corrected(in, beams[j]) + Corrected(in, beams[next]));
     const Vec2 u = mid.norm() > 0.0 ? Vec2(mid.normalized()) : Vec2::UnitX();
-    const bool surface = in.map.links[j] == Link::kDifferentSurface;
+    const bool surface = link == Link::kDifferentSurface;
     panel.Segment(mid - half_length * u, mid + half_length * u,
                   surface ? kSurfaceBorder : kRegionBorder, 2.0,
                   surface ? std::span<const double>() : kDashed);
@@ -387,8 +404,9 @@ std::vector<std::string> SummaryLines(const Inputs& in) {
   std::vector<std::string> lines{
       fmt::format("{} beams, {} valid, {} in model, {} outliers", scan.size(), valid, inmodel,
                   valid - std::min(valid, inmodel)),
-      fmt::format("{}, {}", Plural(map.regions.size(), "region"),
-                  Plural(map.surfaces.size(), "surface")),
+      fmt::format("{}, {}{}", Plural(map.regions.size(), "region"),
+                  Plural(map.surfaces.size(), "surface"),
+                  map.closed ? " (a full turn: the last reading borders the first)" : ""),
       fmt::format("{}, largest constraint residual {:.2g}",
                   map.feasible ? "feasible" : "NOT feasible", map.max_violation),
       fmt::format("objective {:.6g}; {} outer rounds, {} Newton steps, {:.0f} ms", map.objective,

@@ -111,6 +111,24 @@ TEST_F(Cli, TheSquareUnderTheRectangularPriorIsFourWallsOfOneSurface) {
   }
 }
 
+// A full turn whose seam (the sensor's back, beams 0 and 359) falls mid-wall: the wall is one
+// region across it, listed last; --open-full-turn cuts it at the seam into two.
+TEST_F(Cli, AFullTurnClosesUnlessOpenFullTurnIsGiven) {
+  Ok({"simulate", "--scene", "square", "--fov", "360", "--beams", "360", "--pose", "0.5,0.3,0",
+      "--seed", "2", "-o", "ring.json"});
+  Ok({"scan", "--prior", "rectangular", "-i", "ring.json", "-o", "closed.json"});
+  Ok({"scan", "--prior", "rectangular", "-i", "ring.json", "-o", "open.json", "--open-full-turn"});
+  const nlohmann::json closed = nlohmann::json::parse(ReadAll(Work("closed.json")));
+  const nlohmann::json open = nlohmann::json::parse(ReadAll(Work("open.json")));
+  EXPECT_TRUE(closed["closed"].get<bool>());
+  EXPECT_EQ(closed["closing_link"], "same_region");
+  ASSERT_EQ(closed["regions"].size(), 4u);
+  EXPECT_GT(closed["regions"][3][0].get<int>(), closed["regions"][3][1].get<int>());
+  EXPECT_FALSE(open["closed"].get<bool>());
+  EXPECT_FALSE(open.contains("closing_link"));
+  EXPECT_EQ(open["regions"].size(), 5u);
+}
+
 TEST_F(Cli, SimulateAcceptanceCommandWritesTheScanAndItsFigure) {
   const RunResult r = Ok({"simulate", "--scene", "l-room", "--sensor", "utm30", "--seed", "1", "-o",
                           "s.json", "--png", "s.png"});

@@ -315,11 +315,115 @@ TEST(ConstraintKernel, LargeKernelIsStoredCompactly) {
   EXPECT_LT((DenseJacobian(2 * points, rows) * nc).norm(), 1e-11 * c.norm());
 }
 
+// Variable scales S: the rank is decided on J S^-1 (the reference: a dense SVD of those rows),
+// the basis spans ker J = S^-1 ker(J S^-1) and is orthonormal in the variables as given, block
+// by block (the blocks of a large kernel keep their supports).
+void ExpectMatchesScaledDense(std::size_t n, const std::vector<ConstraintRow>& rows,
+                              const std::vector<double>& scales, const ConstraintKernel& kernel) {
+  const MatrixXd j = DenseJacobian(n, rows);
+  const Eigen::VectorXd inverse =
+      Eigen::Map<const Eigen::VectorXd>(scales.data(), ToIndex(n)).cwiseInverse();
+  const MatrixXd reference_z = DenseKernel(j * inverse.asDiagonal());
+  const MatrixXd basis = kernel.ToDense();
+  ASSERT_EQ(basis.cols(), reference_z.cols());
+  EXPECT_LT((basis.transpose() * basis - MatrixXd::Identity(basis.cols(), basis.cols())).norm(),
+            1e-12);
+  // Same subspace: S^-1 N_z, orthonormalised, has the projector of the basis.
+  if (basis.cols() > 0) {
+    const Eigen::HouseholderQR<MatrixXd> qr(inverse.asDiagonal() * reference_z);
+    const MatrixXd reference =
+        qr.householderQ() * MatrixXd::Identity(ToIndex(n), reference_z.cols());
+    EXPECT_LT((Projector(basis) - Projector(reference)).norm(), 1e-8);
+  }
+  for (const KernelBlock& block : kernel.blocks()) {
+    EXPECT_LT((block.basis.transpose() * block.basis -
+               MatrixXd::Identity(block.basis.cols(), block.basis.cols()))
+                  .norm(),
+              1e-12);
+  }
+}
+
+TEST(ConstraintKernel, VariableScalesDecideTheRankInCommonUnits) {
+  std::mt19937_64 engine(41);
+  std::uniform_real_distribution<double> exponent(-3.0, 3.0);
+  std::uint64_t seed = 400;
+  for (std::size_t points : {3, 40, 150}) {
+    for (std::size_t order : {2, 3}) {
+      for (std::size_t rows_per_window : {1, 2}) {
+        const RandomSystemSpec spec{points, order, rows_per_window, 0.2, true, true};
+        const auto rows = RandomBanded(spec, ++seed);
+        std::vector<double> scales(2 * points);
+        for (double& s : scales) s = std::pow(10.0, exponent(engine));
+        SCOPED_TRACE(::testing::Message()
+                     << "m " << points << " k " << order << " rows/window " << rows_per_window);
+        ExpectMatchesScaledDense(2 * points, rows, scales,
+                                 ComputeKernel(2 * points, rows, {}, scales));
+      }
+    }
+  }
+}
+
+TEST(ConstraintKernel, UnitVariableScalesChangeNothing) {
+  const RandomSystemSpec spec{300, 3, 2, 0.2, true, true};
+  const auto rows = RandomBanded(spec, 17);
+  const ConstraintKernel plain = ComputeKernel(600, rows);
+  const ConstraintKernel unit = ComputeKernel(600, rows, {}, std::vector<double>(600, 1.0));
+  ASSERT_EQ(plain.dimension(), unit.dimension());
+  EXPECT_LT((Projector(plain.ToDense()) - Projector(unit.ToDense())).norm(), 1e-12);
+  EXPECT_EQ(plain.summary().smallest_kept_singular_value,
+            unit.summary().smallest_kept_singular_value);
+}
+
+// Where the units hide coefficients: x_{2i} are ranges of a wall 1e8 m away and x_{2i+1} its
+// normals, seen every 0.01 rad: rows tie each normal to the next and each range to the next
+// through a coefficient of rho dphi = 1e6 on the normal. Free is the common normal with the
+// ranges that follow it, plus one range (2 directions). Without scales the ranges' coefficients,
+// 1e-6 of a unit row, are lost below the tolerance the posterior uses at a solution feasible to
+// 1e-8 (100 v = 1e-6), and most ranges look free.
+TEST(ConstraintKernel, VariableScalesKeepRowsWithHugeCoefficientsFromHidingTheOthers) {
+  const std::size_t points = 200;
+  const double rho = 1e8;
+  std::vector<ConstraintRow> rows;
+  for (std::size_t i = 0; i + 1 < points; ++i) {
+    rows.push_back({2 * i, {0.0, 1.0, 0.0, -1.0}});
+    rows.push_back({2 * i, {-1.0, 0.01 * rho, 1.0, 0.0}});
+  }
+  std::vector<double> scales(2 * points, 1.0);
+  for (std::size_t i = 0; i < points; ++i) scales[2 * i + 1] = rho;
+  const KernelOptions options{.relative_tolerance = 1e-6};
+  EXPECT_GT(ComputeKernel(2 * points, rows, options).dimension(), 10u);
+  const ConstraintKernel kernel = ComputeKernel(2 * points, rows, options, scales);
+  EXPECT_EQ(kernel.dimension(), 2u);
+  ExpectMatchesScaledDense(2 * points, rows, scales, kernel);
+  EXPECT_LT((DenseJacobian(2 * points, rows) * kernel.ToDense()).norm(), 1e-6);
+}
+
+TEST(ConstraintKernel, LargeKernelWithVariableScalesKeepsItsBlocksCompact) {
+  const std::size_t points = 1100;
+  const RandomSystemSpec spec{points, 2, 1, 0.0, false, false};
+  const auto rows = RandomBanded(spec, 31);
+  std::vector<double> scales(2 * points, 1.0);
+  for (std::size_t i = 0; i < points; ++i) scales[2 * i + 1] = 2.0 + std::sin(0.01 * i);
+  const ConstraintKernel kernel = ComputeKernel(2 * points, rows, {}, scales);
+  EXPECT_EQ(kernel.dimension(), 2 * points - rows.size());
+  std::size_t stored = 0;
+  for (const KernelBlock& block : kernel.blocks())
+    stored += static_cast<std::size_t>(block.basis.size());
+  EXPECT_LT(stored, 2 * points * kernel.dimension() / 20);
+  const MatrixXd c = MatrixXd::Random(ToIndex(kernel.dimension()), 8);
+  const MatrixXd nc = kernel.Expand(c);
+  EXPECT_LT((kernel.Coordinates(nc) - c).norm(), 1e-11 * c.norm());
+  EXPECT_LT((DenseJacobian(2 * points, rows) * nc).norm(), 1e-11 * c.norm());
+}
+
 TEST(ConstraintKernel, RejectsMalformedInput) {
   EXPECT_THROW((void)ComputeKernel(4, std::vector<ConstraintRow>{{3, {1.0, 1.0}}}), ContractError);
   // A row that is not finite comes from a prior's term outside its domain: the user's to fix.
   EXPECT_THROW((void)ComputeKernel(4, std::vector<ConstraintRow>{{0, {NAN}}}), std::domain_error);
   EXPECT_THROW((void)ComputeKernel(4, {}, {.relative_tolerance = 0.0}), ContractError);
+  EXPECT_THROW((void)ComputeKernel(4, {}, {}, std::vector<double>(3, 1.0)), ContractError);
+  EXPECT_THROW((void)ComputeKernel(2, {}, {}, std::vector<double>{1.0, 0.0}), ContractError);
+  EXPECT_THROW((void)ComputeKernel(2, {}, {}, std::vector<double>{1.0, INFINITY}), ContractError);
 }
 
 // A rectangular room [-3, 5] x [-2, 4] scanned from the origin, m beams starting at the corner

@@ -54,6 +54,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -63,6 +64,7 @@
 
 #include <priormap/core/angles.hpp>
 #include <priormap/core/banded_matrix.hpp>
+#include <priormap/core/check.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/core/scan.hpp>
 #include <priormap/dsl/prior.hpp>
@@ -798,6 +800,294 @@ TEST(InnerProblemLinearResiduals, PenaltyHessianIsExactEverywhere) {
           "penalty, " + Where("rectangular with every link different_region", i));
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Closed problems (rings: a scan that covers a full turn). A ring has no first window: moving
+// its seam, where the point indices start, renumbers the points and changes nothing else. So a
+// ring must be the same problem wherever its seam is (its windows across the seam are computed
+// like the others, which the tests above check against central differences), and its
+// derivatives must still match central differences.
+
+enum class RingShape { kRoom, kCircle };
+
+// m points a full turn round the sensor, point j at phi = -pi + 2 pi (j + seam) / m and, past the
+// original seam (j + seam >= m), a turn on (phi and every normal + 2 pi): the ring with its seam
+// moved to original point `seam`. A room [-3, 3] x [-2, 2] seen from (0.2, 0.1), its corners
+// different_region links and one made-up different_surface link; or a circle of radius 2 whose
+// centre is 0.3 m from the sensor, its links made-up region borders at two places.
+Scene MakeRing(RingShape shape, std::size_t m, std::size_t seam) {
+  Rng rng(shape == RingShape::kRoom ? 31 : 32);
+  std::vector<TrueBeam> beams;
+  std::vector<double> noise, normal_noise, sigma;
+  for (std::size_t i = 0; i < m; ++i) {
+    const double phi = -kPi + kTwoPi * static_cast<double>(i) / static_cast<double>(m);
+    const Eigen::Vector2d u(std::cos(phi), std::sin(phi));
+    TrueBeam beam{phi, 0.0, 0.0};
+    if (shape == RingShape::kRoom) {
+      const Eigen::Vector2d p0(0.2, 0.1);
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& [axis, wall, normal] :
+           {std::tuple{0, 3.0, kPi}, std::tuple{0, -3.0, 0.0}, std::tuple{1, 2.0, -kPi / 2},
+            std::tuple{1, -2.0, kPi / 2}}) {
+        const double t = (wall - p0[axis]) / u[axis];
+        if (t > 0.0 && t < best) {
+          best = t;
+          beam.alpha = normal;
+        }
+      }
+      beam.rho = best;
+    } else {
+      const Eigen::Vector2d c(0.3 * std::cos(0.4), 0.3 * std::sin(0.4));
+      const double uc = u.dot(c);
+      beam.rho = uc + std::sqrt(uc * uc - c.squaredNorm() + 4.0);
+      const Eigen::Vector2d inward = (c - beam.rho * u) / 2.0;
+      beam.alpha = std::atan2(inward.y(), inward.x());
+    }
+    beams.push_back(beam);
+    sigma.push_back(0.01 * static_cast<double>(1 + i % 3));
+    noise.push_back(sigma.back() * std::clamp(rng.Normal(), -2.0, 2.0));
+    normal_noise.push_back(0.05 * rng.Normal());
+  }
+  Scene scene;
+  scene.truth.resize(I(2 * m));
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t i = (j + seam) % m;
+    const double turn = j + seam >= m ? kTwoPi : 0.0;
+    ProblemPoint pt;
+    pt.phi = beams[i].phi + turn;
+    pt.rho_measured = beams[i].rho + noise[i];
+    const double slack = 4.0 * sigma[i];
+    pt.rho_lower = std::max(pt.rho_measured - slack, 0.5 * pt.rho_measured);
+    pt.rho_upper = pt.rho_measured + slack;
+    const double facing = pt.phi + kPi;
+    pt.alpha_lower = facing - DegToRad(89.0);
+    pt.alpha_upper = facing + DegToRad(89.0);
+    const double alpha = facing + WrapAngle(beams[i].alpha - facing);
+    pt.alpha_initial = alpha + normal_noise[i];
+    pt.alpha_sigma = 0.2;
+    scene.points.push_back(pt);
+    scene.sigma.push_back(sigma[i]);
+    scene.truth[I(2 * j)] = beams[i].rho;
+    scene.truth[I(2 * j + 1)] = alpha;
+  }
+  // Link l (original numbering) joins original points l and l + 1 mod m.
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t l = (j + seam) % m;
+    Link link = Link::kSameRegion;
+    if (shape == RingShape::kRoom) {
+      if (beams[l].alpha != beams[(l + 1) % m].alpha) link = Link::kDifferentRegion;
+      if (l == m / 2 + 1) link = Link::kDifferentSurface;
+    } else if (l == m / 3 || l == m - 1) {
+      link = Link::kDifferentRegion;
+    }
+    scene.links.push_back(link);
+  }
+  return scene;
+}
+
+InnerProblem MakeRingProblem(const dsl::CompiledPrior& prior, const Scene& scene) {
+  return InnerProblem(prior, scene.points, scene.links, scene.sigma, scene.precision, true);
+}
+
+// Evaluate's Hessian with rows and columns in the order of the unknowns.
+MatrixXd NaturalHessian(InnerProblem& problem, const VectorXd& x, double lambda,
+                        double barrier_weight, std::size_t* bandwidth = nullptr,
+                        bool* positive_definite = nullptr) {
+  SymmetricBandedMatrix banded;
+  (void)problem.Evaluate(x, lambda, barrier_weight, nullptr, &banded);
+  if (bandwidth) *bandwidth = banded.bandwidth();
+  if (positive_definite) *positive_definite = BandedCholesky::Factor(banded).has_value();
+  const MatrixXd dense = banded.ToDense();
+  const std::size_t n = problem.num_unknowns();
+  MatrixXd out(I(n), I(n));
+  for (std::size_t u = 0; u < n; ++u) {
+    for (std::size_t v = 0; v < n; ++v)
+      out(I(u), I(v)) = dense(I(problem.HessianIndex(u)), I(problem.HessianIndex(v)));
+  }
+  return out;
+}
+
+// x of the ring with its seam at 0 as x of the ring with its seam at `seam` (MakeRing).
+VectorXd MoveSeam(const VectorXd& x, std::size_t seam) {
+  const std::size_t m = static_cast<std::size_t>(x.size()) / 2;
+  VectorXd out(x.size());
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t i = (j + seam) % m;
+    out[I(2 * j)] = x[I(2 * i)];
+    out[I(2 * j + 1)] = x[I(2 * i + 1)] + (j + seam >= m ? kTwoPi : 0.0);
+  }
+  return out;
+}
+
+// Rows and columns of a matrix over the unknowns of the ring with its seam at 0, renumbered as
+// those of the ring with its seam at `seam`.
+MatrixXd MoveSeam(const MatrixXd& a, std::size_t seam) {
+  const std::size_t n = static_cast<std::size_t>(a.rows()), m = n / 2;
+  const auto at = [&](std::size_t u) { return 2 * ((u / 2 + seam) % m) + u % 2; };
+  MatrixXd out(a.rows(), a.cols());
+  for (std::size_t u = 0; u < n; ++u) {
+    for (std::size_t v = 0; v < n; ++v) out(I(u), I(v)) = a(I(at(u)), I(at(v)));
+  }
+  return out;
+}
+
+struct RingCase {
+  std::string prior;
+  RingShape shape;
+};
+
+std::string RingCaseName(const ::testing::TestParamInfo<RingCase>& info) {
+  std::string name = info.param.prior;
+  std::replace(name.begin(), name.end(), '-', '_');
+  return name;
+}
+
+class ClosedInnerProblem : public ::testing::TestWithParam<RingCase> {
+ protected:
+  void SetUp() override { prior_.emplace(dsl::PriorLibrary().Load(GetParam().prior).value()); }
+  std::optional<dsl::CompiledPrior> prior_;
+  static constexpr std::size_t kPoints = 40;
+};
+
+TEST_P(ClosedInnerProblem, IsTheSameProblemWhereverItsSeamIs) {
+  const Scene base = MakeRing(GetParam().shape, kPoints, 0);
+  InnerProblem reference = MakeRingProblem(*prior_, base);
+  Rng rng(41);
+  VectorXd x = base.truth;
+  for (Index u = 0; u < x.size(); ++u) x[u] += (u % 2 == 0 ? 0.01 : 0.02) * rng.Normal();
+  ASSERT_TRUE(reference.StrictlyInside(x));
+  const double lambda = 1e2 * reference.data_weight(), barrier_weight = 1e-2;
+  VectorXd gradient;
+  const ObjectiveValue value = reference.Evaluate(x, lambda, barrier_weight, &gradient, nullptr);
+  EXPECT_GT(value.penalty, 1e-6) << "an infeasible point: every window's penalty counts";
+  const MatrixXd hessian = NaturalHessian(reference, x, lambda, barrier_weight);
+  const MatrixXd rows = DenseJacobian(2 * kPoints, reference.EqualityRows(x));
+  const std::vector<double> links = reference.LinkPenalties(x);
+  for (const std::size_t seam : {1, 7, 20, 39}) {
+    SCOPED_TRACE(::testing::Message() << GetParam().prior << ", seam at point " << seam);
+    const Scene moved = MakeRing(GetParam().shape, kPoints, seam);
+    InnerProblem problem = MakeRingProblem(*prior_, moved);
+    const VectorXd y = MoveSeam(x, seam);
+    VectorXd g;
+    const ObjectiveValue v = problem.Evaluate(y, lambda, barrier_weight, &g, nullptr);
+    for (const auto& [a, b] :
+         {std::pair{value.data, v.data}, std::pair{value.energy, v.energy},
+          std::pair{value.penalty, v.penalty}, std::pair{value.barrier, v.barrier},
+          std::pair{value.max_residual, v.max_residual}}) {
+      EXPECT_NEAR(a, b, 1e-9 * (1.0 + std::abs(a)));
+    }
+    // Gradient: a normal's component is that of the same normal (2 pi changes no derivative).
+    VectorXd moved_gradient(gradient.size());
+    for (std::size_t j = 0; j < kPoints; ++j) {
+      for (std::size_t w = 0; w < 2; ++w)
+        moved_gradient[I(2 * j + w)] = gradient[I(2 * ((j + seam) % kPoints) + w)];
+    }
+    EXPECT_TRUE(JacobiansMatch(g.transpose(), moved_gradient.transpose(), 1e-9));
+    EXPECT_TRUE(JacobiansMatch(NaturalHessian(problem, y, lambda, barrier_weight),
+                               MoveSeam(hessian, seam), 1e-9));
+    // The same equality rows, in another order: the same J^T J.
+    const MatrixXd j = DenseJacobian(2 * kPoints, problem.EqualityRows(y));
+    EXPECT_EQ(j.rows(), rows.rows());
+    EXPECT_TRUE(
+        JacobiansMatch(j.transpose() * j, MoveSeam(MatrixXd(rows.transpose() * rows), seam), 1e-9));
+    const std::vector<double> moved_links = problem.LinkPenalties(y);
+    ASSERT_EQ(moved_links.size(), kPoints);
+    for (std::size_t l = 0; l < kPoints; ++l) {
+      EXPECT_NEAR(moved_links[l], links[(l + seam) % kPoints], 1e-9 * (1.0 + links[l])) << l;
+    }
+  }
+}
+
+TEST_P(ClosedInnerProblem, DerivativesMatchCentralDifferences) {
+  const Scene scene = MakeRing(GetParam().shape, kPoints, 3);
+  InnerProblem problem = MakeRingProblem(*prior_, scene);
+  Rng rng(42);
+  VectorXd x = scene.truth;
+  for (Index u = 0; u < x.size(); ++u) x[u] += (u % 2 == 0 ? 0.01 : 0.02) * rng.Normal();
+  const double lambda = 1e2 * problem.data_weight(), barrier_weight = 1e-2;
+  VectorXd gradient;
+  (void)problem.Evaluate(x, lambda, barrier_weight, &gradient, nullptr);
+  const MatrixXd numeric = NumericJacobian(
+      [&](const VectorXd& v) -> VectorXd {
+        VectorXd total(1);
+        total[0] = problem.Evaluate(v, lambda, barrier_weight, nullptr, nullptr)
+                       .Total(lambda, barrier_weight);
+        return total;
+      },
+      x, kStep);
+  EXPECT_TRUE(JacobiansMatch(gradient.transpose(), numeric, kTolerance));
+  // At the truth every residual vanishes and Gauss-Newton is the exact penalty Hessian: the
+  // Hessian (data, penalty; no barrier) is then the derivative of the gradient, for priors
+  // without energies (whose Hessians are clipped).
+  ASSERT_LT(problem.Violations(scene.truth).max_residual, 1e-12);
+  if (!problem.HasEnergyTerms()) {
+    const auto gradient_at = [&](const VectorXd& v) -> VectorXd {
+      VectorXd g;
+      (void)problem.Evaluate(v, lambda, 0.0, &g, nullptr);
+      return g;
+    };
+    EXPECT_TRUE(JacobiansMatch(NaturalHessian(problem, scene.truth, lambda, 0.0),
+                               NumericJacobian(gradient_at, scene.truth, kStep), kTolerance));
+  }
+  // The rows of EqualityRows span the equalities' Jacobian: at the truth, where no branch of a
+  // disjunction is near another, J^T J is the penalty's Gauss-Newton Hessian over 2.
+  const MatrixXd j = DenseJacobian(problem.num_unknowns(), problem.EqualityRows(scene.truth));
+  const MatrixXd penalty = (NaturalHessian(problem, scene.truth, 1.0, 0.0) -
+                            NaturalHessian(problem, scene.truth, 0.0, 0.0));
+  if (GetParam().prior != "rectangular-relaxed") {  // (its inequalities are no equality rows)
+    EXPECT_TRUE(JacobiansMatch(2.0 * j.transpose() * j, penalty, 1e-8));
+  }
+}
+
+// The Hessian of a ring is banded in its own order: 4 k - 3 unknowns for a window of k points
+// (2 k - 1 in a chain), 4 b + 1 for a range precision of bandwidth b; and positive definite.
+TEST_P(ClosedInnerProblem, HessianIsBandedInItsOrderAndPositiveDefinite) {
+  const std::size_t k = static_cast<std::size_t>(prior_->order());
+  for (const Noise noise : {Noise::kIndependent, Noise::kCorrelated}) {
+    Scene scene = MakeRing(GetParam().shape, kPoints, 5);
+    if (noise == Noise::kCorrelated)
+      scene.precision = SymmetricBandedMatrix::Ar1Precision(scene.sigma, 0.5);
+    InnerProblem problem = MakeRingProblem(*prior_, scene);
+    std::size_t bandwidth = 0;
+    bool positive_definite = false;
+    const MatrixXd h = NaturalHessian(problem, scene.truth, 1e3 * problem.data_weight(), 1e-2,
+                                      &bandwidth, &positive_definite);
+    EXPECT_EQ(bandwidth, std::max<std::size_t>(4 * k - 3, noise == Noise::kCorrelated ? 5 : 1));
+    EXPECT_TRUE(positive_definite);
+    EXPECT_TRUE(h.isApprox(h.transpose(), 0.0));
+    // The data term of the ring is that of the chain: no coupling across the seam.
+    EXPECT_EQ(problem.data_information().ToDense(),
+              InnerProblem(*prior_, scene.points,
+                           std::vector<Link>(scene.links.begin(), scene.links.end() - 1),
+                           scene.sigma, scene.precision)
+                  .data_information()
+                  .ToDense());
+    // The windows across the seam couple the first points to the last.
+    EXPECT_NE(h(1, I(2 * kPoints - 1)), 0.0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Priors, ClosedInnerProblem,
+                         ::testing::Values(RingCase{"polygonal", RingShape::kRoom},
+                                           RingCase{"rectangular", RingShape::kRoom},
+                                           RingCase{"manhattan", RingShape::kRoom},
+                                           RingCase{"rectangular-relaxed", RingShape::kRoom},
+                                           RingCase{"splines", RingShape::kCircle},
+                                           RingCase{"circular", RingShape::kCircle},
+                                           RingCase{"straight-or-circular", RingShape::kCircle}),
+                         RingCaseName);
+
+TEST(ClosedInnerProblemContract, NeedsMorePointsThanTheOrderAndOneLinkPerPoint) {
+  const dsl::CompiledPrior prior = dsl::PriorLibrary().Load("circular").value();
+  const Scene ring = MakeRing(RingShape::kCircle, 12, 0);
+  EXPECT_THROW((void)InnerProblem(prior, ring.points,
+                                  std::vector<Link>(ring.links.begin(), ring.links.end() - 1),
+                                  ring.sigma, std::nullopt, true),
+               ContractError);
+  const Scene tiny = MakeRing(RingShape::kCircle, 3, 0);
+  EXPECT_THROW((void)InnerProblem(prior, tiny.points, tiny.links, tiny.sigma, std::nullopt, true),
+               ContractError);
 }
 
 }  // namespace

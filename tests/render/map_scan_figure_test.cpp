@@ -293,5 +293,26 @@ TEST(StudyPlot, TheLastTimeLabelIsWholeAtTheFiguresEdge) {
   EXPECT_NEAR((first + last + 1) / 2.0, right, 2.0);
 }
 
+// A closed map (a full-turn scan) has one more link, from its last point round to its first:
+// its border is marked in panel (a) as any other, and the MAP polyline of panel (c) goes round.
+TEST(MapScanFigure, DrawsTheClosingLinkOfAFullTurn) {
+  const TempDir dir;
+  Synthetic s = MakeSynthetic();
+  MapScanFigure(s.scan, s.map, s.posterior).Save(dir / "open.png");
+  s.map.closed = true;
+  s.map.closing_link = Link::kDifferentRegion;
+  MapScanFigure(s.scan, s.map, s.posterior).Save(dir / "border.png");
+  s.map.closing_link = Link::kSameRegion;
+  MapScanFigure(s.scan, s.map, s.posterior).Save(dir / "round.png");
+  const PngImage open(dir / "open.png"), border(dir / "border.png"), round(dir / "round.png");
+  const auto orange = [](const PngImage& image) { return image.Count(Like(palette::kOrange)); };
+  // A border marker is 2 px wide and about 7 % of the panel long: well over 20 pixels.
+  EXPECT_GT(orange(border), orange(open) + 20);
+  EXPECT_EQ(orange(round), orange(open));
+  // The chord from the last point to the first, about a panel wide, in the MAP's grey.
+  const auto gray = [](const PngImage& image) { return image.Count(Like(palette::kGray)); };
+  EXPECT_GT(gray(round), gray(open) + 50);
+}
+
 }  // namespace
 }  // namespace priormap::render

@@ -58,6 +58,14 @@ std::vector<FoundBorder> FoundBorders(const priorlets::MapScan& map) {
   for (std::size_t r = 0; r + 1 < map.regions.size(); ++r) {
     borders.push_back({map.regions[r].last, map.regions[r + 1].first});
   }
+  // A ring (a full-turn scan) also has the border from its last region round to its first,
+  // unless it has no border at all.
+  const bool borderless = map.closing_link == priorlets::Link::kSameRegion &&
+                          std::all_of(map.links.begin(), map.links.end(), [](priorlets::Link l) {
+                            return l == priorlets::Link::kSameRegion;
+                          });
+  if (map.closed && !map.regions.empty() && !borderless)
+    borders.push_back({map.regions.back().last, map.regions.front().first});
   return borders;
 }
 

@@ -28,7 +28,8 @@ namespace priormap::testing {
 // (occlusion jumps between surfaces are not corners).
 [[nodiscard]] std::vector<std::size_t> TrueCorners(const Scan& scan);
 
-// A border the engine found: the last in-model beam of a region and the first of the next.
+// A border the engine found: the last in-model beam of a region and the first of the next
+// (across the seam of a closed map, last > first).
 struct FoundBorder {
   std::size_t last = 0, first = 0;
 };

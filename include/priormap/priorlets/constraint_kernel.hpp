@@ -33,6 +33,17 @@
 ///
 /// Variables may be ordered in any way (the engine interleaves x[2i] = rho_i, x[2i+1] = alpha_i
 /// so that a window is a contiguous run); matrices passed in must use the rows' ordering.
+///
+/// Units. Unit rows make the decision independent of the rows' units, not of the variables':
+/// a row whose coefficient of one variable is huge only because of that variable's unit (the
+/// collinearity of two hits, d/d alpha ~ rho dphi, next to d/d rho ~ 1: at rho = 1e8 m the rho
+/// coefficients are 1e-6 of the row) hides its other coefficients below the tolerance. So
+/// ComputeKernel takes optional variable scales s (S = diag s): the rank is decided on J S^-1,
+/// the rows in the variables z = S x (for the engine, s = 1 for a range and s = rho for a normal:
+/// both in metres), where a uniform change of the scene's scale only scales rows, which unit rows
+/// undo. The kernel returned is still ker J = S^-1 ker(J S^-1), orthonormal in x: each block's
+/// columns are mapped back and orthonormalised against the blocks of its subtree (the only
+/// earlier ones it overlaps), so blocks keep their supports.
 
 #include <cstddef>
 #include <limits>
@@ -134,7 +145,7 @@ class ConstraintKernel {
 
  private:
   friend ConstraintKernel ComputeKernel(std::size_t, std::span<const ConstraintRow>,
-                                        const KernelOptions&);
+                                        const KernelOptions&, std::span<const double>);
 
   std::size_t num_variables_ = 0;
   std::size_t dimension_ = 0;
@@ -144,11 +155,16 @@ class ConstraintKernel {
 };
 
 /// Free = ker J for J given by `rows` over `num_variables` variables (rows in any order).
-/// Preconditions: every row lies inside [0, num_variables) and its coefficients are finite;
-/// options.IsValid().
+/// `variable_scales`: empty (the variables' units are comparable), or per variable the size of
+/// its unit in common units (see "Units" above): the rank is decided on J S^-1, and the
+/// summary's singular values are those of its subproblems; the basis is orthonormal in the
+/// variables as given. Preconditions: every row lies inside [0, num_variables) and its
+/// coefficients are finite; options.IsValid(); variable_scales empty or num_variables positive
+/// finite numbers.
 [[nodiscard]] ConstraintKernel ComputeKernel(std::size_t num_variables,
                                              std::span<const ConstraintRow> rows,
-                                             const KernelOptions& options = {});
+                                             const KernelOptions& options = {},
+                                             std::span<const double> variable_scales = {});
 
 /// Intr = Free ∩ Extr^perp (eq. (9)), Extr = span of the extrinsic Jacobian's columns. Stored as
 /// Free minus r orthonormal directions D = N U_r (n_vars x r), the part of Free that Extr sees,

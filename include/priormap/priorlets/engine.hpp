@@ -65,7 +65,34 @@ struct EngineOptions {
   /// that would makes both the region's borders same_region instead (it and its two neighbours
   /// become one region), kept whenever the prior allows it; a corner is not moved.
   bool refine_borders = true;
+  /// When the scan covers a full turn (CoversFullTurn), its last and first readings are
+  /// neighbours like any other two: the in-model points form a ring (MapScan::closed), so that a
+  /// wall across the seam is one region and the priorlets hold there too. false treats every
+  /// scan as a chain from its first beam to its last.
+  bool close_full_turn = true;
 };
+
+/// The 360-degree rule: true when the scan's beams go round a full turn evenly, so that its last
+/// beam and its first are neighbours: at least 3 beams (a laser's, not a sonar ring's), and the
+/// gap from the last angle round to the first, angles[0] + 2 pi - angles[n - 1], is the mean
+/// beam step (angles[n - 1] - angles[0]) / (n - 1) to within kFullTurnStepTolerance of a step,
+/// i.e. fov + step = 2 pi. A scan with a wider gap (a 359-degree scan missing a beam, 270
+/// degrees) is a chain; so is one that sweeps more than a turn. RangeSensor::BeamAngles of a
+/// sensor with fov = 2 pi is such a scan (n steps of 2 pi / n from -pi).
+///
+/// The engine then links the last valid reading to the first like any two consecutive ones
+/// (only where the scan's indices start differs): the link is a geometric surface border when
+/// max-range readings lie between them (at either end of the scan) or their ranges jump; the
+/// priorlets' windows run across it, seeing the points past the seam a turn on (phi and alpha
+/// + 2 pi); and the initial normals' line fits, the spike test, the region-size test, the zones
+/// of broken links, the border refinement and the corner checks all run round it. So do the
+/// posterior's Free, curvature (Extr) and covariance. Should outliers leave fewer than 3 points,
+/// or no more than the prior's order, the points are a chain again.
+[[nodiscard]] bool CoversFullTurn(const Scan& scan);
+/// A gap from the last beam to the first within this fraction of a beam step of one step
+/// closes the turn: a missing beam makes it two steps, rounding of the angles (a float's, or a
+/// log's 0.01 deg) a few percent at most.
+inline constexpr double kFullTurnStepTolerance = 0.1;
 
 /// Where the time went, and how much work it took.
 struct EngineStats {
@@ -78,7 +105,8 @@ struct EngineStats {
   double seconds_refine = 0.0;  ///< inner solves of the border refinement
 };
 
-/// A contiguous range of beams [first, last] (scan indices, inclusive).
+/// A contiguous range of beams [first, last] (scan indices, inclusive); in a closed MapScan,
+/// first > last is the range across the seam, [first, n) then [0, last].
 struct BeamRange {
   std::size_t first = 0;
   std::size_t last = 0;
@@ -86,9 +114,17 @@ struct BeamRange {
 
 /// The MAP scan. Per-beam vectors have one entry per beam of the input scan; beams outside
 /// INMODEL keep their measured range and NaN normal.
+///
+/// Of a scan that covers a full turn (CoversFullTurn, EngineOptions::close_full_turn) the
+/// in-model points form a ring, `closed`: `closing_link` relates the last in-model beam to the
+/// first, and a region or surface across the seam is one BeamRange with first > last (from
+/// `first` to the scan's end, on from its start to `last`), listed last. With no border at all
+/// the one region is {inmodel_beams.front(), inmodel_beams.back()} and closing_link is
+/// same_region (the whole ring).
 struct MapScan {
   std::vector<double> rho;
   std::vector<double> alpha;  ///< sensor frame, towards the sensor, unwrapped along the scan
+                              ///< (a turn apart across the seam of a closed one)
   std::vector<double> initial_alpha;  ///< the estimate the optimisation started from (NaN if none)
   /// Standard deviation of the weak prior on initial_alpha, rad (NaN if none).
   std::vector<double> initial_alpha_sigma;
@@ -96,8 +132,13 @@ struct MapScan {
   std::vector<std::uint8_t> inmodel;
   std::vector<std::size_t> inmodel_beams;  ///< the beams in INMODEL, in order
   std::vector<Link> links;                 ///< links[j] relates inmodel_beams[j] and [j + 1]
-  std::vector<BeamRange> regions;          ///< maximal runs joined by same_region links
-  std::vector<BeamRange> surfaces;         ///< maximal runs not split by different_surface links
+  /// The in-model points form a ring (a full-turn scan); then closing_link relates
+  /// inmodel_beams.back() and inmodel_beams.front().
+  bool closed = false;
+  Link closing_link = Link::kSameRegion;  ///< meaningful when closed
+  std::vector<BeamRange> regions;   ///< maximal runs joined by same_region links (first > last:
+                                    ///< across the seam of a closed scan)
+  std::vector<BeamRange> surfaces;  ///< maximal runs not split by different_surface links
   bool feasible = false;                   ///< the prior's constraints hold at the solution
   double max_violation = 0.0;              ///< largest constraint residual at the solution
   double objective = 0.0;  ///< data + prior energies - gamma |INMODEL| (smaller is better)

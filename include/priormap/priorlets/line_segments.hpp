@@ -26,7 +26,7 @@ struct LineSegment {
   Mat2 covariance = Mat2::Zero();  ///< of (radius, angle)
   Vec2 start = Vec2::Zero();       ///< the region's first point projected on the line, m
   Vec2 end = Vec2::Zero();         ///< ... and its last
-  BeamRange beams;                 ///< the region
+  BeamRange beams;                 ///< the region (first > last: across a full turn's seam)
   std::size_t points = 0;          ///< in-model points fitted
   double rms = 0.0;                ///< of their distances to the line, m
 };

@@ -34,7 +34,10 @@ struct PosteriorOptions {
   int eigenvariations = 5;
   /// The rank decision of Free: KernelOptions::relative_tolerance is this, or 100 times the
   /// solution's largest constraint residual when that is larger (a redundancy that holds only
-  /// on the constraint manifold shows singular values of the order of the residual).
+  /// on the constraint manifold shows singular values of the order of the residual). The rank is
+  /// decided with every unknown in metres, a normal times its range (ComputeKernel's variable
+  /// scales), so that the same geometry at any scale has the same degrees of freedom; the
+  /// summary's singular values (DegreesOfFreedom::kernel) are those of that scaled Jacobian.
   double kernel_tolerance = 1e-9;
   /// The covariance is dense in Free (d x d, eigen-decomposed: O(d^3)): above this dim(Free) only
   /// the degrees of freedom are computed, and, when nothing is constrained (a prior of energies
