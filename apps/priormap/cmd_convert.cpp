@@ -34,6 +34,12 @@ struct ConvertOptions {
   std::optional<std::string> poses;
 };
 
+void RefuseMinRangeNotBelowMaxRange(const ConvertOptions& o) {
+  if (o.min_range && o.max_range && !(*o.min_range < *o.max_range))
+    throw UserError(
+        fmt::format("--min-range {} must be below --max-range {}", *o.min_range, *o.max_range));
+}
+
 // The RoboND sonar files, converted as documented in docs/formats.md.
 Log ReadRoboNd(const ConvertOptions& o) {
   if (!o.robond_poses)
@@ -56,6 +62,20 @@ Log ReadRoboNd(const ConvertOptions& o) {
                       *o.max_range, kRoboNdSonar, sensor_max_range));
     options.no_echo_mm = *o.max_range * 1000.0;
   }
+  // Checked here, not left to the reader, whose message can only name its own fields (and not
+  // say that the other limit is the sensor's, not one the user gave).
+  RefuseMinRangeNotBelowMaxRange(o);
+  const double max_range = options.no_echo_mm / 1000.0;
+  if (o.min_range && !(*o.min_range < max_range))
+    throw UserError(fmt::format(
+        "--min-range {} m: with --from {} it must be below the max range, the sensor's {} m "
+        "(its \"no echo\" reading)",
+        *o.min_range, kRoboNdSonar, max_range));
+  if (o.max_range && !(options.min_range < max_range))
+    throw UserError(fmt::format(
+        "--max-range {} m: with --from {} it must be above the min range, the sensor's {} m, or "
+        "above a lower --min-range",
+        *o.max_range, kRoboNdSonar, options.min_range));
   Log log = ValueOrThrow(ReadRoboNdSonar(o.input, *o.robond_poses, options));
   if (o.poses) log.pose_source = *PoseSourceFromString(*o.poses);
   return log;
@@ -109,9 +129,7 @@ void RefuseOptionsTheFormatIgnores(const ConvertOptions& o, LogFormat from,
     throw UserError(fmt::format("{} {} for other formats: {} is {}, whose scans carry their own",
                                 fmt::join(ignored, ", "), ignored.size() == 1 ? "is" : "are", input,
                                 ToString(from)));
-  if (o.min_range && o.max_range && !(*o.min_range < *o.max_range))
-    throw UserError(
-        fmt::format("--min-range {} must be below --max-range {}", *o.min_range, *o.max_range));
+  RefuseMinRangeNotBelowMaxRange(o);
 }
 
 void Run(const ConvertOptions& o) {

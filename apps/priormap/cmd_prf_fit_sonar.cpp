@@ -16,6 +16,7 @@
 #include <priormap/core/scene_truth.hpp>
 #include <priormap/core/simulate.hpp>
 #include <priormap/core/sonar_simulate.hpp>
+#include <priormap/prf/map_study.hpp>
 #include <priormap/prf/sonar_fit.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/prf/sonar_study.hpp>
@@ -43,6 +44,24 @@ struct FitSonarCliOptions {
 // The most simulated readings a fit takes: 270 times the default's 3,728, about a gigabyte of
 // views and ten minutes of CPU (37,024 readings, --rate 20, took 50 MB and 20 s).
 constexpr double kMaxFitReadings = 1e6;
+
+// A scene given twice would have its rings simulated twice with the same seed (drawn from the
+// scene's name) and fitted twice: the same readings counted double, without a word. Compared by
+// name, not by the text given, so that a file and the built-in of the same name are caught too.
+void RefuseRepeatedScenes(const std::vector<std::string>& given, const std::vector<Scene>& scenes) {
+  const auto repeated = prf::RepeatedName(scenes, [](const Scene& s) { return s.name; });
+  if (!repeated) return;
+  std::vector<std::string> entries;
+  for (std::size_t i = 0; i < scenes.size(); ++i)
+    if (scenes[i].name == *repeated) entries.push_back(given[i]);
+  if (entries[0] == entries[1])
+    throw UserError(
+        fmt::format("--scenes: '{}' is given twice (each scene is fitted once)", entries[0]));
+  throw UserError(fmt::format(
+      "--scenes: '{}' and '{}' are both scene '{}' (each scene is fitted once, its name seeds its "
+      "simulation: give the scenes different names)",
+      entries[0], entries[1], *repeated));
+}
 
 // The readings with their true views, from --log and --scene or simulated in --scenes.
 std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
@@ -87,6 +106,7 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
     rings += TrajectoryPoseCount(scene.waypoints, o.speed, o.rate);
     scenes.push_back(std::move(scene));
   }
+  RefuseRepeatedScenes(o.scenes, scenes);
   // Refused before anything is simulated: a slower speed or a higher rate is a typo, and would
   // exhaust memory (or run for hours) before the fit ends.
   const double simulated = rings * static_cast<double>(ring.bearings.size());

@@ -121,16 +121,26 @@ Log Parse(std::string_view measurements, const std::string& measurements_name,
   Log log;
   log.pose_source = PoseSource::kGroundTruth;
   const double max_range = options.no_echo_mm / 1000.0;
+  double previous_t = 0.0;  // ms, the previous line's
   for (std::size_t k = 0; k < rings; ++k) {
     const Fields z(measurements_name, z_lines[k], 1 + kRingSize, "t_ms and 8 ranges in mm");
     const Fields p(poses_name, pose_lines[k], 4, "t_ms, x_mm, y_mm, theta in tenths of a degree");
     const double t_z = z.Number(0, "a time in ms");
+    // The rings are a time series: a repeated or earlier time is a line copied or moved in the
+    // file (the real files' times increase strictly, 205 to 428 ms apart), not a second ring at the
+    // same instant. Checked before the poses' time, so that a line repeated in the
+    // measurements alone is reported there, not as the poses' time that differs.
+    if (k > 0 && !(t_z > previous_t))
+      Fail(measurements_name, z_lines[k].number, z.col(0),
+           fmt::format("expected a time after the previous line's {} ms ({}:{}), got {} ms",
+                       previous_t, measurements_name, z_lines[k - 1].number, t_z));
     const double t_pose = p.Number(0, "a time in ms");
     if (t_pose != t_z)
       Fail(poses_name, pose_lines[k].number, p.col(0),
            fmt::format("time {} ms differs from the {} ms of {}:{} (line {} of each file must be "
                        "the same ring)",
                        t_pose, t_z, measurements_name, z_lines[k].number, k + 1));
+    previous_t = t_z;
     Scan scan;
     scan.channel = "SONAR";
     scan.timestamp = t_z / 1000.0;

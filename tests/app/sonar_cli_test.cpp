@@ -287,7 +287,7 @@ TEST_F(SonarCli, RefusesRoboNdRangeLimitsThatWouldTurnNoEchoIntoWalls) {
   EXPECT_THAT(RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json",
                           "--min-range", "6"})
                   .err,
-              HasSubstr("need 0 <= min range < max range"));
+              HasSubstr("--min-range 6 m: with --from roboND-sonar it must be below"));
   for (const char* option : {"--fov", "--sigma"})
     EXPECT_THAT(RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json",
                             option, "10"})
@@ -305,6 +305,71 @@ TEST_F(SonarCli, RefusesRoboNdRangeLimitsThatWouldTurnNoEchoIntoWalls) {
   EXPECT_EQ(log.scans[0].max_range, 1.5);
   EXPECT_EQ(log.scans[0].status[0], BeamStatus::kMaxRange);
   EXPECT_EQ(log.scans[0].status[1], BeamStatus::kMaxRange);
+}
+
+// A range limit that leaves no reading valid is reported naming the option given, its value and
+// the limit it must clear, which may be the sensor's own (0.17 m, 5.11 m) that the user never
+// gave.
+TEST_F(SonarCli, NamesTheRoboNdRangeOptionThatLeavesNoReadingValid) {
+  WriteText("m.txt", "1 2000 5110 3 4 5 6 7 8\n");
+  WriteText("p.txt", "1 0 0 0\n");
+  const auto refused = [&](const std::vector<std::string>& limits) {
+    std::vector<std::string> args = {"convert", "--from", "roboND-sonar", "m.txt",
+                                     "p.txt",   "-o",     "x.json"};
+    args.insert(args.end(), limits.begin(), limits.end());
+    const auto r = RunFailing(args);
+    EXPECT_EQ(r.status, 1) << limits[0];
+    return r.err;
+  };
+  EXPECT_THAT(refused({"--min-range", "6"}),
+              HasSubstr("--min-range 6 m: with --from roboND-sonar it must be below the max "
+                        "range, the sensor's 5.11 m"));
+  EXPECT_THAT(refused({"--max-range", "0.1"}),
+              HasSubstr("--max-range 0.1 m: with --from roboND-sonar it must be above the min "
+                        "range, the sensor's 0.17 m"));
+  EXPECT_THAT(refused({"--min-range", "3", "--max-range", "2"}),
+              HasSubstr("--min-range 3 must be below --max-range 2"));
+  // Within the limits, the other option moves the limit: both are accepted.
+  ASSERT_EQ(Run({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json",
+                 "--max-range", "0.1", "--min-range", "0.05"})
+                .status,
+            0);
+}
+
+// A repeated or earlier time is a line copied or moved, refused at the file, line and column of
+// the time.
+TEST_F(SonarCli, RefusesRoboNdTimesThatRepeatOrGoBack) {
+  WriteText("m.txt", "1 2000 5110 3 4 5 6 7 8\n2 2000 5110 3 4 5 6 7 8\n2 2000 5110 3 4 5 6 7 8\n");
+  WriteText("p.txt", "1 0 0 0\n2 0 0 0\n2 0 0 0\n");
+  const auto r =
+      RunFailing({"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "-o", "x.json"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err, HasSubstr("m.txt:3:1: expected a time after the previous line's 2 ms "
+                               "(m.txt:2), got 2 ms"));
+}
+
+// A scene given twice would be simulated with the same seed and fitted twice: its readings
+// counted double. Refused naming the entry, also when two spellings load the same scene.
+TEST_F(SonarCli, FitSonarRefusesASceneGivenTwice) {
+  // Few rings (a fast robot, a slow ring), so that a fit that is not refused ends at once.
+  const std::vector<std::string> fast = {"--speed", "100", "--rate", "0.05", "-o", "m.json"};
+  const auto fit = [&](const std::string& scenes) {
+    std::vector<std::string> args = {"prf", "fit-sonar", "--scenes", scenes};
+    args.insert(args.end(), fast.begin(), fast.end());
+    return args;
+  };
+  const auto twice = RunFailing(fit("office,l-office,office"));
+  EXPECT_EQ(twice.status, 1);
+  EXPECT_THAT(twice.err, HasSubstr("--scenes: 'office' is given twice"));
+  WriteText("box.json", R"({"format": "priormap.scene", "version": 1, "name": "box",
+    "surfaces": [{"type": "polyline", "points": [[-3, -3], [3, -3], [3, 3], [-3, 3]],
+                  "closed": true}],
+    "waypoints": [[-1, 0], [1, 0]]})");
+  const auto aliases = RunFailing(fit("box.json,./box.json"));
+  EXPECT_EQ(aliases.status, 1);
+  EXPECT_THAT(aliases.err, HasSubstr("--scenes: 'box.json' and './box.json' are both scene 'box'"));
+  const auto distinct = Run(fit("box.json,office"));
+  EXPECT_EQ(distinct.status, 0) << distinct.err;
 }
 
 // summary.json is a grid's last output: a run that fails (or is stopped) while writing leaves

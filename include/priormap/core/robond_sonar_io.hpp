@@ -2,7 +2,8 @@
 /// The sonar data of Udacity's RoboND occupancy-grid project (../shared/data/sonar-roboND,
 /// docs/formats.md): a measurement file of lines "t_ms z_0 .. z_7" (ranges in millimetres,
 /// 5110 = no echo) and a pose file of lines "t_ms x_mm y_mm theta" (theta in tenths of a
-/// degree), line k of one matching line k of the other. Each line pair becomes one sonar ring.
+/// degree), line k of one matching line k of the other, the times increasing strictly. Each line
+/// pair becomes one sonar ring.
 
 #include <filesystem>
 #include <string>
@@ -30,7 +31,8 @@ struct RoboNdSonarOptions {
   [[nodiscard]] static std::vector<double> RoboNdBearings();
 };
 
-/// Parses the two files' text (named in diagnostics, which point at file:line:col). The log's
+/// Parses the two files' text (named in diagnostics, which point at file:line:col); a time
+/// not after the previous line's (a line copied or moved) is an error. The log's
 /// scans are sonar rings (channel "SONAR") at the given poses; pose_source is kGroundTruth
 /// (the upstream project calls its poses exact).
 [[nodiscard]] Result<Log> ParseRoboNdSonar(std::string_view measurements,
