@@ -163,12 +163,13 @@ class Enumerator {
     std::vector<StructureMarginal> out;
     for (int j = 0; j < n_; ++j) {
       const auto& pair = problem_.pairs[j];
-      if (pair.structure < 0) continue;
-      auto it = std::find_if(out.begin(), out.end(), [&](const StructureMarginal& m) {
-        return m.point == pair.point && m.structure == pair.structure;
-      });
-      if (it == out.end()) it = out.insert(out.end(), {pair.point, pair.structure, {}, 0.0, {}});
-      it->pairs.push_back(j);
+      for (int structure : pair.structures) {
+        auto it = std::find_if(out.begin(), out.end(), [&](const StructureMarginal& m) {
+          return m.point == pair.point && m.structure == structure;
+        });
+        if (it == out.end()) it = out.insert(out.end(), {pair.point, structure, {}, 0.0, {}});
+        it->pairs.push_back(j);
+      }
     }
     std::erase_if(out, [](const StructureMarginal& m) { return m.pairs.size() < 2; });
     for (StructureMarginal& m : out) {

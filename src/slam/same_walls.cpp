@@ -53,6 +53,21 @@ struct UnionFind {
   std::vector<std::size_t> parent;
 };
 
+// The buildings of `group`'s segments other than its first segment's, ascending, each once.
+std::vector<int> SharedWith(const PriorMap& map, const std::vector<int>& group) {
+  const int own = map.segments[group.front()].building;
+  std::vector<int> others;
+  for (int s : group) {
+    const PriorSegment& segment = map.segments[s];
+    if (segment.building >= 0) others.push_back(segment.building);
+    others.insert(others.end(), segment.shared_with.begin(), segment.shared_with.end());
+  }
+  std::erase(others, own);
+  std::sort(others.begin(), others.end());
+  others.erase(std::unique(others.begin(), others.end()), others.end());
+  return others;
+}
+
 // One wall for the segments `group` (ascending) of `map`: the header's fit.
 PriorSegment MergedWall(const PriorMap& map, const std::vector<int>& group) {
   const PriorSegment& first = map.segments[group.front()];
@@ -85,7 +100,10 @@ PriorSegment MergedWall(const PriorMap& map, const std::vector<int>& group) {
       off = std::max(off, std::abs(normal.dot(p - centroid)));
     }
   }
-  return {centroid + lo * u, centroid + hi * u, std::sqrt(largest_var + off * off), first.building};
+  // The wall stays part of every building whose footprint holds it: a landmark on a shared wall
+  // is evidence about each of them, whichever the map lists first.
+  return {centroid + lo * u, centroid + hi * u, std::sqrt(largest_var + off * off), first.building,
+          SharedWith(map, group)};
 }
 
 }  // namespace

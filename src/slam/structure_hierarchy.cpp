@@ -89,6 +89,16 @@ std::optional<int> PriorMapStructures::BuildingOf(int segment) const {
   return building_index[static_cast<std::size_t>(*building)];
 }
 
+std::vector<int> PriorMapStructures::BuildingsOf(int segment) const {
+  std::vector<int> buildings;
+  if (const std::optional<int> own = BuildingOf(segment)) buildings.push_back(*own);
+  for (int wall : shared_wall_instances.at(static_cast<std::size_t>(segment))) {
+    buildings.push_back(building_index[static_cast<std::size_t>(*hierarchy.ParentOf(wall))]);
+  }
+  std::sort(buildings.begin(), buildings.end());
+  return buildings;
+}
+
 std::vector<int> PriorMapStructures::SegmentsOf(int building) const {
   std::vector<int> segments;
   for (int wall :
@@ -107,16 +117,32 @@ PriorMapStructures StructuresOf(const PriorMap& map) {
     out.segment_of_wall.push_back(-1);
     out.building_index.push_back(static_cast<int>(b));
   }
-  for (std::size_t s = 0; s < map.segments.size(); ++s) {
-    const int building = map.segments[s].building;
-    PRIORMAP_CHECK(building < static_cast<int>(map.buildings.size()),
-                   fmt::format("segment {} is part of building {}, but the map has {}", s, building,
-                               map.buildings.size()));
+  const auto add_wall = [&](std::size_t segment, std::optional<int> building) {
     std::optional<int> parent;
-    if (building >= 0) parent = out.building_instance[static_cast<std::size_t>(building)];
-    out.wall_instance.push_back(out.hierarchy.AddInstance(out.wall_class, parent));
-    out.segment_of_wall.push_back(static_cast<int>(s));
+    if (building) parent = out.building_instance[static_cast<std::size_t>(*building)];
+    out.segment_of_wall.push_back(static_cast<int>(segment));
     out.building_index.push_back(-1);
+    return out.hierarchy.AddInstance(out.wall_class, parent);
+  };
+  for (std::size_t s = 0; s < map.segments.size(); ++s) {
+    const PriorSegment& segment = map.segments[s];
+    std::vector<int> buildings;
+    if (segment.building >= 0) buildings.push_back(segment.building);
+    for (int other : segment.shared_with) {
+      PRIORMAP_CHECK(other >= 0, fmt::format("segment {} is shared with building {}", s, other));
+      if (std::find(buildings.begin(), buildings.end(), other) == buildings.end())
+        buildings.push_back(other);
+    }
+    for (int building : buildings) {
+      PRIORMAP_CHECK(building < static_cast<int>(map.buildings.size()),
+                     fmt::format("segment {} is part of building {}, but the map has {}", s,
+                                 building, map.buildings.size()));
+    }
+    out.wall_instance.push_back(
+        add_wall(s, buildings.empty() ? std::nullopt : std::optional<int>(buildings.front())));
+    out.shared_wall_instances.emplace_back();
+    for (std::size_t k = 1; k < buildings.size(); ++k)
+      out.shared_wall_instances.back().push_back(add_wall(s, buildings[k]));
   }
   return out;
 }

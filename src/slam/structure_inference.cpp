@@ -65,7 +65,7 @@ StructureInference::StructureInference(const PriorMap& map, const SlamOptions& o
     : map_(map), options_(options), grid_(map, kGridCell, kGridPad) {
   const PriorMapStructures structures = StructuresOf(map);
   for (std::size_t segment = 0; segment < map.segments.size(); ++segment) {
-    building_of_segment_.push_back(structures.BuildingOf(static_cast<int>(segment)).value_or(-1));
+    buildings_of_segment_.push_back(structures.BuildingsOf(static_cast<int>(segment)));
   }
 }
 
@@ -164,7 +164,7 @@ HypothesisProblem StructureInference::Problem(const JointState& state,
     J.block<1, 4>(j, row_offsets[j].second) = J_ab;
     problem.pairs.push_back(
         {pair.landmark, pair.segment,
-         options_.building_relations ? building_of_segment_[pair.segment] : -1});
+         options_.building_relations ? buildings_of_segment_[pair.segment] : std::vector<int>{}});
     if (book.segments[pair.segment].known_real) problem.lines_known_real.push_back(pair.segment);
   }
   problem.S = J * C * J.transpose();
@@ -181,8 +181,8 @@ HypothesisProblem StructureInference::Problem(const JointState& state,
 void StructureInference::AcceptBuildingRelations(const std::vector<Pair>& members,
                                                  const HypothesisPosterior& posterior,
                                                  std::vector<Relation>& accepted) const {
-  // Most probable first, so a point above p_accept for two buildings (p_accept < 0.5) takes the
-  // likelier one.
+  // Most probable first, so a point above p_accept for two buildings (p_accept < 0.5, or through
+  // a wall they share) takes the likelier one.
   std::vector<const StructureMarginal*> candidates;
   for (const StructureMarginal& marginal : posterior.structure_marginals) {
     if (marginal.probability > options_.priors.p_accept) candidates.push_back(&marginal);

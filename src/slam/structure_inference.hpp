@@ -80,7 +80,9 @@ class StructureInference {
   const PriorMap& map_;
   const SlamOptions& options_;
   SegmentGrid grid_;
-  std::vector<int> building_of_segment_;  // from the map's structure hierarchy; -1: none
+  // From the map's structure hierarchy: all of a shared wall's buildings, so that it counts for
+  // each of them, not only for the one the map happens to list first.
+  std::vector<std::vector<int>> buildings_of_segment_;
 };
 
 }  // namespace priormap::slam::detail

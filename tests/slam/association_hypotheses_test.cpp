@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -119,7 +121,7 @@ TEST(AssociationHypotheses, OneLinePerPointKeepsPointsOffAParallelCopy) {
 // the rest, with the mixture p(theta | d_S = 1) = sum_s p(theta_s | d_s = 1) p(d_s = 1 | d_S = 1).
 TEST(AssociationHypotheses, StructureMarginalIsTheEvidenceOfTheEqThreeMixture) {
   HypothesisProblem problem;
-  problem.pairs = {{4, 0, 7}, {4, 1, 7}, {4, 2, 9}};
+  problem.pairs = {{4, 0, {7}}, {4, 1, {7}}, {4, 2, {9}}};
   problem.theta = Eigen::Vector3d(0.1, 0.3, 0.2);
   problem.S = Eigen::Matrix3d::Identity() * 0.25;
   problem.lines_known_real = {1};  // wall B has accepted relations
@@ -156,7 +158,7 @@ TEST(AssociationHypotheses, StructureMarginalIsTheEvidenceOfTheEqThreeMixture) {
 // refused.
 TEST(AssociationHypotheses, PointOnLineIsAProbabilityStrictlyBetweenZeroAndOne) {
   HypothesisProblem problem;
-  problem.pairs = {{4, 0, 7}, {4, 1, 7}};
+  problem.pairs = {{4, 0, {7}}, {4, 1, {7}}};
   problem.theta = Eigen::Vector2d(0.1, 0.3);
   problem.S = Eigen::Matrix2d::Identity() * 0.25;
   problem.lines_known_real = {0, 1};
@@ -197,11 +199,40 @@ TEST(AssociationHypotheses, PointOnLineIsAProbabilityStrictlyBetweenZeroAndOne) 
   EXPECT_FALSE(ArePriorsValid(priors));
 }
 
+// A wall that buildings 7 and 9 share (line 0) is some wall of each: a point gated with it and
+// with one other wall of each building has a marginal per building, each the sum of its two
+// walls' marginals (one line per point), and the shared line is in both.
+TEST(AssociationHypotheses, ALineOfTwoStructuresCountsForEach) {
+  HypothesisProblem problem;
+  problem.pairs = {{4, 0, {7, 9}}, {4, 1, {7}}, {4, 2, {9}}};
+  problem.theta = Eigen::Vector3d(0.1, 0.3, 0.2);
+  problem.S = Eigen::Matrix3d::Identity() * 0.25;
+  const HypothesisPosterior posterior = EnumerateHypotheses(problem, StructurePriors{});
+  ASSERT_EQ(posterior.structure_marginals.size(), 2u);
+  const std::vector<double>& m = posterior.marginals;
+  for (const auto& [k, structure, other] : {std::tuple{0, 7, 1}, std::tuple{1, 9, 2}}) {
+    const StructureMarginal& marginal = posterior.structure_marginals[k];
+    EXPECT_EQ(marginal.point, 4);
+    EXPECT_EQ(marginal.structure, structure);
+    EXPECT_EQ(marginal.pairs, (std::vector<int>{0, other}));
+    EXPECT_NEAR(marginal.probability, m[0] + m[other], 1e-12);
+    // Lines 0 and `other` have the same prior and null density: equal weights.
+    EXPECT_NEAR(marginal.weights[0], 0.5, 1e-12);
+  }
+  // Naming the line's structures does not change the wall-level posterior.
+  HypothesisProblem first_only = problem;
+  first_only.pairs[0].structures = {7};
+  const HypothesisPosterior before = EnumerateHypotheses(first_only, StructurePriors{});
+  EXPECT_EQ(before.marginals, posterior.marginals);
+  ASSERT_EQ(before.structure_marginals.size(), 1u);  // building 9 has one wall left: no marginal
+  EXPECT_EQ(before.structure_marginals[0].structure, 7);
+}
+
 // Without one line per point the events overlap; the structure marginal counts each hypothesis
 // once (the probability of "on A or on B", not the sum).
 TEST(AssociationHypotheses, StructureMarginalCountsOverlappingHypothesesOnce) {
   HypothesisProblem problem;
-  problem.pairs = {{4, 0, 7}, {4, 1, 7}};
+  problem.pairs = {{4, 0, {7}}, {4, 1, {7}}};
   problem.theta = Eigen::Vector2d(0.1, 0.3);
   problem.S = Eigen::Matrix2d::Identity() * 0.25;
   const HypothesisPosterior posterior = EnumerateHypotheses(problem, PapersPriors());
@@ -220,7 +251,7 @@ TEST(AssociationHypotheses, StructureMarginalCountsOverlappingHypothesesOnce) {
 // weights are "on s, not on the others" over "on none", so each divides by its own null density.
 TEST(AssociationHypotheses, StructureWeightsFollowThePairsNullDensities) {
   HypothesisProblem problem;
-  problem.pairs = {{4, 0, 7}, {4, 1, 7}};
+  problem.pairs = {{4, 0, {7}}, {4, 1, {7}}};
   problem.theta = Eigen::Vector2d(0.1, 0.3);
   problem.S = Eigen::Matrix2d::Identity() * 0.25;
   problem.null_density = {0.2, 0.05};

@@ -1,9 +1,15 @@
 // Prior segments that are the same wall (same_walls.hpp): a wall that two footprints share is
 // one wall to the filter, parallel walls beyond their uncertainty are not, and on simulated data
 // with a shared copy of every wall the landmarks on those walls are related to them again.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <set>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -88,6 +94,12 @@ TEST(SameWalls, MergesTheSharedWallOfTwoFootprintsAndKeepsTheRest) {
   EXPECT_TRUE(shared.b.isApprox(Vec2(10, 10), 1e-12));
   EXPECT_DOUBLE_EQ(shared.std, 0.5);
   EXPECT_EQ(shared.building, 0);
+  EXPECT_THAT(shared.shared_with, ElementsAre(1));  // and still east's wall
+  for (std::size_t w = 0; w < 7; ++w) {
+    if (w != 1) {
+      EXPECT_TRUE(walls.map.segments[w].shared_with.empty()) << w;
+    }
+  }
   EXPECT_EQ(walls.map.buildings, TwoAdjacentBuildings().buildings);
 }
 
@@ -155,6 +167,122 @@ TEST(SameWalls, PointsOnAWallTheMapHoldsTwiceAreRelatedToIt) {
   EXPECT_EQ(merged.segments[0].segment, 0);
   EXPECT_NEAR(merged.segments[0].a.x(), 10.0, 0.05);
   EXPECT_NEAR(merged.segments[0].b.x(), 10.0, 0.05);
+}
+
+// Two buildings share a wall: south (x 10..20, y -10..0) and north (x 10..30, y 0..10), the wall
+// y = 0. The prior map holds it in both footprints, 0.3 m off, and south's east wall (x = 20)
+// 0.4 m off, std 0.5 m. A vehicle stands at (26, -12) facing north, by south's east face.
+// Beacons: three on south's east wall, three on the shared wall where only north runs on (x > 20)
+// and one at south's corner (20, 0), which lies on both the shared wall and south's east wall, so
+// no single wall can be chosen for it: with relations to buildings it lies on "some wall of
+// south". The merged wall is named by whichever footprint the map lists first; the relation must
+// not depend on that.
+struct TwoBuildingsSharingAWall {
+  static constexpr int kCorner = 6;
+  const Se2 pose{26.0, -12.0, std::numbers::pi / 2};
+  std::vector<Vec2> beacons{{20, -8}, {20, -5}, {20, -2}, {23, 0}, {25, 0}, {27, 0}, {20, 0}};
+  PriorMap map;
+  std::vector<std::string> label;  // per prior segment: which wall it is, the copies alike
+  RelationTruth truth;
+
+  explicit TwoBuildingsSharingAWall(bool north_first) {
+    // Walls: 0 shared, 1 south's east, then the others (no beacon is on them).
+    const auto south = [&] {
+      Add("south", {10, -10}, {20.4, -10}, "south south", 2);
+      Add("south", {20.4, -10}, {20.4, 0.3}, "south east", 1);
+      Add("south", {20.4, 0.3}, {10, 0.3}, "shared", 0);
+      Add("south", {10, 0.3}, {10, -10}, "south west", 3);
+    };
+    const auto north = [&] {
+      Add("north", {10, 0.3}, {30, 0.3}, "shared", 0);
+      Add("north", {30, 0.3}, {30, 10}, "north east", 4);
+      Add("north", {30, 10}, {10, 10}, "north north", 5);
+      Add("north", {10, 10}, {10, 0.3}, "north west", 6);
+    };
+    if (north_first) {
+      north();
+      south();
+    } else {
+      south();
+      north();
+    }
+    truth.landmark_wall = {1, 1, 1, 0, 0, 0, 0};
+    truth.landmark_on_wall.assign(beacons.size(), true);
+  }
+
+  void Add(const std::string& building, Vec2 a, Vec2 b, const std::string& wall, int true_wall) {
+    auto it = std::find(map.buildings.begin(), map.buildings.end(), building);
+    if (it == map.buildings.end()) it = map.buildings.insert(it, building);
+    map.segments.push_back({a, b, 0.5, static_cast<int>(it - map.buildings.begin())});
+    label.push_back(wall);
+    truth.segment_wall.push_back(true_wall);
+  }
+};
+
+// What the filter related, in the map's own terms (building names, wall labels), so that runs on
+// the same world listed in another order compare.
+struct Related {
+  std::set<std::pair<int, std::string>> to_walls;  // (landmark, wall)
+  std::set<std::tuple<int, std::string, std::set<std::string>>> to_buildings;
+  std::size_t incorrect = 0;
+};
+
+Related FilterTwoBuildingsSharingAWall(bool north_first) {
+  const TwoBuildingsSharingAWall world(north_first);
+  MotionNoise motion;
+  motion.speed_std = 1e-3;
+  motion.steer_std = 1e-3;
+  const SensorNoise sensor;
+  SlamOptions options;
+  options.building_relations = true;
+  PriorMapSlam slam(world.pose, 0.0, motion, sensor, &world.map, options, &world.truth);
+  Rng rng(6);
+  for (int f = 1; f <= 30; ++f) {
+    slam.Predict({0.2 * f, 0.2, BicycleControl{0.0, 0.0}});
+    ObservationFrame frame;
+    frame.time = 0.2 * f;
+    for (std::size_t i = 0; i < world.beacons.size(); ++i) {
+      const Vec2 z = ObserveRangeBearing(world.pose, world.beacons[i]);
+      frame.observations.push_back({static_cast<int>(i), z.x() + rng.Normal(0.0, sensor.range_std),
+                                    WrapAngle(z.y() + rng.Normal(0.0, sensor.bearing_std))});
+    }
+    slam.Observe(frame);
+  }
+  const SlamResult result = slam.Finish();
+  EXPECT_EQ(result.same_walls.size(), 1u);  // the shared wall, and nothing else
+  Related related;
+  for (const RelationRecord& r : result.relations) {
+    if (!r.correct.value()) ++related.incorrect;
+    if (r.building < 0) {
+      related.to_walls.emplace(r.landmark, world.label[static_cast<std::size_t>(r.segment)]);
+      continue;
+    }
+    std::set<std::string> walls;
+    for (int wall : r.walls) walls.insert(world.label[static_cast<std::size_t>(wall)]);
+    related.to_buildings.emplace(r.landmark,
+                                 world.map.buildings[static_cast<std::size_t>(r.building)], walls);
+  }
+  return related;
+}
+
+// A merged wall used to keep only its first segment's building: listed first, south had its
+// corner beacon related to it; listed second, the shared wall was north's alone, south had one
+// wall gated at its corner and the beacon was never related. Now the shared wall is a wall of
+// both, and the result is the same whichever building the map lists first.
+TEST(SameWalls, AWallTwoBuildingsShareCountsForBothWhicheverIsListedFirst) {
+  const Related south_first = FilterTwoBuildingsSharingAWall(false);
+  const Related north_first = FilterTwoBuildingsSharingAWall(true);
+  using Building = std::tuple<int, std::string, std::set<std::string>>;
+  const Building corner{TwoBuildingsSharingAWall::kCorner, "south", {"shared", "south east"}};
+  EXPECT_THAT(south_first.to_buildings, ElementsAre(corner));
+  EXPECT_THAT(north_first.to_buildings, ElementsAre(corner));
+  // The beacons on the walls are related to their own walls, alike in both orders.
+  EXPECT_GE(south_first.to_walls.size(), 3u);
+  EXPECT_EQ(north_first.to_walls, south_first.to_walls);
+  for (const auto& [landmark, wall] : south_first.to_walls)
+    EXPECT_EQ(wall, landmark < 3 ? "south east" : "shared") << landmark;
+  EXPECT_EQ(south_first.incorrect, 0u);
+  EXPECT_EQ(north_first.incorrect, 0u);
 }
 
 // The urban study (seed 1) with every true wall also held by a neighbouring footprint: an exact

@@ -78,6 +78,33 @@ TEST(StructureHierarchy, PriorMapWallsArePartsOfTheirFeaturesBuilding) {
   EXPECT_THAT(s.SegmentsOf(0), ElementsAre(1));
   EXPECT_TRUE(s.hierarchy.IsPartOf(s.wall_instance[2], s.building_instance[1]));
   EXPECT_FALSE(s.hierarchy.IsPartOf(s.wall_instance[2], s.building_instance[0]));
+  EXPECT_THAT(s.BuildingsOf(0), ElementsAre(1));
+  EXPECT_THAT(s.BuildingsOf(3), IsEmpty());
+}
+
+// A wall that buildings share (a merged wall: PriorSegment::shared_with) is a wall of each, one
+// instance per building, whichever of them names it.
+TEST(StructureHierarchy, ASharedWallIsPartOfEachOfItsBuildings) {
+  PriorMap map;
+  map.buildings = {"north", "south", "east"};
+  map.segments = {{Vec2(0, 0), Vec2(1, 0), 1.0, 1, {0, 2}},
+                  {Vec2(1, 0), Vec2(1, 1), 1.0, 0},
+                  {Vec2(5, 5), Vec2(6, 5), 1.0, -1, {2}}};
+  const PriorMapStructures s = StructuresOf(map);
+  EXPECT_EQ(s.BuildingOf(0), 1);
+  EXPECT_THAT(s.BuildingsOf(0), ElementsAre(0, 1, 2));
+  EXPECT_THAT(s.BuildingsOf(1), ElementsAre(0));
+  EXPECT_EQ(s.BuildingOf(2), 2);  // no building of its own: the one it is shared with
+  EXPECT_THAT(s.BuildingsOf(2), ElementsAre(2));
+  EXPECT_THAT(s.SegmentsOf(0), ElementsAre(0, 1));
+  EXPECT_THAT(s.SegmentsOf(1), ElementsAre(0));
+  EXPECT_THAT(s.SegmentsOf(2), ElementsAre(0, 2));
+  ASSERT_EQ(s.shared_wall_instances[0].size(), 2u);
+  EXPECT_TRUE(s.hierarchy.IsPartOf(s.shared_wall_instances[0][1], s.building_instance[2]));
+  EXPECT_EQ(s.segment_of_wall[s.shared_wall_instances[0][1]], 0);
+
+  map.segments[1].shared_with = {3};
+  EXPECT_THROW((void)StructuresOf(map), ContractError);  // no building 3
 }
 
 }  // namespace

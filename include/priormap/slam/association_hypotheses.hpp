@@ -15,10 +15,11 @@
 /// row per active pair, so a hypothesis costs O(|M|) beyond its parent's; the leaves' log
 /// probabilities are kept by bit mask and normalised once.
 ///
-/// One level up the hierarchy (eq. 3 of the paper): when each pair names the structure its line
-/// is part of (a building), the posterior also gives, per point and structure, the probability
-/// that the point is related to some line of that structure. Under one_line_per_point these
-/// events are exclusive across lines, so it is sum_s P(d_s = 1): the evidence of the mixture
+/// One level up the hierarchy (eq. 3 of the paper): when each pair names the structures its line
+/// is part of (a building; each of them for a wall that buildings share), the posterior also
+/// gives, per point and structure, the probability that the point is related to some line of that
+/// structure. Under one_line_per_point these events are exclusive across lines, so it is
+/// sum_s P(d_s = 1): the evidence of the mixture
 /// p(theta | d_S = 1) = sum_s p(theta | d_s = 1) p(d_s = 1 | d_S = 1), with weights
 /// p(d_s = 1 | d_S = 1) proportional to the lines' own priors.
 
@@ -49,7 +50,9 @@ struct HypothesisProblem {
   struct Pair {
     int point = -1;  ///< any identifiers; pairs of equal `line` share the line's prior factor
     int line = -1;
-    int structure = -1;  ///< the structure the line is part of (a building); -1: none
+    /// The structures the line is part of (a building; each of them for a wall that buildings
+    /// share); empty: none.
+    std::vector<int> structures{};
   };
   std::vector<Pair> pairs;
   Eigen::VectorXd theta;  ///< the implicit function of each pair at the current estimate

@@ -28,6 +28,10 @@ struct PriorSegment {
   Vec2 b = Vec2::Zero();
   double std = 1.0;   ///< 1-sigma error of each endpoint coordinate, m (IsValidPriorStd)
   int building = -1;  ///< index into PriorMap::buildings
+  /// The other buildings this wall is part of, ascending. A wall that neighbours share is one
+  /// segment of each footprint; merged into one wall (MergeSameWalls), it is still a wall of
+  /// each. Empty for a segment as read from a map.
+  std::vector<int> shared_with{};
 };
 
 struct PriorMap {

@@ -47,7 +47,8 @@ inline constexpr double kSameWallChi2 = 0.5;
 struct SameWalls {
   /// The walls: one segment per group, in the order of each group's first segment; a wall of one
   /// segment is that segment unchanged. Buildings as in the input; a wall's building is its first
-  /// segment's.
+  /// segment's, and its `shared_with` the other buildings of its segments (a wall two footprints
+  /// share is a wall of both, so relations one level up count it for each).
   PriorMap map;
   /// Per wall, the input segments it stands for, ascending; the first names it.
   std::vector<std::vector<int>> members;

@@ -8,7 +8,8 @@
 ///
 /// For a prior map: one building instance per GeoJSON feature and one wall instance per segment,
 /// each wall part of its feature's building (the paper: the wall instance is the one "defined in
-/// terms of producing" its line).
+/// terms of producing" its line). A wall that buildings share (PriorSegment::shared_with) is one
+/// wall instance in each of them, all producing the one segment: each building's side of it.
 
 #include <optional>
 #include <string>
@@ -62,17 +63,23 @@ struct PriorMapStructures {
   int building_class = -1;
   int wall_class = -1;
   std::vector<int> building_instance;  ///< per PriorMap::buildings
-  std::vector<int> wall_instance;      ///< per PriorMap::segments
-  std::vector<int> segment_of_wall;    ///< per hierarchy instance: its segment, -1 for buildings
-  std::vector<int> building_index;     ///< per hierarchy instance: its building, -1 for walls
+  /// Per PriorMap::segments: its wall instance in its `building`, else in the first building it
+  /// is shared with, else one of no building.
+  std::vector<int> wall_instance;
+  /// Per PriorMap::segments: its wall instances in the other buildings it is shared with.
+  std::vector<std::vector<int>> shared_wall_instances;
+  std::vector<int> segment_of_wall;  ///< per hierarchy instance: its segment, -1 for buildings
+  std::vector<int> building_index;   ///< per hierarchy instance: its building, -1 for walls
 
-  /// The building segment `segment` is part of (an index into PriorMap::buildings), if any.
+  /// The building of `segment`'s wall_instance (an index into PriorMap::buildings), if any.
   [[nodiscard]] std::optional<int> BuildingOf(int segment) const;
+  /// Every building `segment` is part of, ascending (more than one: a wall they share).
+  [[nodiscard]] std::vector<int> BuildingsOf(int segment) const;
   /// The segments of building `building` (an index into PriorMap::buildings).
   [[nodiscard]] std::vector<int> SegmentsOf(int building) const;
 };
 
-/// Segments without a building (building < 0) are walls of no building.
+/// Segments without a building (building < 0 and no shared_with) are walls of no building.
 [[nodiscard]] PriorMapStructures StructuresOf(const PriorMap& map);
 
 }  // namespace priormap::slam
