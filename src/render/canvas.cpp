@@ -7,6 +7,7 @@
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/file_io.hpp>
@@ -68,6 +69,18 @@ void CheckFigureSize(double width, double height) {
                   "most {} px a side (the largest image Cairo makes) and {} px in all "
                   "(8192 x 8192)",
                   std::ceil(width), std::ceil(height), kMaxFigureSidePx, kMaxFigurePixels));
+}
+
+void CheckDashes(std::span<const double> dash_px) {
+  // NaN and infinity Cairo takes, but draws as solid lines or single dashes.
+  const bool lengths = std::all_of(dash_px.begin(), dash_px.end(),
+                                   [](double v) { return std::isfinite(v) && v >= 0.0; });
+  const bool not_all_zero = dash_px.empty() || std::any_of(dash_px.begin(), dash_px.end(),
+                                                           [](double v) { return v > 0.0; });
+  PRIORMAP_CHECK(lengths && not_all_zero,
+                 fmt::format("a line's dash lengths must be finite and not negative, and not all 0 "
+                             "(got [{}] px; empty for a solid line)",
+                             fmt::join(dash_px, ", ")));
 }
 
 // Whole pixels: a PNG has them, and an SVG or PDF of the same figure should be the same size.

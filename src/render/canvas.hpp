@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -45,6 +46,11 @@ class Canvas {
 
 /// Throws ContractError naming the size and the limits unless FigureSizeFits(width, height).
 void CheckFigureSize(double width, double height);
+
+/// Throws ContractError naming the pattern unless Cairo can draw the dash pattern `dash_px`:
+/// empty (solid), or lengths that are finite and not negative, not all 0. Cairo refuses the
+/// others and then draws nothing more, which came to light only when the figure was saved.
+void CheckDashes(std::span<const double> dash_px);
 
 void SetColor(cairo_t* cr, const Color& color);
 /// `text` with each byte that is not part of a valid UTF-8 sequence replaced by U+FFFD: Cairo

@@ -480,6 +480,7 @@ void Figure::Points(std::span<const Vec2> points, const Color& color, double rad
 }
 
 void Figure::Line(const Vec2& a, const Vec2& b, const LineStyle& style) {
+  detail::CheckDashes(style.dash_px);  // here, whether or not the line is seen
   // Clipped first to what is shown: Cairo's fixed-point coordinates wrap far outside the figure,
   // which turned a long ray round.
   if (!a.allFinite() || !b.allFinite()) return;
@@ -491,6 +492,7 @@ void Figure::Line(const Vec2& a, const Vec2& b, const LineStyle& style) {
 
 void Figure::Arc(const Vec2& center, double radius, double from, double to,
                  const LineStyle& style) {
+  detail::CheckDashes(style.dash_px);
   // Cairo asserts, and aborts the program, on a NaN angle.
   if (!center.allFinite() || !std::isfinite(radius) || !std::isfinite(from) || !std::isfinite(to))
     return;
@@ -519,10 +521,12 @@ void Figure::Arc(const Vec2& center, double radius, double from, double to,
 }
 
 void Figure::Polyline(std::span<const Vec2> points, bool closed, const LineStyle& style) {
+  detail::CheckDashes(style.dash_px);
   impl_->StrokeClipped(points, closed, style);
 }
 
 void Figure::FilledPolygon(const Polygon& polygon, const Color& fill, const LineStyle& stroke) {
+  detail::CheckDashes(stroke.dash_px);
   const std::vector<Vec2>& vertices = polygon.vertices;
   // A vertex that is not finite leaves no shape to fill (Cairo drew one to some other point).
   if (vertices.empty() ||
@@ -548,6 +552,7 @@ void Figure::FilledPolygon(const Polygon& polygon, const Color& fill, const Line
 }
 
 void Figure::CircleOutline(const Circle& circle, const LineStyle& style) {
+  detail::CheckDashes(style.dash_px);
   if (!circle.center.allFinite() || !std::isfinite(circle.radius)) return;
   const Vec2 d = impl_->ToDevice(circle.center);
   if (!impl_->CairoCircle(d, circle.radius * impl_->scale)) {
@@ -596,6 +601,7 @@ void Figure::CovarianceEllipse(const Vec2& mean, const Mat2& covariance, double 
 void Figure::Ticks(std::span<const Vec2> points, std::span<const double> angles, double length_px,
                    const LineStyle& style) {
   PRIORMAP_CHECK(points.size() == angles.size(), "one angle per tick");
+  detail::CheckDashes(style.dash_px);
   cairo_t* c = impl_->cr();
   cairo_new_path(c);
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -653,9 +659,12 @@ void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap
   PRIORMAP_CHECK(extent.min().allFinite() && extent.max().allFinite() &&
                      (extent.max() - extent.min()).minCoeff() > 0.0,
                  "heat map needs a finite extent of some width and height");
-  const detail::RasterImage image = detail::ColormapImage(values, colormap, vmin, vmax, false);
   const Vec2 top_left = impl_->ToDevice({extent.min().x(), extent.max().y()});
   const Vec2 bottom_right = impl_->ToDevice({extent.max().x(), extent.min().y()});
+  // Only the visible part is drawn, however far the rest reaches, but its place must be a number.
+  PRIORMAP_CHECK((bottom_right - top_left).allFinite(),
+                 "heat map extent too large to place: its size in pixels overflows a double");
+  const detail::RasterImage image = detail::ColormapImage(values, colormap, vmin, vmax, false);
   detail::PaintRaster(impl_->cr(), image, top_left.x(), top_left.y(),
                       bottom_right.x() - top_left.x(), bottom_right.y() - top_left.y());
   if (impl_->options.colorbar) impl_->DrawColorbar(colormap, vmin, vmax, label);

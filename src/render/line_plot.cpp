@@ -71,6 +71,11 @@ void LinePlot::AddHorizontalLine(double y, const Color& color, std::string label
   horizontal_lines_.push_back(std::move(s));
 }
 
+void LinePlot::Add(Series series) {
+  detail::CheckDashes(series.dash_px);
+  series_.push_back(std::move(series));
+}
+
 LinePlot::LinePlot(LinePlotOptions options) : options_(std::move(options)) {
   detail::CheckFigureSize(std::max<double>(options_.width_px, kMinWidth),
                           std::max<double>(options_.height_px, kMinHeight));

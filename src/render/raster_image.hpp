@@ -35,7 +35,9 @@ struct RasterImage {
 
 /// Paints `image` so that its values' cells fill the device rectangle (x, y, width, height)
 /// exactly: the partial blocks of the last row and column of a shrunk image reach past it and are
-/// clipped.
+/// clipped. A rectangle reaching far beyond the clip, or of image pixels too large for Cairo to
+/// place exactly, is painted only where it is visible, resampled to device pixels. Precondition:
+/// the current transformation is the identity. Throws std::bad_alloc as ColormapImage.
 void PaintRaster(cairo_t* cr, const RasterImage& image, double x, double y, double width,
                  double height);
 

@@ -405,6 +405,77 @@ TEST(Figure, AShrunkHeatMapKeepsItsCellsInPlace) {
   EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({4000, 50})), kWhite));
 }
 
+// A heat map far larger than the world (1e12 times: device coordinates of 1e14 px) drew nothing:
+// beyond Cairo's 24.8 fixed point, its image and clip were lost. Its visible part is drawn, with
+// its cells where they are.
+TEST(Figure, AHeatMapFarLargerThanTheWorldIsDrawnWhereItIsSeen) {
+  const TempDir dir;
+  Eigen::MatrixXd values(2, 2);
+  values << 0.0, 1.0 / 3,  // row 0, at the bottom
+      2.0 / 3, 1.0;
+  // Not much beyond: at 1e17 px a double places the cells' boundary only to within 32 px.
+  for (const double half : {2.0, 2e3, 2e6, 2e9, 2e12}) {
+    Figure figure(World(0, 0, 4, 4), Plain());
+    // The four cells meet at the world's centre.
+    figure.HeatMap(values, World(2 - half, 2 - half, 2 + half, 2 + half), Colormap::kViridis, 0.0,
+                   1.0);
+    figure.Save(dir / "huge.png");
+    const PngImage image(dir / "huge.png");
+    ASSERT_TRUE(image.ok());
+    for (int iy = 0; iy < 2; ++iy) {
+      for (int ix = 0; ix < 2; ++ix) {
+        const Rgba expected = ToRgba(MapColor(Colormap::kViridis, values(iy, ix)));
+        for (const double inset : {0.05, 1.0, 1.95}) {
+          const Vec2 p(ix == 0 ? 2.0 - inset : 2.0 + inset, iy == 0 ? 2.0 - inset : 2.0 + inset);
+          EXPECT_TRUE(ColorNear(image.At(figure.ToDevice(p)), expected))
+              << "half width " << half << ", cell (" << iy << ", " << ix << ") at " << p.x() << ", "
+              << p.y();
+        }
+      }
+    }
+  }
+}
+
+// Cells thousands of pixels wide: Cairo's image sampling (16.16 fixed point) put the boundaries
+// of a row of three cells 8000 px wide 12 px from where they are.
+TEST(Figure, HeatMapCellsThousandsOfPixelsWideMeetWhereTheyShould) {
+  const TempDir dir;
+  Figure figure(World(0, 0, 3, 0.3), Plain(8000));
+  Eigen::MatrixXd values(1, 3);
+  values << 1.0, 0.0, 1.0;  // black, white, black
+  figure.HeatMap(values, World(0, 0, 3, 0.3), Colormap::kOccupancy, 0.0, 1.0);
+  figure.Save(dir / "wide_cells.png");
+  const PngImage image(dir / "wide_cells.png");
+  ASSERT_TRUE(image.ok());
+  const Rgba black{0, 0, 0, 255};
+  for (const double boundary : {1.0, 2.0}) {
+    const Vec2 at = figure.ToDevice({boundary, 0.15});
+    const Rgba left = boundary == 1.0 ? black : kWhite, right = boundary == 1.0 ? kWhite : black;
+    EXPECT_TRUE(ColorNear(image.At(at - Vec2(2.0, 0.0)), left)) << "boundary " << boundary;
+    EXPECT_TRUE(ColorNear(image.At(at + Vec2(2.0, 0.0)), right)) << "boundary " << boundary;
+  }
+}
+
+// Seen only in part, reaching from the world's middle to far beyond it: drawn up to its edge.
+TEST(Figure, AHeatMapReachingFarBeyondTheWorldEndsAtItsEdge) {
+  const TempDir dir;
+  const Eigen::MatrixXd values = Eigen::MatrixXd::Ones(3, 1000);
+  for (const double far : {10.0, 1e7, 1e13, 1e300}) {
+    Figure figure(World(0, 0, 4, 4), Plain());
+    figure.HeatMap(values, World(2, 1, far, 3), Colormap::kOccupancy, 0.0, 1.0);
+    figure.Save(dir / "far.png");
+    const PngImage image(dir / "far.png");
+    ASSERT_TRUE(image.ok());
+    const Rgba black{0, 0, 0, 255};
+    for (const double x : {2.05, 3.0, 3.95}) {
+      EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({x, 2.0})), black)) << far << " at x " << x;
+      EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({x, 3.05})), kWhite)) << far << " at x " << x;
+      EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({x, 0.95})), kWhite)) << far << " at x " << x;
+    }
+    EXPECT_TRUE(ColorNear(image.At(figure.ToDevice({1.95, 2.0})), kWhite)) << far;
+  }
+}
+
 TEST(Figure, HeatMapPreconditions) {
   Figure figure(World(0, 0, 1, 1));
   EXPECT_THROW(figure.HeatMap(Eigen::MatrixXd(0, 0), World(0, 0, 1, 1), Colormap::kViridis, 0, 1),
@@ -999,12 +1070,55 @@ TEST(Figure, TextOfANonFiniteOrNegativeSizeIsAContractError) {
   EXPECT_NO_THROW(figure.Save(dir / "text.png"));  // the figure is still whole
 }
 
+// Cairo refuses a dash pattern with a negative length or none but zeros, and then draws nothing
+// more: the figure failed only when saved ("invalid dash"), far from the style at fault. NaN and
+// infinite lengths it takes, and draws as it may. Each is refused where the style is given,
+// whether or not anything would be drawn.
+TEST(Figure, ADashPatternCairoCannotDrawIsAContractErrorWhereTheStyleIsGiven) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const Color red{1.0, 0.0, 0.0};
+  const std::vector<Vec2> points = {{1, 1}, {3, 3}};
+  const std::vector<double> angles = {0.0, 1.0};
+  Figure figure(World(0, 0, 4, 4), Plain());
+  for (const std::vector<double>& dashes : std::vector<std::vector<double>>{
+           {-3.0}, {6.0, -1.0}, {kNaN, 4.0}, {6.0, inf}, {0.0}, {0.0, 0.0}}) {
+    const LineStyle style{red, 2.0, dashes};
+    const std::string pattern = ::testing::PrintToString(dashes);
+    EXPECT_THROW(figure.Line({1, 1}, {3, 3}, style), ContractError) << pattern;
+    EXPECT_THROW(figure.Line({1e3, 1e3}, {2e3, 1e3}, style), ContractError) << pattern;  // unseen
+    EXPECT_THROW(figure.Polyline(points, false, style), ContractError) << pattern;
+    EXPECT_THROW(figure.FilledPolygon(Polygon{{{1, 1}, {3, 1}, {2, 3}}}, red, style), ContractError)
+        << pattern;
+    EXPECT_THROW(figure.CircleOutline(Circle{{2, 2}, 1}, style), ContractError) << pattern;
+    EXPECT_THROW(figure.Arc({2, 2}, 1.0, 0.0, 1.0, style), ContractError) << pattern;
+    EXPECT_THROW(figure.CovarianceEllipse({2, 2}, Mat2::Identity(), 1.0, style), ContractError)
+        << pattern;
+    EXPECT_THROW(figure.Ticks(points, angles, 10.0, style), ContractError) << pattern;
+  }
+  try {
+    figure.Line({1, 1}, {3, 3}, {red, 2.0, {6.0, -1.0}});
+    ADD_FAILURE() << "no ContractError";
+  } catch (const ContractError& e) {
+    EXPECT_NE(std::string(e.what()).find("dash"), std::string::npos) << e.what();
+  }
+  // Dots (no length on) and plain dashes are drawn, and the figure is whole.
+  figure.Line({1, 2}, {3, 2}, {red, 3.0, {0.0, 6.0}});
+  figure.Line({1, 3}, {3, 3}, {red, 3.0, {6.0, 4.0}});
+  const TempDir dir;
+  ASSERT_NO_THROW(figure.Save(dir / "dashes.png"));
+  const PngImage image(dir / "dashes.png");
+  ASSERT_TRUE(image.ok());
+  EXPECT_GT(image.Count(Like(red)), 100);
+}
+
 TEST(Figure, AHeatMapExtentNotFiniteOrOfNoAreaIsAContractError) {
   Figure figure(World(0, 0, 1, 1));
   const Eigen::MatrixXd values = Eigen::MatrixXd::Zero(2, 2);
   for (const Box2& extent :
        {World(kNaN, 0, 1, 1), World(0, 0, std::numeric_limits<double>::infinity(), 1), Box2(),
-        World(0, 0, 0, 1), World(0, 0, 1, 0)}) {
+        World(0, 0, 0, 1), World(0, 0, 1, 0),
+        // Finite, but not in pixels: nowhere to place it.
+        World(-1e307, 0, 1e307, 1)}) {
     EXPECT_THROW(figure.HeatMap(values, extent, Colormap::kViridis, 0, 1), ContractError);
   }
   const TempDir dir;

@@ -224,6 +224,24 @@ TEST(LinePlot, SeriesWithMismatchedSizesIsAContractErrorAndWritesNothing) {
   EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 
+// A dash pattern Cairo cannot draw (a negative length, none but zeros, NaN or infinity) failed
+// only when saved, or not at all: refused when the series is added.
+TEST(LinePlot, ASeriesWithADashPatternCairoCannotDrawIsRefusedWhenAdded) {
+  const double inf = std::numeric_limits<double>::infinity();
+  LinePlot plot;
+  for (const std::vector<double>& dashes : std::vector<std::vector<double>>{
+           {-3.0}, {6.0, -1.0}, {std::nan(""), 4.0}, {6.0, inf}, {0.0}, {0.0, 0.0}}) {
+    Series series = Xy({0, 1}, {0, 1});
+    series.dash_px = dashes;
+    EXPECT_THROW(plot.Add(series), ContractError) << ::testing::PrintToString(dashes);
+  }
+  Series dashed = Xy({0, 1}, {0, 1});
+  dashed.dash_px = {6.0, 4.0};
+  plot.Add(dashed);
+  const TempDir dir;
+  EXPECT_NO_THROW(plot.Save(dir / "dashed.png"));
+}
+
 TEST(LinePlot, UnsupportedExtensionIsAnIoErrorAndWritesNothing) {
   const TempDir dir;
   LinePlot plot;

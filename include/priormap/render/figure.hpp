@@ -21,7 +21,9 @@ namespace priormap::render {
 struct LineStyle {
   Color color = palette::kBlack;
   double width_px = 1.5;
-  std::vector<double> dash_px{};  ///< empty: solid
+  /// Lengths along the line, on and off by turns, repeated; empty: solid. Finite, not negative
+  /// and not all 0: else the figure's method given the style throws ContractError.
+  std::vector<double> dash_px{};
 };
 
 /// Where the legend goes: in a row under the plot (covers nothing), or in a box inside a corner.
@@ -80,7 +82,9 @@ class Figure {
   /// extent.min() + (ix, iy) * cell size, so row 0 is at the bottom. NaN cells are left blank.
   /// With FigureOptions::colorbar, draws a colour bar labelled `label` (its ticks in units of a
   /// power of ten, named after the label, when plain ones would not fit beside it).
-  /// Preconditions: vmin < vmax, both finite; `extent` not empty, finite.
+  /// `extent` may reach far beyond the world (a heat map 1e12 times its size): what is seen of
+  /// it is drawn. Preconditions: vmin < vmax, both finite; `extent` not empty, finite, and its
+  /// size in pixels below the largest double.
   void HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap colormap, double vmin,
                double vmax, const std::string& label = "");
   /// A legend entry (drawn where FigureOptions::legend says, when saving).

@@ -19,6 +19,8 @@ struct Series {
   std::optional<Color> color{};  ///< default: the palette colour of the series' index
   double width_px = 1.5;
   bool markers = false;  ///< draw a dot at each point, no line
+  /// Lengths along the line, on and off by turns, repeated; empty: solid. Finite, not negative
+  /// and not all 0 (LinePlot::Add checks).
   std::vector<double> dash_px{};
 };
 
@@ -38,7 +40,8 @@ class LinePlot {
   /// Throws ContractError when the plot's size does not fit (figure_size.hpp).
   explicit LinePlot(LinePlotOptions options = {});
 
-  void Add(Series series) { series_.push_back(std::move(series)); }
+  /// Throws ContractError for a dash pattern as Series::dash_px says it may not be.
+  void Add(Series series);
   /// A horizontal reference line (e.g. zero error, a 3-sigma bound).
   void AddHorizontalLine(double y, const Color& color, std::string label = "");
 
