@@ -11,6 +11,7 @@
 #include <fmt/ranges.h>
 
 #include <priormap/core/json_io.hpp>
+#include <priormap/core/sonar_sensor.hpp>
 #include <priormap/core/world_bounds.hpp>
 #include <priormap/render/figure.hpp>
 
@@ -61,6 +62,27 @@ CLI::Validator OpenUnitInterval() {
         return fmt::format("{} is not in (0, 1), 0 and 1 excluded", text);
       },
       "PROBABILITY in (0, 1)");
+}
+
+CLI::Validator Probability() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+        if (value >= 0.0 && value <= 1.0) return {};
+        return fmt::format("{} is not a probability (expected a number in [0, 1])", text);
+      },
+      "PROBABILITY");
+}
+
+CLI::Validator SonarPresetName() {
+  return CLI::Validator(
+      [](std::string& name) -> std::string {
+        if (SonarSensor::Preset(name)) return {};
+        return fmt::format("unknown sonar '{}' (expected one of: {})", name,
+                           fmt::join(SonarSensor::PresetNames(), ", "));
+      },
+      "");
 }
 
 void RefuseNonFiniteNumbers(CLI::App& app) {
@@ -170,10 +192,13 @@ Scene LoadScene(const std::string& name_or_path) {
                               name_or_path, fmt::join(BuiltinSceneNames(), ", ")));
 }
 
-void RequireFigurePath(const std::filesystem::path& path, const std::string& option) {
-  if (!render::IsSupportedFigurePath(path)) {
-    throw UserError(fmt::format("{}: '{}' must end in .png, .svg or .pdf", option, path.string()));
-  }
+CLI::Validator FigurePath() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        if (render::IsSupportedFigurePath(path)) return {};
+        return fmt::format("'{}' must end in .png, .svg or .pdf", path);
+      },
+      "");
 }
 
 void RequireOutputDirectory(const std::filesystem::path& path, const std::string& option) {

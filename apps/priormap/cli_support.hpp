@@ -31,6 +31,14 @@ class UserError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A command line that does not parse, found by a command rather than by CLI11's checks (an
+/// option required unless another is given, a value refused on its own where a check cannot see
+/// it): printed as a UserError, but exit status 2, as README promises for every such command line.
+class UsageError : public UserError {
+ public:
+  using UserError::UserError;
+};
+
 /// "file:line:col: message", one diagnostic per line.
 [[nodiscard]] std::string DescribeDiagnostics(const std::vector<Diagnostic>& diagnostics);
 
@@ -52,6 +60,9 @@ T ValueOrThrow(Result<T> result) {
 /// log 0: slam's p_point_on_line).
 [[nodiscard]] CLI::Validator OpenUnitInterval();
 
+/// A probability in [0, 1].
+[[nodiscard]] CLI::Validator Probability();
+
 /// Refuses NaN and infinite values of every floating-point option of `app` and its subcommands
 /// (CLI11's ranges let NaN through, as every comparison with it is false). Call it once every
 /// command is added.
@@ -69,6 +80,29 @@ inline constexpr std::uint64_t kMaxStepCount = std::uint64_t{1} << 40;
 /// WholeNumber over all of uint64: seeds, indices.
 [[nodiscard]] CLI::Validator SeedValue();
 [[nodiscard]] CLI::Validator IndexValue();
+
+/// A check that `parse` reads the option's value: for options whose form the command reads
+/// itself (--pose x,y,theta, --range a:b), so that a malformed value is refused with the other
+/// checks, as a command line that does not parse (status 2), before any input is read. `parse`
+/// throws UserError "OPTION: why"; CLI11 writes the "OPTION: " itself.
+template <typename Parse>
+[[nodiscard]] CLI::Validator ParsedBy(const std::string& option, Parse parse) {
+  return CLI::Validator(
+      [option, parse](std::string& text) -> std::string {
+        try {
+          static_cast<void>(parse(text));
+          return {};
+        } catch (const UserError& e) {
+          std::string_view why = e.what();
+          if (why.starts_with(option + ": ")) why.remove_prefix(option.size() + 2);
+          return std::string(why);
+        }
+      },
+      "");
+}
+
+/// A sonar ring preset's name (pioneer8, ...).
+[[nodiscard]] CLI::Validator SonarPresetName();
 
 /// Refuses `--max-range`, which only the CARMEN reader takes, for a log read as another format
 /// (whose scans carry their own max range), rather than ignore it.
@@ -94,8 +128,8 @@ void PrintPriorWarnings(const dsl::CompiledPrior& prior);
 /// A built-in scene name, or a priormap.scene JSON file.
 [[nodiscard]] Scene LoadScene(const std::string& name_or_path);
 
-/// Throws UserError unless `path` names a PNG, SVG or PDF file.
-void RequireFigurePath(const std::filesystem::path& path, const std::string& option);
+/// A figure file's name: .png, .svg or .pdf.
+[[nodiscard]] CLI::Validator FigurePath();
 
 /// Throws UserError when the directory `path` would be written to does not exist, or `path` is
 /// itself a directory. For commands with several outputs, so that a typo in one output fails

@@ -209,8 +209,8 @@ std::optional<fs::path> RealDataDir(const DemoOptions& o) {
 void Run(const DemoOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path dir = o.out;
+  if (o.out.empty()) throw UsageError("-o/--out: an empty directory name");
   const std::optional<fs::path> data = RealDataDir(o);  // before any work: a typo fails at once
-  if (o.out.empty()) throw UserError("-o/--out: an empty directory name");
   for (const char* sub : {"data", "priorlets"}) EnsureDirectory(dir / sub);
   // An earlier gallery's real log, which this one may not show: the demo's own directory.
   std::error_code ignored;

@@ -98,6 +98,7 @@ void AddGridCommand(CLI::App& app) {
   cmd->add_option("--log", o->log, "Localized log (CARMEN or priormap JSON, .gz or not)")
       ->required();
   cmd->add_option("--range", o->range, "Scans a:b of the log (b exclusive; a: or :b)")
+      ->check(ParsedBy("--range", ParseScanRange))
       ->capture_default_str();
   cmd->add_option("-o,--out", o->out, "Output directory")->required();
   cmd->add_option("--resolution", o->grid.resolution, "Cell size, m")

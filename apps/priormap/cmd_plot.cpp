@@ -130,7 +130,6 @@ void PlotRanges(const Log& log, const PlotOptions& o, bool residuals) {
 }
 
 void Run(const PlotOptions& o) {
-  RequireFigurePath(o.out, "--out");
   RequireDistinctFiles({{"the input", o.input}, {"--out", o.out}});
   CarmenReadOptions carmen;
   carmen.max_range = o.max_range;
@@ -157,7 +156,9 @@ void AddPlotCommand(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("plot", "Draw a scan or a log (JSON or CARMEN) as PNG, SVG or PDF");
   cmd->add_option("input", o->input, "Scan or log file")->required();
-  cmd->add_option("-o,--out", o->out, "Figure file: .png, .svg or .pdf")->required();
+  cmd->add_option("-o,--out", o->out, "Figure file: .png, .svg or .pdf")
+      ->required()
+      ->check(FigurePath());
   cmd->add_option(
          "--kind", o->kind,
          "map: points in the world; ranges: range per beam; residuals: measured - true range")

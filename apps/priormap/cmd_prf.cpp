@@ -162,10 +162,17 @@ void AddPriorStats(CLI::App& prf_cmd) {
   cmd->add_option("--distances", o->distances,
                   "Distances d for P(same colour) and the crossings (absolute, < L; default "
                   "0.05, 0.1, 0.2, 0.4 times L)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(PositiveValue());  // and below --window, checked against it in the run
   cmd->add_option("--moves", o->moves,
                   "Only these move kinds (comma-separated: " + MoveKindList() + ")")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& name) -> std::string {
+            if (prf::ParseMoveKind(name)) return {};
+            return fmt::format("unknown move kind '{}' (expected: {})", name, MoveKindList());
+          },
+          ""));
   cmd->callback([o] { RunPriorStatsCommand(*o); });
 }
 
@@ -318,13 +325,15 @@ void RunMappingCommand(MappingCliOptions o) {
   // the options as run.json has them.
   if (o.anneal && o.mapping.anneal_steps == 0) o.mapping.anneal_steps = o.mapping.samples;
   if (!o.anneal) o.mapping.anneal_steps = 0;
-  if (o.log.empty())
-    throw UserError("--log is required (or a subcommand: prior-stats, study, sonar-study)");
-  if (o.mapping.samples == 0)
-    throw UserError(
+  // The command line's options (a resumed run's come from run.json, checked as it was read, and
+  // set -o).
+  if (!resuming && o.log.empty())
+    throw UsageError("--log is required (or a subcommand: prior-stats, study, sonar-study)");
+  if (!resuming && o.mapping.samples == 0)
+    throw UsageError(
         "--samples 0: P(black), R-hat and the annealing's start come from the "
         "samples; at least 1");
-  if (o.out.empty()) throw UserError("-o/--out is required");
+  if (o.out.empty()) throw UsageError("-o/--out is required");
   // Held to the run's end, and taken before the directory's contents are judged: a running run's
   // checkpoints are not a stopped one's.
   DirectoryLock lock = LockIfExists(o.out);
@@ -544,6 +553,7 @@ void RunMappingCommand(MappingCliOptions o) {
 void AddMappingOptions(CLI::App& cmd, const std::shared_ptr<MappingCliOptions>& o) {
   cmd.add_option("--log", o->log, "Localized laser log (CARMEN or priormap JSON, .gz or not)");
   cmd.add_option("--range", o->range, "Scans a:b of the log (b exclusive; a: or :b)")
+      ->check(ParsedBy("--range", ParseScanRange))
       ->capture_default_str();
   cmd.add_option("--sensor", o->sensor,
                  "Map from laser beams or sonar cones; auto: sonar when the scans are sonar rings")

@@ -54,8 +54,8 @@ void RefuseRepeatedScenes(const std::vector<std::string>& given, const std::vect
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < scenes.size(); ++i)
     if (scenes[i].name == *repeated) entries.push_back(given[i]);
-  if (entries[0] == entries[1])
-    throw UserError(
+  if (entries[0] == entries[1])  // the option's own value, whatever the scenes hold
+    throw UsageError(
         fmt::format("--scenes: '{}' is given twice (each scene is fitted once)", entries[0]));
   throw UserError(fmt::format(
       "--scenes: '{}' and '{}' are both scene '{}' (each scene is fitted once, its name seeds its "
@@ -132,7 +132,7 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
 }
 
 void RunFitSonarCommand(const FitSonarCliOptions& o) {
-  if (o.out.empty()) throw UserError("-o/--out is required");
+  if (o.out.empty()) throw UsageError("-o/--out is required");
   RequireOutputDirectory(o.out, "--out");  // before the fit, not after it
   nlohmann::ordered_json about;
   const std::vector<prf::SonarFitReading> readings = TrainingReadings(o, &about);
@@ -170,6 +170,7 @@ void AddPrfFitSonarCommand(CLI::App& prf_cmd) {
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--sensor", o->sensor, "Sonar ring preset of the simulation")
+      ->check(SonarPresetName())
       ->capture_default_str();
   cmd->add_option("--speed", o->speed, "Robot speed along the waypoints, m/s")
       ->check(PositiveValueUpTo(100.0, "m/s"))

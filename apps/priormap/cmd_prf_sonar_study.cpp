@@ -70,7 +70,8 @@ void SaveCaseFigures(const std::filesystem::path& dir, const prf::SonarStudyCase
 }
 
 void RunSonarStudyCommand(SonarStudyCliOptions o) {
-  if (o.out.empty()) throw UserError("-o/--out is required");
+  if (o.out.empty()) throw UsageError("-o/--out is required");
+  RefuseRepeatedEntries(o.scenes, "--scenes", "scene");
   for (const std::string& name : o.scenes) o.study.scenes.push_back(LoadScene(name));
   const auto sensor = SonarSensor::Preset(o.sensor);
   if (!sensor)
@@ -125,7 +126,9 @@ void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
   cmd->add_option("--scenes", o->scenes, "Scenes with a waypoint path (built-in names or files)")
       ->delimiter(',')
       ->capture_default_str();
-  cmd->add_option("--sensor", o->sensor, "Sonar ring preset")->capture_default_str();
+  cmd->add_option("--sensor", o->sensor, "Sonar ring preset")
+      ->check(SonarPresetName())
+      ->capture_default_str();
   cmd->add_option("--speed", s.speed, "Robot speed along the waypoints, m/s")
       ->check(PositiveValueUpTo(100.0, "m/s"))
       ->capture_default_str();
@@ -137,6 +140,7 @@ void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
   cmd->add_option("--resolution", s.resolution,
                   "Cell of the evaluation raster, the grid and the PRF raster, m")
       ->check(PositiveValue())
+      ->check(StudyResolution())
       ->capture_default_str();
   cmd->add_option("--p", m.sampler.p, "Scale parameter p of the Arak prior (1/m)")
       ->check(PositiveValue())
@@ -144,6 +148,7 @@ void AddPrfSonarStudyCommand(CLI::App& prf_cmd) {
   AddPosteriorOptions(*cmd, m, o->posterior);
   cmd->add_option("--samples", m.samples, "PRF steps recorded per chain after the burn-in")
       ->transform(StepCount())
+      ->check(StudySamples())
       ->capture_default_str();
   cmd->add_option("--burn-in", m.burn_in, "PRF steps per chain before recording")
       ->transform(StepCount())

@@ -59,7 +59,9 @@ void SaveCaseFigures(const std::filesystem::path& dir, const prf::MapStudyCase& 
 }
 
 void RunStudyCommand(StudyCliOptions o) {
-  if (o.out.empty()) throw UserError("-o/--out is required");
+  if (o.out.empty()) throw UsageError("-o/--out is required");
+  RefuseRepeatedEntries(o.scenes, "--scenes", "scene");
+  RefuseRepeatedEntries(o.sensors, "--sensors", "sensor");
   for (const std::string& name : o.scenes) o.study.scenes.push_back(LoadScene(name));
   for (const std::string& name : o.sensors) {
     const auto sensor = RangeSensor::Preset(name);
@@ -123,6 +125,13 @@ void AddPrfStudyCommand(CLI::App& prf_cmd) {
       ->capture_default_str();
   cmd->add_option("--sensors", o->sensors, "Range sensor presets")
       ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& name) -> std::string {
+            if (RangeSensor::Preset(name)) return {};
+            return fmt::format("unknown sensor '{}' (expected one of: {})", name,
+                               fmt::join(RangeSensor::PresetNames(), ", "));
+          },
+          ""))
       ->capture_default_str();
   cmd->add_option("--poses", s.poses, "Scans per case, evenly along the scene's waypoint path")
       ->check(CLI::Range(1, 1000))
@@ -136,6 +145,7 @@ void AddPrfStudyCommand(CLI::App& prf_cmd) {
   cmd->add_option("--resolution", s.resolution,
                   "Cell of the evaluation raster, the grid and the PRF raster, m")
       ->check(PositiveValue())
+      ->check(StudyResolution())
       ->capture_default_str();
   cmd->add_option("--band", s.band, "Depth behind a seen surface that counts as observed, m")
       ->check(NonNegativeValue())
@@ -148,6 +158,7 @@ void AddPrfStudyCommand(CLI::App& prf_cmd) {
       ->capture_default_str();
   cmd->add_option("--samples", m.samples, "PRF steps recorded per chain after the burn-in")
       ->transform(StepCount())
+      ->check(StudySamples())
       ->capture_default_str();
   cmd->add_option("--burn-in", m.burn_in, "PRF steps per chain before recording")
       ->transform(StepCount())

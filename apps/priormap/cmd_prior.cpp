@@ -261,9 +261,19 @@ void AddPriorCommand(CLI::App& app) {
       prior->add_subcommand("eval", "Evaluate a block's terms, gradients and Hessians at a point");
   eval->add_option("prior", o->prior, "A prior file, or the name of a prior")->required();
   eval->add_option("--block", o->block, "same_region, different_region or different_surface")
+      ->check(CLI::Validator(
+          [](std::string& name) -> std::string {
+            for (int b = 0; b < dsl::kNumBlockKinds; ++b)
+              if (name == dsl::ToString(static_cast<dsl::BlockKind>(b))) return {};
+            return fmt::format(
+                "expected same_region, different_region or different_surface, got '{}'", name);
+          },
+          ""))
       ->capture_default_str();
+  // Its form here, before the prior is loaded; which names it must give, against the prior.
   eval->add_option("--at", o->at, "Values: rho_1=...,alpha_1=...,phi_1=...,... for i = 1..order")
-      ->required();
+      ->required()
+      ->check(ParsedBy("--at", ParseAssignments));
   eval->callback([o] { Eval(*o); });
 }
 

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <functional>
 #include <mutex>
-#include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -63,19 +63,24 @@ std::uint64_t AllScansFingerprint(const ScanOptions& o, const dsl::CompiledPrior
   return Fnv1a64(log_bytes, Fnv1a64(identity));
 }
 
-// --png / --svg: each names a file of its own format, written only for one scan.
+// --png / --svg: written only for one scan (each one's extension is its option's own check).
 void CheckFigureOptions(const ScanOptions& o) {
-  for (const auto& [file, option, extension] :
-       {std::tuple(o.png, "--png", ".png"), std::tuple(o.svg, "--svg", ".svg")}) {
+  for (const auto& [file, option] : {std::pair(o.png, "--png"), std::pair(o.svg, "--svg")}) {
     if (!file) continue;
     if (o.all) {
       throw UserError(fmt::format("{} draws one scan, not --all (choose it with --index)", option));
     }
-    if (std::filesystem::path(*file).extension().string() != extension) {
-      throw UserError(fmt::format("{}: '{}' must end in {}", option, *file, extension));
-    }
     RequireOutputDirectory(*file, option);
   }
+}
+
+CLI::Validator FileEndingIn(const std::string& extension) {
+  return CLI::Validator(
+      [extension](std::string& file) -> std::string {
+        if (std::filesystem::path(file).extension().string() == extension) return {};
+        return fmt::format("'{}' must end in {}", file, extension);
+      },
+      "");
 }
 
 // The figure of the MAP scan and its posterior, in each requested format.
@@ -278,8 +283,9 @@ void AddScanCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--png", o->png,
                   "One scan: a figure of the MAP scan, its normals, eigenvariations and "
-                  "posterior covariance (PNG)");
-  cmd->add_option("--svg", o->svg, "The same figure as SVG");
+                  "posterior covariance (PNG)")
+      ->check(FileEndingIn(".png"));
+  cmd->add_option("--svg", o->svg, "The same figure as SVG")->check(FileEndingIn(".svg"));
   cmd->add_option("--lines", o->lines,
                   "One scan: the straight regions as line segments, JSON in the convention of ROS "
                   "laser_line_extraction (polar line, covariance, endpoints; docs/formats.md)");

@@ -55,6 +55,18 @@ RangeSensor MakeSensor(const SimulateOptions& o) {
   return sensor;
 }
 
+// --sensor's check: a laser or a sonar ring preset.
+CLI::Validator SensorPresetName() {
+  return CLI::Validator(
+      [](std::string& name) -> std::string {
+        if (RangeSensor::Preset(name) || SonarSensor::Preset(name)) return {};
+        return fmt::format("unknown sensor '{}' (expected a laser: {}; or a sonar ring: {})", name,
+                           fmt::join(RangeSensor::PresetNames(), ", "),
+                           fmt::join(SonarSensor::PresetNames(), ", "));
+      },
+      "");
+}
+
 // A sonar ring preset (pioneer8, pioneer16, robond) with the options that apply to a ring;
 // nullopt when `o.sensor` names a laser.
 std::optional<SonarSensor> MakeSonarSensor(const SimulateOptions& o) {
@@ -99,7 +111,7 @@ void Run(const SimulateOptions& o) {
   const std::optional<SonarSensor> sonar = MakeSonarSensor(o);
   const RangeSensor sensor = sonar ? RangeSensor{} : MakeSensor(o);
   if (o.out.empty() && !o.write_scene)
-    throw UserError("--out is required (or --write-scene alone to export the scene)");
+    throw UsageError("--out is required (or --write-scene alone to export the scene)");
   const LogFormat format =
       o.out.empty() ? LogFormat::kJson : OutputLogFormat(o.format, o.out, "--out", "--format");
   if (sonar && !o.out.empty() && format != LogFormat::kJson)
@@ -109,7 +121,6 @@ void Run(const SimulateOptions& o) {
                     o.out));
   if (o.figure && o.out.empty())
     throw UserError("--png draws the simulated scan or log: give --out too");
-  if (o.figure) RequireFigurePath(*o.figure, "--png");
   if (!o.out.empty()) RequireOutputDirectory(o.out, "--out");
   if (o.figure) RequireOutputDirectory(*o.figure, "--png");
   if (o.write_scene) RequireOutputDirectory(*o.write_scene, "--write-scene");
@@ -213,21 +224,45 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_option("--sensor", o->sensor,
                   "Sensor preset: a laser (utm30, lms200) or a sonar ring (pioneer8, pioneer16, "
                   "robond; docs/sonar.md)")
+      ->check(SensorPresetName())
       ->capture_default_str();
   cmd->add_option("--beams", o->beams, "Number of beams (overrides the preset)")
       ->check(PositiveValue());
   cmd->add_option("--fov", o->fov_deg, "Field of view, degrees, in (0, 360]")
       ->check(PositiveValue())
       ->check(CLI::Range(0.0, 360.0));
-  cmd->add_option("--sigma", o->sigma, "Range noise standard deviation, m")->check(PositiveValue());
+  cmd->add_option("--sigma", o->sigma, "Range noise standard deviation, m")
+      ->check(PositiveValue())
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            // The sensor's own bounds on sigma, which hold whatever the preset: judged on a
+            // preset that meets every other one.
+            RangeSensor sensor = *RangeSensor::Preset("utm30");
+            std::string why;
+            if (!CLI::detail::lexical_cast(text, sensor.sigma) || sensor.IsValid(&why)) return {};
+            return why;
+          },
+          ""));
   cmd->add_option("--correlation", o->correlation,
-                  "Noise correlation of neighbouring beams, in [0, 1)");
-  cmd->add_option("--min-range", o->min_range, "Minimum range, m");
-  cmd->add_option("--max-range", o->max_range, "Maximum range, m");
-  cmd->add_option("--outliers", o->outliers, "Probability of a spurious short reading per beam");
+                  "Noise correlation of neighbouring beams, in [0, 1)")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            double value = 0.0;
+            if (CLI::detail::lexical_cast(text, value) && value >= 0.0 && value < 1.0) return {};
+            return text + " is not in [0, 1), 1 excluded";
+          },
+          ""));
+  // Checked here on their own; the sensor's own check (IsValid) then compares them with each
+  // other and with the preset.
+  cmd->add_option("--min-range", o->min_range, "Minimum range, m")->check(NonNegativeValue());
+  cmd->add_option("--max-range", o->max_range, "Maximum range, m")->check(PositiveValue());
+  cmd->add_option("--outliers", o->outliers, "Probability of a spurious short reading per beam")
+      ->check(Probability());
   cmd->add_option("--dropout", o->dropout,
-                  "Probability of a missing return (max-range reading) per beam");
-  cmd->add_option("--pose", o->pose, "Sensor pose x,y,theta (m, m, rad); default: the scene's");
+                  "Probability of a missing return (max-range reading) per beam")
+      ->check(Probability());
+  cmd->add_option("--pose", o->pose, "Sensor pose x,y,theta (m, m, rad); default: the scene's")
+      ->check(ParsedBy("--pose", ParsePose));
   cmd->add_flag("--log", o->log,
                 "Simulate a localized log along the scene's waypoints instead of one scan");
   cmd->add_option("--speed", o->speed, "Log: robot speed, m/s")
@@ -243,7 +278,8 @@ void AddSimulateCommand(CLI::App& app) {
                   "Output file: .json (priormap JSON) or .log / .log.gz (CARMEN)");
   cmd->add_option("--format", o->format, "Output format, overriding the extension")
       ->check(CLI::IsMember({"json", "carmen"}));
-  cmd->add_option("--png,--figure", o->figure, "Also draw the result (.png, .svg or .pdf)");
+  cmd->add_option("--png,--figure", o->figure, "Also draw the result (.png, .svg or .pdf)")
+      ->check(FigurePath());
   cmd->add_option("--write-scene", o->write_scene,
                   "Also write the scene as priormap JSON (a starting point for your own)");
   cmd->callback([o, cmd] {

@@ -436,7 +436,7 @@ void PrintRun(const slam::SlamResult& r, double seconds) {
 void RunOnFiles(const RunOptions& o) {
   // Every check before the first write, so that a failure leaves nothing behind.
   if (!o.prior_map && !o.no_prior)
-    throw UserError("--prior-map is required (or --no-prior to filter without a prior map)");
+    throw UsageError("--prior-map is required (or --no-prior to filter without a prior map)");
   RequireOutputDirectoryPath(o.out, "--out");
   slam::SlamInput input;
   input.initial_pose = ParseInitialPose(o.initial_pose);
@@ -556,6 +556,7 @@ void AddRun(CLI::App& slam_cmd) {
       ->check(PositiveValueUpTo(slam::kMaxPriorStd, "m"))
       ->capture_default_str();
   cmd->add_option("--initial-pose", o->initial_pose, "Start pose x,y,theta (m, m, rad), known")
+      ->check(ParsedBy("--initial-pose", ParseInitialPose))
       ->capture_default_str();
   cmd->add_option("--association", o->association,
                   "ids: the observations' landmark ids; nearest: nearest compatible landmark")
@@ -592,6 +593,7 @@ void AddRun(CLI::App& slam_cmd) {
   cmd->add_option("--increment-std", o->increment_std,
                   "Increment odometry without its own: 1-sigma sx,sy,stheta (m, m, rad); "
                   "default 0.05,0.05,0.005")
+      ->check(ParsedBy("--increment-std", ParseIncrementStd))
       ->group(noise);
   cmd->add_option("--max-range", o->slam.max_range,
                   "Nearest-neighbour association: landmarks this near are candidates, m")

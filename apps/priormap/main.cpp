@@ -22,8 +22,9 @@
 namespace {
 
 // The exit statuses (README, "The command line"): 0 done, 1 an error in the input or the run
-// (the commands' own checks of option values among them), 2 a command line that does not parse,
-// 3 an internal error, 128 + the signal for a run stopped by SIGINT or SIGTERM.
+// (an option value checked against the input or other options among them), 2 a command line
+// that does not parse (CLI11's errors, and the commands' UsageError), 3 an internal error,
+// 128 + the signal for a run stopped by SIGINT or SIGTERM.
 constexpr int kUsageError = 2;
 
 // One "priormap: error: " prefix per line, so multi-line diagnostics stay greppable.
@@ -101,6 +102,9 @@ int main(int argc, char** argv) {
     // getopt tools do): CLI11's own codes (105 for a value out of range, 106 for a missing
     // option, ...) would tell a script nothing a message does not, and look like crashes or
     // signals to a scheduler.
+    return kUsageError;
+  } catch (const priormap::app::UsageError& e) {
+    PrintError(e.what());
     return kUsageError;
   } catch (const priormap::app::UserError& e) {
     PrintError(e.what());

@@ -67,6 +67,14 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
       ->capture_default_str();
   cmd.add_option("--orientation", cli.orientation_deg,
                  "θ₀ of the orientation prior (the building's axes), degrees")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            double degrees = 0.0;
+            if (!CLI::detail::lexical_cast(text, degrees)) return "'" + text + "' is not a number";
+            if (std::isfinite(degrees * std::numbers::pi / 180.0)) return {};
+            return text + " degrees is not a finite angle in radians";
+          },
+          ""))
       ->capture_default_str();
   cmd.add_option("--burn-in-temperature", m.burn_in_temperature,
                  "Start the burn-in at this temperature, cooling to 1 over its first half")
@@ -166,12 +174,14 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
   cmd.add_option("--thinned-burn-in", cli.thinned_burn_in,
                  "Burn-in stages on 1/STRIDE of the readings first, STEPS each (counted in the "
                  "burn-in), e.g. 16:1000000,4:500000")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(ParsedBy("--thinned-burn-in", ParseStage));
   cmd.add_option("--warm-burn-in", cli.warm_burn_in,
                  "After the thinned stages, STEPS burn-in steps on every reading at temperature "
                  "T (counted in the burn-in; the rest of it is at 1), to let a chain leave a "
                  "wrong structure once all the data weigh in, e.g. 2:400000 (docs/benchmarks.md "
-                 "measures when that works)");
+                 "measures when that works)")
+      ->check(ParsedBy("--warm-burn-in", ParseWarmStage));
 }
 
 void ApplyPosteriorOptions(const PosteriorCliOptions& cli, prf::MappingOptions* m) {

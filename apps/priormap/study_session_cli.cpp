@@ -11,6 +11,7 @@
 
 #include <priormap/core/binary_io.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/prf/map_study.hpp>
 
 #include "cli_support.hpp"
 #include "graceful_stop.hpp"
@@ -79,6 +80,37 @@ class StudyStatus {
 };
 
 }  // namespace
+
+CLI::Validator StudySamples() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (text != "0") return {};  // in decimal, as StepCount() hands it on
+        return "expected at least one sample per chain (P(black) is their mean), got 0";
+      },
+      "");
+}
+
+CLI::Validator StudyResolution() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+        if (value >= prf::kFinestStudyResolution && value <= prf::kCoarsestStudyResolution)
+          return {};
+        return fmt::format(
+            "expected at least {} m (finer, the scenes' rasters would not fit) and at most {} m "
+            "(coarser, a room is a cell or two), got {}",
+            prf::kFinestStudyResolution, prf::kCoarsestStudyResolution, text);
+      },
+      "");
+}
+
+void RefuseRepeatedEntries(const std::vector<std::string>& entries, const std::string& option,
+                           const std::string& what) {
+  if (const auto entry = prf::RepeatedName(entries, [](const std::string& e) { return e; }))
+    throw UsageError(
+        fmt::format("{}: {} '{}' is given twice (each case runs once)", option, what, *entry));
+}
 
 void AddStudySessionOptions(CLI::App& cmd, StudySessionCliOptions& o) {
   cmd.add_flag("--resume", o.resume,

@@ -1,6 +1,7 @@
 #pragma once
 // What `prf study` and `prf sonar-study` share to be stopped and resumed: the session options,
-// the checks of the output directory, the status line and the end of a stopped study.
+// the checks of the output directory, the status line and the end of a stopped study; and the
+// checks of the options they share.
 
 #include <cstdint>
 #include <filesystem>
@@ -25,6 +26,16 @@ struct StudySessionCliOptions {
 };
 
 void AddStudySessionOptions(CLI::App& cmd, StudySessionCliOptions& o);
+
+// --samples (after StepCount()): at least one, P(black) being their mean.
+[[nodiscard]] CLI::Validator StudySamples();
+// --resolution: within the bounds of the study's rasters (prf::StudyResolutionProblem's).
+[[nodiscard]] CLI::Validator StudyResolution();
+// Throws UsageError when an entry of `option` is given twice ("--scenes: scene 'square' is given
+// twice"): the option's own value. Different entries of one name (a file and a built-in scene)
+// are the study's check, once the scenes are loaded.
+void RefuseRepeatedEntries(const std::vector<std::string>& entries, const std::string& option,
+                           const std::string& what);
 
 // Before a study in `dir` whose cases have the folders `folders`: refuses a new study over a
 // stopped one's checkpoints (it would start those cases afresh and lose their progress), and

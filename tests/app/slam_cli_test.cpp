@@ -361,13 +361,16 @@ TEST_F(SlamCli, InputsThatDoNotFitEachOtherOrTheOptionsAreErrors) {
   WriteAll(Work("anonymous.csv"), "time,range,bearing\n0.5,5,0.1\n");
   EXPECT_THAT(Fails(RunArgs("anonymous.csv", "odometry.csv", "map.geojson")).err,
               HasSubstr("--association nearest"));
+  // A malformed option and a missing one: command lines that do not parse (status 2).
   std::vector<std::string> args = RunArgs("observations.csv", "odometry.csv", "map.geojson");
   args.push_back("--initial-pose=1,2");
-  EXPECT_THAT(Fails(args).err, HasSubstr("--initial-pose"));
-  EXPECT_THAT(Fails({"slam", "run", "--observations", "observations.csv", "--odometry",
-                     "odometry.csv", "-o", "out"})
-                  .err,
-              HasSubstr("--prior-map is required"));
+  const RunResult pose = RunFailing(args);
+  EXPECT_EQ(pose.status, 2);
+  EXPECT_THAT(pose.err, HasSubstr("--initial-pose: expected x,y,theta"));
+  const RunResult no_map = RunFailing({"slam", "run", "--observations", "observations.csv",
+                                       "--odometry", "odometry.csv", "-o", "out"});
+  EXPECT_EQ(no_map.status, 2);
+  EXPECT_THAT(no_map.err, HasSubstr("--prior-map is required"));
   EXPECT_THAT(Fails({"slam", "simulate", "--runs", "1", "-o", "missing/out"}).err,
               HasSubstr("does not exist"));
 }

@@ -349,7 +349,8 @@ TEST_F(SonarCli, RefusesRoboNdTimesThatRepeatOrGoBack) {
 }
 
 // A scene given twice would be simulated with the same seed and fitted twice: its readings
-// counted double. Refused naming the entry, also when two spellings load the same scene.
+// counted double. Refused naming the entry, also when two spellings load the same scene (the
+// input, status 1; the same entry twice is the option's own value, status 2).
 TEST_F(SonarCli, FitSonarRefusesASceneGivenTwice) {
   // Few rings (a fast robot, a slow ring), so that a fit that is not refused ends at once.
   const std::vector<std::string> fast = {"--speed", "100", "--rate", "0.05", "-o", "m.json"};
@@ -359,7 +360,7 @@ TEST_F(SonarCli, FitSonarRefusesASceneGivenTwice) {
     return args;
   };
   const auto twice = RunFailing(fit("office,l-office,office"));
-  EXPECT_EQ(twice.status, 1);
+  EXPECT_EQ(twice.status, 2);
   EXPECT_THAT(twice.err, HasSubstr("--scenes: 'office' is given twice"));
   WriteText("box.json", R"({"format": "priormap.scene", "version": 1, "name": "box",
     "surfaces": [{"type": "polyline", "points": [[-3, -3], [3, -3], [3, 3], [-3, 3]],
