@@ -261,6 +261,17 @@ NodeId ExpressionGraph::Select(NodeId a, NodeId b, NodeId then, NodeId otherwise
   return Make(n);
 }
 
+NodeId ExpressionGraph::GuardedSqrt(NodeId s) {
+  const NodeId zero = Const(0.0);
+  return Select(s, zero, zero, Unary(Op::kSqrt, s));
+}
+
+bool ExpressionGraph::IsGuardedSqrt(NodeId id) const {
+  const Node& n = node(id);
+  return n.op == Op::kSelect && IsConst(n.b, 0.0) && IsConst(n.c, 0.0) &&
+         node(n.d).op == Op::kSqrt && node(n.d).a == n.a;
+}
+
 NodeId ExpressionGraph::Min(NodeId a, NodeId b) {
   return Select(a, b, a, b);
 }

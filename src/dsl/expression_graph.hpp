@@ -90,6 +90,11 @@ class ExpressionGraph {
   NodeId Max(NodeId a, NodeId b);
   /// a <= b ? then : otherwise.
   NodeId Select(NodeId a, NodeId b, NodeId then, NodeId otherwise);
+  /// sqrt(s) of an `s` >= 0 (a sum of squares), with the derivative 0 where s = 0 (a kink, as
+  /// a norm's at 0) rather than 0 * (1 / 0) = NaN: the node s <= 0 ? 0 : sqrt(s).
+  NodeId GuardedSqrt(NodeId s);
+  /// Whether `id` was made by GuardedSqrt.
+  [[nodiscard]] bool IsGuardedSqrt(NodeId id) const;
 
   /// d node / d x_var, as a node (memoised; forward mode).
   NodeId Derivative(NodeId id, int var);

@@ -101,6 +101,8 @@ class Printer {
           return {fmt::format("min({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
         if (n.c == n.b && n.d == n.a)
           return {fmt::format("max({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
+        // A guarded sqrt has the value of sqrt (the guard only sets its derivative at 0).
+        if (graph_.IsGuardedSqrt(id)) return Print(n.d);
         return {fmt::format("select({} <= {}, {}, {})", Print(n.a).first, Print(n.b).first,
                             Print(n.c).first, Print(n.d).first),
                 kAtomPrecedence};
@@ -138,6 +140,7 @@ std::size_t WrittenOutLength(const ExpressionGraph& graph, NodeId id,
   constexpr std::size_t kSaturated = std::size_t{1} << 60;
   if (const auto it = memo.find(id); it != memo.end()) return it->second;
   const Node& n = graph.node(id);
+  if (graph.IsGuardedSqrt(id)) return WrittenOutLength(graph, n.d, memo);
   std::size_t length = 1;
   for (const NodeId child : {n.a, n.b, n.c, n.d})
     if (child >= 0) length = std::min(kSaturated, length + WrittenOutLength(graph, child, memo));

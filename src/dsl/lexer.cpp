@@ -57,6 +57,23 @@ const char* GreekName(char32_t c) {
   }
 }
 
+// Characters that look like a blank, or like nothing at all, in an editor (pasted from a web
+// page or a word processor): what each is, for the message, as quoting it would show nothing;
+// nullptr for the others.
+const char* InvisibleCharacter(char32_t c) {
+  if (c == 0x00A0 || c == 0x1680 || (c >= 0x2000 && c <= 0x200A) || c == 0x202F || c == 0x205F ||
+      c == 0x3000) {
+    return "a non-ASCII space: use a plain space or a tab";
+  }
+  if (c == 0x2028 || c == 0x2029) return "a Unicode line separator: use a line break";
+  // Zero-width spaces and joiners, the byte order mark, and the direction marks and overrides.
+  if ((c >= 0x200B && c <= 0x200F) || (c >= 0x202A && c <= 0x202E) || c == 0x2060 ||
+      (c >= 0x2066 && c <= 0x2069) || c == 0xFEFF) {
+    return "an invisible zero-width character: delete it";
+  }
+  return nullptr;
+}
+
 // A bound on the work and memory one logical line can ask of the parser (the parser bounds the
 // depth of the trees it builds separately).
 constexpr std::size_t kMaxTokensPerLine = 10000;
@@ -305,6 +322,14 @@ class LineLexer {
     std::string shown = c.code < 0x80 && c.code >= 0x20
                             ? fmt::format("'{}'", static_cast<char>(c.code))
                             : fmt::format("U+{:04X}", static_cast<std::uint32_t>(c.code));
+    if (const char* invisible = InvisibleCharacter(c.code))
+      return Fail(error, col_, fmt::format("unexpected character {} ({})", shown, invisible));
+    if (c.code >= 0xA1 && !IsLetterLike(c.code)) {
+      // Printable (not a control character): shown as itself too, as the user sees it.
+      return Fail(error, col_,
+                  fmt::format("unexpected character '{}' ({})",
+                              text_.substr(pos_, static_cast<std::size_t>(c.size)), shown));
+    }
     if (IsLetterLike(c.code)) {
       // Shown as itself too: it is a printable letter, and the hint names the Greek letters
       // allowed.
@@ -358,6 +383,12 @@ int CharacterCount(std::string_view s) {
 }
 
 }  // namespace
+
+std::string_view WithoutByteOrderMark(std::string_view text) {
+  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+  if (text.starts_with(kByteOrderMark)) text.remove_prefix(kByteOrderMark.size());
+  return text;
+}
 
 bool IsHeaderKey(std::string_view word) {
   return word == "name" || word == "order" || word == "max_curvature" || word == "specializes";
@@ -425,6 +456,7 @@ const char* Describe(TokenKind kind) {
 
 Result<std::vector<Line>> Lex(std::string_view source,
                               const std::shared_ptr<const std::string>& file) {
+  source = WithoutByteOrderMark(source);
   std::vector<Line> lines;
   std::size_t start = 0;
   int number = 0;

@@ -73,7 +73,12 @@ struct Line {
 /// The header keys: name, order, max_curvature, specializes.
 [[nodiscard]] bool IsHeaderKey(std::string_view word);
 
-/// The logical lines of `source`, or the first lexical error.
+/// `text` without the UTF-8 byte order mark some editors (Windows Notepad) write at its start:
+/// invisible in an editor, it would otherwise be the first character of line 1.
+[[nodiscard]] std::string_view WithoutByteOrderMark(std::string_view text);
+
+/// The logical lines of `source` (a byte order mark at its start ignored), or the first lexical
+/// error.
 [[nodiscard]] Result<std::vector<Line>> Lex(std::string_view source,
                                             const std::shared_ptr<const std::string>& file);
 

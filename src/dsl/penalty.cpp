@@ -86,9 +86,17 @@ PenaltyValue AccumulatePenalty(const CompiledBlock& block, const double* values,
   }
   if (active_branch) active_branch->assign(best_branch, best_branch + groups);
 
+  bool undefined_energy = false;
   for (std::size_t t = 0; t < terms.size(); ++t) {
     const Term& term = terms[t];
     if (term.kind == TermKind::kEnergy) {
+      // Outside its domain (log of a negative number) an energy is an infinite cost, as a
+      // constraint there is infinitely violated. A NaN cost compares false with every other
+      // (with it, a scan's links all fell out of the model); no NaN into the derivatives.
+      if (std::isnan(values[t])) {
+        undefined_energy = true;
+        continue;
+      }
       penalty.energy += values[t];
       if (gradient && grad_of(t)) {
         for (std::size_t i = 0; i < n; ++i) gradient[i] += grad_of(t)[i];
@@ -121,6 +129,7 @@ PenaltyValue AccumulatePenalty(const CompiledBlock& block, const double* values,
                  hess_of(t) ? hessian : nullptr);
     }
   }
+  if (undefined_energy) penalty.energy = std::numeric_limits<double>::infinity();
   return penalty;
 }
 

@@ -8,6 +8,7 @@
 #include <priormap/dsl/parse.hpp>
 #include <priormap/dsl/prior_library.hpp>
 
+#include "lexer.hpp"
 #include "lower.hpp"
 
 namespace priormap::dsl {
@@ -23,6 +24,7 @@ std::string NameOf(const PriorFile& file) {
 
 // The first sentence of the comment a prior file starts with (at most ~100 characters).
 std::string Description(std::string_view text) {
+  text = detail::WithoutByteOrderMark(text);
   std::string comment;
   std::size_t start = 0;
   while (start < text.size()) {

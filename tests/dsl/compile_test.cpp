@@ -189,6 +189,17 @@ TEST(CompileTerms, SummaryCountsStatementsAndListsTheVariablesUsed) {
   EXPECT_EQ(block.VariableName(5), "alpha_3");
 }
 
+// norm of a scalar is abs; of a vector, sqrt of the sum of squares (guarded at 0 so that its
+// derivative there is 0, not NaN; the guard does not change the value, and is not printed).
+TEST(CompileTerms, NormPrintsAsAbsOfAScalarAndSqrtOfASumOfSquares) {
+  const CompiledPrior prior = Compile(OrderTwo(
+      "  model_likelihood norm(alpha_2 - alpha_1)\n  model_likelihood norm([rho_1; rho_2])\n"));
+  const CompiledBlock& block = SameRegion(prior);
+  EXPECT_THAT(TermExpressions(block),
+              ElementsAre("abs(alpha_2 - alpha_1)", "sqrt(rho_1^2 + rho_2^2)"));
+  EXPECT_THAT(Values(block, {3.0, 4.0, 0.5, 0.25}, {0.0, 0.1}), ElementsAre(0.25, 5.0));
+}
+
 TEST(CompileTerms, MissingBlocksAreNull) {
   const CompiledPrior prior = Compile(OrderTwo("  alpha_1 == alpha_2\n"));
   EXPECT_NE(prior.block(BlockKind::kSameRegion), nullptr);
@@ -283,6 +294,20 @@ TEST(CompileConstantConstraints, DisjunctionBranchThatNeverHoldsIsAWarningWhenAn
                   "test.prior", 4, 3,
                   "branch 1 of this disjunction uses no variable and never holds ('1 == 2' "
                   "simplifies to -1 == 0): it can never be the branch that holds")));
+}
+
+// A block of definitions only is not empty (an error) but constrains nothing, as a constraint
+// that always holds: most likely its constraints were forgotten.
+TEST(CompileConstantConstraints, BlockOfDefinitionsOnlyIsAWarningAtIt) {
+  const CompiledPrior prior = Compile(
+      "name: Test\norder: 2\nd = rho_1\npriorlet same_region:\n  d == rho_2\n"
+      "priorlet different_region:\n  e = d - rho_2\n  f = e^2\n");
+  EXPECT_THAT(prior.warnings(),
+              ElementsAre(DiagnosticAt("test.prior", 6, 1,
+                                       "'priorlet different_region' holds definitions only: it "
+                                       "constrains nothing, as a missing block")));
+  ASSERT_NE(prior.block(BlockKind::kDifferentRegion), nullptr);
+  EXPECT_EQ(prior.block(BlockKind::kDifferentRegion)->num_terms(), 0);
 }
 
 // Beam angles differ from link to link, a constant entry beside variables can be structural,

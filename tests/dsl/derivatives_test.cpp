@@ -509,10 +509,13 @@ TEST(PriorValues, ManhattanAndOctagonalConstrainTheAngleBetweenNeighbours) {
 // --- every operator's derivative rule ----------------------------------------------------------
 
 // The built-in priors never use exp, log, tan, asin, acos, atan, atan2, a power with an unknown
-// in the exponent, min or max, so their derivative rules (ExpressionGraph::MakeDerivative) are
-// checked here on a prior written for the purpose: one energy per operator, so that a wrong rule
-// shows up as the failure of its own term. The Hessians apply each rule twice (the derivative of
-// the derivative), so they check the rules once more on the rules' own output.
+// in the exponent, min or max, and use sqrt, abs and division only in a few shapes (norm of a
+// 2-vector, abs of one quotient), so every function and operator of the language
+// (ExpressionGraph::MakeDerivative and the lowering of norm, deg2rad, rad2deg, min and max of a
+// vector, ./ and .^) is checked here on a prior written for the purpose: one energy per operator,
+// so that a wrong rule shows up as the failure of its own term. The Hessians apply each rule
+// twice (the derivative of the derivative), so they check the rules once more on the rules' own
+// output.
 constexpr const char* kEveryOperatorPrior =
     "name: Every operator\n"
     "order: 2\n"
@@ -526,7 +529,17 @@ constexpr const char* kEveryOperatorPrior =
     "  model_likelihood atan2(rho_2*sin(alpha_2), rho_1*cos(alpha_1))\n"
     "  model_likelihood rho_1^rho_2\n"
     "  model_likelihood rho_1^2.5\n"
-    "  model_likelihood min(rho_1, rho_2) + max(alpha_1, alpha_2)\n";
+    "  model_likelihood min(rho_1, rho_2) + max(alpha_1, alpha_2)\n"
+    "  model_likelihood sqrt(rho_1 + 0.5*rho_2)\n"
+    "  model_likelihood abs(rho_1 - rho_2) * alpha_1\n"
+    "  model_likelihood norm(alpha_2 - alpha_1) * rho_1\n"
+    "  model_likelihood norm([rho_1*cos(alpha_1); rho_2*sin(alpha_2)])\n"
+    "  model_likelihood norm([rho_1, alpha_1; alpha_2, rho_2])\n"
+    "  model_likelihood deg2rad(rho_1*alpha_2) + rad2deg(alpha_1/rho_2)\n"
+    "  model_likelihood min([rho_1; rho_2]) * max([alpha_1, alpha_2])\n"
+    "  model_likelihood [rho_1, rho_2] .^ [alpha_1, -1.5] * [1; 1] + rho_2 ./ rho_1\n"
+    "  model_likelihood 2^(rho_1 - alpha_2)\n";
+constexpr int kEveryOperatorTerms = 19;
 
 // The same terms written with <cmath>, at x = (rho_1, rho_2, alpha_1, alpha_2).
 std::vector<double> EveryOperatorByHand(const Eigen::VectorXd& x) {
@@ -540,7 +553,16 @@ std::vector<double> EveryOperatorByHand(const Eigen::VectorXd& x) {
           std::atan2(r2 * std::sin(a2), r1 * std::cos(a1)),
           std::pow(r1, r2),
           std::pow(r1, 2.5),
-          std::min(r1, r2) + std::max(a1, a2)};
+          std::min(r1, r2) + std::max(a1, a2),
+          std::sqrt(r1 + 0.5 * r2),
+          std::abs(r1 - r2) * a1,
+          std::abs(a2 - a1) * r1,
+          std::hypot(r1 * std::cos(a1), r2 * std::sin(a2)),
+          std::sqrt(r1 * r1 + a1 * a1 + a2 * a2 + r2 * r2),
+          kPi / 180 * r1 * a2 + 180 / kPi * a1 / r2,
+          std::min(r1, r2) * std::max(a1, a2),
+          std::pow(r1, a1) + std::pow(r2, -1.5) + r2 / r1,
+          std::pow(2.0, r1 - a2)};
 }
 
 CompiledPrior CompileEveryOperatorPrior() {
@@ -555,8 +577,10 @@ CompiledPrior CompileEveryOperatorPrior() {
 //    cos(0.3 d) >= 0.3 bounds tan' = 1/cos^2 by ~11;
 //  - atan2(y, x) jumps by 2 pi across x < 0, y = 0 and is singular at the origin; keep
 //    |(x, y)| >= 0.5 m and |y| >= 0.05 m where x < 0 (both 5,000 steps away);
-//  - min(rho_1, rho_2) and max(alpha_1, alpha_2) switch where their arguments are equal; keep
-//    them 1e-3 (100 steps) apart.
+//  - min(rho_1, rho_2) and max(alpha_1, alpha_2) switch where their arguments are equal, and
+//    abs(rho_1 - rho_2) and norm(alpha_2 - alpha_1) have their kinks there; keep them 1e-3 (100
+//    steps) apart. The norm of (rho_1 cos alpha_1, rho_2 sin alpha_2) is the atan2 guard's
+//    |(x, y)| >= 0.5 m, and the 2x2 matrix's norm is at least rho_1 >= 0.5 m.
 // rho >= 0.5 m keeps log(rho_1 + rho_2) and rho_1^rho_2 smooth; asin and acos see |arg| <= 0.4.
 bool AwayFromEveryOperatorsKinks(const Point& p) {
   const double r1 = p.x[0], r2 = p.x[1], a1 = p.x[2], a2 = p.x[3];
@@ -569,7 +593,7 @@ TEST(OperatorDerivatives, TheOperatorPriorCompilesToOneTermPerOperatorWithTheLib
   const CompiledPrior prior = CompileEveryOperatorPrior();
   const CompiledBlock* block = prior.block(BlockKind::kSameRegion);
   ASSERT_NE(block, nullptr);
-  ASSERT_EQ(block->num_terms(), 10);
+  ASSERT_EQ(block->num_terms(), kEveryOperatorTerms);
   ASSERT_EQ(block->num_variables(), 4);
   Evaluation evaluation(*block);
   Rng rng(2024);
@@ -578,7 +602,7 @@ TEST(OperatorDerivatives, TheOperatorPriorCompilesToOneTermPerOperatorWithTheLib
     while (!AwayFromEveryOperatorsKinks(p)) p = RandomPoint(rng, 2);
     const Eigen::VectorXd values = evaluation.Values(p.x, p.phi);
     const std::vector<double> expected = EveryOperatorByHand(p.x);
-    for (int t = 0; t < 10; ++t) {
+    for (int t = 0; t < kEveryOperatorTerms; ++t) {
       // 1e-12 relative: the tapes and <cmath> may round differently (e.g. a * (1/b) for a/b).
       EXPECT_NEAR(values[t], expected[static_cast<std::size_t>(t)],
                   1e-12 * std::max(1.0, std::abs(expected[static_cast<std::size_t>(t)])))
@@ -591,7 +615,7 @@ TEST(OperatorDerivatives, EveryOperatorsGradientAndHessianMatchCentralDifference
   const CompiledPrior prior = CompileEveryOperatorPrior();
   const CompiledBlock* block = prior.block(BlockKind::kSameRegion);
   ASSERT_NE(block, nullptr);
-  ASSERT_EQ(block->num_terms(), 10);
+  ASSERT_EQ(block->num_terms(), kEveryOperatorTerms);
   Evaluation evaluation(*block);
   Rng rng(4242);
   int failures = 0, rejected = 0;
@@ -605,6 +629,56 @@ TEST(OperatorDerivatives, EveryOperatorsGradientAndHessianMatchCentralDifference
   }
   // The guards leave most of the space in the test (tan's guard alone rejects ~10 %).
   EXPECT_LT(rejected, kPointsPerPrior / 3);
+}
+
+// norm, like abs, has a kink at 0; there sqrt(v'v) alone gave the derivative 0 * (1/0) = NaN,
+// which the engine's Newton steps would carry. At the kink both take the derivative 0 (the
+// subgradient in the middle), so a cost such as norm(alpha_2 - alpha_1) stays usable where the
+// normals are equal.
+TEST(OperatorDerivatives, NormAndAbsHaveTheFiniteDerivativeZeroAtTheirKink) {
+  const Result<CompiledPrior> prior = PriorLibrary().CompileText(
+      "name: Kinks\norder: 2\npriorlet same_region:\n"
+      "  model_likelihood norm(alpha_2 - alpha_1)\n"
+      "  model_likelihood norm([rho_1 - rho_2; alpha_1 - alpha_2])\n"
+      "  model_likelihood norm([rho_1 - rho_2, 0; 0, alpha_1 - alpha_2])\n"
+      "  model_likelihood abs(alpha_2 - alpha_1)\n",
+      "kinks.prior");
+  ASSERT_TRUE(prior.ok()) << prior.error();
+  const CompiledBlock* block = prior.value().block(BlockKind::kSameRegion);
+  ASSERT_NE(block, nullptr);
+  ASSERT_EQ(block->num_terms(), 4);
+  Evaluation evaluation(*block);
+  Eigen::VectorXd values, gradients, hessians;
+  Eigen::VectorXd x(4);
+  x << 2.0, 2.0, 0.3, 0.3;  // rho_1 = rho_2, alpha_1 = alpha_2: every term at its kink
+  evaluation.All(x, {0.1, 0.2}, values, gradients, hessians);
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(values[t], 0.0) << t;
+  for (int i = 0; i < gradients.size(); ++i) EXPECT_EQ(gradients[i], 0.0) << "gradient entry " << i;
+  for (int i = 0; i < hessians.size(); ++i) EXPECT_EQ(hessians[i], 0.0) << "Hessian entry " << i;
+}
+
+// min and max at a tie, where their arguments are equal, take the derivatives of their first
+// argument (the documented choice; the two one-sided derivatives differ there).
+TEST(OperatorDerivatives, MinAndMaxAtATieTakeTheirFirstArgumentsDerivatives) {
+  const Result<CompiledPrior> prior = PriorLibrary().CompileText(
+      "name: Ties\norder: 2\npriorlet same_region:\n"
+      "  model_likelihood min(alpha_1, alpha_2^2)\n"
+      "  model_likelihood max(alpha_2^2, alpha_1)\n",
+      "ties.prior");
+  ASSERT_TRUE(prior.ok()) << prior.error();
+  const CompiledBlock* block = prior.value().block(BlockKind::kSameRegion);
+  ASSERT_NE(block, nullptr);
+  Evaluation evaluation(*block);
+  Eigen::VectorXd values, gradients, hessians;
+  Eigen::VectorXd x(4);
+  x << 1.0, 1.0, 0.25, 0.5;  // alpha_1 = alpha_2^2
+  evaluation.All(x, {0.1, 0.2}, values, gradients, hessians);
+  // Gradients by (rho_1, rho_2, alpha_1, alpha_2), term after term; Hessian entry (alpha_2,
+  // alpha_2) of each term.
+  EXPECT_THAT(std::vector<double>(gradients.begin(), gradients.end()),
+              ::testing::ElementsAre(0, 0, 1, 0, 0, 0, 0, 1));
+  EXPECT_EQ(hessians[15], 0.0);
+  EXPECT_EQ(hessians[16 + 15], 2.0);
 }
 
 }  // namespace

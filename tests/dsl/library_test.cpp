@@ -341,6 +341,17 @@ TEST(PriorLibraryList, DescriptionIsTheFirstSentenceOfTheLeadingComment) {
   EXPECT_FALSE(listing.front().builtin);
 }
 
+TEST(PriorLibraryList, AFileStartingWithAByteOrderMarkIsListedWithItsDescription) {
+  TempDir dir;
+  WriteAll(dir / "bom.prior", "\xEF\xBB\xBF# Written with Notepad. More\nname: Bom\norder: 1\n");
+  const PriorLibrary library({dir.path()});
+  EXPECT_THAT(library.Unparsable(), ::testing::IsEmpty());
+  const std::vector<PriorListing> listing = library.List();
+  ASSERT_FALSE(listing.empty());
+  EXPECT_EQ(listing.front().name, "Bom");
+  EXPECT_EQ(listing.front().description, "Written with Notepad.");
+}
+
 TEST(PriorLibraryList, DirectoriesComeFirstAndShadowedNamesAreListedOnce) {
   TempDir first, second;
   WriteAll(first / "mine.prior", Marked("Polygonal prior", 1));

@@ -368,6 +368,19 @@ TEST(ParserStatements, BlankLinesCrlfAndAMissingFinalNewlineAreFine) {
                   "  constraint 7:3 rho_1 == 0", "  constraint 9:3 rho_2 == 0"));
 }
 
+// Windows Notepad starts UTF-8 files with a byte order mark, which editors do not show: it is
+// not a character of line 1, so the header parses and columns count from the first visible one.
+TEST(ParserStatements, AByteOrderMarkAtTheStartIsIgnored) {
+  EXPECT_THAT(OutlineOf("\xEF\xBB\xBFname: T\norder: 2\npriorlet same_region:\n  rho_1 == 0\n"),
+              ElementsAre("name 1:7 T", "order 2:8 2", "block same_region 3:1",
+                          "  constraint 4:3 rho_1 == 0"));
+  const Result<PriorFile> definition_first = ParsePrior("\xEF\xBB\xBFx = 1 +\n", kPath);
+  ASSERT_FALSE(definition_first.ok());
+  EXPECT_THAT(
+      definition_first.diagnostics(),
+      ElementsAre(DiagnosticAt(kPath, 1, 8, "expected an expression, got the end of the line")));
+}
+
 TEST(ParserStatements, EmptyTextParsesToAnEmptyFile) {
   const Result<PriorFile> parsed = ParsePrior("", kPath);
   ASSERT_TRUE(parsed.ok()) << parsed.error();

@@ -1,8 +1,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/angles.hpp>
@@ -171,6 +173,33 @@ TEST(Penalty, ADisjunctionOfUndefinedBranchesIsInfinitelyViolated) {
   const Evaluation e = Evaluate(block, x, phi);
   ASSERT_TRUE(std::ranges::all_of(e.values, [](double v) { return std::isnan(v); }));
   ExpectInfinitelyViolatedWithFiniteDerivatives(block, e);
+}
+
+// An energy outside its domain is an infinite cost, as a constraint there is infinitely
+// violated: a NaN energy made the engine's costs NaN (they compare false with every other). It
+// adds no NaN to the derivatives, and another energy's -inf does not cancel it.
+TEST(Penalty, AnEnergyThatIsNotANumberIsAnInfiniteCostWithFiniteDerivatives) {
+  const CompiledPrior prior = PriorLibrary()
+                                  .CompileText(
+                                      "name: Undefined\norder: 2\npriorlet same_region:\n"
+                                      "  model_likelihood -log(rho_1 - 3)\n"
+                                      "  model_likelihood alpha_2 - alpha_1\n"
+                                      "  model_likelihood rho_2^2\n",
+                                      "undefined.prior")
+                                  .value();
+  const CompiledBlock& block = *prior.block(BlockKind::kSameRegion);
+  const std::vector<double> x = {1.0, 2.0, 0.3, 0.5}, phi = {0.0, 0.2};
+  Evaluation e = Evaluate(block, x, phi);
+  ASSERT_TRUE(std::isnan(e.values[0]));  // log of -2
+  e.values[1] = -std::numeric_limits<double>::infinity();
+  std::vector<double> gradient(4, 0.0), hessian(16, 0.0);
+  const PenaltyValue p = AccumulatePenalty(block, e.values.data(), e.gradients.data(),
+                                           e.hessians.data(), {}, gradient.data(), hessian.data());
+  EXPECT_EQ(p.energy, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(p.constraint, 0.0);
+  // The derivatives of the other two energies only.
+  EXPECT_THAT(gradient, ::testing::ElementsAre(0.0, 4.0, -1.0, 1.0));
+  EXPECT_THAT(hessian, ::testing::ElementsAre(0, 0, 0, 0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0));
 }
 
 TEST(Penalty, InequalitiesCountOnlyWhenViolated) {

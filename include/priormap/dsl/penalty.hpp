@@ -8,6 +8,8 @@
 ///                        piecewise smooth)
 ///   energy h          -> h as written (a cost to minimise: `model_likelihood` expressions are
 ///                        negative log-likelihoods up to a constant)
+/// A term outside its domain (NaN: the log of a negative number) adds no derivatives and makes
+/// its constraint infinitely violated, or its energy an infinite cost.
 
 #include <vector>
 
