@@ -28,11 +28,14 @@ void MakePositiveSemidefinite(Eigen::Ref<Eigen::MatrixXd> h) {
 }
 
 // The sum of the Hessians of a window's energy terms (`hess`: the window's term Hessians).
-void SumEnergyHessians(const dsl::CompiledBlock& block, const double* hess, Eigen::MatrixXd& out) {
+void SumEnergyHessians(const dsl::CompiledBlock& block, const double* values, const double* hess,
+                       Eigen::MatrixXd& out) {
   const auto nv = static_cast<std::size_t>(block.num_variables());
   out.setZero();
   for (std::size_t t = 0; t < block.terms().size(); ++t) {
     if (block.terms()[t].kind != dsl::TermKind::kEnergy) continue;
+    // An energy outside its domain adds no derivatives (dsl::AccumulatePenalty): nor here.
+    if (std::isnan(values[t])) continue;
     out += Eigen::Map<const Eigen::MatrixXd>(hess + t * nv * nv, out.rows(), out.cols());
   }
 }
@@ -303,7 +306,7 @@ ObjectiveValue InnerProblem::Evaluate(const Eigen::VectorXd& x, double lambda,
       value.max_residual = std::max(value.max_residual, pv.max_residual);
       // ... whose Hessians are replaced by their positive semi-definite part.
       if (hessian && energies) {
-        SumEnergyHessians(*bw.block, hess, energy_hessian);
+        SumEnergyHessians(*bw.block, values, hess, energy_hessian);
         window_hessian -= energy_hessian;
         MakePositiveSemidefinite(energy_hessian);
         window_hessian += energy_hessian;

@@ -802,6 +802,28 @@ TEST(InnerProblemLinearResiduals, PenaltyHessianIsExactEverywhere) {
   }
 }
 
+// An energy outside its domain at some windows (sqrt of a negative number: the wall y = 2 is
+// nearer than 3 m) is an infinite cost there and adds no derivatives (dsl::AccumulatePenalty),
+// to the Hessian either: its NaN second derivative must not reach the Newton step.
+TEST(InnerProblemEnergyDomain, AnEnergyOutsideItsDomainAddsNoDerivatives) {
+  const dsl::CompiledPrior prior = dsl::PriorLibrary()
+                                       .CompileText(R"(name: Far walls
+order: 2
+priorlet same_region:
+  model_likelihood sqrt(rho_1 - 3)
+)",
+                                                    "far-walls.prior")
+                                       .value();
+  const Scene scene = MakeScene(Geometry::kCorner, Noise::kIndependent);
+  InnerProblem problem = MakeProblem(prior, scene);
+  VectorXd gradient;
+  SymmetricBandedMatrix hessian;
+  const ObjectiveValue value = problem.Evaluate(scene.truth, 1.0, 0.0, &gradient, &hessian);
+  EXPECT_EQ(value.energy, std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(gradient.allFinite());
+  EXPECT_TRUE(hessian.ToDense().allFinite());
+}
+
 // ---------------------------------------------------------------------------------------------
 // Closed problems (rings: a scan that covers a full turn). A ring has no first window: moving
 // its seam, where the point indices start, renumbers the points and changes nothing else. So a
