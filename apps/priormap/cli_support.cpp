@@ -19,11 +19,9 @@ namespace priormap::app {
 
 namespace {
 
-CLI::Validator NumberCheck(bool allow_zero) {
-  return CLI::Validator(
-      [allow_zero](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+CLI::Validator SignCheck(bool allow_zero) {
+  return NumberValidator(
+      [allow_zero](double value, const std::string& text) -> std::string {
         if (!std::isfinite(value)) return text + " is not a finite number";
         if (allow_zero ? value >= 0.0 : value > 0.0) return {};
         return text + (allow_zero ? " is negative (expected a number >= 0)"
@@ -35,18 +33,16 @@ CLI::Validator NumberCheck(bool allow_zero) {
 }  // namespace
 
 CLI::Validator PositiveValue() {
-  return NumberCheck(false);
+  return SignCheck(false);
 }
 
 CLI::Validator NonNegativeValue() {
-  return NumberCheck(true);
+  return SignCheck(true);
 }
 
 CLI::Validator PositiveValueUpTo(double max, const std::string& unit) {
-  return CLI::Validator(
-      [max, unit](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+  return NumberValidator(
+      [max, unit](double value, const std::string& text) -> std::string {
         if (std::isfinite(value) && value > 0.0 && value <= max) return {};
         return fmt::format("{} is not in (0, {}] {}", text, max, unit);
       },
@@ -54,10 +50,8 @@ CLI::Validator PositiveValueUpTo(double max, const std::string& unit) {
 }
 
 CLI::Validator OpenUnitInterval() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+  return NumberValidator(
+      [](double value, const std::string& text) -> std::string {
         if (value > 0.0 && value < 1.0) return {};
         return fmt::format("{} is not in (0, 1), 0 and 1 excluded", text);
       },
@@ -65,10 +59,8 @@ CLI::Validator OpenUnitInterval() {
 }
 
 CLI::Validator Probability() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+  return NumberValidator(
+      [](double value, const std::string& text) -> std::string {
         if (value >= 0.0 && value <= 1.0) return {};
         return fmt::format("{} is not a probability (expected a number in [0, 1])", text);
       },

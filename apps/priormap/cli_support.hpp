@@ -49,6 +49,19 @@ T ValueOrThrow(Result<T> result) {
   return std::move(result).value();
 }
 
+/// A check of a number-valued option: `why_not(value, text)` says why the value (as given:
+/// `text`) is refused, or returns "" to accept it. Text that is not a number is refused first.
+template <typename WhyNot>
+[[nodiscard]] CLI::Validator NumberValidator(WhyNot why_not, std::string description) {
+  return CLI::Validator(
+      [why_not](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+        return why_not(value, text);
+      },
+      std::move(description));
+}
+
 /// Checks for numeric options that say plainly what is wrong (CLI11's PositiveNumber prints
 /// its range up to DBL_MAX).
 [[nodiscard]] CLI::Validator PositiveValue();

@@ -245,10 +245,9 @@ void AddSimulateCommand(CLI::App& app) {
           ""));
   cmd->add_option("--correlation", o->correlation,
                   "Noise correlation of neighbouring beams, in [0, 1)")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            double value = 0.0;
-            if (CLI::detail::lexical_cast(text, value) && value >= 0.0 && value < 1.0) return {};
+      ->check(NumberValidator(
+          [](double value, const std::string& text) -> std::string {
+            if (value >= 0.0 && value < 1.0) return {};
             return text + " is not in [0, 1), 1 excluded";
           },
           ""));

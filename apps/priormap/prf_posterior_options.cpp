@@ -67,10 +67,8 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
       ->capture_default_str();
   cmd.add_option("--orientation", cli.orientation_deg,
                  "θ₀ of the orientation prior (the building's axes), degrees")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            double degrees = 0.0;
-            if (!CLI::detail::lexical_cast(text, degrees)) return "'" + text + "' is not a number";
+      ->check(NumberValidator(
+          [](double degrees, const std::string& text) -> std::string {
             if (std::isfinite(degrees * std::numbers::pi / 180.0)) return {};
             return text + " degrees is not a finite angle in radians";
           },

@@ -91,10 +91,8 @@ CLI::Validator StudySamples() {
 }
 
 CLI::Validator StudyResolution() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+  return NumberValidator(
+      [](double value, const std::string& text) -> std::string {
         if (value >= prf::kFinestStudyResolution && value <= prf::kCoarsestStudyResolution)
           return {};
         return fmt::format(
