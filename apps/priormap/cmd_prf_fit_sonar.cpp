@@ -39,6 +39,9 @@ struct FitSonarCliOptions {
   std::string start;  // a model file to start from
   std::string out;
   prf::SonarFitOptions fit;
+  // The options of the simulation (--scenes, --sensor, ...) given on the command line: with
+  // --log there is nothing to simulate, and they would be ignored without a word.
+  std::vector<std::string> simulation_options_given;
 };
 
 // The most simulated readings a fit takes: 270 times the default's 3,728, about a gigabyte of
@@ -76,6 +79,10 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
   };
   if (!o.log.empty()) {
     if (o.scene.empty()) throw UserError("--log needs --scene: the map the log was recorded in");
+    if (!o.simulation_options_given.empty())
+      throw UserError(fmt::format(
+          "{} simulate rings to fit; with --log the readings are the log's: give one or the other",
+          fmt::join(o.simulation_options_given, ", ")));
     const Log log = ValueOrThrow(ReadLog(o.log));
     const double max_range = o.max_range.value_or(5.0);
     for (const Scan& scan : log.scans)
@@ -90,6 +97,10 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
     (*about)["max_range"] = max_range;
     return readings;
   }
+  if (!o.scene.empty())
+    throw UserError(
+        "--scene is the map of --log: without --log, the rings are simulated in "
+        "--scenes");
   const auto sensor = SonarSensor::Preset(o.sensor);
   if (!sensor)
     throw UserError(fmt::format("--sensor: unknown sonar '{}' (expected one of: {})", o.sensor,
@@ -195,7 +206,12 @@ void AddPrfFitSonarCommand(CLI::App& prf_cmd) {
                 "mixtures alone (the paper's model)");
   cmd->add_option("-o,--out", o->out, "Model file to write (priormap.sonar_model JSON)")
       ->required();
-  cmd->callback([o] { RunFitSonarCommand(*o); });
+  cmd->callback([o, cmd] {
+    o->simulation_options_given.clear();
+    for (const char* option : {"--scenes", "--sensor", "--speed", "--rate", "--seed"})
+      if (cmd->count(option) > 0) o->simulation_options_given.emplace_back(option);
+    RunFitSonarCommand(*o);
+  });
 }
 
 }  // namespace priormap::app

@@ -155,6 +155,12 @@ TEST_F(ExitStatus, AValueRefusedWithTheOtherOptionsOrTheInputExitsWithOne) {
            "--corner-completion 0.6 and --neighbour-births 0.5 sum to 1 or more"},
           {{"prf", "fit-sonar", "--scenes", "box.json,./box.json", "-o", "m.json"},
            "--scenes: 'box.json' and './box.json' are both scene 'box'"},
+          {{"prf", "fit-sonar", "--log", "missing.json", "--scene", "office", "--scenes", "office",
+            "--rate", "3", "-o", "m.json"},
+           "--scenes, --rate simulate rings to fit; with --log the readings are the log's: give "
+           "one or the other"},
+          {{"prf", "fit-sonar", "--scene", "office", "-o", "m.json"},
+           "--scene is the map of --log: without --log, the rings are simulated in --scenes"},
           {{"prf", "study", "--scenes", "box.json,./box.json", "-o", "study"},
            "scene 'box' is given twice (each case runs once)"},
           {{"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "--max-range", "6", "-o",
