@@ -297,22 +297,27 @@ TEST(ConstraintKernel, ProjectionsMatchTheDenseBasis) {
   EXPECT_THROW((void)kernel.Project(MatrixXd::Zero(179, 3)), ContractError);
 }
 
-TEST(ConstraintKernel, LargeKernelIsStoredCompactly) {
-  // One constraint per window over m points: dim Free ~ m, yet storage O(n log n).
-  const std::size_t points = 1100;
-  const RandomSystemSpec spec{points, 2, 1, 0.0, false, false};
-  const auto rows = RandomBanded(spec, 31);
-  const ConstraintKernel kernel = ComputeKernel(2 * points, rows);
+// The kernel of one constraint per window over `points` points (2 unknowns each): of full
+// dimension, stored in O(n log n), and N^T N = I and J N = 0, probed with random coordinates.
+void ExpectCompactKernelOfOneRowPerWindow(const ConstraintKernel& kernel, std::size_t points,
+                                          const std::vector<ConstraintRow>& rows) {
   EXPECT_EQ(kernel.dimension(), 2 * points - rows.size());
   std::size_t stored = 0;
   for (const KernelBlock& block : kernel.blocks())
     stored += static_cast<std::size_t>(block.basis.size());
   EXPECT_LT(stored, 2 * points * kernel.dimension() / 20);
-  // N^T N = I and J N = 0, probed with random coordinates (N is 2200 x 1101).
   const MatrixXd c = MatrixXd::Random(ToIndex(kernel.dimension()), 8);
   const MatrixXd nc = kernel.Expand(c);
   EXPECT_LT((kernel.Coordinates(nc) - c).norm(), 1e-11 * c.norm());
   EXPECT_LT((DenseJacobian(2 * points, rows) * nc).norm(), 1e-11 * c.norm());
+}
+
+TEST(ConstraintKernel, LargeKernelIsStoredCompactly) {
+  // One constraint per window over m points: dim Free ~ m, yet storage O(n log n).
+  const std::size_t points = 1100;
+  const RandomSystemSpec spec{points, 2, 1, 0.0, false, false};
+  const auto rows = RandomBanded(spec, 31);
+  ExpectCompactKernelOfOneRowPerWindow(ComputeKernel(2 * points, rows), points, rows);
 }
 
 // Variable scales S: the rank is decided on J S^-1 (the reference: a dense SVD of those rows),
@@ -404,16 +409,7 @@ TEST(ConstraintKernel, LargeKernelWithVariableScalesKeepsItsBlocksCompact) {
   const auto rows = RandomBanded(spec, 31);
   std::vector<double> scales(2 * points, 1.0);
   for (std::size_t i = 0; i < points; ++i) scales[2 * i + 1] = 2.0 + std::sin(0.01 * i);
-  const ConstraintKernel kernel = ComputeKernel(2 * points, rows, {}, scales);
-  EXPECT_EQ(kernel.dimension(), 2 * points - rows.size());
-  std::size_t stored = 0;
-  for (const KernelBlock& block : kernel.blocks())
-    stored += static_cast<std::size_t>(block.basis.size());
-  EXPECT_LT(stored, 2 * points * kernel.dimension() / 20);
-  const MatrixXd c = MatrixXd::Random(ToIndex(kernel.dimension()), 8);
-  const MatrixXd nc = kernel.Expand(c);
-  EXPECT_LT((kernel.Coordinates(nc) - c).norm(), 1e-11 * c.norm());
-  EXPECT_LT((DenseJacobian(2 * points, rows) * nc).norm(), 1e-11 * c.norm());
+  ExpectCompactKernelOfOneRowPerWindow(ComputeKernel(2 * points, rows, {}, scales), points, rows);
 }
 
 TEST(ConstraintKernel, RejectsMalformedInput) {

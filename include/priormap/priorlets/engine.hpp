@@ -139,9 +139,9 @@ struct MapScan {
   std::vector<BeamRange> regions;   ///< maximal runs joined by same_region links (first > last:
                                     ///< across the seam of a closed scan)
   std::vector<BeamRange> surfaces;  ///< maximal runs not split by different_surface links
-  bool feasible = false;                   ///< the prior's constraints hold at the solution
-  double max_violation = 0.0;              ///< largest constraint residual at the solution
-  double objective = 0.0;  ///< data + prior energies - gamma |INMODEL| (smaller is better)
+  bool feasible = false;            ///< the prior's constraints hold at the solution
+  double max_violation = 0.0;       ///< largest constraint residual at the solution
+  double objective = 0.0;           ///< data + prior energies - gamma |INMODEL| (smaller is better)
   EngineStats stats;
 };
 
