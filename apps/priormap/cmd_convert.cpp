@@ -137,9 +137,15 @@ void Run(const ConvertOptions& o) {
   if (!robond && o.robond_poses)
     throw UserError(
         fmt::format("convert reads one log (two files only with --from {})", kRoboNdSonar));
+  // The output replaces its file only once written, but it would still replace the input: a log
+  // converted onto itself loses its original bytes, and with a lossy format its data.
+  RequireDistinctFiles({{"the input", o.input}, {"--out", o.out}});
+  if (o.robond_poses) RequireDistinctFiles({{"the poses file", *o.robond_poses}, {"--out", o.out}});
   const std::string& input = o.input;
   const LogFormat to = OutputLogFormat(o.to, o.out, "--out", "--to");
   CarmenReadOptions carmen;
+  carmen.min_range_name = "--min-range";
+  carmen.max_range_name = "--max-range";
   carmen.max_range = o.max_range;
   if (o.min_range) carmen.min_range = *o.min_range;
   if (o.fov_deg) carmen.fov = DegToRad(*o.fov_deg);
@@ -169,6 +175,12 @@ void Run(const ConvertOptions& o) {
       }
       case LogFormat::kCarmen:
         log = ValueOrThrow(ParseCarmenLog(text, input, carmen, &stats));
+        // JSON's writer would replace the bytes by U+FFFD, a loss no warning could undo.
+        if (to == LogFormat::kJson && stats.not_utf8)
+          throw UserError(
+              DescribeDiagnostics({*stats.not_utf8}) +
+              ": JSON holds only UTF-8; re-encode the log (e.g. iconv -f latin1 -t utf-8) or "
+              "convert to CARMEN, which keeps the bytes");
         break;
     }
     if (from != LogFormat::kCarmen && o.poses) log.pose_source = carmen.pose_source;

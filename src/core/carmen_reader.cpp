@@ -18,6 +18,7 @@
 #include <priormap/core/angles.hpp>
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/utf8.hpp>
 #include <priormap/core/world_bounds.hpp>
 
 #include "gunzip.hpp"
@@ -172,7 +173,8 @@ class FieldReader {
       return fields;
     }
     *timestamp = FiniteNumber("ipc_timestamp");
-    fields.host = std::string(Word("host"));
+    host_ = &Take("host");
+    fields.host = std::string(host_->text);
     fields.logger_timestamp = FiniteNumber("logger_timestamp");
     End();
     return fields;
@@ -191,6 +193,9 @@ class FieldReader {
     throw FieldError{};
   }
 
+  // The host field of the timestamps read, if any.
+  const Token* host() const { return host_; }
+
   int error_col() const { return error_col_; }
   const std::string& error() const { return error_; }
 
@@ -206,6 +211,7 @@ class FieldReader {
   std::string_view record_;
   int line_length_;
   std::size_t next_ = 1;  // token 0 is the record name
+  const Token* host_ = nullptr;
   int error_col_ = 0;
   std::string error_;
 };
@@ -275,6 +281,7 @@ class CarmenParser {
     }
     log_.scans.reserve(scans);
     own_max_ranges_.reserve(scans);
+    scan_lines_.reserve(scans);
     log_.odometry.reserve(odometry);
     log_.true_poses.reserve(true_poses);
     log_.params.reserve(params);
@@ -316,6 +323,7 @@ class CarmenParser {
       } else if (type == "PARAM") {
         ParseParam(tokens, line);
       }
+      if (const Token* host = fields.host()) NoteIfNotUtf8(host->text, host->col, "a host name");
     } catch (const FieldError&) {
       diagnostics_.push_back({name_, line_number, fields.error_col(), fields.error()});
       if (TooManyErrors()) {
@@ -454,14 +462,38 @@ class CarmenParser {
       value = std::string(line.substr(static_cast<std::size_t>(tokens[2].col - 1)));
       while (!value.empty() && (value.back() == '\r' || value.back() == ' ')) value.pop_back();
     }
+    NoteIfNotUtf8(tokens[1].text, tokens[1].col, "a PARAM name");
+    if (tokens.size() > 2) NoteIfNotUtf8(value, tokens[2].col, "a PARAM value");
     log_.order.push_back({Log::RecordKind::kParam, log_.params.size()});
     log_.params.emplace_back(std::string(tokens[1].text), std::move(value));
+  }
+
+  // Old logs may hold Latin-1 text. It is kept as read, and located for the writers that need
+  // UTF-8: the first one is enough to tell the user what to re-encode.
+  void NoteIfNotUtf8(std::string_view text, int col, std::string_view what) {
+    if (stats_.not_utf8) return;
+    for (std::size_t at = 0; at < text.size();) {
+      if (static_cast<unsigned char>(text[at]) < 0x80) {
+        ++at;
+        continue;
+      }
+      const std::optional<Utf8Char> c = DecodeUtf8(text, at);
+      if (c) {
+        at += c->length;
+        continue;
+      }
+      stats_.not_utf8 = Diagnostic{name_, line_number_, col + static_cast<int>(at),
+                                   fmt::format("expected UTF-8 text in {}, got byte {}", what,
+                                               QuoteForMessage(text.substr(at, 1)))};
+      return;
+    }
   }
 
   void AddScan(Scan scan, std::optional<double> own_max_range) {
     scan.sigma.assign(scan.ranges.size(), options_.sigma);
     scan.min_range = options_.min_range;
     own_max_ranges_.push_back(own_max_range);
+    scan_lines_.push_back(line_number_);
     log_.order.push_back({Log::RecordKind::kScan, log_.scans.size()});
     log_.scans.push_back(std::move(scan));
   }
@@ -485,19 +517,34 @@ class CarmenParser {
       if (!(scan.max_range > scan.min_range)) {
         // A minimum range the caller chose at or beyond the sensor's reach leaves no reading
         // that could be valid; else (a caller's max range <= 0) the scan has no known reach.
-        if (options_.min_range > 0.0)
-          return {Diagnostic{
-              name_, 0, 0,
-              fmt::format("the minimum range {} m is not below the max range {} m of scan {} "
-                          "(its record's, the detected or the given one): no reading could be "
-                          "valid",
-                          options_.min_range, scan.max_range, k)}};
+        if (options_.min_range > 0.0) return {MinRangeBeyondReach(k, sensor)};
         scan.max_range = kInf;
       }
       scan.ClassifyAll();
     }
     log_.pose_source = options_.pose_source;
     return OverlongReturns();
+  }
+
+  // At scan k's record, with the max range that applies there and where it comes from, since
+  // the user can change only the value that the message names.
+  Diagnostic MinRangeBeyondReach(std::size_t k, double sensor) const {
+    std::string source;
+    if (options_.max_range && *options_.max_range <= sensor) {
+      source = fmt::format("from {}", options_.max_range_name);
+    } else {
+      source = own_max_ranges_[k] ? "its ROBOTLASER1 record's maximum_range"
+                                  : "detected from the no-return readings of the FLASER and "
+                                    "RLASER lines";
+      if (options_.max_range)
+        source += fmt::format(" ({} {} m is longer, and can only shorten it)",
+                              options_.max_range_name, *options_.max_range);
+    }
+    return {name_, scan_lines_[k], 0,
+            fmt::format("{} {} m is not below the max range of scan {}, {} m, {}: no reading "
+                        "could be valid",
+                        options_.min_range_name, options_.min_range, k, log_.scans[k].max_range,
+                        source)};
   }
 
   // At the reading, like a position beyond the world at its coordinate.
@@ -522,6 +569,7 @@ class CarmenParser {
   CarmenReadStats& stats_;
   Log log_;
   std::vector<std::optional<double>> own_max_ranges_;
+  std::vector<int> scan_lines_;  // each scan's line, for diagnostics about the whole scan
   struct OverlongReading {
     std::size_t scan, index;
     int line, col;

@@ -20,15 +20,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-#ifndef PRIORMAP_HAVE_LIBDEFLATE
-
 Result<ByteBuffer> Copy(const std::string& text) {
   ByteBuffer bytes(text.size());
   std::memcpy(bytes.data(), text.data(), text.size());
   return bytes;
 }
 
-#else
+#ifdef PRIORMAP_HAVE_LIBDEFLATE
 
 constexpr std::size_t kMinMember = 18;  // header, empty deflate stream and trailer
 // DEFLATE inflates at most about 1032-fold.
@@ -86,17 +84,26 @@ struct FreeDecompressor {
   void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
 };
 
+// libdeflate says only that a member failed, not where nor why: zlib, reading `bytes` again on
+// this rare path, says both, in the words of ReadFileText, so that every command reports a
+// damaged file alike. Should zlib read what libdeflate refused, its bytes are the answer.
+Result<ByteBuffer> DiagnoseWithZlib(std::string_view bytes, const std::string& name) {
+  const Result<std::string> text = GunzipWithZlib(bytes, name);
+  if (!text) return text.diagnostics();
+  return Copy(text.value());
+}
+
 Result<ByteBuffer> Gunzip(std::string_view bytes, const std::string& name) {
   const std::unique_ptr<libdeflate_decompressor, FreeDecompressor> decompressor(
       libdeflate_alloc_decompressor());
   if (!decompressor) throw std::bad_alloc();
-  const Diagnostic corrupt{name, 0, 0, "corrupt or truncated gzip data"};
+  const std::string_view whole = bytes;
   const std::size_t file_size = bytes.size();
   ByteBuffer text;
   std::size_t used = 0;  // bytes of `text` inflated so far
   std::size_t room = RoomFor(bytes);
   while (StartsAMember(bytes)) {
-    if (!HeaderCrcMatches(bytes)) return corrupt;
+    if (!HeaderCrcMatches(bytes)) return DiagnoseWithZlib(whole, name);
     text = Grown(std::move(text), used, used + room);
     std::size_t in = 0, out = 0;
     const libdeflate_result result = libdeflate_gzip_decompress_ex(
@@ -104,11 +111,11 @@ Result<ByteBuffer> Gunzip(std::string_view bytes, const std::string& name) {
     if (result == LIBDEFLATE_INSUFFICIENT_SPACE) {
       // A member larger than guessed: inflate it again with more room, up to what DEFLATE can
       // give.
-      if (room > kMaxRatio * bytes.size()) return corrupt;
+      if (room > kMaxRatio * bytes.size()) return DiagnoseWithZlib(whole, name);
       room = std::max<std::size_t>(2 * room, std::size_t{1} << 16);
       continue;
     }
-    if (result != LIBDEFLATE_SUCCESS) return corrupt;
+    if (result != LIBDEFLATE_SUCCESS) return DiagnoseWithZlib(whole, name);
     used += out;
     bytes.remove_prefix(in);
     room = RoomFor(bytes);

@@ -16,10 +16,16 @@
 namespace priormap::detail {
 namespace {
 
+// Why a member could not be inflated: zlib's reason, or the end of the data inside it.
+struct Failure {
+  bool truncated = false;
+  std::string why;
+};
+
 // Inflates the gzip member at the start of `bytes` onto `text` with zlib: the number of bytes
-// the member took, or nullopt when it is corrupt or truncated (zlib's reason in `why`).
+// the member took, or nullopt when it is corrupt or truncated (`failure` says which).
 std::optional<std::size_t> InflateMember(z_stream& stream, std::string_view bytes,
-                                         std::string& text, std::string& why) {
+                                         std::string& text, Failure& failure) {
   if (inflateReset(&stream) != Z_OK) throw std::bad_alloc();
   // What the previous member left unread is this one: fed again from `bytes`.
   stream.next_in = nullptr;
@@ -43,7 +49,7 @@ std::optional<std::size_t> InflateMember(z_stream& stream, std::string_view byte
     // No progress possible: the data ends inside the member.
     const bool truncated = status == Z_BUF_ERROR && stream.avail_in == 0 && fed == bytes.size();
     if (truncated || (status != Z_OK && status != Z_BUF_ERROR)) {
-      why = truncated ? "unexpected end of file" : (stream.msg ? stream.msg : "inflate failed");
+      failure = {truncated, truncated ? "" : (stream.msg ? stream.msg : "inflate failed")};
       return std::nullopt;
     }
   }
@@ -58,10 +64,22 @@ Result<std::string> GunzipWithZlib(std::string_view bytes, const std::string& na
   std::string text;
   std::size_t at = 0;  // where the next member starts
   while (at < bytes.size() && bytes.substr(at).starts_with("\x1f\x8b")) {
-    std::string why;
-    const std::optional<std::size_t> member = InflateMember(stream, bytes.substr(at), text, why);
+    Failure failure;
+    const std::optional<std::size_t> member =
+        InflateMember(stream, bytes.substr(at), text, failure);
+    // Where, as for trailing data: a file cut short by a copy is told from one damaged.
+    if (!member && failure.truncated)
+      return Diagnostic{name, 0, 0,
+                        fmt::format("corrupt or truncated gzip data: the file ends at byte {}, "
+                                    "inside the gzip member at byte offset {}: expected the rest "
+                                    "of that member",
+                                    bytes.size(), at)};
     if (!member)
-      return Diagnostic{name, 0, 0, fmt::format("corrupt or truncated gzip data ({})", why)};
+      return Diagnostic{name, 0, 0,
+                        fmt::format("corrupt or truncated gzip data: the gzip member at byte "
+                                    "offset {} of {} is damaged ({}): expected DEFLATE data, and "
+                                    "a trailer that matches it",
+                                    at, bytes.size(), failure.why)};
     at += *member;
   }
   if (at < bytes.size()) return TrailingGzipData(name, at, bytes.size());

@@ -52,15 +52,79 @@ TEST(CarmenMalformed, ValidRobotLaserBaselineParses) {
 
 // A --min-range at or beyond the max range would leave no reading valid; before, the max range
 // was dropped instead, and every no-return reading became a wall.
+// The message once said "the max range 80 m of scan 0 (its record's, the detected or the given
+// one)": it now says which of them applies, at the scan's line, in the names the caller gives the
+// two limits (a command's options).
 TEST(CarmenMalformed, AMinimumRangeNotBelowTheMaxRangeIsRefused) {
   CarmenReadOptions options;
   options.min_range = 85.0;
+  EXPECT_THAT(ParseErrors("# a comment\n" + kRobotLaser + "\n", options),
+              ElementsAre(DiagnosticAt(kName, 2, 0,
+                                       "the minimum range 85 m is not below the max range of "
+                                       "scan 0, 80 m, its ROBOTLASER1 record's maximum_range: "
+                                       "no reading could be valid")));
+  options.min_range_name = "--min-range";
+  options.max_range_name = "--max-range";
+  options.max_range = 90.0;
   EXPECT_THAT(ParseErrors(kRobotLaser + "\n", options),
-              ElementsAre(DiagnosticAt(kName, 0, 0,
-                                       "the minimum range 85 m is not below the max "
-                                       "range 80 m of scan 0")));
+              ElementsAre(DiagnosticAt(kName, 1, 0,
+                                       "--min-range 85 m is not below the max range of scan 0, "
+                                       "80 m, its ROBOTLASER1 record's maximum_range (--max-range "
+                                       "90 m is longer, and can only shorten it)")));
+  options.max_range = 70.0;
+  options.min_range = 70.0;
+  EXPECT_THAT(ParseErrors(kRobotLaser + "\n", options),
+              ElementsAre(DiagnosticAt(kName, 1, 0,
+                                       "--min-range 70 m is not below the max range of scan 0, "
+                                       "70 m, from --max-range: no reading could be valid")));
+  options = {};
   options.min_range = 0.5;
   EXPECT_TRUE(ParseCarmenLog(kRobotLaser + "\n", kName, options).ok());
+}
+
+// FLASER lines carry no max range: the one that applies is detected from their no-return
+// readings (here 12 at 50 m: 49.5 m), which the message says, at the first scan it leaves empty.
+TEST(CarmenMalformed, AMinimumRangeNotBelowTheDetectedMaxRangeSaysItWasDetected) {
+  std::string text = "ODOM 0 0 0 0 0 0\n";
+  for (int k = 0; k < 3; ++k) text += "FLASER 5 1 50 50 50 50 0 0 0 0 0 0\n";
+  CarmenReadOptions options;
+  options.min_range = 60.0;
+  EXPECT_THAT(ParseErrors(text, options),
+              ElementsAre(DiagnosticAt(kName, 2, 0,
+                                       "the minimum range 60 m is not below the max range of "
+                                       "scan 0, 49.5 m, detected from the no-return readings of "
+                                       "the FLASER and RLASER lines: no reading could be "
+                                       "valid")));
+}
+
+// A Latin-1 PARAM value (an old log's) or host name is kept as read, and located, so that a
+// command writing JSON, which holds only UTF-8, can refuse it where it is instead of replacing
+// its bytes by U+FFFD without a word.
+TEST(CarmenMalformed, TextThatIsNotUtf8IsKeptAndLocated) {
+  const std::string text =
+      "PARAM robot_name caf\xc3\xa9\n"            // UTF-8: fine
+      "PARAM robot_place M\xfcnchen \xe9t\xe9\n"  // Latin-1
+      "ODOM 0 0 0 0 0 0 1.5 h\xf6st 1.5\n";
+  CarmenReadStats stats;
+  const Result<Log> log = ParseCarmenLog(text, kName, {}, &stats);
+  ASSERT_TRUE(log.ok()) << log.error();
+  EXPECT_EQ(log.value().params.at(1).second, "M\xfcnchen \xe9t\xe9");
+  EXPECT_EQ(log.value().odometry.at(0).carmen->host, "h\xf6st");
+  ASSERT_TRUE(stats.not_utf8.has_value());
+  EXPECT_THAT(std::vector<Diagnostic>{*stats.not_utf8},
+              ElementsAre(DiagnosticAt(kName, 2, 20,
+                                       "expected UTF-8 text in a PARAM value, got byte '\\xfc'")));
+
+  CarmenReadStats host_stats;
+  ASSERT_TRUE(ParseCarmenLog("ODOM 0 0 0 0 0 0 1.5 h\xf6st 1.5\n", kName, {}, &host_stats).ok());
+  ASSERT_TRUE(host_stats.not_utf8.has_value());
+  EXPECT_THAT(std::vector<Diagnostic>{*host_stats.not_utf8},
+              ElementsAre(DiagnosticAt(kName, 1, 23,
+                                       "expected UTF-8 text in a host name, got byte '\\xf6'")));
+
+  CarmenReadStats utf8_stats;
+  ASSERT_TRUE(ParseCarmenLog("PARAM robot_name caf\xc3\xa9\n", kName, {}, &utf8_stats).ok());
+  EXPECT_FALSE(utf8_stats.not_utf8.has_value());
 }
 
 TEST(CarmenMalformed, AByteOrderMarkIsSkippedNotTakenForARecord) {

@@ -147,6 +147,40 @@ TEST(LogReading, CorruptOrTruncatedGzipIsADiagnostic) {
   }
 }
 
+// `priormap plot` (ReadLog: libdeflate) said "corrupt or truncated gzip data" of a log that
+// `priormap convert` (ReadFileText: zlib) said was cut short: both now say the same, with where
+// the damaged member starts, and whether the file ends inside it.
+TEST(LogReading, EveryReaderSaysWhereAGzipMemberIsCutShortOrDamaged) {
+  const testing::TempDir dir;
+  const std::string gz = Gzipped(dir, CarmenText(50, 6));
+  const std::string name = (dir / "log.gz").string();
+  const auto diagnostics_of = [&](const std::string& bytes) {
+    testing::WriteAll(dir / "log.gz", bytes);
+    return std::vector<std::vector<Diagnostic>>{ReadLog(dir / "log.gz").diagnostics(),
+                                                ReadCarmenLog(dir / "log.gz").diagnostics(),
+                                                ReadFileText(dir / "log.gz").diagnostics()};
+  };
+  const std::string cut = gz + gz.substr(0, gz.size() / 2);
+  for (const std::vector<Diagnostic>& diagnostics : diagnostics_of(cut))
+    EXPECT_THAT(diagnostics,
+                ElementsAre(DiagnosticAt(
+                    name, 0, 0,
+                    fmt::format("corrupt or truncated gzip data: the file ends at byte {}, inside "
+                                "the gzip member at byte offset {}: expected the rest of that "
+                                "member",
+                                cut.size(), gz.size()))));
+  std::string bad_crc = gz + gz;
+  bad_crc[bad_crc.size() - 6] ^= 0x40;  // the second member's CRC-32
+  for (const std::vector<Diagnostic>& diagnostics : diagnostics_of(bad_crc))
+    EXPECT_THAT(diagnostics,
+                ElementsAre(DiagnosticAt(
+                    name, 0, 0,
+                    fmt::format("corrupt or truncated gzip data: the gzip member at byte offset "
+                                "{} of {} is damaged (incorrect data check): expected DEFLATE "
+                                "data, and a trailer that matches it",
+                                gz.size(), bad_crc.size()))));
+}
+
 // The CRC-32 of gzip (RFC 1952), bit by bit: a test needs only a few bytes of it.
 std::uint32_t Crc32(std::string_view bytes) {
   std::uint32_t crc = 0xffffffffu;

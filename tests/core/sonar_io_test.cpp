@@ -126,6 +126,24 @@ TEST(RoboNdSonar, ConvertsMillimetresTenthsOfDegreesAndTheNoEchoCode) {
   EXPECT_NEAR(second.pose.theta(), DegToRad(355.6 - 360.0), 1e-12);
 }
 
+// Both files with a byte order mark (a Windows editor's): the time of the first line was
+// "'\xef\xbb\xbf100'", not a number, where the laser readers skip the mark.
+TEST(RoboNdSonar, AByteOrderMarkIsSkippedAndColumnsCountFromAfterIt) {
+  const std::string bom = "\xef\xbb\xbf";
+  const std::string z = "100 5110 5110 2320 2360 5110 150 2160 1190\n";
+  const std::string p = "100 0 0 0\n";
+  const Result<Log> plain = ParseRoboNdSonar(z, "m.txt", p, "p.txt");
+  const Result<Log> marked = ParseRoboNdSonar(bom + z, "m.txt", bom + p, "p.txt");
+  ASSERT_TRUE(plain.ok()) << plain.error();
+  ASSERT_TRUE(marked.ok()) << marked.error();
+  EXPECT_EQ(marked.value().scans.at(0).ranges, plain.value().scans.at(0).ranges);
+  EXPECT_EQ(marked.value().scans.at(0).timestamp, 0.1);
+  EXPECT_THAT(
+      ParseRoboNdSonar(bom + "100 5110 x 2320 2360 5110 150 2160 1190\n", "m.txt", p, "p.txt")
+          .diagnostics(),
+      ElementsAre(testing::DiagnosticAt("m.txt", 1, 10, "got 'x'")));
+}
+
 // A shorter max range makes longer readings max-range readings; their ranges stay as read, as
 // the laser readers keep theirs.
 TEST(RoboNdSonar, ReadingsBeyondAShorterMaxRangeKeepTheirRanges) {

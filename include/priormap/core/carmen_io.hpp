@@ -32,12 +32,20 @@ struct CarmenReadOptions {
   PoseSource pose_source = PoseSource::kUnknown;
   /// Reading stops after this many diagnostics.
   int max_diagnostics = 20;
+  /// How diagnostics name min_range and max_range: a command names the options they came from
+  /// ("--min-range"), so that its user knows which value to change.
+  std::string min_range_name = "the minimum range";
+  std::string max_range_name = "the given max range";
 };
 
 struct CarmenReadStats {
   std::map<std::string, int> records;        ///< per record type, including skipped ones
   std::optional<double> detected_max_range;  ///< from DetectMaxRangeSentinel
   int comment_lines = 0;
+  /// The first text kept from the log (a PARAM's name or value, a host name) that is not UTF-8,
+  /// located at its first byte that is not ("expected UTF-8 text in ..."): CARMEN keeps the
+  /// bytes as read, but JSON holds only UTF-8, so a JSON writer would have to replace them.
+  std::optional<Diagnostic> not_utf8;
 };
 
 /// Reads a CARMEN log file. `stats` (optional) receives what was found.
