@@ -78,7 +78,8 @@ void AddAlgorithmOptions(CLI::App* cmd, slam::SlamOptions& o) {
   cmd->add_flag_callback(
          "--keep-same-walls", [&o] { o.merge_same_walls = false; },
          "Do not merge prior segments that are the same wall (collinear and overlapping within "
-         "their std, as a wall two footprints share)")
+         "their std, as a wall two footprints share, or collinear parts of one wall that a "
+         "footprint splits at a vertex)")
       ->group(group);
   cmd->add_option("--same-wall-chi2", o.same_wall_chi2,
                   "Two prior segments are the same wall below this (chi2, 2 dof, of each one's "
@@ -419,8 +420,8 @@ void PrintRun(const slam::SlamResult& r, double seconds) {
     std::size_t merged = 0;
     for (const std::vector<int>& group : r.same_walls) merged += group.size();
     fmt::print(
-        "{} of the prior map filtered as {} (the same wall more than once; each named by "
-        "its first segment)\n",
+        "{} of the prior map filtered as {} (the same wall more than once, or one wall in "
+        "parts; each named by its first segment)\n",
         Plural(merged, "segment"), Plural(r.same_walls.size(), "wall"));
   }
   fmt::print("{} applied ({} flagged), {}, {} rejected updates\n",

@@ -237,7 +237,19 @@ void CheckWritable(const PriorMap& map) {
     PRIORMAP_CHECK(s.a.allFinite() && s.b.allFinite() && s.a != s.b,
                    fmt::format("segment ({}, {})-({}, {})", s.a.x(), s.a.y(), s.b.x(), s.b.y()));
     PRIORMAP_CHECK(IsValidPriorStd(s.std), fmt::format("segment std {}", s.std));
+    for (int other : s.shared_with) {
+      PRIORMAP_CHECK(0 <= other && other < static_cast<int>(map.buildings.size()),
+                     fmt::format("segment shared with building {} (the map has {})", other,
+                                 map.buildings.size()));
+    }
   }
+}
+
+// Whether `segment` is a wall of `building`: its own, or one it shares (a merged map's).
+bool IsWallOf(const PriorSegment& segment, int building) {
+  return segment.building == building ||
+         std::find(segment.shared_with.begin(), segment.shared_with.end(), building) !=
+             segment.shared_with.end();
 }
 
 OrderedJson PositionToJson(const Vec2& p) {
@@ -245,13 +257,15 @@ OrderedJson PositionToJson(const Vec2& p) {
 }
 
 // One building: its segments as lines, joining each segment to the previous one when it starts
-// exactly where that one ends, and the std of each.
+// exactly where that one ends, and the std of each. A wall it shares with others is written in
+// each of their features too: GeoJSON holds a shared wall once per footprint, so written once, the
+// other footprints would read back open.
 OrderedJson FeatureToJson(const PriorMap& map, int building) {
   OrderedJson lines = OrderedJson::array();
   std::vector<double> stds;
   const PriorSegment* previous = nullptr;
   for (const PriorSegment& s : map.segments) {
-    if (s.building != building) continue;
+    if (!IsWallOf(s, building)) continue;
     if (previous == nullptr || !SameBits(previous->b, s.a))
       lines.push_back(OrderedJson::array({PositionToJson(s.a)}));
     lines.back().push_back(PositionToJson(s.b));

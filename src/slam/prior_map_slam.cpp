@@ -356,6 +356,7 @@ struct PriorMapSlam::Impl {
     record.time = time;
     if (relation.building >= 0) {
       record.building = relation.building;
+      record.buildings = relation.buildings;
       for (int wall : relation.segments) record.walls.push_back(PriorSegmentOf(wall));
     }
     if (truth) {

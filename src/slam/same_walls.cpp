@@ -108,6 +108,13 @@ PriorSegment MergedWall(const PriorMap& map, const std::vector<int>& group) {
 
 }  // namespace
 
+bool ContinuesWall(const PriorSegment& a, const PriorSegment& b, double gate_chi2) {
+  if (!((a.b - a.a).squaredNorm() > 0.0) || !((b.b - b.a).squaredNorm() > 0.0)) return false;
+  if (a.building != b.building || a.shared_with != b.shared_with) return false;
+  const bool vertex = a.b == b.a || a.a == b.b || a.a == b.a || a.b == b.b;
+  return vertex && EndpointsOffLine(a, b) <= gate_chi2 && EndpointsOffLine(b, a) <= gate_chi2;
+}
+
 bool IsSameWall(const PriorSegment& a, const PriorSegment& b, double gate_chi2) {
   if (!((a.b - a.a).squaredNorm() > 0.0) || !((b.b - b.a).squaredNorm() > 0.0)) return false;
   return OverlapFraction(a, b) >= 0.5 && EndpointsOffLine(a, b) <= gate_chi2 &&
@@ -136,7 +143,8 @@ SameWalls MergeSameWalls(const PriorMap& map, double gate_chi2) {
     for (std::size_t j = i + 1; j < boxes.size() && boxes[j].x0 <= boxes[i].x1; ++j) {
       if (boxes[j].y0 > boxes[i].y1 || boxes[i].y0 > boxes[j].y1) continue;
       const int a = boxes[i].segment, b = boxes[j].segment;
-      if (IsSameWall(map.segments[a], map.segments[b], gate_chi2)) groups.Join(a, b);
+      const PriorSegment &sa = map.segments[a], &sb = map.segments[b];
+      if (IsSameWall(sa, sb, gate_chi2) || ContinuesWall(sa, sb, gate_chi2)) groups.Join(a, b);
     }
   }
   SameWalls out;

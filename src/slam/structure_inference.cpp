@@ -191,17 +191,36 @@ void StructureInference::AcceptBuildingRelations(const std::vector<Pair>& member
                    [](const StructureMarginal* a, const StructureMarginal* b) {
                      return a->probability > b->probability;
                    });
-  for (const StructureMarginal* marginal : candidates) {
-    const int landmark = marginal->point;
-    if (std::any_of(accepted.begin(), accepted.end(),
+  std::vector<int> decided;  // landmarks whose likeliest buildings have been looked at
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const StructureMarginal& best = *candidates[k];
+    const int landmark = best.point;
+    const auto is_landmark = [&](int other) { return other == landmark; };
+    if (std::any_of(decided.begin(), decided.end(), is_landmark) ||
+        std::any_of(accepted.begin(), accepted.end(),
                     [&](const Relation& r) { return r.landmark == landmark; })) {
       continue;
     }
+    decided.push_back(landmark);
+    // An exact tie is symmetric in the buildings, and so is its outcome. With the same candidate
+    // walls (walls the tied buildings all share) the relation is one mixture, to all of them;
+    // with different walls the data do not say which building, and the point waits.
+    std::vector<int> tied{best.structure};
+    bool same_walls = true;
+    for (std::size_t m = k + 1; m < candidates.size(); ++m) {
+      const StructureMarginal& other = *candidates[m];
+      if (other.point != landmark || other.probability != best.probability) continue;
+      tied.push_back(other.structure);
+      same_walls = same_walls && other.pairs == best.pairs;
+    }
+    if (!same_walls) continue;
+    std::sort(tied.begin(), tied.end());
     Relation relation{.landmark = landmark,
                       .segments = {},
-                      .building = marginal->structure,
-                      .weights = marginal->weights};
-    for (int j : marginal->pairs) relation.segments.push_back(members[j].segment);
+                      .building = tied.front(),
+                      .weights = best.weights,
+                      .buildings = tied};
+    for (int j : best.pairs) relation.segments.push_back(members[j].segment);
     accepted.push_back(std::move(relation));
   }
 }
@@ -283,10 +302,11 @@ std::vector<Relation> StructureInference::Infer(const JointState& state, const R
     }
     break;
   }
-  // Single-segment relations first (one update), each kind in (landmark, segments) order.
+  // Single-segment relations first (one update), each kind in (landmark, segments) order: not
+  // by building, whose index is the map's order, as the mixtures are applied one by one.
   std::sort(accepted.begin(), accepted.end(), [](const Relation& a, const Relation& b) {
-    return std::tie(a.building, a.landmark, a.segments) <
-           std::tie(b.building, b.landmark, b.segments);
+    const bool a_up = a.building >= 0, b_up = b.building >= 0;
+    return std::tie(a_up, a.landmark, a.segments) < std::tie(b_up, b.landmark, b.segments);
   });
   return accepted;
 }

@@ -19,8 +19,12 @@ namespace priormap::slam::detail {
 struct Relation {
   int landmark = -1;  // state id
   std::vector<int> segments;
-  int building = -1;            // -1: a relation to segments[0] alone
+  int building = -1;            // -1: a relation to segments[0] alone; else buildings.front()
   std::vector<double> weights;  // building level: the mixture's prior weights
+  // Building level: every building it is a relation to, ascending. Several when buildings tie
+  // with the same candidate walls (walls they all share): the mixture is then one and the same,
+  // and naming the first alone would let the map's order of buildings decide.
+  std::vector<int> buildings{};
 };
 
 /// What the filter remembers about relations and segments.
@@ -69,7 +73,8 @@ class StructureInference {
     int segment;
   };
   // The building-level relations of a cluster: points not related to a single segment whose
-  // probability of lying on some wall of one building exceeds p_accept.
+  // probability of lying on some wall of one building exceeds p_accept. Decided the same
+  // whatever the order of the buildings: exact ties are not broken by index.
   void AcceptBuildingRelations(const std::vector<Pair>& members,
                                const HypothesisPosterior& posterior,
                                std::vector<Relation>& accepted) const;

@@ -36,7 +36,10 @@ std::string OptionalBool(const std::optional<bool>& value) {
 }
 
 std::string BuildingCell(const RelationRecord& r) {
-  return r.building >= 0 ? std::to_string(r.building) : std::string();
+  // Tied buildings (RelationRecord::buildings) joined as the walls are.
+  if (r.building < 0) return std::string();
+  return r.buildings.empty() ? std::to_string(r.building)
+                             : fmt::format("{}", fmt::join(r.buildings, ";"));
 }
 
 OrderedJson Vec3ToJson(const Vec3& v) {

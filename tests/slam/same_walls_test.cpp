@@ -64,6 +64,67 @@ TEST(SameWalls, WallsThatContinueEachOtherAreNotOne) {
   EXPECT_FALSE(IsSameWall(Wall(0, 0, 20, 0), Wall(0, 0, 0, 0)));    // no length
 }
 
+// A footprint that draws one straight wall with an extra vertex: one wall. A neighbour's wall
+// that continues it, a gap, or a bend beyond the walls' error: not.
+TEST(SameWalls, AWallAFootprintSplitsAtAVertexIsOneWall) {
+  EXPECT_TRUE(ContinuesWall(Wall(0, 0, 20, 0), Wall(20, 0, 35, 0)));
+  EXPECT_TRUE(ContinuesWall(Wall(20, 0, 35, 0), Wall(0, 0, 20, 0)));    // either order
+  EXPECT_TRUE(ContinuesWall(Wall(0, 0, 20, 0), Wall(35, 0.2, 20, 0)));  // drawn the other way
+  EXPECT_FALSE(ContinuesWall(Wall(0, 0, 20, 0), Wall(20, 0, 35, 0, 1.0, 1)));  // the next house
+  EXPECT_FALSE(ContinuesWall(Wall(0, 0, 20, 0), Wall(20.5, 0, 35, 0)));        // no shared vertex
+  EXPECT_FALSE(ContinuesWall(Wall(0, 0, 20, 0), Wall(20, 0, 30, 5)));          // a 27 degree bend
+  EXPECT_FALSE(ContinuesWall(Wall(0, 0, 20, 0), Wall(20, 0, 20, 10)));         // a corner
+  const SameWalls walls =
+      MergeSameWalls(PriorMap{{Wall(0, 0, 20, 0), Wall(20, 0, 35, 0), Wall(35, 0, 35, 10)}, {"b"}});
+  ASSERT_EQ(walls.map.segments.size(), 2u);
+  EXPECT_THAT(walls.members[0], ElementsAre(0, 1));
+  EXPECT_TRUE(walls.map.segments[0].a.isApprox(Vec2(0, 0), 1e-12));
+  EXPECT_TRUE(walls.map.segments[0].b.isApprox(Vec2(35, 0), 1e-12));
+  EXPECT_DOUBLE_EQ(walls.map.segments[0].std, 1.0);
+}
+
+// Beacons on the wall x = 10, and the prior map's segment for it 0.4 m off, drawn whole or with a
+// vertex at y = 0. Which beacons are related to it.
+std::set<int> RelatedToAWall(bool split) {
+  const std::vector<Vec2> beacons{
+      {10.0, -6.0}, {10.0, -3.0}, {10.0, 0.3}, {10.0, 3.0}, {10.0, 6.0}};
+  PriorMap map;
+  map.buildings = {"b"};
+  if (split) {
+    map.segments = {Wall(10.4, -10, 10.4, 0, 0.5), Wall(10.4, 0, 10.4, 10, 0.5)};
+  } else {
+    map.segments = {Wall(10.4, -10, 10.4, 10, 0.5)};
+  }
+  MotionNoise motion;
+  motion.speed_std = 1e-3;
+  motion.steer_std = 1e-3;
+  const SensorNoise sensor;
+  PriorMapSlam slam(Se2(), 0.0, motion, sensor, &map, SlamOptions{});
+  Rng rng(6);
+  for (int f = 1; f <= 30; ++f) {
+    slam.Predict({0.2 * f, 0.2, BicycleControl{0.0, 0.0}});
+    ObservationFrame frame;
+    frame.time = 0.2 * f;
+    for (std::size_t i = 0; i < beacons.size(); ++i) {
+      const Vec2 z = ObserveRangeBearing(Se2(), beacons[i]);
+      frame.observations.push_back({static_cast<int>(i), z.x() + rng.Normal(0.0, sensor.range_std),
+                                    WrapAngle(z.y() + rng.Normal(0.0, sensor.bearing_std))});
+    }
+    (void)slam.Observe(frame);
+  }
+  std::set<int> related;
+  for (const RelationRecord& r : slam.Finish().relations) related.insert(r.landmark);
+  return related;
+}
+
+// Drawn with a vertex at y = 0, the beacon next to it was gated with both parts, and its cluster
+// (every beacon on the wall) never reached p_accept: no beacon was related to the wall at all.
+TEST(SameWalls, BeaconsOnAWallSplitAtAVertexAreRelatedAsOnTheWholeWall) {
+  const std::set<int> whole = RelatedToAWall(false);
+  EXPECT_EQ(whole, (std::set<int>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(RelatedToAWall(true), whole);
+}
+
 // Two adjacent footprints (squares) that share the wall x = 10, as GeoJSON gives them: 8
 // segments, 7 walls.
 PriorMap TwoAdjacentBuildings() {

@@ -285,6 +285,13 @@ TEST(SlamRunIo, RelationsCsvLeavesTheTruthEmptyWhenUnknown) {
                           "3,7,0.1,0,,,,,", "5,2,0.2,1,0.3,0,1,,", "3,4,0.3,0,,1,0,1,4;5"));
 }
 
+// A relation to buildings that tie with the same walls names each of them, as it names its walls.
+TEST(SlamRunIo, RelationsCsvNamesEveryBuildingOfATie) {
+  SlamResult result = MakeTrace(0.0).result;
+  result.relations[2].buildings = {1, 3};
+  EXPECT_THAT(Lines(SlamRelationsCsv(result)).back(), "3,4,0.3,0,,1,0,1;3,4;5");
+}
+
 TEST(SlamRunIo, WriteSlamRunOutputsCreatesTheDirectory) {
   const TempDir dir;
   const fs::path out = dir / "a" / "b";

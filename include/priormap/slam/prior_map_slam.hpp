@@ -115,6 +115,10 @@ struct RelationRecord {
   bool spurious_segment = false;  ///< with RelationTruth
   int building = -1;       ///< a relation to some wall of this building (eq. 3); -1: to `segment`
   std::vector<int> walls;  ///< building level: the candidate segments
+  /// Building level: every building it relates the landmark to, ascending; `building` is the
+  /// first. Several when buildings tie exactly with the same candidate walls (walls they share):
+  /// the relation is to each, not to the one the map happens to list first.
+  std::vector<int> buildings{};
 };
 
 struct FrameRecord {

@@ -14,7 +14,11 @@
 ///    points' projections t_1, t_2), and
 ///  - they overlap along it by at least half the shorter one: walls that continue each other
 ///    (the next building of a straight street front, a wall split by a vertex) are not one.
-/// Groups are closed transitively.
+/// Groups are closed transitively. A wall that one footprint splits at a vertex (a straight
+/// facade drawn with an extra vertex, where a neighbour's wall meets it) is one wall as well
+/// (ContinuesWall): its parts meet at that vertex, so a point near it is gated with both and its
+/// probability splits between them as between copies; in a cluster, that kept every point on the
+/// wall from being related to it.
 ///
 /// The gate (kSameWallChi2 = 0.5) is far tighter than a 99 % test, on purpose. The std is a
 /// map's error against the world, and distinct walls often stand closer than 3 std: with 1 m,
@@ -58,6 +62,13 @@ struct SameWalls {
 /// are.
 [[nodiscard]] bool IsSameWall(const PriorSegment& a, const PriorSegment& b,
                               double gate_chi2 = kSameWallChi2);
+
+/// Whether `b` continues `a` at a vertex they share (bit for bit, as consecutive positions of one
+/// GeoJSON line or ring do) along one line, within the test above, and both are walls of the same
+/// buildings (building and shared_with): one wall that the footprint split. Walls of different
+/// buildings that continue each other (the next house of a street front) are not joined.
+[[nodiscard]] bool ContinuesWall(const PriorSegment& a, const PriorSegment& b,
+                                 double gate_chi2 = kSameWallChi2);
 
 /// The map's walls, each group of segments that are the same wall merged into one. O(n log n +
 /// the pairs whose bounding boxes, grown by 3 std, meet).

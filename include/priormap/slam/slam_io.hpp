@@ -88,8 +88,9 @@ struct Odometry {
 /// walls need not coincide) with properties {name, std}, or {name, segment_std} when its
 /// segments' std differ. Every segment must belong to a building; segments are written grouped
 /// by building, so a map whose buildings' segments are interleaved reads back reordered. A
-/// segment is written in its `building`'s feature only: `shared_with` (a merged map's) is not
-/// written, as GeoJSON holds a shared wall once per footprint.
+/// segment shared with other buildings (`shared_with`, a merged map's) is written in the feature
+/// of each, as GeoJSON holds a shared wall once per footprint: read back, it is one segment per
+/// building again, and MergeSameWalls makes it the one shared wall it was.
 [[nodiscard]] std::string FormatPriorMapGeoJson(const PriorMap& map);
 
 /// File wrappers (plain or gzip text); writers are atomic and throw IoError.
