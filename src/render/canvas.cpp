@@ -63,6 +63,10 @@ class TextMeasurer {
 }  // namespace
 
 void CheckFigureSize(double width, double height) {
+  PRIORMAP_CHECK(std::isfinite(width) && std::isfinite(height) && width > 0.0 && height > 0.0,
+                 fmt::format("a figure's width and height must be positive, finite numbers of "
+                             "pixels (got {} x {} px)",
+                             width, height));
   PRIORMAP_CHECK(
       FigureSizeFits(width, height),
       fmt::format("a figure of {:.0f} x {:.0f} px is too large to draw: figures are at "
@@ -81,6 +85,21 @@ void CheckDashes(std::span<const double> dash_px) {
                  fmt::format("a line's dash lengths must be finite and not negative, and not all 0 "
                              "(got [{}] px; empty for a solid line)",
                              fmt::join(dash_px, ", ")));
+}
+
+void CheckPixels(double px, std::string_view what) {
+  PRIORMAP_CHECK(
+      std::isfinite(px) && px >= 0.0,
+      fmt::format("{} must be a finite number of pixels, at least 0 (got {})", what, px));
+}
+
+void CheckColor(const Color& color, std::string_view what) {
+  PRIORMAP_CHECK(
+      std::isfinite(color.r) && std::isfinite(color.g) && std::isfinite(color.b) &&
+          std::isfinite(color.a),
+      fmt::format("{} must have a finite r, g, b and a (got {}, {}, {}, {}; finite values "
+                  "beyond [0, 1] count as the end they pass)",
+                  what, color.r, color.g, color.b, color.a));
 }
 
 // Whole pixels: a PNG has them, and an SVG or PDF of the same figure should be the same size.

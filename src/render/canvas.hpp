@@ -44,8 +44,19 @@ class Canvas {
   std::unique_ptr<cairo_t, ContextDeleter> cr_;
 };
 
-/// Throws ContractError naming the size and the limits unless FigureSizeFits(width, height).
+/// Throws ContractError naming the size and the limits unless FigureSizeFits(width, height); a
+/// size that is not a positive number of pixels (NaN, negative) is named as such, not as too large.
 void CheckFigureSize(double width, double height);
+
+/// Throws ContractError naming `what` (a caller's field, "a line's width_px") and the value unless
+/// `px` is a finite number of pixels, at least 0. Cairo takes NaN and infinite widths and radii,
+/// and draws nothing, or spends minutes drawing a disc of 1e300 pixels.
+void CheckPixels(double px, std::string_view what);
+
+/// Throws ContractError naming `what` ("a point's color") and the colour unless its r, g, b and a
+/// are finite. Cairo clamps finite values to [0, 1], but turns NaN into whatever the conversion
+/// to an integer gives (0: black, or nothing at all for NaN alpha).
+void CheckColor(const Color& color, std::string_view what);
 
 /// Throws ContractError naming the pattern unless Cairo can draw the dash pattern `dash_px`:
 /// empty (solid), or lengths that are finite and not negative, not all 0. Cairo refuses the

@@ -58,6 +58,17 @@ struct Margins {
   double left, right, top, bottom;
 };
 
+// A disc this large covers the whole figure from any centre Drawable admits; Cairo spends minutes
+// on one of 1e300 pixels.
+constexpr double kLargestRadiusPx = 2 * kFarOutsidePx;
+
+// Refuses, where the style is given, a style Cairo would not draw as asked.
+void CheckLineStyle(const LineStyle& style) {
+  detail::CheckDashes(style.dash_px);
+  detail::CheckPixels(style.width_px, "a line style's width_px");
+  detail::CheckColor(style.color, "a line style's color");
+}
+
 // The stroke of `style`: its colour, width and dashes.
 void SetLineStyle(cairo_t* cr, const LineStyle& style) {
   detail::SetColor(cr, style.color);
@@ -403,9 +414,18 @@ struct Figure::Impl {
 };
 
 Figure::Figure(const Box2& world, FigureOptions options) : impl_(std::make_unique<Impl>()) {
-  PRIORMAP_CHECK(!world.isEmpty() && world.min().allFinite() && world.max().allFinite(),
-                 "a figure needs a non-empty, finite world box");
+  PRIORMAP_CHECK(
+      !world.isEmpty() && world.min().allFinite() && world.max().allFinite(),
+      fmt::format("a figure needs a non-empty, finite world box (got [{}, {}] x [{}, {}])",
+                  world.min().x(), world.max().x(), world.min().y(), world.max().y()));
   PRIORMAP_CHECK(std::isfinite(options.padding_m), "a figure's padding must be finite");
+  // Sizes below the margins grow to leave a plot; a negative one is a caller's mistake.
+  PRIORMAP_CHECK(
+      options.width_px >= 0,
+      fmt::format("a figure's width_px must not be negative (got {})", options.width_px));
+  PRIORMAP_CHECK(
+      options.max_height_px >= 0,
+      fmt::format("a figure's max_height_px must not be negative (got {})", options.max_height_px));
   Impl& f = *impl_;
   f.options = std::move(options);
   const Vec2 pad = Vec2::Constant(std::max(f.options.padding_m, 1e-6));
@@ -467,6 +487,9 @@ Vec2 Figure::ToDevice(const Vec2& world) const {
 }
 
 void Figure::Points(std::span<const Vec2> points, const Color& color, double radius_px) {
+  detail::CheckPixels(radius_px, "a point's radius_px");
+  detail::CheckColor(color, "a point's color");
+  radius_px = std::min(radius_px, kLargestRadiusPx);
   if (points.size() > kMaxVectorPoints && impl_->PointsAsMask(points, color, radius_px)) return;
   cairo_t* c = impl_->cr();
   detail::SetColor(c, color);
@@ -480,7 +503,7 @@ void Figure::Points(std::span<const Vec2> points, const Color& color, double rad
 }
 
 void Figure::Line(const Vec2& a, const Vec2& b, const LineStyle& style) {
-  detail::CheckDashes(style.dash_px);  // here, whether or not the line is seen
+  CheckLineStyle(style);  // here, whether or not the line is seen
   // Clipped first to what is shown: Cairo's fixed-point coordinates wrap far outside the figure,
   // which turned a long ray round.
   if (!a.allFinite() || !b.allFinite()) return;
@@ -492,7 +515,7 @@ void Figure::Line(const Vec2& a, const Vec2& b, const LineStyle& style) {
 
 void Figure::Arc(const Vec2& center, double radius, double from, double to,
                  const LineStyle& style) {
-  detail::CheckDashes(style.dash_px);
+  CheckLineStyle(style);
   // Cairo asserts, and aborts the program, on a NaN angle.
   if (!center.allFinite() || !std::isfinite(radius) || !std::isfinite(from) || !std::isfinite(to))
     return;
@@ -521,12 +544,13 @@ void Figure::Arc(const Vec2& center, double radius, double from, double to,
 }
 
 void Figure::Polyline(std::span<const Vec2> points, bool closed, const LineStyle& style) {
-  detail::CheckDashes(style.dash_px);
+  CheckLineStyle(style);
   impl_->StrokeClipped(points, closed, style);
 }
 
 void Figure::FilledPolygon(const Polygon& polygon, const Color& fill, const LineStyle& stroke) {
-  detail::CheckDashes(stroke.dash_px);
+  CheckLineStyle(stroke);
+  detail::CheckColor(fill, "a polygon's fill");
   const std::vector<Vec2>& vertices = polygon.vertices;
   // A vertex that is not finite leaves no shape to fill (Cairo drew one to some other point).
   if (vertices.empty() ||
@@ -552,7 +576,7 @@ void Figure::FilledPolygon(const Polygon& polygon, const Color& fill, const Line
 }
 
 void Figure::CircleOutline(const Circle& circle, const LineStyle& style) {
-  detail::CheckDashes(style.dash_px);
+  CheckLineStyle(style);
   if (!circle.center.allFinite() || !std::isfinite(circle.radius)) return;
   const Vec2 d = impl_->ToDevice(circle.center);
   if (!impl_->CairoCircle(d, circle.radius * impl_->scale)) {
@@ -568,6 +592,7 @@ void Figure::CircleOutline(const Circle& circle, const LineStyle& style) {
 }
 
 void Figure::FilledCircle(const Circle& circle, const Color& fill) {
+  detail::CheckColor(fill, "a circle's fill");
   if (!circle.center.allFinite() || !std::isfinite(circle.radius)) return;
   const Vec2 d = impl_->ToDevice(circle.center);
   cairo_t* c = impl_->cr();
@@ -601,7 +626,7 @@ void Figure::CovarianceEllipse(const Vec2& mean, const Mat2& covariance, double 
 void Figure::Ticks(std::span<const Vec2> points, std::span<const double> angles, double length_px,
                    const LineStyle& style) {
   PRIORMAP_CHECK(points.size() == angles.size(), "one angle per tick");
-  detail::CheckDashes(style.dash_px);
+  CheckLineStyle(style);
   cairo_t* c = impl_->cr();
   cairo_new_path(c);
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -618,6 +643,7 @@ void Figure::Ticks(std::span<const Vec2> points, std::span<const double> angles,
 }
 
 void Figure::PoseMarker(const Se2& pose, const Color& color, double size_px) {
+  detail::CheckColor(color, "a pose marker's color");
   cairo_t* c = impl_->cr();
   const Vec2 d = impl_->ToDevice(pose.translation());
   if (!Impl::Drawable(d) || !std::isfinite(pose.theta()) || !(std::abs(size_px) < kFarOutsidePx))
@@ -643,7 +669,12 @@ void Figure::PoseMarker(const Se2& pose, const Color& color, double size_px) {
 void Figure::Text(const Vec2& position, const std::string& text, double size_px,
                   const Color& color) {
   // Cairo refuses a NaN size, and then draws nothing more of the figure.
-  PRIORMAP_CHECK(std::isfinite(size_px) && size_px >= 0.0, "text needs a finite size, at least 0");
+  // Freetype fails beyond some 30,000 px (only when the figure is saved), larger than any figure.
+  PRIORMAP_CHECK(
+      std::isfinite(size_px) && size_px >= 0.0 && size_px <= kMaxFigureSidePx,
+      fmt::format("text's size_px must be a finite number of pixels from 0 to {} (got {})",
+                  kMaxFigureSidePx, size_px));
+  detail::CheckColor(color, "text's color");
   const Vec2 d = impl_->ToDevice(position);
   if (!Impl::Drawable(d)) return;  // NaN was drawn at some point
   detail::SetColor(impl_->cr(), color);
@@ -652,9 +683,11 @@ void Figure::Text(const Vec2& position, const std::string& text, double size_px,
 
 void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap colormap,
                      double vmin, double vmax, const std::string& label) {
-  PRIORMAP_CHECK(values.rows() > 0 && values.cols() > 0, "empty heat map");
+  PRIORMAP_CHECK(
+      values.rows() > 0 && values.cols() > 0,
+      fmt::format("a heat map needs cells (got {} x {} values)", values.rows(), values.cols()));
   PRIORMAP_CHECK(std::isfinite(vmin) && std::isfinite(vmax) && vmax > vmin,
-                 "heat map needs finite vmin < vmax");
+                 fmt::format("a heat map needs finite vmin < vmax (got {} and {})", vmin, vmax));
   // Else Cairo refuses the image's scale, and then draws nothing more of the figure.
   PRIORMAP_CHECK(extent.min().allFinite() && extent.max().allFinite() &&
                      (extent.max() - extent.min()).minCoeff() > 0.0,
@@ -671,6 +704,7 @@ void Figure::HeatMap(const Eigen::MatrixXd& values, const Box2& extent, Colormap
 }
 
 void Figure::AddLegend(const std::string& label, const Color& color) {
+  detail::CheckColor(color, "a legend entry's color");  // here, not when saving
   impl_->legend.emplace_back(label, color);
 }
 

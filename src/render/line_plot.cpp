@@ -2,6 +2,8 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
+
 #include <priormap/core/check.hpp>
 #include <priormap/core/types.hpp>
 #include <priormap/render/line_plot.hpp>
@@ -25,6 +27,9 @@ constexpr double kRight = 20;
 constexpr double kEdgeGap = 2;
 // A plot is at least this wide, the figure grown if need be.
 constexpr double kMinPlotWidth = 50;
+// A marker this large covers the whole plot from any point drawn (within a plot of it); Cairo
+// spends minutes on a disc of 1e300 pixels.
+constexpr double kLargestMarkerPx = 1e6;
 
 std::pair<double, double> DataRange(const std::vector<Series>& series, bool use_x,
                                     const std::vector<std::pair<double, Color>>& extra) {
@@ -63,6 +68,7 @@ std::pair<double, double> DataRange(const std::vector<Series>& series, bool use_
 }  // namespace
 
 void LinePlot::AddHorizontalLine(double y, const Color& color, std::string label) {
+  detail::CheckColor(color, "a horizontal line's color");
   Series s;
   s.label = std::move(label);
   s.color = color;
@@ -73,10 +79,19 @@ void LinePlot::AddHorizontalLine(double y, const Color& color, std::string label
 
 void LinePlot::Add(Series series) {
   detail::CheckDashes(series.dash_px);
+  detail::CheckPixels(series.width_px, "a series' width_px");
+  if (series.color) detail::CheckColor(*series.color, "a series' color");
   series_.push_back(std::move(series));
 }
 
 LinePlot::LinePlot(LinePlotOptions options) : options_(std::move(options)) {
+  // Sizes below the least grow to it; a negative one is a caller's mistake.
+  PRIORMAP_CHECK(
+      options_.width_px >= 0,
+      fmt::format("a line plot's width_px must not be negative (got {})", options_.width_px));
+  PRIORMAP_CHECK(
+      options_.height_px >= 0,
+      fmt::format("a line plot's height_px must not be negative (got {})", options_.height_px));
   detail::CheckFigureSize(std::max<double>(options_.width_px, kMinWidth),
                           std::max<double>(options_.height_px, kMinHeight));
 }
@@ -96,7 +111,9 @@ void LinePlot::Save(const std::filesystem::path& path) const {
                y_hi = y_range.second;
   PRIORMAP_CHECK(std::isfinite(x_lo) && std::isfinite(x_hi) && std::isfinite(y_lo) &&
                      std::isfinite(y_hi) && x_lo < x_hi && y_lo < y_hi,
-                 "plot ranges must be finite and not empty");
+                 fmt::format("a line plot's ranges must be finite and not empty (got x [{}, {}], "
+                             "y [{}, {}])",
+                             x_lo, x_hi, y_lo, y_hi));
 
   // The layout: margins that hold the tick labels, and ticks no closer than their labels need.
   double width = std::max<double>(options_.width_px, kMinWidth);
@@ -181,7 +198,7 @@ void LinePlot::Save(const std::filesystem::path& path) const {
         if (!shown.contains(a)) continue;  // also leaves out NaN
         const Vec2 d = to_device(a);
         cairo_new_sub_path(c);
-        cairo_arc(c, d.x(), d.y(), std::max(1.5, s.width_px), 0, 2 * M_PI);
+        cairo_arc(c, d.x(), d.y(), std::clamp(s.width_px, 1.5, kLargestMarkerPx), 0, 2 * M_PI);
       }
       cairo_fill(c);
     } else {

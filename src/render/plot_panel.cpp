@@ -220,6 +220,9 @@ void Panel::Clip() const {
 
 void Panel::Polyline(std::span<const Vec2> points, const Color& color, double width_px,
                      std::span<const double> dash_px) const {
+  // Cairo refuses such dashes and then draws nothing more of the figure, with no word until saved.
+  CheckDashes(dash_px);
+  CheckPixels(width_px, "a panel line's width_px");
   cairo_save(cr_);
   Clip();
   cairo_new_path(cr_);
@@ -339,6 +342,11 @@ void Panel::ColorBar(Colormap colormap, double vmin, double vmax, const std::str
 
 void Panel::LegendRow(const std::vector<LegendEntry>& entries) const {
   constexpr double kSwatch = 24.0, kGap = 5.0, kSpacing = 16.0, kRowHeight = 16.0;
+  for (const LegendEntry& e : entries) {
+    if (e.marker != Marker::kLine) continue;
+    CheckDashes(e.dash_px);
+    CheckPixels(e.width_px, "a legend line's width_px");
+  }
   cairo_t* c = cr_;
   cairo_save(c);
   cairo_select_font_face(c, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);

@@ -59,7 +59,8 @@ class Panel {
   void DrawNote(const std::string& note) const;
 
   // Data, clipped to the plot area. Points with a non-finite coordinate are skipped (and break
-  // polylines); lines to points far beyond the plot are drawn to where they leave it.
+  // polylines); lines to points far beyond the plot are drawn to where they leave it. Lines throw
+  // ContractError for dashes CheckDashes refuses, or a width CheckPixels refuses.
   void Polyline(std::span<const Vec2> points, const Color& color, double width_px,
                 std::span<const double> dash_px = {}) const;
   void Dots(std::span<const Vec2> points, const Color& color, double radius_px) const;
@@ -73,7 +74,8 @@ class Panel {
 
   /// A colour bar right of the plot (room from right_margin_px). Precondition: vmin < vmax.
   void ColorBar(Colormap colormap, double vmin, double vmax, const std::string& label) const;
-  /// One row of entries under the plot (legend_row).
+  /// One row of entries under the plot (legend_row). Throws ContractError, before drawing, for a
+  /// kLine entry's dashes or width as Polyline does.
   void LegendRow(const std::vector<LegendEntry>& entries) const;
 
  private:

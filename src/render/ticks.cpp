@@ -4,12 +4,19 @@
 #include <fmt/format.h>
 
 #include <priormap/core/check.hpp>
+#include <priormap/render/figure_size.hpp>
 #include <priormap/render/ticks.hpp>
 
 namespace priormap::render {
 
 std::vector<double> NiceTicks(double lo, double hi, int target_count) {
-  PRIORMAP_CHECK(std::isfinite(lo) && std::isfinite(hi) && lo < hi, "NiceTicks needs lo < hi");
+  PRIORMAP_CHECK(std::isfinite(lo) && std::isfinite(hi) && lo < hi,
+                 fmt::format("NiceTicks needs finite lo < hi (got [{}, {}])", lo, hi));
+  // As many ticks are made as asked for: 2^31 of them took gigabytes, then the index overflowed.
+  // One a pixel along the largest figure's side is more than any axis can show.
+  PRIORMAP_CHECK(target_count <= kMaxFigureSidePx,
+                 fmt::format("NiceTicks' target_count must be at most {} (got {})",
+                             kMaxFigureSidePx, target_count));
   const double count = std::max(target_count, 1);
   // Not (hi - lo) / count: hi - lo overflows when the range is wider than the largest double.
   const double raw_step = hi / count - lo / count;

@@ -6,7 +6,9 @@
 namespace priormap::render {
 
 struct Color {
-  double r = 0.0, g = 0.0, b = 0.0, a = 1.0;  ///< each in [0, 1]
+  /// Each in [0, 1]; finite values beyond count as the end they pass, and the figures refuse
+  /// NaN and infinity (ContractError) where the colour is given.
+  double r = 0.0, g = 0.0, b = 0.0, a = 1.0;
 
   /// "#rrggbb" or "#rrggbbaa"; black for anything else.
   static Color FromHex(std::string_view hex);

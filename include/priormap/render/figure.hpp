@@ -20,9 +20,10 @@ namespace priormap::render {
 
 struct LineStyle {
   Color color = palette::kBlack;
-  double width_px = 1.5;
+  double width_px = 1.5;  ///< finite, not negative (0 draws nothing)
   /// Lengths along the line, on and off by turns, repeated; empty: solid. Finite, not negative
-  /// and not all 0: else the figure's method given the style throws ContractError.
+  /// and not all 0. The figure's method given a style that is not as said here throws
+  /// ContractError.
   std::vector<double> dash_px{};
 };
 
@@ -30,7 +31,9 @@ struct LineStyle {
 enum class LegendPlace { kBelow, kTopLeft, kTopRight, kBottomLeft, kBottomRight };
 
 struct FigureOptions {
-  int width_px = 800;       ///< total width, including margins (grown when they leave no plot)
+  /// Total width, including margins (grown when they leave no plot). Not negative, as
+  /// max_height_px (else ContractError).
+  int width_px = 800;
   int max_height_px = 800;  ///< the height follows the world's aspect ratio, up to this
   std::string title{};
   bool axes = true;         ///< metre ticks along the left and bottom edges
@@ -49,9 +52,9 @@ class Figure {
   Figure(Figure&&) noexcept;
   Figure& operator=(Figure&&) noexcept;
 
-  /// Discs of `radius_px`. More than 20,000 points (a log's) are drawn as one raster layer at
-  /// twice the figure's resolution, so that their number does not set the memory, time and
-  /// SVG/PDF size; a PNG looks the same either way.
+  /// Discs of `radius_px` (finite and not negative, else ContractError). More than 20,000 points (a
+  /// log's) are drawn as one raster layer at twice the figure's resolution, so that their number
+  /// does not set the memory, time and SVG/PDF size; a PNG looks the same either way.
   ///
   /// Whatever is drawn may reach beyond the world, and is clipped to the plot. Shapes with a
   /// non-finite coordinate are not drawn (points, ticks, markers, text, circles, arcs, filled
@@ -75,7 +78,8 @@ class Figure {
              const LineStyle& style);
   /// A pose marker: a triangle pointing along theta.
   void PoseMarker(const Se2& pose, const Color& color, double size_px = 10.0);
-  /// Text with its left baseline at `position`. Precondition: size_px finite and not negative.
+  /// Text with its left baseline at `position`. Precondition: size_px finite, from 0 to
+  /// kMaxFigureSidePx.
   void Text(const Vec2& position, const std::string& text, double size_px = 12.0,
             const Color& color = palette::kBlack);
   /// A grid of cells over `extent`: values(iy, ix) covers the cell whose lower-left corner is

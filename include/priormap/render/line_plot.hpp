@@ -17,16 +17,18 @@ struct Series {
   std::vector<double> y{};       ///< same size as x; NaN breaks the line
   std::string label{};           ///< empty: not in the legend
   std::optional<Color> color{};  ///< default: the palette colour of the series' index
-  double width_px = 1.5;
-  bool markers = false;  ///< draw a dot at each point, no line
+  double width_px = 1.5;         ///< finite, not negative (LinePlot::Add checks)
+  bool markers = false;          ///< draw a dot at each point, no line
   /// Lengths along the line, on and off by turns, repeated; empty: solid. Finite, not negative
   /// and not all 0 (LinePlot::Add checks).
   std::vector<double> dash_px{};
 };
 
 struct LinePlotOptions {
-  int width_px = 800;   ///< at least 200 (grown when tick labels leave no plot)
-  int height_px = 450;  ///< at least 150
+  /// At least 200 (smaller grows to it, and when tick labels leave no plot); negative sizes are a
+  /// ContractError.
+  int width_px = 800;
+  int height_px = 450;  ///< at least 150 (as width_px)
   std::string title{};
   std::string x_label{};
   std::string y_label{};
@@ -37,10 +39,10 @@ struct LinePlotOptions {
 
 class LinePlot {
  public:
-  /// Throws ContractError when the plot's size does not fit (figure_size.hpp).
+  /// Throws ContractError when the plot's size is negative or does not fit (figure_size.hpp).
   explicit LinePlot(LinePlotOptions options = {});
 
-  /// Throws ContractError for a dash pattern as Series::dash_px says it may not be.
+  /// Throws ContractError for a width or dash pattern as Series says it may not be.
   void Add(Series series);
   /// A horizontal reference line (e.g. zero error, a 3-sigma bound).
   void AddHorizontalLine(double y, const Color& color, std::string label = "");

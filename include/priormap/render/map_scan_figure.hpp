@@ -24,7 +24,7 @@
 namespace priormap::render {
 
 struct MapScanFigureOptions {
-  int width_px = 1400;  ///< the height follows (about 1.2 times the width)
+  int width_px = 1400;  ///< the height follows (about 1.2 times the width); not negative
   std::string title{};  ///< over the whole figure (empty: none)
   /// Panel (c): how many intrinsic eigenvariations, at most (the largest).
   int eigenvariations = 3;

@@ -30,7 +30,7 @@ enum class StudyPlotKind {
 };
 
 struct StudyPlotOptions {
-  int width_px = 1000;  ///< the height follows the number of panels
+  int width_px = 1000;  ///< the height follows the number of panels; not negative
   std::string title{};  ///< over the whole figure (empty: none)
 };
 

@@ -7,7 +7,8 @@
 namespace priormap::render {
 
 /// Tick positions covering [lo, hi] with a step of 1, 2 or 5 times a power of ten, about
-/// `target_count` of them, all inside [lo, hi]. Precondition: lo < hi, both finite.
+/// `target_count` of them, all inside [lo, hi]. Preconditions: lo < hi, both finite;
+/// target_count at most kMaxFigureSidePx (figure_size.hpp; below 1 counts as 1).
 [[nodiscard]] std::vector<double> NiceTicks(double lo, double hi, int target_count = 6);
 
 /// NiceTicks on an axis `length_px` long, with a smaller target where ticks would be closer than
