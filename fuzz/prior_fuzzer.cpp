@@ -32,29 +32,36 @@ namespace dsl = priormap::dsl;
 // the same on every machine and without reading the disk per input.
 constexpr const char* kPath = "/nonexistent-priormap-fuzz/fuzz.prior";
 
-// Lines of the text as diagnostics count them (a text ending in '\n' has an empty last line).
-std::size_t LineCount(std::string_view text) {
-  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+// The lines of the text as diagnostics count them: "\n", "\r\n" and a lone "\r" each end one (a
+// text ending in a line break has an empty last line).
+std::vector<std::string_view> Lines(std::string_view text) {
+  std::vector<std::string_view> lines;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t end = text.find_first_of("\r\n", start);
+    if (end == std::string_view::npos) {
+      lines.push_back(text.substr(start));
+      return lines;
+    }
+    lines.push_back(text.substr(start, end - start));
+    start = end + (text.substr(end).starts_with("\r\n") ? 2 : 1);
+  }
 }
 
-// Characters of line `line` (1-based): UTF-8 continuation bytes do not start one.
-int LineCharacters(std::string_view text, int line) {
-  std::size_t start = 0;
-  for (int l = 1; l < line; ++l) start = text.find('\n', start) + 1;
-  const std::size_t end = std::min(text.find('\n', start), text.size());
-  int characters = 0;
-  for (std::size_t i = start; i < end; ++i) {
-    if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) ++characters;
-  }
-  return characters;
+// Characters of `line`: UTF-8 continuation bytes do not start one.
+int Characters(std::string_view line) {
+  return static_cast<int>(std::count_if(line.begin(), line.end(), [](char c) {
+    return (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+  }));
 }
 
 void CheckLocated(const priormap::Diagnostic& d, std::string_view text) {
   Check(!d.message.empty(), "a diagnostic has a message", d.ToString());
   if (d.file == kPath) {
-    Check(d.line >= 1 && static_cast<std::size_t>(d.line) <= LineCount(text),
+    const std::vector<std::string_view> lines = Lines(text);
+    Check(d.line >= 1 && static_cast<std::size_t>(d.line) <= lines.size(),
           "a diagnostic's line is in the text", d.ToString());
-    Check(d.col >= 1 && d.col <= LineCharacters(text, d.line) + 1,
+    Check(d.col >= 1 && d.col <= Characters(lines[static_cast<std::size_t>(d.line) - 1]) + 1,
           "a diagnostic's column is in its line", d.ToString());
   } else {
     Check(d.file.rfind("<builtin>/", 0) == 0, "a diagnostic names the text or a built-in parent",

@@ -174,9 +174,10 @@ NodeId ExpressionGraph::Mul(NodeId a, NodeId b) {
   if (node(a).op == Op::kNeg && node(b).op == Op::kNeg) return Mul(node(a).a, node(b).a);
   if (node(a).op == Op::kNeg) return Neg(Mul(node(a).a, b));
   if (node(b).op == Op::kNeg) return Neg(Mul(a, node(b).a));
-  // c1 * (c2 * x) = (c1 c2) * x
+  // c1 * (c2 * x) = (c1 c2) * x, unless c1 c2 overflows or underflows where c1 (c2 x) need not.
   if (IsConst(a) && node(b).op == Op::kMul && IsConst(node(b).a)) {
-    return Mul(Const(node(a).value * node(node(b).a).value), node(b).b);
+    const double product = node(a).value * node(node(b).a).value;
+    if (std::isnormal(product)) return Mul(Const(product), node(b).b);
   }
   return Make({Op::kMul, a, b});
 }
@@ -187,7 +188,14 @@ NodeId ExpressionGraph::Div(NodeId a, NodeId b) {
   if (IsConst(b, 1.0)) return a;
   if (IsConst(b, -1.0)) return Neg(a);
   if (a == b) return Const(1.0);
-  if (IsConst(b)) return Mul(Const(1.0 / node(b).value), a);  // multiplying is cheaper
+  if (IsConst(b)) {
+    // Multiplying is cheaper, and by a normal reciprocal it rounds at most once more; by an
+    // infinite or subnormal one (of a divisor near the ends of the double range) it would change
+    // the value written, e.g. x / 1e-320 into x * inf.
+    const double reciprocal = 1.0 / node(b).value;
+    if (std::isnormal(reciprocal)) return Mul(Const(reciprocal), a);
+    return Make({Op::kDiv, a, b});
+  }
   if (node(a).op == Op::kNeg) return Neg(Div(node(a).a, b));
   if (node(b).op == Op::kNeg) return Neg(Div(a, node(b).a));
   // a / b = a * (1 / b): derivatives divide many numerators by the same denominators, and one
@@ -338,6 +346,9 @@ NodeId ExpressionGraph::MakeDerivative(NodeId id, int var) {
         // d a^b = b a^(b - 1) a' for b independent of x_var
         return Mul(Mul(n.b, Pow(n.a, Sub(n.b, Const(1.0)))), D(n.a));
       }
+      // 0^b is 0 for every b > 0 (and +inf for b < 0): constant on either side, so its
+      // derivative is 0, where the general rule below gives 0^b (b' log 0) = 0 * -inf = NaN.
+      if (IsConst(n.a, 0.0)) return Const(0.0);
       // d a^b = a^b (b' log a + b a' / a)
       return Mul(id, Add(Mul(D(n.b), Unary(Op::kLog, n.a)), Div(Mul(n.b, D(n.a)), n.a)));
     }

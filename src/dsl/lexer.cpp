@@ -1,8 +1,11 @@
 #include "lexer.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 #include <fmt/format.h>
@@ -229,12 +232,50 @@ class LineLexer {
     token.text = std::string(text_.substr(start, pos_ - start));
     const auto [ptr, ec] =
         std::from_chars(token.text.data(), token.text.data() + token.text.size(), token.number);
-    if (ec != std::errc() || ptr != token.text.data() + token.text.size()) {
+    const bool whole = ptr == token.text.data() + token.text.size();
+    const bool out_of_range = ec == std::errc::result_out_of_range;
+    if (!whole || (ec != std::errc() && !out_of_range)) {
+      return Fail(error, start_col, fmt::format("bad number {}", QuoteForMessage(token.text)));
+    }
+    if (out_of_range && DecimalMagnitude(token.text) > 0) {
       return Fail(error, start_col,
-                  fmt::format("bad number {} (out of range)", QuoteForMessage(token.text)));
+                  fmt::format("bad number {}: above the largest number, {} (it overflows)",
+                              QuoteForMessage(token.text), std::numeric_limits<double>::max()));
+    }
+    // A subnormal keeps only some of the digits written, and its reciprocal overflows; no
+    // quantity of a prior (metres, radians, 1/m) is that small, so the literal is a typo or
+    // means 0, and the author says which rather than the compiler guessing.
+    if (out_of_range || (token.number != 0.0 && !std::isnormal(token.number))) {
+      return Fail(error, start_col,
+                  fmt::format("bad number {}: below the smallest normal magnitude, {} (it "
+                              "underflows; write 0 for zero)",
+                              QuoteForMessage(token.text), std::numeric_limits<double>::min()));
     }
     return true;
   }
+
+  // Roughly log10 of a number literal's magnitude (its decimal exponent, up to one): only its
+  // sign is used, to tell an overflow from an underflow, which from_chars does not.
+  static long long DecimalMagnitude(std::string_view literal) {
+    const std::size_t e = literal.find_first_of("eE");
+    const std::string_view mantissa = literal.substr(0, e);
+    long long exponent = 0;
+    if (e != std::string_view::npos) {
+      std::size_t p = e + 1;
+      const bool negative = p < literal.size() && literal[p] == '-';
+      if (p < literal.size() && (literal[p] == '+' || literal[p] == '-')) ++p;
+      for (; p < literal.size(); ++p) exponent = std::min(exponent * 10 + (literal[p] - '0'), kCap);
+      if (negative) exponent = -exponent;
+    }
+    // The position of the first significant digit relative to the decimal point.
+    const std::size_t point = std::min(mantissa.find('.'), mantissa.size());
+    const std::size_t first = mantissa.find_first_of("123456789");
+    if (first == std::string_view::npos) return -kCap;  // zero: never out of range
+    const long long shift = first < point ? static_cast<long long>(point - first)
+                                          : -static_cast<long long>(first - point - 1);
+    return exponent + shift;
+  }
+  static constexpr long long kCap = 1'000'000'000;
 
   bool Operator(const Char& c, const std::vector<Token>& tokens, Token& token, Diagnostic& error) {
     const char32_t n = Peek(1);
@@ -382,6 +423,35 @@ int CharacterCount(std::string_view s) {
   return n;
 }
 
+// The first character of body[from..] that a header value may not hold, as an error: bytes that
+// are not UTF-8, control characters (a NUL, a stray form feed), and characters that look like a
+// blank or like nothing. A name is matched as written by `specializes:`, and printed: such a
+// character would make two names that look alike differ, or garble the terminal.
+std::optional<Diagnostic> UnreadableCharacter(std::string_view body, std::size_t from, int line,
+                                              const std::string& file) {
+  int col = 1 + CharacterCount(body.substr(0, from));
+  for (std::size_t i = from; i < body.size(); ++col) {
+    const Char c = Decode(body, i);
+    if (c.code == 0xFFFD && c.size == 1) {
+      return Diagnostic{file, line, col,
+                        fmt::format("unexpected byte 0x{:02X} (prior files are UTF-8 text)",
+                                    static_cast<unsigned char>(body[i]))};
+    }
+    if ((c.code < 0x20 && c.code != '\t') || (c.code >= 0x7F && c.code < 0xA0)) {
+      return Diagnostic{file, line, col,
+                        fmt::format("unexpected control character U+{:04X} in a header value",
+                                    static_cast<std::uint32_t>(c.code))};
+    }
+    if (const char* invisible = InvisibleCharacter(c.code)) {
+      return Diagnostic{file, line, col,
+                        fmt::format("unexpected character U+{:04X} in a header value ({})",
+                                    static_cast<std::uint32_t>(c.code), invisible)};
+    }
+    i += static_cast<std::size_t>(c.size);
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::string_view WithoutByteOrderMark(std::string_view text) {
@@ -462,11 +532,13 @@ Result<std::vector<Line>> Lex(std::string_view source,
   int number = 0;
   bool continuing = false;  // the previous physical line ended in "..."
   while (start <= source.size()) {
-    std::size_t end = source.find('\n', start);
+    // "\n", "\r\n" and a lone "\r" (classic Mac OS) each end one line, as in most compilers:
+    // reading only "\n" would make a file of "\r" endings one line, and every line:col wrong.
+    std::size_t end = source.find_first_of("\r\n", start);
     if (end == std::string_view::npos) end = source.size();
     std::string_view physical = source.substr(start, end - start);
     ++number;
-    start = end + 1;
+    start = end + (source.substr(end).starts_with("\r\n") ? 2 : 1);
     if (const std::size_t comment = CommentStart(physical); comment != std::string_view::npos) {
       physical = physical.substr(0, comment);
     }
@@ -480,6 +552,9 @@ Result<std::vector<Line>> Lex(std::string_view source,
     }
     std::string_view body = physical.substr(indent_end);
     const bool continues = body.size() >= 3 && body.substr(body.size() - 3) == "...";
+    const int continuation_col = continues ? static_cast<int>(indent_end) + 1 +
+                                                 CharacterCount(body.substr(0, body.size() - 3))
+                                           : 0;
     if (continues) body = TrimRight(body.substr(0, body.size() - 3));
     if (body.empty() && !continuing) {
       if (end == source.size()) break;
@@ -495,6 +570,15 @@ Result<std::vector<Line>> Lex(std::string_view source,
         line.header_key = header->first;
         std::size_t value = header->second;
         while (value < body.size() && (body[value] == ' ' || body[value] == '\t')) ++value;
+        if (auto unreadable = UnreadableCharacter(body, value, number, *file)) return *unreadable;
+        // A header value is the rest of its line: continuing it would either drop the "..."
+        // silently or read the next line into a name, and neither is what was written.
+        if (continues) {
+          return Diagnostic{*file, number, continuation_col,
+                            fmt::format("a header line cannot be continued: '{}:' takes the rest "
+                                        "of its line, without a '...' at its end",
+                                        header->first)};
+        }
         line.header_value = std::string(body.substr(value));
         line.header_value_col = 1 + CharacterCount(body.substr(0, value));
         lines.push_back(std::move(line));

@@ -242,6 +242,8 @@ class Lowerer {
   void CheckNewName(const Statement& definition) const {
     const std::string& name = definition.name;
     if (name == "pi") Fail(definition.loc, "'pi' is a constant and cannot be redefined");
+    if (const auto predefined = PredefinedName(name))
+      CheckNoLeadingZero(name, predefined->first, definition.loc);
     if (PredefinedName(name) || name == "rho" || name == "alpha" || name == "phi") {
       Fail(definition.loc,
            fmt::format("'{}' is predefined (rho_i, alpha_i, phi_i) and cannot be redefined (to "
@@ -270,6 +272,7 @@ class Lowerer {
     if (const auto predefined = PredefinedName(e.name)) {
       const auto& [base, index] = *predefined;
       if (index < 1) Fail(e.loc, fmt::format("'{}': indices start at 1", e.name));
+      CheckNoLeadingZero(e.name, base, e.loc);
       if (index > header_.order) {
         // In a parent's text, the order that rules it out may be a child's.
         const SourceLocation& set_at = header_.order_loc;
@@ -294,6 +297,17 @@ class Lowerer {
     }
     (void)scope;
     UnknownName(e);
+  }
+
+  // alpha_01 would otherwise be alpha_1 under another spelling: two names for one unknown, which
+  // a reader takes for two.
+  static void CheckNoLeadingZero(const std::string& name, const std::string& base,
+                                 const SourceLocation& loc) {
+    const std::string digits = name.substr(base.size() + 1);
+    if (digits.size() < 2 || digits[0] != '0') return;
+    const std::size_t significant = std::min(digits.find_first_not_of('0'), digits.size() - 1);
+    Fail(loc, fmt::format("'{}': indices are written without leading zeros ({}_{})", name, base,
+                          digits.substr(significant)));
   }
 
   // An unknown name: defined later (maybe in a cycle), a function without arguments, or a typo.

@@ -681,5 +681,60 @@ TEST(OperatorDerivatives, MinAndMaxAtATieTakeTheirFirstArgumentsDerivatives) {
   EXPECT_EQ(hessians[16 + 15], 2.0);
 }
 
+// 0^y is 0 for every y > 0: its derivative is 0 there, where the general rule
+// d a^b = a^b (b' log a + ...) gives 0 * -inf = NaN. Checked against central differences with the
+// exponent positive (rho_i > 0), alone and inside other operations.
+TEST(OperatorDerivatives, ZeroToAVariablePowerHasTheFiniteDerivativeZero) {
+  const Result<CompiledPrior> prior = PriorLibrary().CompileText(
+      "name: Zero base\norder: 2\npriorlet same_region:\n"
+      "  model_likelihood 0^rho_1\n"
+      "  model_likelihood (1 - 1)^(alpha_1^2 + rho_2) + rho_1 * alpha_2\n"
+      "  model_likelihood [0, 0] .^ [rho_1, rho_2] * [alpha_1; 1]\n"
+      "  model_likelihood sin(0^(rho_1 * rho_2)) + 2^rho_1\n",
+      "zero-base.prior");
+  ASSERT_TRUE(prior.ok()) << prior.error();
+  const CompiledBlock* block = prior.value().block(BlockKind::kSameRegion);
+  ASSERT_NE(block, nullptr);
+  ASSERT_EQ(block->num_terms(), 4);
+  Evaluation evaluation(*block);
+  Rng rng(17);
+  int failures = 0;
+  for (int n = 0; n < 100 && failures < 5; ++n) {
+    failures += DerivativeMismatches(evaluation, *block, RandomPoint(rng, 2), "zero base: ");
+  }
+}
+
+// Dividing by a constant multiplies by its reciprocal only where that keeps the value written:
+// the reciprocal of a subnormal divisor overflows (x / 1e-320 was x * inf), and a product of two
+// constant factors can overflow or underflow where the factors applied in turn do not.
+TEST(OperatorValues, FoldingConstantsKeepsTheValueOfTheExpressionAsWritten) {
+  const Result<CompiledPrior> prior = PriorLibrary().CompileText(
+      "name: Extreme constants\norder: 2\npriorlet same_region:\n"
+      "  model_likelihood alpha_1 / (1e-300 * 1e-20)\n"
+      "  model_likelihood 1e-200 * (1e-200 * rho_1)\n"
+      "  model_likelihood 1e200 * (1e200 * rho_2)\n"
+      "  model_likelihood alpha_2 / 4\n",
+      "extremes.prior");
+  ASSERT_TRUE(prior.ok()) << prior.error();
+  const CompiledBlock* block = prior.value().block(BlockKind::kSameRegion);
+  ASSERT_NE(block, nullptr);
+  ASSERT_EQ(block->num_terms(), 4);
+  Evaluation evaluation(*block);
+  // The expected values evaluate the expressions as written, operation after operation (the
+  // compiler does not reassociate floating-point arithmetic).
+  const double rho_1 = 1e300, rho_2 = 1e-300, alpha_1 = 1e-300, alpha_2 = 1e300;
+  Eigen::VectorXd x(4);
+  x << rho_1, rho_2, alpha_1, alpha_2;
+  const Eigen::VectorXd values = evaluation.Values(x, {0.1, 0.2});
+  const double tiny = 1e-300 * 1e-20;  // subnormal
+  const double expected[] = {alpha_1 / tiny, 1e-200 * (1e-200 * rho_1), 1e200 * (1e200 * rho_2),
+                             alpha_2 / 4};
+  for (int t = 0; t < 4; ++t) {
+    EXPECT_TRUE(std::isfinite(expected[t])) << t;
+    EXPECT_GT(expected[t], 0.0) << t;
+    EXPECT_DOUBLE_EQ(values[t], expected[t]) << "term " << t + 1;
+  }
+}
+
 }  // namespace
 }  // namespace priormap::dsl

@@ -368,6 +368,36 @@ TEST(ParserStatements, BlankLinesCrlfAndAMissingFinalNewlineAreFine) {
                   "  constraint 7:3 rho_1 == 0", "  constraint 9:3 rho_2 == 0"));
 }
 
+// Classic Mac OS ends lines with a lone CR: each "\r", "\n" and "\r\n" ends one line (a "\r\n"
+// one, not two), so line numbers are the ones an editor shows, whatever the endings and their mix.
+TEST(ParserStatements, CrLfAndCrlfEachEndOneLine) {
+  const auto expected = ElementsAre("name 1:7 T", "order 2:8 2", "block same_region 3:1",
+                                    "  constraint 4:3 rho_1 == 0", "  constraint 6:3 rho_2 == 0");
+  EXPECT_THAT(OutlineOf("name: T\rorder: 2\rpriorlet same_region:\r  rho_1 == 0\r\r  rho_2 == 0\r"),
+              expected);
+  EXPECT_THAT(OutlineOf("name: T\r\norder: 2\rpriorlet same_region:\n  rho_1 == 0\n\r  rho_2 == 0"),
+              expected);
+  // A continuation joins across a lone CR too.
+  EXPECT_THAT(OutlineOf("name: T\rorder: 2\rx = 1 + ...\r  2\r"),
+              ElementsAre("name 1:7 T", "order 2:8 2", "definition 3:1 x = 1 + 2"));
+}
+
+// A header value may hold any printable text, tabs and non-ASCII letters included; columns count
+// characters.
+TEST(ParserStatements, HeaderValuesHoldAnyPrintableText) {
+  EXPECT_THAT(OutlineOf("name: R\xC3\xA4ume \xE2\x80\x94 \xCF\x81\tand more\norder:\t2\n"),
+              ElementsAre("name 1:7 R\xC3\xA4ume \xE2\x80\x94 \xCF\x81\tand more", "order 2:8 2"));
+}
+
+// A diagnostic after lone-CR line endings names the line an editor shows.
+TEST(ParserStatements, ErrorsAfterCrLineEndingsNameTheirLine) {
+  const Result<PriorFile> parsed =
+      ParsePrior("name: T\rorder: 2\rpriorlet same_region:\r  rho_1 == 0 $\r", kPath);
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_THAT(parsed.diagnostics(),
+              ElementsAre(DiagnosticAt(kPath, 4, 14, "unexpected character '$'")));
+}
+
 // Windows Notepad starts UTF-8 files with a byte order mark, which editors do not show: it is
 // not a character of line 1, so the header parses and columns count from the first visible one.
 TEST(ParserStatements, AByteOrderMarkAtTheStartIsIgnored) {
@@ -506,6 +536,14 @@ TEST(ParserExpressions, ParenthesesMayHoldComparisonsAndDisjunctions) {
 TEST(ParserExpressions, NumbersAreDecimalWithOptionalExponent) {
   EXPECT_EQ(TreeOf("x = 3 + 2.5 + .5 + 1e-3 + 1E+2 + 7."),
             "(= x (+ (+ (+ (+ (+ 3 2.5) 0.5) 0.001) 100) 7))");
+}
+
+// The ends of the double range: the largest number and the smallest normal one are numbers, and
+// so is a zero written with any exponent (it neither overflows nor underflows).
+TEST(ParserExpressions, NumbersUpToTheEndsOfTheNormalRangeAreAccepted) {
+  EXPECT_EQ(TreeOf("x = 1.7976931348623157e308 + 2.2250738585072014e-308"),
+            "(= x (+ 1.7976931348623157e+308 2.2250738585072014e-308))");
+  EXPECT_EQ(TreeOf("x = 0e-400 + 0.000e999"), "(= x (+ 0 0))");
 }
 
 // ---------------------------------------------------------------------------------------------
