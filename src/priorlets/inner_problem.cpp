@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <numbers>
+#include <span>
 
 #include <Eigen/Eigenvalues>
 
@@ -146,6 +148,9 @@ InnerProblem::InnerProblem(const dsl::CompiledPrior& prior, std::vector<ProblemP
       }
     }
   }
+  for (BlockWindows& bw : windows_) {
+    if (!bw.first_point.empty()) FindRangeScales(bw);
+  }
 }
 
 Eigen::VectorXd InnerProblem::ToHessianOrder(const Eigen::VectorXd& v) const {
@@ -215,30 +220,103 @@ double InnerProblem::MaxStep(const Eigen::VectorXd& x, const Eigen::VectorXd& d,
   return t;
 }
 
-void InnerProblem::EvaluateWindows(const Eigen::VectorXd& x, int level) {
+void InnerProblem::FillWindow(BlockWindows& bw, std::size_t w, const Eigen::VectorXd& x) const {
   const auto k = static_cast<std::size_t>(order_);
   const std::size_t nv = 2 * k, m = points_.size();
-  for (BlockWindows& bw : windows_) {
-    if (bw.first_point.empty()) continue;
-    for (std::size_t w = 0; w < bw.first_point.size(); ++w) {
-      const std::size_t first = bw.first_point[w];
-      if (closed_ && first + k > m) {
-        // Across the seam: the normals of the points past it a turn on, as their phi.
-        for (std::size_t v = 0; v < nv; ++v) {
-          const bool later = v >= k && first + (v - k) >= m;
-          bw.x[w * nv + v] = x[static_cast<Eigen::Index>(WindowUnknown(first, v))] +
-                             (later ? 2.0 * std::numbers::pi : 0.0);
+  const std::size_t first = bw.first_point[w];
+  if (closed_ && first + k > m) {
+    // Across the seam: the normals of the points past it a turn on, as their phi.
+    for (std::size_t v = 0; v < nv; ++v) {
+      const bool later = v >= k && first + (v - k) >= m;
+      bw.x[w * nv + v] = x[static_cast<Eigen::Index>(WindowUnknown(first, v))] +
+                         (later ? 2.0 * std::numbers::pi : 0.0);
+    }
+    return;
+  }
+  for (std::size_t v = 0; v < nv; ++v)
+    bw.x[w * nv + v] = x[static_cast<Eigen::Index>(2 * first + global_index_[v])];
+}
+
+void InnerProblem::FindRangeScales(BlockWindows& bw) {
+  const auto k = static_cast<std::size_t>(order_);
+  const std::size_t nv = 2 * k, m = points_.size(), nt = bw.values.size() / bw.first_point.size();
+  std::vector<double> scale(bw.first_point.size(), 1.0);
+  bool far = false;
+  for (std::size_t w = 0; w < scale.size(); ++w) {
+    for (std::size_t i = 0; i < k; ++i) {
+      const std::size_t q = bw.first_point[w] + i;
+      scale[w] = std::max(scale[w], points_[q < m ? q : q - m].rho_measured / kUnitRange);
+    }
+    far = far || scale[w] > 1.0;
+  }
+  if (!far) return;
+  // Only terms homogeneous in the ranges are rescaled: the normals' constraints are in radians
+  // at any scale, and a term with a length of its own (a curvature bound of 10 / m) means it in
+  // metres. A term's degree from its values with the ranges doubled and halved (exact in
+  // floating point, so a homogeneous term's value scales to rounding), at the first windows
+  // where it is not zero; the point is the data's, off the constraints.
+  const Eigen::VectorXd x0 = InitialPoint();
+  std::vector<int> degree(nt, 0);
+  std::vector<char> decided(nt, 0);
+  const std::vector<dsl::Term>& terms = bw.block->terms();
+  std::array<std::vector<double>, 3> values;
+  constexpr std::size_t kWindowsTried = 8;
+  for (std::size_t w = 0; w < std::min(kWindowsTried, bw.first_point.size()); ++w) {
+    FillWindow(bw, w, x0);
+    const std::span<const double> phi(bw.phi.data() + w * k, k);
+    for (std::size_t s = 0; s < 3; ++s) {
+      const double factor = s == 0 ? 1.0 : (s == 1 ? 2.0 : 0.5);
+      std::vector<double> xw(bw.x.begin() + static_cast<std::ptrdiff_t>(w * nv),
+                             bw.x.begin() + static_cast<std::ptrdiff_t>((w + 1) * nv));
+      for (std::size_t v = 0; v < k; ++v) xw[v] *= factor;
+      values[s].assign(nt, 0.0);
+      bw.evaluator->Evaluate(xw, phi, values[s].data());
+    }
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (decided[t] || terms[t].kind == dsl::TermKind::kEnergy) continue;
+      const double f = values[0][t];
+      if (!(std::isfinite(f) && f != 0.0)) continue;
+      decided[t] = 1;
+      for (const int d : {-2, -1, 1, 2}) {
+        const double up = std::ldexp(f, d), down = std::ldexp(f, -d);
+        if (std::abs(values[1][t] - up) <= 1e-9 * std::abs(up) &&
+            std::abs(values[2][t] - down) <= 1e-9 * std::abs(down)) {
+          degree[t] = d;
         }
-        continue;
-      }
-      for (int v = 0; v < static_cast<int>(nv); ++v) {
-        bw.x[w * nv + static_cast<std::size_t>(v)] =
-            x[static_cast<Eigen::Index>(2 * first + global_index_[static_cast<std::size_t>(v)])];
       }
     }
+  }
+  if (std::all_of(degree.begin(), degree.end(), [](int d) { return d == 0; })) return;
+  bw.range_degree = std::move(degree);
+  bw.range_scale = std::move(scale);
+}
+
+void InnerProblem::RescaleWindow(BlockWindows& bw, std::size_t w, int level) const {
+  const std::size_t nt = bw.range_degree.size(), nv = 2 * static_cast<std::size_t>(order_);
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (bw.range_degree[t] == 0) continue;
+    const double factor = std::pow(bw.range_scale[w], -bw.range_degree[t]);
+    bw.values[w * nt + t] *= factor;
+    if (level >= 1) {
+      double* g = bw.gradients.data() + (w * nt + t) * nv;
+      for (std::size_t v = 0; v < nv; ++v) g[v] *= factor;
+    }
+    if (level >= 2) {
+      double* h = bw.hessians.data() + (w * nt + t) * nv * nv;
+      for (std::size_t v = 0; v < nv * nv; ++v) h[v] *= factor;
+    }
+  }
+}
+
+void InnerProblem::EvaluateWindows(const Eigen::VectorXd& x, int level) {
+  for (BlockWindows& bw : windows_) {
+    if (bw.first_point.empty()) continue;
+    for (std::size_t w = 0; w < bw.first_point.size(); ++w) FillWindow(bw, w, x);
     bw.evaluator->EvaluateBatch(bw.first_point.size(), bw.x, bw.phi, bw.values.data(),
                                 level >= 1 ? bw.gradients.data() : nullptr,
                                 level >= 2 ? bw.hessians.data() : nullptr);
+    if (bw.range_degree.empty()) continue;
+    for (std::size_t w = 0; w < bw.first_point.size(); ++w) RescaleWindow(bw, w, level);
   }
 }
 

@@ -38,8 +38,19 @@ struct ProblemPoint {
   double alpha_lower = 0.0, alpha_upper = 0.0;
 };
 
+// Beyond this distance a constraint homogeneous in the ranges (a length, such as the distance
+// of a point from its neighbour's line, or an inverse length, such as a curvature) is measured
+// relative to its window's ranges: its residual is divided by (r / kUnitRange)^degree, r the
+// largest measured range of the window. A far wall then weighs in the penalty and the
+// feasibility test as the same wall kUnitRange away would, against its normals' constraints
+// (in radians, whatever the scale) and the data; in metres its residuals grow with the scene's
+// scale (1e-6 m on a wall 1e7 m away is 1e-13 of its ranges: the Newton steps along the
+// constraints cannot get there). Nearer scenes, and the other constraints, keep their units.
+inline constexpr double kUnitRange = 100.0;
+
 struct Violation {
   double max_residual = 0.0;  // largest |f|, max(0, g), or disjunction branch residual
+                              // (homogeneous ones relative to far windows' ranges, kUnitRange)
   double penalty = 0.0;       // sum of the squared forms (unweighted)
 };
 
@@ -126,7 +137,19 @@ class InnerProblem {
     std::vector<double> phi;               // windows x order
     std::vector<double> x;                 // windows x 2 order, in the block's unknown order
     std::vector<double> values, gradients, hessians;
+    // Per term, its degree of homogeneity in the ranges when the block has a window beyond
+    // kUnitRange (0: not homogeneous, or not rescaled); per window, max(1, r / kUnitRange)
+    // (see kUnitRange). Both empty when no window is that far, so that nearer scenes are solved
+    // to the bit as they were.
+    std::vector<int> range_degree;
+    std::vector<double> range_scale;
   };
+  // Fills window w's unknowns (bw.x) from the global ones.
+  void FillWindow(BlockWindows& bw, std::size_t w, const Eigen::VectorXd& x) const;
+  // Sets bw.range_degree and bw.range_scale (see BlockWindows).
+  void FindRangeScales(BlockWindows& bw);
+  // Divides window w's constraint terms by range_scale[w]^degree, with the derivatives asked.
+  void RescaleWindow(BlockWindows& bw, std::size_t w, int level) const;
   // Fills every block's x from the global unknowns and evaluates up to `level` (0 values,
   // 1 gradients, 2 Hessians).
   void EvaluateWindows(const Eigen::VectorXd& x, int level);

@@ -69,8 +69,9 @@ TEST(PosteriorScale, AStraightWallHasTwoDegreesOfFreedomAtAnyDistance) {
       EXPECT_EQ(post.dof.intrinsic, 0u);
       EXPECT_TRUE(post.dof.pose_independent) << post.note;
       // The rank decision sees the same matrix at every scale, up to where the engine left the
-      // estimate (its feasibility tolerance is absolute: 1e-6 of 2 m, 1e-14 of 2e8 m). Before
-      // the fix the smallest kept singular value fell as 1 / scale.
+      // estimate (its feasibility tolerance is 1e-6 of 2 m, 1e-8 of the ranges beyond 100 m:
+      // EngineOptions::feasibility_tolerance). Before the fix the smallest kept singular value
+      // fell as 1 / scale.
       const double kept = post.dof.kernel.smallest_kept_singular_value;
       if (scale == 1.0) kept_at_one = kept;
       EXPECT_NEAR(kept / kept_at_one, 1.0, 1e-3);
@@ -80,9 +81,8 @@ TEST(PosteriorScale, AStraightWallHasTwoDegreesOfFreedomAtAnyDistance) {
 
 // The MAP scan of a noise-free simulated scan built from its ground truth (true ranges, normals
 // unwrapped along the scan as the engine's are, true region borders as different_region links):
-// the degrees of freedom of the geometry alone, whatever the engine makes of the scale (its
-// feasibility tolerance is absolute, in the constraints' units, so that at 1e7 m it leaves
-// readings out of even a noise-free scan).
+// the degrees of freedom of the geometry alone, whatever the engine makes of the scene (its
+// own MAP scan of a far room is checked in engine_scale_test.cpp).
 MapScan MapScanOfTheTruth(const Scan& scan) {
   const ScanTruth& truth = *scan.truth;
   const std::size_t n = scan.size();

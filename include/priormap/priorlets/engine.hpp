@@ -39,6 +39,11 @@ struct EngineOptions {
   /// regularises normals no constraint or energy determines.
   double alpha_prior_sigma_min = 0.2;
   /// Feasible when every equality |f|, inequality max(0, g) and disjunction is below this.
+  /// Residuals are in the constraints' own units, but for windows more than 100 m away (the
+  /// engine's kUnitRange): there a constraint homogeneous in the ranges, such as a point's
+  /// distance from its neighbour's line, is taken relative to the window's largest range r, as
+  /// if the window were 100 m away (a residual in metres times 100 m / r; a curvature times
+  /// r / 100 m), so that a far scene is solved as that scene 100 m away.
   double feasibility_tolerance = 1e-6;
   /// Penalty homotopy: lambda from lambda_initial, times lambda_factor per stage, up to
   /// lambda_max. The log barrier's weight 1/mu shrinks alongside (mu times mu_factor, capped).
@@ -140,7 +145,8 @@ struct MapScan {
                                     ///< across the seam of a closed scan)
   std::vector<BeamRange> surfaces;  ///< maximal runs not split by different_surface links
   bool feasible = false;            ///< the prior's constraints hold at the solution
-  double max_violation = 0.0;       ///< largest constraint residual at the solution
+  double max_violation = 0.0;       ///< largest constraint residual at the solution (far
+                                    ///< windows' relative, see feasibility_tolerance)
   double objective = 0.0;           ///< data + prior energies - gamma |INMODEL| (smaller is better)
   EngineStats stats;
 };
