@@ -8,10 +8,10 @@
 
 #include <gtest/gtest.h>
 
-#include <priormap/core/angles.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/slam/prior_map_slam.hpp>
-#include <priormap/slam/range_bearing.hpp>
+
+#include "standing_beacons.hpp"
 
 namespace priormap::slam {
 namespace {
@@ -35,26 +35,12 @@ Related FilterCornerOfTwoBuildings(const std::vector<std::string>& order) {
     map.segments.push_back({Vec2(10.4, -10.0), Vec2(10.4, 5.3), 0.5, b});
     map.segments.push_back({Vec2(10.4, 5.3), Vec2(20.0, 5.3), 0.5, b});
   }
-  MotionNoise motion;
-  motion.speed_std = 1e-3;
-  motion.steer_std = 1e-3;
   const SensorNoise sensor;
   SlamOptions options;
   options.building_relations = true;
-  PriorMapSlam slam(Se2(), 0.0, motion, sensor, &map, options);
+  PriorMapSlam slam(Se2(), 0.0, testing::StandingStillMotion(), sensor, &map, options);
   Rng rng(6);
-  for (int f = 1; f <= 30; ++f) {
-    slam.Predict({0.2 * f, 0.2, BicycleControl{0.0, 0.0}});
-    ObservationFrame frame;
-    frame.time = 0.2 * f;
-    for (std::size_t i = 0; i < beacons.size(); ++i) {
-      const Vec2 z = ObserveRangeBearing(Se2(), beacons[i]);
-      frame.observations.push_back({static_cast<int>(i), z.x() + rng.Normal(0.0, sensor.range_std),
-                                    WrapAngle(z.y() + rng.Normal(0.0, sensor.bearing_std))});
-    }
-    (void)slam.Observe(frame);
-  }
-  const SlamResult result = slam.Finish();
+  const SlamResult result = testing::WatchBeacons(slam, Se2(), beacons, 30, sensor, &rng);
   Related related;
   for (const RelationRecord& r : result.relations) {
     const PriorSegment& s = map.segments[static_cast<std::size_t>(r.segment)];
@@ -103,24 +89,11 @@ std::vector<LandmarkEstimate> FilterTwoCorners(bool left_first) {
       beacons.emplace_back(p.x(), side * p.y());
     }
   }
-  MotionNoise motion;
-  motion.speed_std = 1e-3;
-  motion.steer_std = 1e-3;
   SlamOptions options;
   options.building_relations = true;
-  PriorMapSlam slam(Se2(), 0.0, motion, SensorNoise{}, &map, options);
+  PriorMapSlam slam(Se2(), 0.0, testing::StandingStillMotion(), SensorNoise{}, &map, options);
+  const SlamResult result = testing::WatchBeacons(slam, Se2(), beacons, 30, SensorNoise{}, nullptr);
   std::size_t building_relations = 0;
-  for (int f = 1; f <= 30; ++f) {
-    slam.Predict({0.2 * f, 0.2, BicycleControl{0.0, 0.0}});
-    ObservationFrame frame;
-    frame.time = 0.2 * f;
-    for (std::size_t i = 0; i < beacons.size(); ++i) {
-      const Vec2 z = ObserveRangeBearing(Se2(), beacons[i]);
-      frame.observations.push_back({static_cast<int>(i), z.x(), z.y()});
-    }
-    (void)slam.Observe(frame);
-  }
-  const SlamResult result = slam.Finish();
   for (const RelationRecord& r : result.relations) building_relations += r.building >= 0;
   EXPECT_EQ(building_relations, 2u);  // each corner beacon to its building
   std::vector<LandmarkEstimate> landmarks = result.landmarks;

@@ -14,13 +14,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <priormap/core/angles.hpp>
 #include <priormap/core/rng.hpp>
 #include <priormap/slam/prior_map_slam.hpp>
-#include <priormap/slam/range_bearing.hpp>
 #include <priormap/slam/same_walls.hpp>
 #include <priormap/slam/study.hpp>
 #include <priormap/slam/urban_scenario.hpp>
+
+#include "standing_beacons.hpp"
 
 namespace priormap::slam {
 namespace {
@@ -95,25 +95,13 @@ std::set<int> RelatedToAWall(bool split) {
   } else {
     map.segments = {Wall(10.4, -10, 10.4, 10, 0.5)};
   }
-  MotionNoise motion;
-  motion.speed_std = 1e-3;
-  motion.steer_std = 1e-3;
   const SensorNoise sensor;
-  PriorMapSlam slam(Se2(), 0.0, motion, sensor, &map, SlamOptions{});
+  PriorMapSlam slam(Se2(), 0.0, testing::StandingStillMotion(), sensor, &map, SlamOptions{});
   Rng rng(6);
-  for (int f = 1; f <= 30; ++f) {
-    slam.Predict({0.2 * f, 0.2, BicycleControl{0.0, 0.0}});
-    ObservationFrame frame;
-    frame.time = 0.2 * f;
-    for (std::size_t i = 0; i < beacons.size(); ++i) {
-      const Vec2 z = ObserveRangeBearing(Se2(), beacons[i]);
-      frame.observations.push_back({static_cast<int>(i), z.x() + rng.Normal(0.0, sensor.range_std),
-                                    WrapAngle(z.y() + rng.Normal(0.0, sensor.bearing_std))});
-    }
-    (void)slam.Observe(frame);
-  }
   std::set<int> related;
-  for (const RelationRecord& r : slam.Finish().relations) related.insert(r.landmark);
+  for (const RelationRecord& r :
+       testing::WatchBeacons(slam, Se2(), beacons, 30, sensor, &rng).relations)
+    related.insert(r.landmark);
   return related;
 }
 
@@ -195,26 +183,12 @@ struct SharedWallWorld {
 
 SlamResult FilterSharedWall(bool merge) {
   const SharedWallWorld world;
-  MotionNoise motion;
-  motion.speed_std = 1e-3;
-  motion.steer_std = 1e-3;
   const SensorNoise sensor;
   SlamOptions options;
   options.merge_same_walls = merge;
-  PriorMapSlam slam(Se2(), 0.0, motion, sensor, &world.map, options);
+  PriorMapSlam slam(Se2(), 0.0, testing::StandingStillMotion(), sensor, &world.map, options);
   Rng rng(4);
-  for (int f = 1; f <= 20; ++f) {
-    slam.Predict({0.2 * f, 0.2, BicycleControl{0.0, 0.0}});
-    ObservationFrame frame;
-    frame.time = 0.2 * f;
-    for (std::size_t i = 0; i < world.beacons.size(); ++i) {
-      const Vec2 z = ObserveRangeBearing(Se2(), world.beacons[i]);
-      frame.observations.push_back({static_cast<int>(i), z.x() + rng.Normal(0.0, sensor.range_std),
-                                    WrapAngle(z.y() + rng.Normal(0.0, sensor.bearing_std))});
-    }
-    slam.Observe(frame);
-  }
-  return slam.Finish();
+  return testing::WatchBeacons(slam, Se2(), world.beacons, 20, sensor, &rng);
 }
 
 TEST(SameWalls, PointsOnAWallTheMapHoldsTwiceAreRelatedToIt) {
@@ -290,26 +264,14 @@ struct Related {
 
 Related FilterTwoBuildingsSharingAWall(bool north_first) {
   const TwoBuildingsSharingAWall world(north_first);
-  MotionNoise motion;
-  motion.speed_std = 1e-3;
-  motion.steer_std = 1e-3;
   const SensorNoise sensor;
   SlamOptions options;
   options.building_relations = true;
-  PriorMapSlam slam(world.pose, 0.0, motion, sensor, &world.map, options, &world.truth);
+  PriorMapSlam slam(world.pose, 0.0, testing::StandingStillMotion(), sensor, &world.map, options,
+                    &world.truth);
   Rng rng(6);
-  for (int f = 1; f <= 30; ++f) {
-    slam.Predict({0.2 * f, 0.2, BicycleControl{0.0, 0.0}});
-    ObservationFrame frame;
-    frame.time = 0.2 * f;
-    for (std::size_t i = 0; i < world.beacons.size(); ++i) {
-      const Vec2 z = ObserveRangeBearing(world.pose, world.beacons[i]);
-      frame.observations.push_back({static_cast<int>(i), z.x() + rng.Normal(0.0, sensor.range_std),
-                                    WrapAngle(z.y() + rng.Normal(0.0, sensor.bearing_std))});
-    }
-    slam.Observe(frame);
-  }
-  const SlamResult result = slam.Finish();
+  const SlamResult result =
+      testing::WatchBeacons(slam, world.pose, world.beacons, 30, sensor, &rng);
   EXPECT_EQ(result.same_walls.size(), 1u);  // the shared wall, and nothing else
   Related related;
   for (const RelationRecord& r : result.relations) {
