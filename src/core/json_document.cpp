@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/utf8.hpp>
 #include <priormap/core/world_bounds.hpp>
 
 namespace priormap::detail {
@@ -265,6 +266,35 @@ std::string NlohmannMessage(std::string message) {
   return message;
 }
 
+// nlohmann quotes the bytes it last read as they are: a byte that is not UTF-8, or a control
+// character, would reach the terminal raw. Those are escaped (\xNN); valid UTF-8 is kept.
+std::string EscapeUnprintable(std::string_view message) {
+  std::string out;
+  for (std::size_t at = 0; at < message.size();) {
+    const std::optional<Utf8Char> c = DecodeUtf8(message, at);
+    if (c && c->code >= 0x20 && c->code != 0x7F) {
+      out.append(message.substr(at, c->length));
+      at += c->length;
+      continue;
+    }
+    out += fmt::format("\\x{:02x}", static_cast<unsigned char>(message[at]));
+    ++at;
+  }
+  return out;
+}
+
+// nlohmann reports a byte that is not UTF-8 where it saw the sequence fail, which may be the byte
+// after it (the '"' after a Latin-1 '\xe9'): the first byte that is not UTF-8 up to there is the
+// one to show.
+std::size_t FirstNotUtf8(std::string_view text, std::size_t up_to) {
+  for (std::size_t at = 0; at < text.size() && at <= up_to;) {
+    const std::optional<Utf8Char> c = DecodeUtf8(text, at);
+    if (!c) return at;
+    at += c->length;
+  }
+  return up_to;
+}
+
 }  // namespace
 
 std::optional<std::size_t> LocateJsonPointer(std::string_view text, const JsonPointer& pointer) {
@@ -286,8 +316,10 @@ Result<JsonDocument> JsonDocument::Parse(std::string_view text, std::string name
     offset = LocateParseError(text);
     message = e.what();
   }
+  if (message.find("ill-formed UTF-8") != std::string::npos) offset = FirstNotUtf8(text, offset);
   const TextPosition where = PositionOfOffset(text, offset);
-  return Diagnostic{name, where.line, where.col, "invalid JSON: " + NlohmannMessage(message)};
+  return Diagnostic{name, where.line, where.col,
+                    "invalid JSON: " + EscapeUnprintable(NlohmannMessage(message))};
 }
 
 Diagnostic JsonDocument::Diagnose(const JsonSchemaError& error) const {

@@ -112,6 +112,24 @@ TEST(JsonMalformed, TrailingGarbageMessageIsKeptWhole) {
                                        "of input")));
 }
 
+// A Latin-1 byte in a string: nlohmann saw the sequence fail at the '"' after it and quoted the
+// raw byte, which a terminal shows as garbage. The error is at the byte, and the byte escaped.
+TEST(JsonMalformed, AByteThatIsNotUtf8IsLocatedAtItselfAndEscaped) {
+  const std::string latin1 =
+      "{\"format\": \"priormap.log\", \"version\": 1, \"name\": \"caf\xe9\"}";
+  EXPECT_THAT(LogErrors(latin1),
+              ElementsAre(DiagnosticAt(1, 54,
+                                       "invalid JSON: syntax error while parsing value - invalid "
+                                       "string: ill-formed UTF-8 byte; last read: "
+                                       "'\"caf\\xe9\"'")));
+  // Valid UTF-8 in what nlohmann quotes is kept as it is (it shows a control character itself).
+  EXPECT_THAT(LogErrors("{\"format\": \"priormap.log\", \"caf\u00e9\x01\": 1}"),
+              ElementsAre(DiagnosticAt(1, 34,
+                                       "invalid JSON: syntax error while parsing object key - "
+                                       "invalid string: control character U+0001 (SOH) must be "
+                                       "escaped to \\u0001; last read: '\"caf\u00e9<U+0001>'")));
+}
+
 TEST(JsonMalformed, NumberBeyondDoubleRangeIsADiagnosticNotAnException) {
   EXPECT_THAT(LogErrors(ScanDocument("ranges", "[1, 1e400, 3]")),
               ElementsAre(DiagnosticAt(6, 17, "invalid JSON: number overflow parsing '1e400'")));
