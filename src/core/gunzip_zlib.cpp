@@ -11,14 +11,18 @@
 #include <fmt/format.h>
 #include <zlib.h>
 
+#include <priormap/core/check.hpp>
+
 #include "gunzip.hpp"
 
 namespace priormap::detail {
 namespace {
 
-// Why a member could not be inflated: zlib's reason, or the end of the data inside it.
+// Why a member could not be inflated: zlib's reason, or the end of the data inside it, and
+// whether its header was read (damage after it is in the DEFLATE data or the trailer).
 struct Failure {
   bool truncated = false;
+  bool in_header = false;
   std::string why;
 };
 
@@ -27,6 +31,9 @@ struct Failure {
 std::optional<std::size_t> InflateMember(z_stream& stream, std::string_view bytes,
                                          std::string& text, Failure& failure) {
   if (inflateReset(&stream) != Z_OK) throw std::bad_alloc();
+  // zlib sets `header.done` once the member's header is read (inflateReset forgets `header`).
+  gz_header header{};
+  PRIORMAP_CHECK(inflateGetHeader(&stream, &header) == Z_OK, "zlib inflates gzip here");
   // What the previous member left unread is this one: fed again from `bytes`.
   stream.next_in = nullptr;
   stream.avail_in = 0;
@@ -49,7 +56,8 @@ std::optional<std::size_t> InflateMember(z_stream& stream, std::string_view byte
     // No progress possible: the data ends inside the member.
     const bool truncated = status == Z_BUF_ERROR && stream.avail_in == 0 && fed == bytes.size();
     if (truncated || (status != Z_OK && status != Z_BUF_ERROR)) {
-      failure = {truncated, truncated ? "" : (stream.msg ? stream.msg : "inflate failed")};
+      failure = {truncated, header.done != 1,
+                 truncated ? "" : (stream.msg ? stream.msg : "inflate failed")};
       return std::nullopt;
     }
   }
@@ -74,12 +82,17 @@ Result<std::string> GunzipWithZlib(std::string_view bytes, const std::string& na
                                     "inside the gzip member at byte offset {}: expected the rest "
                                     "of that member",
                                     bytes.size(), at)};
+    // What zlib's reason says was wrong: "header crc mismatch", "unknown compression method",
+    // ... before the header was read; "invalid distance too far back", "incorrect data check",
+    // ... after it.
     if (!member)
-      return Diagnostic{name, 0, 0,
-                        fmt::format("corrupt or truncated gzip data: the gzip member at byte "
-                                    "offset {} of {} is damaged ({}): expected DEFLATE data, and "
-                                    "a trailer that matches it",
-                                    at, bytes.size(), failure.why)};
+      return Diagnostic{
+          name, 0, 0,
+          fmt::format(
+              "corrupt or truncated gzip data: the gzip member at byte "
+              "offset {} (of a {}-byte file) is damaged ({}): expected {}",
+              at, bytes.size(), failure.why,
+              failure.in_header ? "a gzip header" : "DEFLATE data and a trailer that matches it")};
     at += *member;
   }
   if (at < bytes.size()) return TrailingGzipData(name, at, bytes.size());

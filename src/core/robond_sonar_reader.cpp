@@ -29,8 +29,8 @@ struct Line {
 std::vector<Line> SplitLines(std::string_view text) {
   std::vector<Line> lines;
   int number = 0;
-  // A UTF-8 byte order mark (some Windows editors write one) is not part of the first time, as
-  // the other readers skip it; columns count from after it.
+  // A UTF-8 byte order mark (some Windows editors write one) is not part of the first line's
+  // time field: it is skipped, as the other readers skip it, and columns count from after it.
   std::size_t start = text.starts_with(kUtf8ByteOrderMark) ? kUtf8ByteOrderMark.size() : 0;
   while (start < text.size()) {
     ++number;

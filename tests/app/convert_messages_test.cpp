@@ -2,7 +2,9 @@
 // and the limit behind a refused --min-range, an output that names the input, and text that the
 // output format cannot hold. Each failure exits 1 (bad input, or an option checked against it)
 // and writes nothing.
+#include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,10 +26,21 @@ using RunResult = priormap::testing::ProcessResult;
 
 class ConvertMessages : public priormap::testing::CliFixture {
  protected:
-  // Fails with exit status 1, writing nothing, its message on stderr.
+  // Fails with exit status 1, its message on stderr, writing nothing: the output that -o names
+  // is absent after the run, or, when it was there before (the input itself), as it was.
   RunResult FailsWithBadInput(const std::vector<std::string>& args) const {
+    // What follows -o (every call names an output; `at` throws when none does).
+    const auto o =
+        static_cast<std::size_t>(std::find(args.begin(), args.end(), "-o") - args.begin());
+    const fs::path output = Work(args.at(o + 1));
+    const std::optional<std::string> before =
+        fs::exists(output) ? std::optional(ReadAll(output)) : std::nullopt;
     RunResult r = RunFailing(args);
     EXPECT_EQ(r.status, 1) << "stderr:\n" << r.err;
+    if (before)
+      EXPECT_EQ(ReadAll(output), *before) << output;
+    else
+      EXPECT_FALSE(fs::exists(fs::symlink_status(output))) << output << " was written";
     return r;
   }
 };

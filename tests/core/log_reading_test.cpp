@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -147,9 +148,21 @@ TEST(LogReading, CorruptOrTruncatedGzipIsADiagnostic) {
   }
 }
 
+// The CRC-32 of gzip (RFC 1952), bit by bit: a test needs only a few bytes of it.
+std::uint32_t Crc32(std::string_view bytes) {
+  std::uint32_t crc = 0xffffffffu;
+  for (const char c : bytes) {
+    crc ^= static_cast<unsigned char>(c);
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
 // `priormap plot` (ReadLog: libdeflate) said "corrupt or truncated gzip data" of a log that
 // `priormap convert` (ReadFileText: zlib) said was cut short: both now say the same, with where
-// the damaged member starts, and whether the file ends inside it.
+// the damaged member starts, and whether the file ends inside it. The damage says what was
+// expected there: "expected DEFLATE data, and a trailer that matches it" was said of a damaged
+// header too, and "at byte offset 0 of 15085" read as the first member of 15085.
 TEST(LogReading, EveryReaderSaysWhereAGzipMemberIsCutShortOrDamaged) {
   const testing::TempDir dir;
   const std::string gz = Gzipped(dir, CarmenText(50, 6));
@@ -176,19 +189,33 @@ TEST(LogReading, EveryReaderSaysWhereAGzipMemberIsCutShortOrDamaged) {
                 ElementsAre(DiagnosticAt(
                     name, 0, 0,
                     fmt::format("corrupt or truncated gzip data: the gzip member at byte offset "
-                                "{} of {} is damaged (incorrect data check): expected DEFLATE "
-                                "data, and a trailer that matches it",
+                                "{} (of a {}-byte file) is damaged (incorrect data check): "
+                                "expected DEFLATE data and a trailer that matches it",
                                 gz.size(), bad_crc.size()))));
-}
-
-// The CRC-32 of gzip (RFC 1952), bit by bit: a test needs only a few bytes of it.
-std::uint32_t Crc32(std::string_view bytes) {
-  std::uint32_t crc = 0xffffffffu;
-  for (const char c : bytes) {
-    crc ^= static_cast<unsigned char>(c);
-    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  // A damaged header: the second member's header CRC (FHCRC) is wrong, the first member's
+  // compression method is not DEFLATE (8), or its flags set a reserved bit.
+  std::string header = gz.substr(0, 10);
+  header[3] = static_cast<char>(header[3] | 0x02);
+  const std::uint32_t crc = (Crc32(header) & 0xffffu) ^ 0x0001u;
+  const std::string bad_header_crc =
+      gz + header + static_cast<char>(crc & 0xffu) + static_cast<char>(crc >> 8) + gz.substr(10);
+  std::string bad_method = gz;
+  bad_method[2] = '\x07';
+  std::string bad_flags = gz;
+  bad_flags[3] = static_cast<char>(bad_flags[3] | 0x20);
+  for (const auto& [bytes, at, why] :
+       {std::tuple{bad_header_crc, gz.size(), "header crc mismatch"},
+        std::tuple{bad_method, std::size_t{0}, "unknown compression method"},
+        std::tuple{bad_flags, std::size_t{0}, "unknown header flags set"}}) {
+    for (const std::vector<Diagnostic>& diagnostics : diagnostics_of(bytes))
+      EXPECT_THAT(diagnostics, ElementsAre(DiagnosticAt(
+                                   name, 0, 0,
+                                   fmt::format("corrupt or truncated gzip data: the gzip member "
+                                               "at byte offset {} (of a {}-byte file) is damaged "
+                                               "({}): expected a gzip header",
+                                               at, bytes.size(), why))))
+          << why;
   }
-  return ~crc;
 }
 
 TEST(LogReading, AGzipHeaderCrcIsCheckedByEveryReader) {
