@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 
 #include <Eigen/Eigenvalues>
@@ -37,6 +38,28 @@ double OverlapFraction(const PriorSegment& a, const PriorSegment& b) {
   const double overlap =
       std::min(std::max(la, lb), std::max(s0, s1)) - std::max(0.0, std::min(s0, s1));
   return overlap / std::min(la, lb);
+}
+
+// The angle between the lines of `a` and `b`, in [0, pi / 2].
+double TurnBetween(const PriorSegment& a, const PriorSegment& b) {
+  const Vec2 u = (a.b - a.a).normalized(), v = (b.b - b.a).normalized();
+  return std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), std::abs(u.dot(v)));
+}
+
+// Whether every segment of `group` runs within kMaxContinuedTurnDeg of every other: the spread of
+// their lines' angles from the first one's, each in (-pi / 2, pi / 2].
+bool StraightWithinTurn(const PriorMap& map, const std::vector<int>& group) {
+  const Vec2 u = (map.segments[group.front()].b - map.segments[group.front()].a).normalized();
+  double lo = 0.0, hi = 0.0;
+  for (int s : group) {
+    const Vec2 v = (map.segments[s].b - map.segments[s].a).normalized();
+    double angle = std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v));
+    if (angle > std::numbers::pi / 2) angle -= std::numbers::pi;
+    if (angle <= -std::numbers::pi / 2) angle += std::numbers::pi;
+    lo = std::min(lo, angle);
+    hi = std::max(hi, angle);
+  }
+  return hi - lo <= kMaxContinuedTurnDeg * std::numbers::pi / 180.0;
 }
 
 struct UnionFind {
@@ -112,7 +135,8 @@ bool ContinuesWall(const PriorSegment& a, const PriorSegment& b, double gate_chi
   if (!((a.b - a.a).squaredNorm() > 0.0) || !((b.b - b.a).squaredNorm() > 0.0)) return false;
   if (a.building != b.building || a.shared_with != b.shared_with) return false;
   const bool vertex = a.b == b.a || a.a == b.b || a.a == b.a || a.b == b.b;
-  return vertex && EndpointsOffLine(a, b) <= gate_chi2 && EndpointsOffLine(b, a) <= gate_chi2;
+  return vertex && TurnBetween(a, b) <= kMaxContinuedTurnDeg * std::numbers::pi / 180.0 &&
+         EndpointsOffLine(a, b) <= gate_chi2 && EndpointsOffLine(b, a) <= gate_chi2;
 }
 
 bool IsSameWall(const PriorSegment& a, const PriorSegment& b, double gate_chi2) {
@@ -138,20 +162,42 @@ SameWalls MergeSameWalls(const PriorMap& map, double gate_chi2) {
                      static_cast<int>(i)});
   }
   std::sort(boxes.begin(), boxes.end(), [](const Box& p, const Box& q) { return p.x0 < q.x0; });
-  UnionFind groups(n);
+  // Copies alone, and copies with the parts of split walls: a group that the parts joined is kept
+  // only while it stays straight (ContinuesWall), else its segments are grouped as copies alone.
+  UnionFind copies(n), with_parts(n);
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     for (std::size_t j = i + 1; j < boxes.size() && boxes[j].x0 <= boxes[i].x1; ++j) {
       if (boxes[j].y0 > boxes[i].y1 || boxes[i].y0 > boxes[j].y1) continue;
       const int a = boxes[i].segment, b = boxes[j].segment;
       const PriorSegment &sa = map.segments[a], &sb = map.segments[b];
-      if (IsSameWall(sa, sb, gate_chi2) || ContinuesWall(sa, sb, gate_chi2)) groups.Join(a, b);
+      if (IsSameWall(sa, sb, gate_chi2)) {
+        copies.Join(a, b);
+        with_parts.Join(a, b);
+      } else if (ContinuesWall(sa, sb, gate_chi2)) {
+        with_parts.Join(a, b);
+      }
     }
   }
+  std::vector<std::vector<int>> joined(n);
+  for (std::size_t i = 0; i < n; ++i) joined[with_parts.Find(i)].push_back(static_cast<int>(i));
+  std::vector<char> keep_parts(n, 0);
+  for (std::size_t root = 0; root < n; ++root) {
+    const std::vector<int>& group = joined[root];
+    const bool parts_joined = std::any_of(group.begin(), group.end(), [&](int s) {
+      return copies.Find(static_cast<std::size_t>(s)) != copies.Find(root);
+    });
+    keep_parts[root] = !parts_joined || StraightWithinTurn(map, group);
+  }
+  // Roots of the two partitions apart: a copies' root is offset by n.
+  const auto root_of = [&](std::size_t i) {
+    const std::size_t root = with_parts.Find(i);
+    return keep_parts[root] ? root : n + copies.Find(i);
+  };
   SameWalls out;
   out.map.buildings = map.buildings;
-  std::vector<int> wall_of_root(n, -1);
+  std::vector<int> wall_of_root(2 * n, -1);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t root = groups.Find(i);
+    const std::size_t root = root_of(i);
     if (wall_of_root[root] < 0) {
       wall_of_root[root] = static_cast<int>(out.members.size());
       out.members.emplace_back();

@@ -35,8 +35,15 @@ std::string OptionalBool(const std::optional<bool>& value) {
   return value ? (*value ? "1" : "0") : "";
 }
 
+// The `building` cell: the relation's first building, a number in every row (empty for a
+// relation to a single wall), so that a reader infers the same column type with or without a tie.
 std::string BuildingCell(const RelationRecord& r) {
-  // Tied buildings (RelationRecord::buildings) joined as the walls are.
+  return r.building < 0 ? std::string() : std::to_string(r.building);
+}
+
+// The `buildings` cell: every building of the relation (RelationRecord::buildings), joined as the
+// walls are; several only on an exact tie.
+std::string BuildingsCell(const RelationRecord& r) {
   if (r.building < 0) return std::string();
   return r.buildings.empty() ? std::to_string(r.building)
                              : fmt::format("{}", fmt::join(r.buildings, ";"));
@@ -141,13 +148,14 @@ std::string RunTraceCsv(const RunTrace& trace) {
 
 std::string StudyRelationsCsv(const StudyResult& study) {
   std::string out =
-      "run,landmark,segment,time,correct,spurious_segment,flagged,flagged_time,building,walls\n";
+      "run,landmark,segment,time,correct,spurious_segment,flagged,flagged_time,building,walls,"
+      "buildings\n";
   for (std::size_t run = 0; run < study.with_prior.size(); ++run) {
     for (const RelationRecord& r : study.with_prior[run].result.relations) {
-      out += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", run, r.landmark, r.segment,
+      out += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", run, r.landmark, r.segment,
                          Cell(r.time), OptionalBool(r.correct), r.spurious_segment ? 1 : 0,
                          r.flagged ? 1 : 0, r.flagged ? Cell(r.flagged_time) : std::string(),
-                         BuildingCell(r), fmt::join(r.walls, ";"));
+                         BuildingCell(r), fmt::join(r.walls, ";"), BuildingsCell(r));
     }
   }
   return out;
@@ -254,13 +262,14 @@ std::string SlamMapGeoJson(const SlamResult& result) {
 
 std::string SlamRelationsCsv(const SlamResult& result) {
   std::string out =
-      "landmark,segment,time,flagged,flagged_time,correct,spurious_segment,building,walls\n";
+      "landmark,segment,time,flagged,flagged_time,correct,spurious_segment,building,walls,"
+      "buildings\n";
   for (const RelationRecord& r : result.relations) {
-    out += fmt::format("{},{},{},{},{},{},{},{},{}\n", r.landmark, r.segment, Cell(r.time),
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", r.landmark, r.segment, Cell(r.time),
                        r.flagged ? 1 : 0, r.flagged ? Cell(r.flagged_time) : std::string(),
                        OptionalBool(r.correct),
                        r.correct ? std::string(r.spurious_segment ? "1" : "0") : std::string(),
-                       BuildingCell(r), fmt::join(r.walls, ";"));
+                       BuildingCell(r), fmt::join(r.walls, ";"), BuildingsCell(r));
   }
   return out;
 }

@@ -178,7 +178,7 @@ TEST_F(SlamCli, SimulateWritesTheStudyAndRunFiltersItsExportedInputs) {
   }
   EXPECT_TRUE(ReadAll(Work("study/relations.csv"))
                   .starts_with("run,landmark,segment,time,correct,spurious_segment,flagged,"
-                               "flagged_time,building,walls\n"));
+                               "flagged_time,building,walls,buildings\n"));
   for (const char* figure : {"pose_error", "nees", "relations", "map"}) {
     EXPECT_TRUE(IsPng(ReadAll(Work("study/figures/" + std::string(figure) + ".png")))) << figure;
     EXPECT_THAT(ReadAll(Work("study/figures/" + std::string(figure) + ".svg")), HasSubstr("<svg"))
@@ -251,7 +251,8 @@ TEST_F(SlamCli, AlgorithmOptionsReachTheFilter) {
   const auto building_rows = [&](const char* dir) {
     int rows = 0;
     for (const std::string& line : Lines(ReadAll(Work(dir) / "relations.csv"))) {
-      if (!line.ends_with(",")) ++rows;  // a row with walls; the header ends in "walls"
+      // A row with buildings (and walls); the header ends in "buildings".
+      if (!line.ends_with(",")) ++rows;
     }
     return rows - 1;
   };

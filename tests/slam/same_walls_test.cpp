@@ -83,6 +83,71 @@ TEST(SameWalls, AWallAFootprintSplitsAtAVertexIsOneWall) {
   EXPECT_DOUBLE_EQ(walls.map.segments[0].std, 1.0);
 }
 
+// The polyline through `points`, each segment a wall of building 0 with `std`; consecutive
+// segments share their vertex bit for bit, as a GeoJSON ring's do.
+PriorMap Footprint(const std::vector<Vec2>& points, bool closed, double std) {
+  PriorMap map;
+  map.buildings = {"b"};
+  const std::size_t n = points.size();
+  for (std::size_t i = 0; i + 1 < n + (closed ? 1 : 0); ++i)
+    map.segments.push_back({points[i], points[(i + 1) % n], std, 0});
+  return map;
+}
+
+// A regular polygon of `sides` sides `length` long: a round building's footprint.
+std::vector<Vec2> RegularPolygon(int sides, double length) {
+  const double radius = length / (2.0 * std::sin(std::numbers::pi / sides));
+  std::vector<Vec2> points;
+  for (int i = 0; i < sides; ++i) {
+    const double angle = 2.0 * std::numbers::pi * i / sides;
+    points.emplace_back(radius * std::cos(angle), radius * std::sin(angle));
+  }
+  return points;
+}
+
+// `count` segments `length` long, each turning by `turn_deg` from the last: a curved facade.
+std::vector<Vec2> Arc(int count, double length, double turn_deg) {
+  std::vector<Vec2> points{Vec2(0, 0)};
+  for (int i = 0; i < count; ++i) {
+    const double heading = i * turn_deg * std::numbers::pi / 180.0;
+    points.push_back(points.back() + length * Vec2(std::cos(heading), std::sin(heading)));
+  }
+  return points;
+}
+
+// Short sides against a 1 m std pass the endpoints' test at 60 degrees (chi2 0.32 for 1 m sides),
+// and the parts chained into one chord as long as the building, with a std of its radius. A turn
+// beyond the digitiser's precision is a corner, whatever the std.
+TEST(SameWalls, ARoundFootprintKeepsItsSides) {
+  for (const auto& [sides, length] : {std::pair{6, 1.0}, {16, 2.0}, {32, 3.0}}) {
+    const SameWalls walls = MergeSameWalls(Footprint(RegularPolygon(sides, length), true, 1.0));
+    EXPECT_EQ(walls.map.segments.size(), static_cast<std::size_t>(sides)) << sides << "-gon";
+  }
+}
+
+// Slight turns each within the digitiser's precision still add up to a curve: 30 sides of 3 m
+// turning 1 degree each (29 degrees in all) are not one wall, nor are any two of them, since
+// which two would be a matter of order. Sides turning 3 degrees are not joined pairwise.
+TEST(SameWalls, ACurvedFacadeIsNotOneWall) {
+  for (const double turn : {1.0, 3.0}) {
+    const SameWalls walls = MergeSameWalls(Footprint(Arc(30, 3.0, turn), false, 1.0));
+    EXPECT_EQ(walls.map.segments.size(), 30u) << turn << " degrees a side";
+  }
+}
+
+// A wall drawn in three parts, a 3 degree kink, and two more parts: two walls, each part of one of
+// them; the kink cuts the chain, so the straight runs still merge.
+TEST(SameWalls, AKinkBetweenStraightRunsCutsTheWall) {
+  std::vector<Vec2> points{{0, 0}, {10, 0}, {20, 0}, {30, 0}};
+  const double kink = 3.0 * std::numbers::pi / 180.0;
+  for (int i = 1; i <= 2; ++i)
+    points.push_back(Vec2(30, 0) + 10.0 * i * Vec2(std::cos(kink), std::sin(kink)));
+  const SameWalls walls = MergeSameWalls(Footprint(points, false, 1.0));
+  ASSERT_EQ(walls.map.segments.size(), 2u);
+  EXPECT_THAT(walls.members[0], ElementsAre(0, 1, 2));
+  EXPECT_THAT(walls.members[1], ElementsAre(3, 4));
+}
+
 // Beacons on the wall x = 10, and the prior map's segment for it 0.4 m off, drawn whole or with a
 // vertex at y = 0. Which beacons are related to it.
 std::set<int> RelatedToAWall(bool split) {

@@ -12,13 +12,15 @@
 ///    their covariance when both segments are independent noisy images of one line
 ///    (sigma_p^2 I for the points, sigma_l^2 [(1 - t_i)(1 - t_j) + t_i t_j] for the line at the
 ///    points' projections t_1, t_2), and
-///  - they overlap along it by at least half the shorter one: walls that continue each other
-///    (the next building of a straight street front, a wall split by a vertex) are not one.
-/// Groups are closed transitively. A wall that one footprint splits at a vertex (a straight
-/// facade drawn with an extra vertex, where a neighbour's wall meets it) is one wall as well
-/// (ContinuesWall): its parts meet at that vertex, so a point near it is gated with both and its
-/// probability splits between them as between copies; in a cluster, that kept every point on the
-/// wall from being related to it.
+///  - they overlap along it by at least half the shorter one: by this test, walls that continue
+///    each other (the next building of a straight street front, a wall split by a vertex) are
+///    not one.
+/// Groups are closed transitively. The parts of a wall that one footprint splits at a vertex (a
+/// straight facade drawn with an extra vertex, where a neighbour's wall meets it) are not one by
+/// the overlap test above, but ContinuesWall joins them instead (see that function for when):
+/// they meet at that vertex, so a point near it is gated with both and its probability splits
+/// between them as between copies; in a cluster, that kept every point on the wall from being
+/// related to it.
 ///
 /// The gate (kSameWallChi2 = 0.5) is far tighter than a 99 % test, on purpose. The std is a
 /// map's error against the world, and distinct walls often stand closer than 3 std: with 1 m,
@@ -63,10 +65,18 @@ struct SameWalls {
 [[nodiscard]] bool IsSameWall(const PriorSegment& a, const PriorSegment& b,
                               double gate_chi2 = kSameWallChi2);
 
+/// The largest turn between two parts of one straight wall that a footprint split at a vertex:
+/// a redrawn facade bends by its digitiser's precision (2 degrees is 0.35 m over 10 m), a polygon
+/// drawn for a round building or a curved facade by more, whatever its segments' std.
+inline constexpr double kMaxContinuedTurnDeg = 2.0;
+
 /// Whether `b` continues `a` at a vertex they share (bit for bit, as consecutive positions of one
-/// GeoJSON line or ring do) along one line, within the test above, and both are walls of the same
-/// buildings (building and shared_with): one wall that the footprint split. Walls of different
-/// buildings that continue each other (the next house of a street front) are not joined.
+/// GeoJSON line or ring do) along one line: within the test above, turning by at most
+/// kMaxContinuedTurnDeg, and both walls of the same buildings (building and shared_with): one wall
+/// that the footprint split. Walls of different buildings that continue each other (the next house
+/// of a street front) are not joined. MergeSameWalls joins such parts only while all of them stay
+/// within kMaxContinuedTurnDeg of each other: many slight turns (a polygon for a round building,
+/// whose sides are short against their std) are a curve, not one wall.
 [[nodiscard]] bool ContinuesWall(const PriorSegment& a, const PriorSegment& b,
                                  double gate_chi2 = kSameWallChi2);
 
