@@ -133,9 +133,9 @@ Result<ByteBuffer> Gunzip(std::string_view bytes, const std::string& name) {
 
 Diagnostic TrailingGzipData(const std::string& name, std::size_t offset, std::size_t file_size) {
   return Diagnostic{name, 0, 0,
-                    fmt::format("trailing data after the last gzip member, at byte offset {} of "
-                                "{}: expected another gzip member (magic bytes 1f 8b) or the end "
-                                "of the file",
+                    fmt::format("trailing data after the last gzip member, at byte offset {} (of "
+                                "a {}-byte file): expected another gzip member (magic bytes 1f "
+                                "8b) or the end of the file",
                                 offset, file_size)};
 }
 

@@ -756,8 +756,9 @@ TEST_F(Cli, GzipLogsAreReadAsTheirMembersConcatenatedAndTrailingDataIsAnError) {
   WriteAll(Work("tail.log.gz"), member + "FLASER 0 0 0 0 0 0 0\n");
   EXPECT_THAT(Fails({"convert", "tail.log.gz", "-o", "out.json"}).err,
               HasSubstr(fmt::format("priormap: error: tail.log.gz: trailing data after the last "
-                                    "gzip member, at byte offset {} of {}: expected another gzip "
-                                    "member (magic bytes 1f 8b) or the end of the file",
+                                    "gzip member, at byte offset {} (of a {}-byte file): expected "
+                                    "another gzip member (magic bytes 1f 8b) or the end of the "
+                                    "file",
                                     member.size(), member.size() + 21)));
 }
 

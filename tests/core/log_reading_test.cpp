@@ -91,8 +91,8 @@ TEST(LogReading, WhatFollowsTheLastMemberIsAnErrorAtItsOffsetUnlessItStartsAMemb
     for (const std::string& members : {gz, Gzipped(dir, "") + gz}) {
       testing::WriteAll(dir / "log.gz", members + tail);
       const std::string message = fmt::format(
-          "trailing data after the last gzip member, at byte offset {} of {}: expected another "
-          "gzip member (magic bytes 1f 8b) or the end of the file",
+          "trailing data after the last gzip member, at byte offset {} (of a {}-byte file): "
+          "expected another gzip member (magic bytes 1f 8b) or the end of the file",
           members.size(), members.size() + tail.size());
       for (const std::vector<Diagnostic>& diagnostics :
            {ReadLog(dir / "log.gz").diagnostics(), ReadCarmenLog(dir / "log.gz").diagnostics(),
