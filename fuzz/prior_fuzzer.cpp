@@ -32,20 +32,28 @@ namespace dsl = priormap::dsl;
 // the same on every machine and without reading the disk per input.
 constexpr const char* kPath = "/nonexistent-priormap-fuzz/fuzz.prior";
 
-// The lines of the text as diagnostics count them: "\n", "\r\n" and a lone "\r" each end one (a
-// text ending in a line break has an empty last line).
+// The lines of the text as diagnostics count them: "\n", "\r\n" and a lone "\r" each end one,
+// and so does a run of CRs before an LF ("\r\r\n"); CRs that no LF follows each end one (a text
+// ending in a line break has an empty last line). Written apart from the lexer's FindLineEnd, to
+// check it.
 std::vector<std::string_view> Lines(std::string_view text) {
   std::vector<std::string_view> lines;
   std::size_t start = 0;
-  for (;;) {
-    const std::size_t end = text.find_first_of("\r\n", start);
-    if (end == std::string_view::npos) {
-      lines.push_back(text.substr(start));
-      return lines;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '\r' && text[i] != '\n') continue;
+    lines.push_back(text.substr(start, i - start));
+    std::size_t run_end = i;
+    while (run_end < text.size() && text[run_end] == '\r') ++run_end;
+    if (run_end < text.size() && text[run_end] == '\n') {
+      i = run_end;  // the CRs and the LF: one line end
+    } else {
+      for (std::size_t cr = i + 1; cr < run_end; ++cr) lines.emplace_back();  // blank lines
+      i = run_end - 1;
     }
-    lines.push_back(text.substr(start, end - start));
-    start = end + (text.substr(end).starts_with("\r\n") ? 2 : 1);
+    start = i + 1;
   }
+  lines.push_back(text.substr(start));
+  return lines;
 }
 
 // Characters of `line`: UTF-8 continuation bytes do not start one.

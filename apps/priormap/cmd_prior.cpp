@@ -1,6 +1,8 @@
 // priormap prior: list, check, show and evaluate priorlet files (docs/priorlet-language.md).
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <map>
 
 #include <fmt/format.h>
@@ -168,8 +170,23 @@ std::map<std::string, double> ParseAssignments(const std::string& text) {
       throw UserError(
           fmt::format("--at: expected name=value pairs separated by commas, got '{}'", item));
     }
-    if (ec == std::errc::result_out_of_range || !std::isfinite(value))
+    // from_chars leaves `value` unset out of range; strtod tells an overflow (it gives HUGE_VAL)
+    // from an underflow (0 or a subnormal), in the C locale priormap never changes.
+    const bool out_of_range = ec == std::errc::result_out_of_range;
+    if (out_of_range) value = std::strtod(first, nullptr);
+    if (out_of_range && std::isinf(value)) {
+      throw UserError(fmt::format("--at: {} overflows: above the largest number, {}", item,
+                                  std::numeric_limits<double>::max()));
+    }
+    if (!std::isfinite(value))
       throw UserError(fmt::format("--at: {} is not a finite number", item));
+    // As in a prior's literals: below the normal range a value keeps only some of its digits (or
+    // none: 1e-330 would be evaluated at 0), and no range or angle is that small.
+    if (out_of_range || (value != 0.0 && !std::isnormal(value))) {
+      throw UserError(fmt::format(
+          "--at: {} underflows: below the smallest normal magnitude, {} (write 0 for zero)", item,
+          std::numeric_limits<double>::min()));
+    }
     // A repeated name is a typo for another one: taking either value would hide it.
     if (!values.emplace(item.substr(0, eq), value).second)
       throw UserError(fmt::format("--at: {} is given twice", item.substr(0, eq)));

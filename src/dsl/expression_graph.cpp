@@ -128,6 +128,20 @@ NodeId ExpressionGraph::Const(double value) {
   return Make(n);
 }
 
+NodeId ExpressionGraph::Folded(Op op, double result, std::initializer_list<double> operands) {
+  const bool normal_operands = std::all_of(operands.begin(), operands.end(),
+                                           [](double operand) { return std::isnormal(operand); });
+  // From nonzero operands, only a cancellation (1 - 1), log 1 and acos 1 are exactly 0; any
+  // other 0, and every subnormal, has lost the value (1e-200 * 1e-200 is not 0) or would lose it
+  // in a reciprocal, which overflows: the reasons a literal below the normal range is refused.
+  const bool exact_zero = op == Op::kAdd || op == Op::kSub || op == Op::kLog || op == Op::kAcos;
+  if (normal_operands && !std::isnormal(result) && std::isfinite(result) &&
+      (result != 0.0 || !exact_zero)) {
+    ++underflowing_folds_;
+  }
+  return Const(result);
+}
+
 NodeId ExpressionGraph::Var(int index) {
   PRIORMAP_CHECK(index >= 0 && index < num_vars_, "unknown index out of range");
   Node n;
@@ -147,7 +161,8 @@ NodeId ExpressionGraph::Param(int index) {
 }
 
 NodeId ExpressionGraph::Add(NodeId a, NodeId b) {
-  if (IsConst(a) && IsConst(b)) return Const(node(a).value + node(b).value);
+  if (IsConst(a) && IsConst(b))
+    return Folded(Op::kAdd, node(a).value + node(b).value, {node(a).value, node(b).value});
   if (IsConst(a, 0.0)) return b;
   if (IsConst(b, 0.0)) return a;
   if (node(b).op == Op::kNeg) return Sub(a, node(b).a);  // a + (-b) = a - b
@@ -157,7 +172,8 @@ NodeId ExpressionGraph::Add(NodeId a, NodeId b) {
 }
 
 NodeId ExpressionGraph::Sub(NodeId a, NodeId b) {
-  if (IsConst(a) && IsConst(b)) return Const(node(a).value - node(b).value);
+  if (IsConst(a) && IsConst(b))
+    return Folded(Op::kSub, node(a).value - node(b).value, {node(a).value, node(b).value});
   if (a == b) return Const(0.0);
   if (IsConst(b, 0.0)) return a;
   if (IsConst(a, 0.0)) return Neg(b);
@@ -167,7 +183,8 @@ NodeId ExpressionGraph::Sub(NodeId a, NodeId b) {
 
 NodeId ExpressionGraph::Mul(NodeId a, NodeId b) {
   if (IsConst(b) && !IsConst(a)) std::swap(a, b);  // constant first
-  if (IsConst(a) && IsConst(b)) return Const(node(a).value * node(b).value);
+  if (IsConst(a) && IsConst(b))
+    return Folded(Op::kMul, node(a).value * node(b).value, {node(a).value, node(b).value});
   if (IsConst(a, 0.0)) return a;  // symbolic zero: derivatives of unused unknowns vanish
   if (IsConst(a, 1.0)) return b;
   if (IsConst(a, -1.0)) return Neg(b);
@@ -183,7 +200,8 @@ NodeId ExpressionGraph::Mul(NodeId a, NodeId b) {
 }
 
 NodeId ExpressionGraph::Div(NodeId a, NodeId b) {
-  if (IsConst(a) && IsConst(b)) return Const(node(a).value / node(b).value);
+  if (IsConst(a) && IsConst(b))
+    return Folded(Op::kDiv, node(a).value / node(b).value, {node(a).value, node(b).value});
   if (IsConst(a, 0.0)) return a;
   if (IsConst(b, 1.0)) return a;
   if (IsConst(b, -1.0)) return Neg(a);
@@ -212,7 +230,9 @@ NodeId ExpressionGraph::Neg(NodeId a) {
 }
 
 NodeId ExpressionGraph::Pow(NodeId a, NodeId b) {
-  if (IsConst(a) && IsConst(b)) return Const(std::pow(node(a).value, node(b).value));
+  if (IsConst(a) && IsConst(b)) {
+    return Folded(Op::kPow, std::pow(node(a).value, node(b).value), {node(a).value, node(b).value});
+  }
   if (IsConst(b)) {
     const double e = node(b).value;
     if (e == 0.0) return Const(1.0);
@@ -225,7 +245,7 @@ NodeId ExpressionGraph::Pow(NodeId a, NodeId b) {
 }
 
 NodeId ExpressionGraph::Unary(Op op, NodeId a) {
-  if (IsConst(a)) return Const(ApplyOp(op, node(a).value, 0.0, 0.0, 0.0));
+  if (IsConst(a)) return Folded(op, ApplyOp(op, node(a).value, 0.0, 0.0, 0.0), {node(a).value});
   switch (op) {
     case Op::kSin:
       if (node(a).op == Op::kNeg) return Neg(Unary(Op::kSin, node(a).a));
@@ -253,7 +273,10 @@ NodeId ExpressionGraph::Unary(Op op, NodeId a) {
 }
 
 NodeId ExpressionGraph::Atan2(NodeId y, NodeId x) {
-  if (IsConst(y) && IsConst(x)) return Const(std::atan2(node(y).value, node(x).value));
+  if (IsConst(y) && IsConst(x)) {
+    return Folded(Op::kAtan2, std::atan2(node(y).value, node(x).value),
+                  {node(y).value, node(x).value});
+  }
   return Make({Op::kAtan2, y, x});
 }
 

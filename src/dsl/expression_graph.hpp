@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <span>
 #include <string>
 #include <unordered_map>
@@ -96,6 +97,11 @@ class ExpressionGraph {
   /// Whether `id` was made by GuardedSqrt.
   [[nodiscard]] bool IsGuardedSqrt(NodeId id) const;
 
+  /// How many operations on constants have folded to a magnitude below the smallest normal one
+  /// (0 or a subnormal) from nonzero normal operands, e.g. 1e-200 * 1e-200: lowering compares
+  /// the counts before and after an operation to report it at its place.
+  [[nodiscard]] std::size_t underflowing_folds() const { return underflowing_folds_; }
+
   /// d node / d x_var, as a node (memoised; forward mode).
   NodeId Derivative(NodeId id, int var);
 
@@ -108,6 +114,8 @@ class ExpressionGraph {
 
  private:
   NodeId Make(Node node);
+  /// The constant `result` of `op` on constant `operands`, counted when it underflows.
+  NodeId Folded(Op op, double result, std::initializer_list<double> operands);
   NodeId MakeDerivative(NodeId id, int var);
 
   struct KeyHash {
@@ -122,6 +130,7 @@ class ExpressionGraph {
   std::vector<Node> nodes_;
   std::unordered_map<Node, NodeId, KeyHash, KeyEqual> index_;
   std::unordered_map<std::uint64_t, NodeId> derivatives_;  // (node << 8 | var) -> derivative
+  std::size_t underflowing_folds_ = 0;
 };
 
 /// One application of an operator to node values (shared by Evaluate and the tape).

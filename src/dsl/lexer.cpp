@@ -460,6 +460,17 @@ std::string_view WithoutByteOrderMark(std::string_view text) {
   return text;
 }
 
+LineEnd FindLineEnd(std::string_view text, std::size_t start) {
+  const std::size_t end = text.find_first_of("\r\n", start);
+  if (end == std::string_view::npos) return {text.size(), std::string_view::npos};
+  if (text[end] == '\n') return {end, end + 1};
+  // Inside a run of CRs that the previous line's end found no LF after.
+  if (end == start && start > 0 && text[start - 1] == '\r') return {end, end + 1};
+  const std::size_t after_run = text.find_first_not_of('\r', end);
+  if (after_run != std::string_view::npos && text[after_run] == '\n') return {end, after_run + 1};
+  return {end, end + 1};
+}
+
 bool IsHeaderKey(std::string_view word) {
   return word == "name" || word == "order" || word == "max_curvature" || word == "specializes";
 }
@@ -532,13 +543,11 @@ Result<std::vector<Line>> Lex(std::string_view source,
   int number = 0;
   bool continuing = false;  // the previous physical line ended in "..."
   while (start <= source.size()) {
-    // "\n", "\r\n" and a lone "\r" (classic Mac OS) each end one line, as in most compilers:
-    // reading only "\n" would make a file of "\r" endings one line, and every line:col wrong.
-    std::size_t end = source.find_first_of("\r\n", start);
-    if (end == std::string_view::npos) end = source.size();
+    const LineEnd line_end = FindLineEnd(source, start);
+    const std::size_t end = line_end.end;
     std::string_view physical = source.substr(start, end - start);
     ++number;
-    start = end + (source.substr(end).starts_with("\r\n") ? 2 : 1);
+    start = line_end.next == std::string_view::npos ? source.size() + 1 : line_end.next;
     if (const std::size_t comment = CommentStart(physical); comment != std::string_view::npos) {
       physical = physical.substr(0, comment);
     }

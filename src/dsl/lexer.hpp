@@ -77,6 +77,20 @@ struct Line {
 /// invisible in an editor, it would otherwise be the first character of line 1.
 [[nodiscard]] std::string_view WithoutByteOrderMark(std::string_view text);
 
+/// Where a physical line of `text` ends, and where the next one starts.
+struct LineEnd {
+  std::size_t end = 0;   ///< text.size() for the last line
+  std::size_t next = 0;  ///< std::string_view::npos after the last line
+};
+
+/// The end of the physical line that starts at `start`: 0, or the `next` of the line before (a
+/// lone CR there tells that the CRs right after it end lines of their own, so a long run of CRs
+/// is read once, not once per line). "\n", "\r\n" and a lone "\r" (classic Mac OS) each end one
+/// line, and so does a run of CRs before an LF: "\r\r\n" is CRLF passed twice through a
+/// text-mode layer, and counting two lines there would make every later line:col wrong. CRs that
+/// no LF follows each end one line: in a CR-only file "\r\r" is a blank line.
+[[nodiscard]] LineEnd FindLineEnd(std::string_view text, std::size_t start);
+
 /// The logical lines of `source` (a byte order mark at its start ignored), or the first lexical
 /// error.
 [[nodiscard]] Result<std::vector<Line>> Lex(std::string_view source,

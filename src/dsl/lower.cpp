@@ -194,6 +194,16 @@ class Lowerer {
     return value;
   }
 
+  // An operation on constants that underflows (1e-200 * 1e-200 folds to 0, 1e-300 * 1e-20 to a
+  // subnormal whose reciprocal is inf) has lost the value written: refused at its place, as a
+  // literal below the normal range is. `folds_before` is the graph's count before the operation.
+  void RefuseUnderflow(const Expr& e, std::size_t folds_before) {
+    if (graph_.underflowing_folds() == folds_before) return;
+    Fail(e.loc, fmt::format("this underflows whatever the unknowns: an operation on constants "
+                            "falls below the smallest normal magnitude, {} (write 0 for zero)",
+                            std::numeric_limits<double>::min()));
+  }
+
   // x / 0 with x unknown folds to x * inf, a term infinite or undefined everywhere, which Finite
   // cannot see as it is not a constant (a constant divided by 0 is, and Finite says so).
   void RefuseZeroDivisor(const Expr& e, const Value& dividend, const Value& divisor) {
@@ -219,10 +229,18 @@ class Lowerer {
         // the one reported, with every compiler.
         const Value left = Lower(*e.children[0], scope);
         const Value right = Lower(*e.children[1], scope);
-        return Finite(e, Binary(e, left, right));
+        const std::size_t folds_before = graph_.underflowing_folds();
+        Value value = Finite(e, Binary(e, left, right));
+        RefuseUnderflow(e, folds_before);
+        return value;
       }
-      case Expr::Kind::kCall:
-        return Finite(e, Call(e, scope));
+      case Expr::Kind::kCall: {
+        // The arguments' own underflows are reported at their places, before the call's.
+        const std::size_t folds_before = graph_.underflowing_folds();
+        Value value = Finite(e, Call(e, scope));
+        RefuseUnderflow(e, folds_before);
+        return value;
+      }
       case Expr::Kind::kMatrix:
         return Matrix(e, scope);
       case Expr::Kind::kCompare:

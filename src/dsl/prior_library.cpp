@@ -26,18 +26,17 @@ std::string NameOf(const PriorFile& file) {
 std::string Description(std::string_view text) {
   text = detail::WithoutByteOrderMark(text);
   std::string comment;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    const std::size_t first = line.find_first_not_of(" \t\r");
+  // Lines end where the lexer's do: a file of CR endings is not one long comment line.
+  for (std::size_t start = 0; start != std::string_view::npos;) {
+    const detail::LineEnd line_end = detail::FindLineEnd(text, start);
+    std::string_view line = text.substr(start, line_end.end - start);
+    start = line_end.next;
+    const std::size_t first = line.find_first_not_of(" \t");
     if (first == std::string_view::npos) continue;
     if (line[first] != '#' && line[first] != '%') break;  // the comment block is over
     line.remove_prefix(first);
     line.remove_prefix(std::min(line.find_first_not_of("#% \t"), line.size()));
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.remove_suffix(1);
+    while (!line.empty() && (line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
     if (line.empty()) continue;
     if (!comment.empty()) comment += ' ';
     comment += line;

@@ -497,6 +497,19 @@ TEST(CompileSimplification, ConstantsAreFolded) {
   EXPECT_EQ(block.DerivativeExpression(0, 2), "6");
 }
 
+// Only an operation on nonzero normal constants that loses its value underflows (an error): zero
+// operands, exact zeros (a cancellation, log 1, acos 1) and tiny normal results compile.
+TEST(CompileSimplification, ZeroOperandsExactZerosAndTinyNormalConstantsFold) {
+  const CompiledPrior prior = Compile(OrderTwo(
+      "  rho_1 == 0 * 1e-300 + 0^2 + 1e-300 * 0 + log(1) + acos(1) + (1 - 1) + rho_2 * 0^alpha_1\n"
+      "  rho_1 == 1e-150 * 1e-150 + 2.2250738585072014e-308 * 1 + 8e-308 / 2\n"));
+  const CompiledBlock& block = SameRegion(prior);
+  ASSERT_EQ(block.num_terms(), 2);
+  const std::vector<double> values = Values(block, {1.0, 2.0, 0.5, 1.0}, {0.0, 0.1});
+  EXPECT_DOUBLE_EQ(values[0], 1.0);
+  EXPECT_DOUBLE_EQ(values[1], 1.0 - (1e-300 + 2.2250738585072014e-308 + 4e-308));
+}
+
 TEST(CompileSimplification, ConstantSubexpressionsCostNoInstructions) {
   // The relaxed rectangular bound, deg2rad and all, against the number it stands for.
   const CompiledPrior folded =

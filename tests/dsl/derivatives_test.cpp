@@ -705,12 +705,13 @@ TEST(OperatorDerivatives, ZeroToAVariablePowerHasTheFiniteDerivativeZero) {
 }
 
 // Dividing by a constant multiplies by its reciprocal only where that keeps the value written:
-// the reciprocal of a subnormal divisor overflows (x / 1e-320 was x * inf), and a product of two
-// constant factors can overflow or underflow where the factors applied in turn do not.
+// the reciprocal of a huge divisor is subnormal, with digits lost (that of a subnormal one, which
+// no prior can hold now, overflowed: x / 1e-320 was x * inf), and a product of two constant
+// factors can overflow or underflow where the factors applied in turn do not.
 TEST(OperatorValues, FoldingConstantsKeepsTheValueOfTheExpressionAsWritten) {
   const Result<CompiledPrior> prior = PriorLibrary().CompileText(
       "name: Extreme constants\norder: 2\npriorlet same_region:\n"
-      "  model_likelihood alpha_1 / (1e-300 * 1e-20)\n"
+      "  model_likelihood alpha_2 / 1e308\n"
       "  model_likelihood 1e-200 * (1e-200 * rho_1)\n"
       "  model_likelihood 1e200 * (1e200 * rho_2)\n"
       "  model_likelihood alpha_2 / 4\n",
@@ -726,8 +727,7 @@ TEST(OperatorValues, FoldingConstantsKeepsTheValueOfTheExpressionAsWritten) {
   Eigen::VectorXd x(4);
   x << rho_1, rho_2, alpha_1, alpha_2;
   const Eigen::VectorXd values = evaluation.Values(x, {0.1, 0.2});
-  const double tiny = 1e-300 * 1e-20;  // subnormal
-  const double expected[] = {alpha_1 / tiny, 1e-200 * (1e-200 * rho_1), 1e200 * (1e200 * rho_2),
+  const double expected[] = {alpha_2 / 1e308, 1e-200 * (1e-200 * rho_1), 1e200 * (1e200 * rho_2),
                              alpha_2 / 4};
   for (int t = 0; t < 4; ++t) {
     EXPECT_TRUE(std::isfinite(expected[t])) << t;

@@ -352,6 +352,22 @@ TEST(PriorLibraryList, AFileStartingWithAByteOrderMarkIsListedWithItsDescription
   EXPECT_EQ(listing.front().description, "Written with Notepad.");
 }
 
+// The leading comment ends where the lexer ends lines: with CR-only endings it is not the whole
+// file.
+TEST(PriorLibraryList, DescriptionEndsAtTheLineEndsTheLexerReads) {
+  for (const std::string line_end : {"\r", "\r\n", "\r\r\n"}) {
+    TempDir dir;
+    WriteAll(dir / "cr.prior", "# Short." + line_end + "#  and more" + line_end + line_end +
+                                   "name: Cr" + line_end + "order: 1" + line_end);
+    const PriorLibrary library({dir.path()});
+    EXPECT_THAT(library.Unparsable(), ::testing::IsEmpty());
+    const std::vector<PriorListing> listing = library.List();
+    ASSERT_FALSE(listing.empty());
+    EXPECT_EQ(listing.front().name, "Cr");
+    EXPECT_EQ(listing.front().description, "Short. and more") << ::testing::PrintToString(line_end);
+  }
+}
+
 TEST(PriorLibraryList, DirectoriesComeFirstAndShadowedNamesAreListedOnce) {
   TempDir first, second;
   WriteAll(first / "mine.prior", Marked("Polygonal prior", 1));

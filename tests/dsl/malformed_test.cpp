@@ -275,6 +275,19 @@ std::vector<MalformedCase> Cases() {
        "this is not a number whatever the unknowns: a constant must be a finite number", kCompile},
       {"InfiniteConstant", block + "  rho_1 <= 2 * (1 / 0)\n", 4, 19,
        "this is infinite whatever the unknowns", kCompile},
+      // Constants that underflow: the value written is lost (to 0, or to a subnormal whose
+      // reciprocal overflows), as in a literal below the normal range.
+      {"ConstantProductThatUnderflowsToZero", block + "  rho_1 == 1e-200 * 1e-200\n", 4, 19,
+       "this underflows whatever the unknowns: an operation on constants falls below the "
+       "smallest normal magnitude, 2.2250738585072014e-308 (write 0 for zero)",
+       kCompile},
+      {"SubnormalConstantQuotientAsADivisor", block + "  rho_1 <= alpha_1 / (1e-300 / 1e20)\n", 4,
+       30, "this underflows whatever the unknowns", kCompile},
+      {"SubnormalConstantProductAsADivisor",
+       block + "  model_likelihood alpha_1 / (1e-300 * 1e-20)\n", 4, 38,
+       "this underflows whatever the unknowns", kCompile},
+      {"ConstantFunctionThatUnderflows", block + "  rho_1 == exp(-1000) * rho_2\n", 4, 12,
+       "this underflows whatever the unknowns", kCompile},
       {"UnknownDividedByZero", block + "  rho_1 <= alpha_1 / 0\n", 4, 20,
        "division by zero (the divisor is the constant 0)", kCompile},
       {"UnknownsDividedElementwiseByZero", block + "  [rho_1; rho_2] ./ [1; 0] == 0\n", 4, 18,

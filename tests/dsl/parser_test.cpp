@@ -382,6 +382,26 @@ TEST(ParserStatements, CrLfAndCrlfEachEndOneLine) {
               ElementsAre("name 1:7 T", "order 2:8 2", "definition 3:1 x = 1 + 2"));
 }
 
+// "\r\r\n" (CRLF passed twice through a text-mode layer) ends one line, as does any run of CRs
+// before an LF; CRs that no LF follows each end one, so "\r\r" in a CR-only file is a blank line.
+TEST(ParserStatements, CrsBeforeAnLfEndOneLine) {
+  EXPECT_THAT(
+      OutlineOf("name: T\r\r\norder: 2\r\r\npriorlet same_region:\r\r\n  alpha_1 == ...\r\r\n"
+                "    alpha_2\r\r\r\n  rho_1 == 0\r\r  rho_2 == 0\r\r\r  phi_1 == 0\r\r\n"),
+      ElementsAre("name 1:7 T", "order 2:8 2", "block same_region 3:1",
+                  "  constraint 4:3 alpha_1 == alpha_2", "  constraint 6:3 rho_1 == 0",
+                  "  constraint 8:3 rho_2 == 0", "  constraint 11:3 phi_1 == 0"));
+  // A later error names the line an editor shows.
+  const Result<PriorFile> parsed = ParsePrior(
+      "name: T\r\r\norder: 2\r\r\npriorlet same_region:\r\r\n  alpha_1 == ...\r\r\n    "
+      "alpha_2\r\r\n"
+      "\r\r\n  rho_1 == 0 $\r\r\n",
+      kPath);
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_THAT(parsed.diagnostics(),
+              ElementsAre(DiagnosticAt(kPath, 7, 14, "unexpected character '$'")));
+}
+
 // A header value may hold any printable text, tabs and non-ASCII letters included; columns count
 // characters.
 TEST(ParserStatements, HeaderValuesHoldAnyPrintableText) {
