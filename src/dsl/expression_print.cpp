@@ -93,7 +93,7 @@ class Printer {
         return Binary(n, "^", kPowPrecedence);
       // -a*b reads as -(a*b) and means the same, so a product needs no parentheses.
       case Op::kNeg:
-        return {fmt::format("-{}", Wrapped(n.a, kMulPrecedence)), kNegPrecedence};
+        return {fmt::format("-{}", Wrapped(n.a, kMulPrecedence, kAfterOperator)), kNegPrecedence};
       case Op::kAtan2:
         return {fmt::format("atan2({}, {})", Print(n.a).first, Print(n.b).first), kAtomPrecedence};
       case Op::kSelect: {
@@ -119,13 +119,17 @@ class Printer {
     const bool right_strict = n.op == Op::kSub || n.op == Op::kDiv || n.op == Op::kPow;
     const int left_min = n.op == Op::kPow ? precedence + 1 : precedence;
     return {fmt::format("{}{}{}", Wrapped(n.a, left_min), op,
-                        Wrapped(n.b, right_strict ? precedence + 1 : precedence)),
+                        Wrapped(n.b, right_strict ? precedence + 1 : precedence, kAfterOperator)),
             precedence};
   }
 
-  std::string Wrapped(NodeId id, int min_precedence) const {
+  // After an operator, a text that starts with a sign (a product whose first factor is a
+  // negative constant, -0.5*x) is wrapped too: "a - -0.5*x" and "--0.5*x" read as typos.
+  static constexpr bool kAfterOperator = true;
+  std::string Wrapped(NodeId id, int min_precedence, bool after_operator = false) const {
     auto [text, precedence] = Print(id);
-    return precedence < min_precedence ? fmt::format("({})", text) : text;
+    const bool signed_text = after_operator && text.starts_with('-');
+    return precedence < min_precedence || signed_text ? fmt::format("({})", text) : text;
   }
 
   const ExpressionGraph& graph_;

@@ -200,6 +200,20 @@ TEST(CompileTerms, NormPrintsAsAbsOfAScalarAndSqrtOfASumOfSquares) {
   EXPECT_THAT(Values(block, {3.0, 4.0, 0.5, 0.25}, {0.0, 0.1}), ElementsAre(0.25, 5.0));
 }
 
+// A product whose first factor is a negative constant prints with a sign in front: after an
+// operator it is wrapped, or "a - -0.5*b" and "--0.5*b" (prior show --derivatives of the circular
+// prior) read as typos.
+TEST(CompileTerms, ASignedProductAfterAnOperatorIsWrapped) {
+  const CompiledPrior prior = Compile(OrderTwo(
+      "  model_likelihood alpha_1 - (-0.5 * alpha_2)\n  model_likelihood -(-0.5 * sin(alpha_2))\n"
+      "  model_likelihood rho_1 * (-2 * rho_2)\n"));
+  const CompiledBlock& block = SameRegion(prior);
+  EXPECT_THAT(TermExpressions(block),
+              ElementsAre("alpha_1 - (-0.5*alpha_2)", "-(-0.5*sin(alpha_2))", "rho_1*(-2*rho_2)"));
+  EXPECT_THAT(Values(block, {3.0, 4.0, 0.5, 0.25}, {0.0, 0.1}),
+              ElementsAre(0.5 + 0.125, 0.5 * std::sin(0.25), -24.0));
+}
+
 TEST(CompileTerms, MissingBlocksAreNull) {
   const CompiledPrior prior = Compile(OrderTwo("  alpha_1 == alpha_2\n"));
   EXPECT_NE(prior.block(BlockKind::kSameRegion), nullptr);
