@@ -60,9 +60,9 @@ void Check(const PriorOptions& o) {
   for (std::size_t i = 1; i < prior.chain().size(); ++i) {
     fmt::print("  specializes: {} ({})\n", prior.chain()[i].name, prior.chain()[i].path);
   }
-  fmt::print("  order: {}   max_curvature: {} 1/m\n", prior.order(),
+  fmt::print("  order: {}   max_curvature: {}\n", prior.order(),
              std::isinf(prior.max_curvature()) ? std::string("none")
-                                               : fmt::format("{}", prior.max_curvature()));
+                                               : fmt::format("{} 1/m", prior.max_curvature()));
   for (int b = 0; b < dsl::kNumBlockKinds; ++b) {
     const auto kind = static_cast<dsl::BlockKind>(b);
     const dsl::CompiledBlock* block = prior.block(kind);

@@ -869,6 +869,20 @@ TEST_F(Cli, NonFiniteNumbersAreRefusedInEveryFloatingPointOption) {
                      "rho_1=nan,alpha_1=0,phi_1=0,rho_2=1,alpha_2=0,phi_2=0.1"})
                   .err,
               HasSubstr("--at: rho_1=nan is not a finite number"));
+  // Finite, but beyond the range of normal doubles: told which way (they said "not a finite
+  // number", and 1e-310 was evaluated with digits lost).
+  EXPECT_THAT(Fails({"prior", "eval", "rectangular", "--at",
+                     "rho_1=1,alpha_1=1e-330,phi_1=0,rho_2=1,alpha_2=0,phi_2=0.1"})
+                  .err,
+              HasSubstr("--at: alpha_1=1e-330 underflows: below the smallest normal magnitude"));
+  EXPECT_THAT(Fails({"prior", "eval", "rectangular", "--at",
+                     "rho_1=1,alpha_1=1e-310,phi_1=0,rho_2=1,alpha_2=0,phi_2=0.1"})
+                  .err,
+              HasSubstr("--at: alpha_1=1e-310 underflows"));
+  EXPECT_THAT(Fails({"prior", "eval", "rectangular", "--at",
+                     "rho_1=1e999,alpha_1=0,phi_1=0,rho_2=1,alpha_2=0,phi_2=0.1"})
+                  .err,
+              HasSubstr("--at: rho_1=1e999 overflows: above the largest number"));
 }
 
 TEST_F(Cli, PriorListWarnsOfAPriorThatParsesButDoesNotCompile) {
@@ -923,6 +937,14 @@ TEST_F(Cli, PriorCheckSummarisesTheResolvedPrior) {
                 "scalar terms); uses alpha_1 alpha_2\n"));
   EXPECT_THAT(r.out, HasSubstr("  different_surface: none (no constraint)\n"));
   EXPECT_THAT(r.out, Not(HasSubstr("pose independence")));
+}
+
+// A prior without max_curvature has none, not "none 1/m".
+TEST_F(Cli, PriorCheckOfAPriorWithoutACurvatureBoundSaysNone) {
+  WriteAll(Work("flat.prior"),
+           "name: Flat\norder: 2\npriorlet same_region:\n  alpha_1 == alpha_2\n");
+  EXPECT_THAT(Ok({"prior", "check", "flat.prior"}).out,
+              HasSubstr("  order: 2   max_curvature: none\n"));
 }
 
 TEST_F(Cli, PriorCheckOfAFileFindsItsParentNextToIt) {
