@@ -177,11 +177,11 @@ dsl::CompiledPrior LoadPrior(const std::vector<std::string>& prior_path, const s
   return prior;
 }
 
-Scene LoadScene(const std::string& name_or_path) {
+Scene LoadScene(const std::string& name_or_path, std::string_view option) {
   if (std::optional<Scene> builtin = BuiltinScene(name_or_path)) return *std::move(builtin);
   if (std::filesystem::exists(name_or_path)) return ValueOrThrow(ReadJsonScene(name_or_path));
-  throw UserError(fmt::format("unknown scene '{}': expected one of {} or a scene JSON file",
-                              name_or_path, fmt::join(BuiltinSceneNames(), ", ")));
+  throw UserError(fmt::format("{}: unknown scene '{}' (expected one of: {}; or a scene JSON file)",
+                              option, name_or_path, fmt::join(BuiltinSceneNames(), ", ")));
 }
 
 CLI::Validator FigurePath() {
@@ -230,17 +230,24 @@ LogFormat OutputLogFormat(const std::optional<std::string>& format_name,
 }
 
 void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& files) {
-  std::vector<std::pair<std::string, std::filesystem::path>> seen;
+  struct Seen {
+    const std::string& option;
+    const std::string& path;  // as given
+    std::filesystem::path resolved;
+  };
+  std::vector<Seen> seen;
   for (const auto& [option, path] : files) {
     if (path.empty()) continue;
     std::error_code ec;  // a path that cannot be resolved is compared as given
     std::filesystem::path resolved = std::filesystem::weakly_canonical(path, ec);
     if (ec) resolved = std::filesystem::path(path).lexically_normal();
-    for (const auto& [earlier, earlier_path] : seen)
-      if (earlier_path == resolved)
-        throw UserError(fmt::format("{} and {} both name {}: one would overwrite the other",
-                                    earlier, option, path));
-    seen.emplace_back(option, std::move(resolved));
+    // Both paths as given: through a link or another spelling, neither alone tells the file.
+    for (const Seen& earlier : seen)
+      if (earlier.resolved == resolved)
+        throw UserError(
+            fmt::format("{} {} and {} {} are the same file: one would overwrite the other",
+                        earlier.option, earlier.path, option, path));
+    seen.push_back({option, path, std::move(resolved)});
   }
 }
 

@@ -138,8 +138,9 @@ void PrintPriorWarnings(const dsl::CompiledPrior& prior);
 [[nodiscard]] dsl::CompiledPrior LoadPrior(const std::vector<std::string>& prior_path,
                                            const std::string& name);
 
-/// A built-in scene name, or a priormap.scene JSON file.
-[[nodiscard]] Scene LoadScene(const std::string& name_or_path);
+/// A built-in scene name, or a priormap.scene JSON file; `option`, the option that names it, begins
+/// the message of a name that is neither.
+[[nodiscard]] Scene LoadScene(const std::string& name_or_path, std::string_view option);
 
 /// A figure file's name: .png, .svg or .pdf.
 [[nodiscard]] CLI::Validator FigurePath();

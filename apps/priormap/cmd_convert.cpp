@@ -86,6 +86,7 @@ Log ReadRoboNd(const ConvertOptions& o) {
 // which shortens the sensor's but never lengthens it.
 std::string CarmenMaxRangeSummary(const Log& log, const CarmenReadStats& stats,
                                   const std::optional<double>& given) {
+  if (log.scans.empty()) return "none (no scans)";
   constexpr double kNone = std::numeric_limits<double>::infinity();
   std::map<double, std::size_t> scans_by_range;
   for (const Scan& scan : log.scans) ++scans_by_range[scan.max_range];

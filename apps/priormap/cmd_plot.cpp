@@ -43,7 +43,7 @@ bool IsDrawable(const Box2& box) {
 
 void PlotMap(const Log& log, const PlotOptions& o) {
   std::optional<Scene> scene;
-  if (o.scene) scene = LoadScene(*o.scene);
+  if (o.scene) scene = LoadScene(*o.scene, "--scene");
   const bool one_scan = o.scan.has_value() || log.scans.size() == 1;
   const std::size_t k = o.scan.value_or(0);
   Box2 bounds = one_scan ? render::ScanBounds(log.scans[k]) : render::LogBounds(log);

@@ -79,10 +79,18 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
   };
   if (!o.log.empty()) {
     if (o.scene.empty()) throw UserError("--log needs --scene: the map the log was recorded in");
-    if (!o.simulation_options_given.empty())
+    if (const std::vector<std::string>& given = o.simulation_options_given; !given.empty()) {
+      // "--seed is", "--scenes and --rate are", "--scenes, --rate and --seed are".
+      const std::string options =
+          given.size() == 1
+              ? given.front()
+              : fmt::format("{} and {}", fmt::join(given.begin(), given.end() - 1, ", "),
+                            given.back());
       throw UserError(fmt::format(
-          "{} simulate rings to fit; with --log the readings are the log's: give one or the other",
-          fmt::join(o.simulation_options_given, ", ")));
+          "{} {} for simulated rings to fit; with --log the readings are the log's: give one or "
+          "the other",
+          options, given.size() == 1 ? "is" : "are"));
+    }
     const Log log = ValueOrThrow(ReadLog(o.log));
     const double max_range = o.max_range.value_or(5.0);
     for (const Scan& scan : log.scans)
@@ -91,7 +99,7 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
             fmt::format("--max-range {} m: the log's rings hear nothing closer than "
                         "{} m",
                         max_range, scan.min_range));
-    add(log, LoadScene(o.scene), max_range);
+    add(log, LoadScene(o.scene, "--scene"), max_range);
     (*about)["log"] = std::filesystem::absolute(o.log).string();
     (*about)["scene"] = o.scene;
     (*about)["max_range"] = max_range;
@@ -111,7 +119,7 @@ std::vector<prf::SonarFitReading> TrainingReadings(const FitSonarCliOptions& o,
   std::vector<Scene> scenes;
   double rings = 0.0;  // along every scene's path
   for (const std::string& name : o.scenes) {
-    Scene scene = LoadScene(name);
+    Scene scene = LoadScene(name, "--scenes");
     if (std::string problem = WaypointPathProblem(scene); !problem.empty())
       throw UserError(problem);
     rings += TrajectoryPoseCount(scene.waypoints, o.speed, o.rate);

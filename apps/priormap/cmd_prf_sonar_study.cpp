@@ -72,7 +72,7 @@ void SaveCaseFigures(const std::filesystem::path& dir, const prf::SonarStudyCase
 void RunSonarStudyCommand(SonarStudyCliOptions o) {
   if (o.out.empty()) throw UsageError("-o/--out is required");
   RefuseRepeatedEntries(o.scenes, "--scenes", "scene");
-  for (const std::string& name : o.scenes) o.study.scenes.push_back(LoadScene(name));
+  for (const std::string& name : o.scenes) o.study.scenes.push_back(LoadScene(name, "--scenes"));
   const auto sensor = SonarSensor::Preset(o.sensor);
   if (!sensor)
     throw UserError(fmt::format("--sensor: unknown sonar '{}' (expected one of: {})", o.sensor,

@@ -62,7 +62,7 @@ void RunStudyCommand(StudyCliOptions o) {
   if (o.out.empty()) throw UsageError("-o/--out is required");
   RefuseRepeatedEntries(o.scenes, "--scenes", "scene");
   RefuseRepeatedEntries(o.sensors, "--sensors", "sensor");
-  for (const std::string& name : o.scenes) o.study.scenes.push_back(LoadScene(name));
+  for (const std::string& name : o.scenes) o.study.scenes.push_back(LoadScene(name, "--scenes"));
   for (const std::string& name : o.sensors) {
     const auto sensor = RangeSensor::Preset(name);
     if (!sensor)

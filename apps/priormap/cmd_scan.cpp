@@ -110,7 +110,9 @@ void RunAll(const ScanOptions& o, const Log& log, const dsl::CompiledPrior& prio
   {
     const StopOnSignals stop_on_signals;
     tbb::parallel_for(std::size_t{0}, log.scans.size(), [&](std::size_t k) {
-      if (journal.Record(k).empty() && !StopRequested()) {
+      if (journal.Record(k).empty()) {
+        // After a stop the scans not begun are skipped: not done, so not counted as done.
+        if (StopRequested()) return;
         std::string record;
         try {
           record = record_of(k);

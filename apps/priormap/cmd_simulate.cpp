@@ -107,7 +107,7 @@ void RequireLogFitsInMemory(double scans, double readings_per_scan, bool sonar) 
 
 void Run(const SimulateOptions& o) {
   // Every check before the first write, so that a failure leaves nothing behind.
-  const Scene scene = LoadScene(o.scene);
+  const Scene scene = LoadScene(o.scene, "--scene");
   const std::optional<SonarSensor> sonar = MakeSonarSensor(o);
   const RangeSensor sensor = sonar ? RangeSensor{} : MakeSensor(o);
   if (o.out.empty() && !o.write_scene)

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -67,6 +68,18 @@ int FlushStandardOutput(int status) {
   return status == 0 ? 1 : status;
 }
 
+// The arguments of the command line that no command knew (a mistyped option, a stray word), as
+// CLI11 reports them; none when every argument was known. CLI11 checks the options' values and
+// the required options before it looks for those: told first of a missing --out, the user who
+// typed --ouput would not learn of the typo.
+std::optional<std::string> UnexpectedArguments(const CLI::App& app) {
+  const std::vector<std::string> extras = app.remaining(true);
+  if (extras.empty()) return std::nullopt;
+  // CLI11's words, the arguments in the order given (its own message reverses them).
+  return fmt::format("The following argument{} not expected: {}",
+                     extras.size() > 1 ? "s were" : " was", fmt::join(extras, " "));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -97,14 +110,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     fmt::print(stderr,
                "priormap: error: {}\nRun 'priormap --help' or 'priormap <command> --help'.\n",
-               e.what());
+               UnexpectedArguments(app).value_or(e.what()));
     // Every command line that does not parse exits 2, as an unknown command does above (and
     // getopt tools do): CLI11's own codes (105 for a value out of range, 106 for a missing
     // option, ...) would tell a script nothing a message does not, and look like crashes or
     // signals to a scheduler.
     return kUsageError;
   } catch (const priormap::app::UsageError& e) {
-    PrintError(e.what());
+    PrintError(UnexpectedArguments(app).value_or(e.what()));
     return kUsageError;
   } catch (const priormap::app::UserError& e) {
     PrintError(e.what());

@@ -34,6 +34,24 @@ std::string Header(std::uint64_t fingerprint, std::size_t scans) {
       .dump();
 }
 
+// The refusal of a second run on the output of the run whose journal is at `path`.
+UserError RunningElsewhere(const std::filesystem::path& path) {
+  return UserError(fmt::format(
+      "{}: another priormap scan --all is running on this output; wait for it to end or stop it "
+      "(Ctrl-C keeps its scans for --resume)",
+      path.string()));
+}
+
+// Whether another run holds the journal at `path` (it is running, not stopped). A journal that
+// cannot be opened, or a file system without such locks, says nothing: false.
+bool HeldByAnotherRun(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool held = ::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  return held;
+}
+
 // The journal at `path` open for appending, locked (flock) against a second run on the same
 // output: refused when another process holds it, or when `path` was replaced between the open
 // and the lock (by another run starting there at the same moment).
@@ -44,10 +62,7 @@ std::FILE* OpenLocked(const std::filesystem::path& path) {
         fmt::format("{}: cannot open for appending: {}", path.string(), std::strerror(errno)));
   const auto refuse = [&] {
     ::close(fd);
-    return UserError(fmt::format(
-        "{}: another priormap scan --all is running on this output; wait for it to end or stop "
-        "it (Ctrl-C keeps its scans for --resume)",
-        path.string()));
+    return RunningElsewhere(path);
   };
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
     if (errno == EWOULDBLOCK) throw refuse();
@@ -74,6 +89,9 @@ ScanJournal::ScanJournal(std::filesystem::path path, std::uint64_t fingerprint, 
     : path_(std::move(path)), records_(scans) {
   std::error_code ec;
   const bool exists = std::filesystem::exists(path_, ec);
+  // A run going on there is refused as such, with or without --resume: its journal is no
+  // stopped run's.
+  if (exists && HeldByAnotherRun(path_)) throw RunningElsewhere(path_);
   if (!resume && exists)
     throw UserError(fmt::format(
         "{} holds a stopped scan --all of this output; continue it with the same command and "

@@ -16,9 +16,9 @@ namespace priormap::app {
 class ScanJournal {
  public:
   // A new journal for `scans` scans of the run `fingerprint`, or, with `resume`, the journal
-  // there of that run, whose records it keeps. Throws UserError when a new one would replace a
-  // stopped run's, when --resume finds none or one of another run, and for a damaged one (at
-  // file:line).
+  // there of that run, whose records it keeps. Throws UserError when another run holds the
+  // journal there (it is running), when a new one would replace a stopped run's, when --resume
+  // finds none or one of another run, and for a damaged one (at file:line).
   ScanJournal(std::filesystem::path path, std::uint64_t fingerprint, std::size_t scans,
               bool resume);
   ~ScanJournal();

@@ -638,6 +638,21 @@ TEST_F(Cli, PlotRefusesToOverwriteItsInput) {
   EXPECT_EQ(ReadAll(Work("s.json")), scan);
 }
 
+// An output that is the input through a link: both paths named as given, and said to be one file.
+TEST_F(Cli, AnOutputLinkedToTheInputIsNamedWithTheInputAsTheSameFile) {
+  const std::string log = "FLASER 3 1 2 3 0 0 0 0 0 0\n";
+  WriteAll(Work("s.log"), log);
+  fs::create_symlink("s.log", Work("link.log"));
+  EXPECT_THAT(Fails({"convert", "s.log", "-o", "link.log"}).err,
+              HasSubstr("priormap: error: the input s.log and --out link.log are the same file: "
+                        "one would overwrite the other\n"));
+  fs::create_symlink("s.log", Work("link.svg"));
+  EXPECT_THAT(Fails({"plot", "./s.log", "-o", "link.svg"}).err,
+              HasSubstr("priormap: error: the input ./s.log and --out link.svg are the same file: "
+                        "one would overwrite the other\n"));
+  EXPECT_EQ(ReadAll(Work("s.log")), log);
+}
+
 // A reading of 1e300 in a log without a max range was accepted, and `plot` alone refused the log,
 // "too far to draw", naming no line: every command now gets the reader's error at the reading.
 // A no-return (at or above the max range) is kept as read and drawn by its status, as a ray to
@@ -1276,11 +1291,11 @@ TEST_F(Cli, ScanErrorsNameTheProblem) {
   EXPECT_FALSE(fs::exists(Work("m.json")));
   // Outputs that would overwrite the input or each other, before any work.
   EXPECT_THAT(Fails({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "./s.json"}).err,
-              HasSubstr("-i/--log and -o/--out both name ./s.json"));
+              HasSubstr("-i/--log s.json and -o/--out ./s.json are the same file"));
   EXPECT_THAT(
       Fails({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "m.json", "--lines", "m.json"})
           .err,
-      HasSubstr("-o/--out and --lines both name m.json"));
+      HasSubstr("-o/--out m.json and --lines m.json are the same file"));
   // An option the input's reader would ignore.
   EXPECT_THAT(
       Fails({"scan", "--prior", "rectangular", "-i", "s.json", "-o", "m.json", "--max-range", "2"})
@@ -1338,6 +1353,17 @@ TEST_F(Cli, ConvertSaysWhereEachScansMaxRangeComesFrom) {
   WriteAll(Work("flaser.log"), "FLASER 3 1 2 3 0 0 0 0 0 0\n");
   EXPECT_THAT(Ok({"convert", "flaser.log", "-o", "c.json"}).out,
               HasSubstr("max range: none detected; no reading is treated as max-range"));
+  // A log without scans has no max range to tell of, with or without --max-range.
+  WriteAll(Work("odom.log"),
+           "PARAM robot_front_laser_max 81.9 nohost 0 logger\n"
+           "ODOM 0 0 0 0 0 0 1 nohost 1\n");
+  EXPECT_THAT(Ok({"convert", "odom.log", "-o", "d.json"}).out,
+              HasSubstr("read odom.log (carmen): 0 scans, 1 odometry, 0 true poses, 1 params\n"
+                        "readings: 0 valid, 0 max-range, 0 invalid\n"
+                        "max range: none (no scans)\n"
+                        "wrote d.json (json)\n"));
+  EXPECT_THAT(Ok({"convert", "odom.log", "-o", "e.json", "--max-range", "5"}).out,
+              HasSubstr("max range: none (no scans)\n"));
 }
 
 TEST_F(Cli, SimulateRefusesWaypointsThatMakeNoPath) {

@@ -15,6 +15,7 @@ namespace priormap {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 struct Refusal {
   std::vector<std::string> args;
@@ -130,6 +131,33 @@ TEST_F(ExitStatus, AMissingRequiredOptionExitsWithTwo) {
       2);
 }
 
+// An option no command knows, or a stray argument, is reported before a required option missing
+// or a value refused: the typo is likely the cause of those (--ouput for --out). Every command.
+TEST_F(ExitStatus, AnUnknownOptionIsReportedFirstAndExitsWithTwo) {
+  ExpectRefused(
+      {
+          {{"scan", "--bogus"}, "The following argument was not expected: --bogus"},
+          {{"scan", "--prior", "polygonal", "-i", "missing.json", "--ouput", "m.json"},
+           "The following arguments were not expected: --ouput m.json"},
+          {{"simulate", "--sensor", "kinect", "--bogus", "-o", "s.json"},
+           "The following argument was not expected: --bogus"},
+          {{"convert", "in.log", "--bogus"}, "The following argument was not expected: --bogus"},
+          {{"plot", "--bogus"}, "The following argument was not expected: --bogus"},
+          {{"prior", "eval", "--bogus"}, "The following argument was not expected: --bogus"},
+          {{"prf", "--bogus"}, "The following argument was not expected: --bogus"},
+          {{"prf", "study", "--bogus"}, "The following argument was not expected: --bogus"},
+          {{"prf", "fit-sonar", "--bogus"}, "The following argument was not expected: --bogus"},
+          {{"grid", "--bogus"}, "The following argument was not expected: --bogus"},
+          {{"slam", "run", "--bogus"}, "The following argument was not expected: --bogus"},
+      },
+      2);
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"scan", "--bogus"}, {"prf", "study", "--bogus"}}) {
+    const testing::ProcessResult r = RunFailing(args);
+    EXPECT_THAT(r.err, Not(HasSubstr("required"))) << r.err;
+  }
+}
+
 // Values that are fine on their own, refused with the other options or against the input.
 TEST_F(ExitStatus, AValueRefusedWithTheOtherOptionsOrTheInputExitsWithOne) {
   testing::WriteAll(Work("box.json"), R"({"format": "priormap.scene", "version": 1,
@@ -157,12 +185,28 @@ TEST_F(ExitStatus, AValueRefusedWithTheOtherOptionsOrTheInputExitsWithOne) {
            "--scenes: 'box.json' and './box.json' are both scene 'box'"},
           {{"prf", "fit-sonar", "--log", "missing.json", "--scene", "office", "--scenes", "office",
             "--rate", "3", "-o", "m.json"},
-           "--scenes, --rate simulate rings to fit; with --log the readings are the log's: give "
-           "one or the other"},
+           "--scenes and --rate are for simulated rings to fit; with --log the readings are the "
+           "log's: give one or the other"},
+          {{"prf", "fit-sonar", "--log", "missing.json", "--scene", "office", "--seed", "3", "-o",
+            "m.json"},
+           "--seed is for simulated rings to fit; with --log the readings are the log's: give one "
+           "or the other"},
+          {{"prf", "fit-sonar", "--log", "missing.json", "--scene", "office", "--scenes", "office",
+            "--rate", "3", "--seed", "3", "-o", "m.json"},
+           "--scenes, --rate and --seed are for simulated rings to fit; "},
           {{"prf", "fit-sonar", "--scene", "office", "-o", "m.json"},
            "--scene is the map of --log: without --log, the rings are simulated in --scenes"},
           {{"prf", "study", "--scenes", "box.json,./box.json", "-o", "study"},
            "scene 'box' is given twice (each case runs once)"},
+          // A scene that is neither built in nor a file, named by its option as a sensor is.
+          {{"prf", "study", "--scenes", "l-room,nowhere", "-o", "study"},
+           "--scenes: unknown scene 'nowhere' (expected one of: square, rectangle, "},
+          {{"prf", "sonar-study", "--scenes", "nowhere", "-o", "study"},
+           "--scenes: unknown scene 'nowhere' (expected one of: "},
+          {{"prf", "fit-sonar", "--scenes", "nowhere", "-o", "m.json"},
+           "--scenes: unknown scene 'nowhere' (expected one of: "},
+          {{"simulate", "--scene", "nowhere", "-o", "s.json"},
+           "--scene: unknown scene 'nowhere' (expected one of: "},
           {{"convert", "--from", "roboND-sonar", "m.txt", "p.txt", "--max-range", "6", "-o",
             "x.json"},
            "--max-range 6 m: with --from roboND-sonar it can be at most 5.11 m"},

@@ -14,16 +14,22 @@ namespace priormap::app {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 constexpr std::uint64_t kFingerprint = 42;
 
-std::string RefusalOfResume(const std::filesystem::path& path) {
+// The refusal of a second run on the journal at `path`, with --resume or without.
+std::string RefusalOfSecondRun(const std::filesystem::path& path, bool resume) {
   try {
-    const ScanJournal second(path, kFingerprint, 4, true);
+    const ScanJournal second(path, kFingerprint, 4, resume);
   } catch (const UserError& e) {
     return e.what();
   }
   return "";
+}
+
+std::string RefusalOfResume(const std::filesystem::path& path) {
+  return RefusalOfSecondRun(path, true);
 }
 
 TEST(ScanJournal, ASecondRunOnTheSameOutputIsRefusedWhileTheFirstRuns) {
@@ -41,6 +47,20 @@ TEST(ScanJournal, ASecondRunOnTheSameOutputIsRefusedWhileTheFirstRuns) {
   EXPECT_EQ(resumed.Restored(), 2u);
   EXPECT_EQ(resumed.Record(0), R"({"scan_index":0})");
   EXPECT_EQ(resumed.Record(2), R"({"scan_index":2})");
+}
+
+// Without --resume too, the second run is told that the first is running, not that a stopped
+// run's journal is in its way.
+TEST(ScanJournal, ANewRunOnTheSameOutputIsToldTheFirstIsRunningNotStopped) {
+  const testing::TempDir dir;
+  const std::filesystem::path path = dir / "scans.jsonl.partial";
+  ScanJournal first(path, kFingerprint, 4, false);
+  first.Append(1, R"({"scan_index":1})");
+  const std::string refusal = RefusalOfSecondRun(path, false);
+  EXPECT_THAT(refusal, HasSubstr(path.string() + ": another priormap scan --all is running"));
+  EXPECT_THAT(refusal, Not(HasSubstr("stopped scan --all")));
+  first.Append(3, R"({"scan_index":3})");
+  EXPECT_EQ(first.Record(3), R"({"scan_index":3})");
 }
 
 TEST(ScanJournal, AJournalRemovedByItsRunIsNotResumed) {

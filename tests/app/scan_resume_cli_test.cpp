@@ -6,11 +6,14 @@
 #include <chrono>
 #include <csignal>
 #include <cstddef>
+#include <fcntl.h>
 #include <filesystem>
 #include <regex>
 #include <set>
 #include <string>
+#include <sys/file.h>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <vector>
 
 #include <fmt/format.h>
@@ -246,12 +249,23 @@ TEST_F(ScanResumeCli, AResumedRunStoppedAgainKeepsTheScansOfBothSessions) {
   EXPECT_EQ(WorkFiles(), (std::set<std::string>{"run.json", kOut}));
 }
 
-// Ctrl-C stops it the same way, with 130.
+// Ctrl-C stops it the same way, with 130. Its progress (stderr a file: a line every 10 %) counts
+// the scans done, never those skipped once it stopped.
 TEST_F(ScanResumeCli, SigintStopsTheRunWithItsExitStatus) {
   const testing::SignalledRun stopped = Stop(SIGINT);
   ASSERT_TRUE(WIFEXITED(stopped.wait_status)) << stopped.err;
   EXPECT_EQ(WEXITSTATUS(stopped.wait_status), 128 + SIGINT) << stopped.err;
-  EXPECT_THAT(stopped.out, StartsWith("stopped: "));
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(stopped.out, m, std::regex(R"(^stopped: (\d+) of )")))
+      << stopped.out;
+  const std::size_t done = std::stoul(m[1]);
+  EXPECT_LT(done, scans_) << "the run ended before the signal: make the log longer";
+  const std::regex progress_line(R"((\d+)/(\d+) scans\n)");
+  for (auto it = std::sregex_iterator(stopped.err.begin(), stopped.err.end(), progress_line);
+       it != std::sregex_iterator(); ++it) {
+    EXPECT_EQ(std::stoul((*it)[2]), scans_) << it->str();
+    EXPECT_LE(std::stoul((*it)[1]), done) << "progress past the " << done << " scans done";
+  }
   EXPECT_EQ(WorkFiles(), (std::set<std::string>{"run.json", kJournal}));
 }
 
@@ -285,6 +299,26 @@ TEST_F(ScanResumeCli, ANewRunOverAStoppedRunsJournalIsRefused) {
   EXPECT_EQ(r.status, 1);
   EXPECT_THAT(r.err, HasSubstr("scans.jsonl.partial holds a stopped scan --all of this output; "
                                "continue it with the same command and --resume"));
+  EXPECT_EQ(ReadAll(Work(kJournal)), journal);
+}
+
+// While a run holds its journal (locked, as a running run does), a second run on the same output
+// is told that one is running, with --resume or without: not that a stopped run's journal is
+// there to continue.
+TEST_F(ScanResumeCli, ASecondRunWhileTheFirstRunsIsToldItRunsWithOrWithoutResume) {
+  const std::string journal = "{\"format\":\"priormap.scan_journal\"}\n";
+  WriteAll(Work(kJournal), journal);
+  const int fd = ::open(Work(kJournal).c_str(), O_RDWR | O_CLOEXEC);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  for (const std::vector<std::string>& args : {Command(), Command({"--resume"})}) {
+    const auto r = RunFailing(args);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_THAT(r.err, HasSubstr("scans.jsonl.partial: another priormap scan --all is running on "
+                                 "this output"));
+    EXPECT_THAT(r.err, Not(HasSubstr("stopped scan --all")));
+  }
+  ::close(fd);
   EXPECT_EQ(ReadAll(Work(kJournal)), journal);
 }
 
