@@ -472,21 +472,11 @@ class CarmenParser {
   // UTF-8: the first one is enough to tell the user what to re-encode.
   void NoteIfNotUtf8(std::string_view text, int col, std::string_view what) {
     if (stats_.not_utf8) return;
-    for (std::size_t at = 0; at < text.size();) {
-      if (static_cast<unsigned char>(text[at]) < 0x80) {
-        ++at;
-        continue;
-      }
-      const std::optional<Utf8Char> c = DecodeUtf8(text, at);
-      if (c) {
-        at += c->length;
-        continue;
-      }
-      stats_.not_utf8 = Diagnostic{name_, line_number_, col + static_cast<int>(at),
-                                   fmt::format("expected UTF-8 text in {}, got byte {}", what,
-                                               QuoteForMessage(text.substr(at, 1)))};
-      return;
-    }
+    const std::size_t at = FirstNotUtf8(text);
+    if (at == std::string_view::npos) return;
+    stats_.not_utf8 = Diagnostic{name_, line_number_, col + static_cast<int>(at),
+                                 fmt::format("expected UTF-8 text in {}, got byte {}", what,
+                                             QuoteForMessage(text.substr(at, 1)))};
   }
 
   void AddScan(Scan scan, std::optional<double> own_max_range) {

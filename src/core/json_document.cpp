@@ -283,18 +283,6 @@ std::string EscapeUnprintable(std::string_view message) {
   return out;
 }
 
-// nlohmann reports a byte that is not UTF-8 where it saw the sequence fail, which may be the byte
-// after it (the '"' after a Latin-1 '\xe9'): the first byte that is not UTF-8 up to there is the
-// one to show.
-std::size_t FirstNotUtf8(std::string_view text, std::size_t up_to) {
-  for (std::size_t at = 0; at < text.size() && at <= up_to;) {
-    const std::optional<Utf8Char> c = DecodeUtf8(text, at);
-    if (!c) return at;
-    at += c->length;
-  }
-  return up_to;
-}
-
 }  // namespace
 
 std::optional<std::size_t> LocateJsonPointer(std::string_view text, const JsonPointer& pointer) {
@@ -316,7 +304,11 @@ Result<JsonDocument> JsonDocument::Parse(std::string_view text, std::string name
     offset = LocateParseError(text);
     message = e.what();
   }
-  if (message.find("ill-formed UTF-8") != std::string::npos) offset = FirstNotUtf8(text, offset);
+  // nlohmann reports a byte that is not UTF-8 where it saw the sequence fail, which may be the
+  // byte after it (the '"' after a Latin-1 '\xe9'): the first byte that is not UTF-8 up to there
+  // is the one to show.
+  if (message.find("ill-formed UTF-8") != std::string::npos)
+    offset = std::min(FirstNotUtf8(text), offset);
   const TextPosition where = PositionOfOffset(text, offset);
   return Diagnostic{name, where.line, where.col,
                     "invalid JSON: " + EscapeUnprintable(NlohmannMessage(message))};

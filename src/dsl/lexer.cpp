@@ -1,10 +1,10 @@
 #include "lexer.hpp"
 
-#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <optional>
 
@@ -237,7 +237,9 @@ class LineLexer {
     if (!whole || (ec != std::errc() && !out_of_range)) {
       return Fail(error, start_col, fmt::format("bad number {}", QuoteForMessage(token.text)));
     }
-    if (out_of_range && DecimalMagnitude(token.text) > 0) {
+    // from_chars leaves the value unset out of range; strtod gives HUGE_VAL for an overflow and
+    // 0 or a subnormal for an underflow (in the C locale, which priormap never changes).
+    if (out_of_range && std::isinf(std::strtod(token.text.c_str(), nullptr))) {
       return Fail(error, start_col,
                   fmt::format("bad number {}: above the largest number, {} (it overflows)",
                               QuoteForMessage(token.text), std::numeric_limits<double>::max()));
@@ -253,29 +255,6 @@ class LineLexer {
     }
     return true;
   }
-
-  // Roughly log10 of a number literal's magnitude (its decimal exponent, up to one): only its
-  // sign is used, to tell an overflow from an underflow, which from_chars does not.
-  static long long DecimalMagnitude(std::string_view literal) {
-    const std::size_t e = literal.find_first_of("eE");
-    const std::string_view mantissa = literal.substr(0, e);
-    long long exponent = 0;
-    if (e != std::string_view::npos) {
-      std::size_t p = e + 1;
-      const bool negative = p < literal.size() && literal[p] == '-';
-      if (p < literal.size() && (literal[p] == '+' || literal[p] == '-')) ++p;
-      for (; p < literal.size(); ++p) exponent = std::min(exponent * 10 + (literal[p] - '0'), kCap);
-      if (negative) exponent = -exponent;
-    }
-    // The position of the first significant digit relative to the decimal point.
-    const std::size_t point = std::min(mantissa.find('.'), mantissa.size());
-    const std::size_t first = mantissa.find_first_of("123456789");
-    if (first == std::string_view::npos) return -kCap;  // zero: never out of range
-    const long long shift = first < point ? static_cast<long long>(point - first)
-                                          : -static_cast<long long>(first - point - 1);
-    return exponent + shift;
-  }
-  static constexpr long long kCap = 1'000'000'000;
 
   bool Operator(const Char& c, const std::vector<Token>& tokens, Token& token, Diagnostic& error) {
     const char32_t n = Peek(1);

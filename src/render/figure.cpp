@@ -420,12 +420,8 @@ Figure::Figure(const Box2& world, FigureOptions options) : impl_(std::make_uniqu
                   world.min().x(), world.max().x(), world.min().y(), world.max().y()));
   PRIORMAP_CHECK(std::isfinite(options.padding_m), "a figure's padding must be finite");
   // Sizes below the margins grow to leave a plot; a negative one is a caller's mistake.
-  PRIORMAP_CHECK(
-      options.width_px >= 0,
-      fmt::format("a figure's width_px must not be negative (got {})", options.width_px));
-  PRIORMAP_CHECK(
-      options.max_height_px >= 0,
-      fmt::format("a figure's max_height_px must not be negative (got {})", options.max_height_px));
+  detail::CheckPixels(options.width_px, "a figure's width_px");
+  detail::CheckPixels(options.max_height_px, "a figure's max_height_px");
   Impl& f = *impl_;
   f.options = std::move(options);
   const Vec2 pad = Vec2::Constant(std::max(f.options.padding_m, 1e-6));

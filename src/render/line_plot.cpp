@@ -86,12 +86,8 @@ void LinePlot::Add(Series series) {
 
 LinePlot::LinePlot(LinePlotOptions options) : options_(std::move(options)) {
   // Sizes below the least grow to it; a negative one is a caller's mistake.
-  PRIORMAP_CHECK(
-      options_.width_px >= 0,
-      fmt::format("a line plot's width_px must not be negative (got {})", options_.width_px));
-  PRIORMAP_CHECK(
-      options_.height_px >= 0,
-      fmt::format("a line plot's height_px must not be negative (got {})", options_.height_px));
+  detail::CheckPixels(options_.width_px, "a line plot's width_px");
+  detail::CheckPixels(options_.height_px, "a line plot's height_px");
   detail::CheckFigureSize(std::max<double>(options_.width_px, kMinWidth),
                           std::max<double>(options_.height_px, kMinHeight));
 }

@@ -489,9 +489,7 @@ MapScanFigure::MapScanFigure(const Scan& scan, const priorlets::MapScan& map,
     PRIORMAP_CHECK(e.rho.size() == n, "an eigenvariation has one entry per beam");
 
   // Widths below 600 px grow to it; a negative one is a caller's mistake.
-  PRIORMAP_CHECK(
-      options.width_px >= 0,
-      fmt::format("a MAP-scan figure's width_px must not be negative (got {})", options.width_px));
+  detail::CheckPixels(options.width_px, "a MAP-scan figure's width_px");
   const Inputs in{scan, map, posterior, options, SensorFrameBounds(scan, map)};
   const double width = std::max(options.width_px, 600);
   const double title_height = options.title.empty() ? 0.0 : 40.0;

@@ -269,9 +269,7 @@ StudyPlot::StudyPlot(const StudyResult& study, StudyPlotKind kind, const StudyPl
     }
   }
   // Widths below 500 px grow to it; a negative one is a caller's mistake.
-  PRIORMAP_CHECK(
-      options.width_px >= 0,
-      fmt::format("a study plot's width_px must not be negative (got {})", options.width_px));
+  detail::CheckPixels(options.width_px, "a study plot's width_px");
   const double width = std::max(options.width_px, 500);
   const double title_height = options.title.empty() ? 0.0 : 40.0;
   const int panels = kind == StudyPlotKind::kPoseError ? 3 : 1;

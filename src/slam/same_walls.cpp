@@ -40,26 +40,28 @@ double OverlapFraction(const PriorSegment& a, const PriorSegment& b) {
   return overlap / std::min(la, lb);
 }
 
-// The angle between the lines of `a` and `b`, in [0, pi / 2].
-double TurnBetween(const PriorSegment& a, const PriorSegment& b) {
+// The turn from the line of `a` to the line of `b`, in (-pi / 2, pi / 2]: lines have no direction.
+double LineTurn(const PriorSegment& a, const PriorSegment& b) {
   const Vec2 u = (a.b - a.a).normalized(), v = (b.b - b.a).normalized();
-  return std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), std::abs(u.dot(v)));
+  const double angle = std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v));
+  if (angle > std::numbers::pi / 2) return angle - std::numbers::pi;
+  if (angle <= -std::numbers::pi / 2) return angle + std::numbers::pi;
+  return angle;
 }
 
+constexpr double kMaxContinuedTurn = kMaxContinuedTurnDeg * std::numbers::pi / 180.0;
+
 // Whether every segment of `group` runs within kMaxContinuedTurnDeg of every other: the spread of
-// their lines' angles from the first one's, each in (-pi / 2, pi / 2].
+// their lines' turns from the first one's.
 bool StraightWithinTurn(const PriorMap& map, const std::vector<int>& group) {
-  const Vec2 u = (map.segments[group.front()].b - map.segments[group.front()].a).normalized();
+  const PriorSegment& first = map.segments[group.front()];
   double lo = 0.0, hi = 0.0;
   for (int s : group) {
-    const Vec2 v = (map.segments[s].b - map.segments[s].a).normalized();
-    double angle = std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v));
-    if (angle > std::numbers::pi / 2) angle -= std::numbers::pi;
-    if (angle <= -std::numbers::pi / 2) angle += std::numbers::pi;
-    lo = std::min(lo, angle);
-    hi = std::max(hi, angle);
+    const double turn = LineTurn(first, map.segments[s]);
+    lo = std::min(lo, turn);
+    hi = std::max(hi, turn);
   }
-  return hi - lo <= kMaxContinuedTurnDeg * std::numbers::pi / 180.0;
+  return hi - lo <= kMaxContinuedTurn;
 }
 
 struct UnionFind {
@@ -135,7 +137,7 @@ bool ContinuesWall(const PriorSegment& a, const PriorSegment& b, double gate_chi
   if (!((a.b - a.a).squaredNorm() > 0.0) || !((b.b - b.a).squaredNorm() > 0.0)) return false;
   if (a.building != b.building || a.shared_with != b.shared_with) return false;
   const bool vertex = a.b == b.a || a.a == b.b || a.a == b.a || a.b == b.b;
-  return vertex && TurnBetween(a, b) <= kMaxContinuedTurnDeg * std::numbers::pi / 180.0 &&
+  return vertex && std::abs(LineTurn(a, b)) <= kMaxContinuedTurn &&
          EndpointsOffLine(a, b) <= gate_chi2 && EndpointsOffLine(b, a) <= gate_chi2;
 }
 

@@ -42,4 +42,19 @@ struct Utf8Char {
   return Utf8Char{code, length};
 }
 
+/// Where the first byte of `text` that does not start a UTF-8 character is (DecodeUtf8's rule),
+/// or std::string_view::npos when all of `text` is UTF-8.
+[[nodiscard]] inline std::size_t FirstNotUtf8(std::string_view text) {
+  for (std::size_t at = 0; at < text.size();) {
+    if (static_cast<unsigned char>(text[at]) < 0x80) {
+      ++at;
+      continue;
+    }
+    const std::optional<Utf8Char> c = DecodeUtf8(text, at);
+    if (!c) return at;
+    at += c->length;
+  }
+  return std::string_view::npos;
+}
+
 }  // namespace priormap
