@@ -92,10 +92,12 @@ LogOddsCells::LogOddsCells(int width, int height) : width_(width), height_(heigh
   const std::uint64_t tile_row = tiles_x * kTile * kTile;
   if (tile_row * tiles_y > UINT32_MAX)
     throw std::invalid_argument(fmt::format("{}x{} cells exceed 4e9", width, height));
+  // In 64 bits: past 2^25 columns, ix / 8 * 64 overflows an int (undefined behaviour).
   column_offset_.resize(static_cast<std::size_t>(width));
   for (int ix = 0; ix < width; ++ix)
     column_offset_[static_cast<std::size_t>(ix)] =
-        static_cast<std::uint32_t>(ix / kTile * kTile * kTile + ix % kTile);
+        static_cast<std::uint32_t>(static_cast<std::uint64_t>(ix / kTile) * kTile * kTile +
+                                   static_cast<std::uint64_t>(ix % kTile));
   row_offset_.resize(static_cast<std::size_t>(height));
   for (int iy = 0; iy < height; ++iy)
     row_offset_[static_cast<std::size_t>(iy)] =

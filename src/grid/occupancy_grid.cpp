@@ -27,12 +27,12 @@ std::optional<BeamToInsert> ToInsert(const Scan& scan, std::size_t i, const Grid
     case BeamStatus::kValid:
       break;
   }
-  // A return at or beyond the insertion range clears up to it: R is the PRF's, whose data
+  if (scan.ranges[i] < options.max_range) return BeamToInsert{.range = scan.ranges[i], .hit = true};
+  // A return at or beyond the insertion range is a max reading: R is the PRF's, whose data
   // (SelectBeams) takes a reading at R for a max reading, as Scan::ClassifyAll does at the
-  // sensor's own max range.
-  if (scan.ranges[i] >= options.max_range)
-    return BeamToInsert{.range = options.max_range, .hit = false};
-  return BeamToInsert{.range = scan.ranges[i], .hit = true};
+  // sensor's own max range. It clears up to R, unless max readings are off.
+  if (!options.max_readings_clear) return std::nullopt;
+  return BeamToInsert{.range = options.max_range, .hit = false};
 }
 
 constexpr int kLimit = INT8_MAX;

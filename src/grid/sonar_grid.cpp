@@ -55,17 +55,19 @@ std::optional<ConeToInsert> ToInsert(const Scan& ring, std::size_t i,
     case BeamStatus::kInvalid:
       return std::nullopt;
     case BeamStatus::kMaxRange:
-      if (!options.max_readings_clear) return std::nullopt;
-      return cone;
+      break;
     case BeamStatus::kValid:
+      // An echo at or beyond the insertion range is a max reading: R is the PRF's, whose data
+      // (SelectSonarReadings) takes a reading at R for a max reading.
+      if (ring.ranges[i] < options.max_range) {
+        cone.range = ring.ranges[i];
+        cone.hit = true;
+        return cone;
+      }
       break;
   }
-  // An echo at or beyond the insertion range clears up to it: R is the PRF's, whose data
-  // (SelectSonarReadings) takes a reading at R for a max reading.
-  if (ring.ranges[i] < options.max_range) {
-    cone.range = ring.ranges[i];
-    cone.hit = true;
-  }
+  // A max reading, or an echo at or beyond R: it clears its cone, unless max readings are off.
+  if (!options.max_readings_clear) return std::nullopt;
   return cone;
 }
 
@@ -123,11 +125,16 @@ std::size_t SonarGrid::Insert(const Scan& ring) {
 
 void SonarGrid::InsertCone(const Vec2& origin, double axis, double half_spread, double range,
                            bool hit) {
-  if (!(half_spread >= 0.0 && range >= 0.0 && std::isfinite(axis)))
-    throw std::invalid_argument(
-        fmt::format("a cone needs an axis, a half-angle >= 0 and a range >= 0 (got {}, {} and {})",
-                    axis, half_spread, range));
-  // A cone of a full turn or more is the disc; beyond pi the cosine would turn it back.
+  // An infinite range would clear the cone to the grid's edge and mark no echo anywhere.
+  if (!(half_spread >= 0.0 && range >= 0.0 && std::isfinite(range) && std::isfinite(axis) &&
+        origin.allFinite()))
+    throw std::invalid_argument(fmt::format(
+        "a cone needs a finite apex and axis, a half-angle >= 0 and a finite range >= 0 "
+        "(got apex ({}, {}), axis {}, half-angle {} and range {})",
+        origin.x(), origin.y(), axis, half_spread, range));
+  // A cone of a full turn or more is the disc; beyond pi the cosine would turn it back, and at
+  // pi the cells straight behind the apex would fall out of it by rounding (dot < -r).
+  const bool whole_disc = half_spread >= std::numbers::pi;
   const double half = std::min(half_spread, std::numbers::pi);
   const double half_arc = options_.arc_thickness / 2.0;
   const double reach = hit ? range + half_arc : range;
@@ -159,7 +166,7 @@ void SonarGrid::InsertCone(const Vec2& origin, double axis, double half_spread, 
       const Vec2 centre = origin_ + options_.resolution * Vec2(ix + 0.5, iy + 0.5);
       const Vec2 d = centre - origin;
       const double r = d.norm();
-      if (r > reach || direction.dot(d) < cos_half * r) continue;  // outside the cone
+      if (r > reach || (!whole_disc && direction.dot(d) < cos_half * r)) continue;  // outside
       const CellUpdate* update = r < free_until ? &free_ : hit ? &occupied_ : nullptr;
       if (update == nullptr) continue;
       arc_marked |= update == &occupied_;

@@ -3,6 +3,8 @@
 #include <limits>
 #include <numbers>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -49,20 +51,65 @@ double DrawTruncatedNormal(double mean, double sigma, Rng& rng) {
   return r;
 }
 
-bool Finite(std::initializer_list<double> values) {
-  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+// The largest logistic coefficient accepted. A feature's logit sums a bias and three slopes
+// times a distance (at most a few 1e9 m, priormap's bound on coordinates) or an angle; with
+// coefficients up to 1e100 in magnitude no term overflows, where two opposite infinite terms
+// (say face_per_m = -1e308 and face_per_rad_subtended = 1e308) would make it NaN. A logistic
+// saturates long before: no usable model comes near the bound.
+constexpr double kMaxCoefficient = 1e100;
+
+// log(Φ(x)) for the truncation's kept mass (x >= 0 here: at least log(1/2)).
+double LogNormalCdf(double x) {
+  return std::log(NormalCdf(x));
+}
+
+// log(1 - Φ(x)), also where 1 - Φ(x) underflows (x beyond about 37): the asymptotic series
+// -x²/2 - log(x √(2π)) + log(1 - 1/x² + 3/x⁴), relative error below 1e-7 there.
+double LogNormalTail(double x) {
+  if (x < 30.0) return std::log(NormalTail(x));
+  const double inv2 = 1.0 / (x * x);
+  return -0.5 * x * x - std::log(x * std::sqrt(2.0 * std::numbers::pi)) +
+         std::log1p(-inv2 + 3.0 * inv2 * inv2);
+}
+
+// The log of WeightedTruncatedNormal's value for weight 1.
+double LogTruncatedNormal(double reading, bool max_reading, double mean, double sigma,
+                          double max_range) {
+  const double log_kept = LogNormalCdf(mean / sigma);
+  if (max_reading) return LogNormalTail((max_range - mean) / sigma) - log_kept;
+  const double z = (reading - mean) / sigma;
+  return -0.5 * z * z - std::log(sigma * std::sqrt(2.0 * std::numbers::pi)) - log_kept;
+}
+
+// log(Σ exp(terms)), terms of -inf left out.
+double LogSumExp(const std::vector<double>& terms) {
+  double top = -std::numeric_limits<double>::infinity();
+  for (const double t : terms) top = std::max(top, t);
+  if (!std::isfinite(top)) return top;
+  double sum = 0.0;
+  for (const double t : terms) sum += std::exp(t - top);
+  return top + std::log(sum);
 }
 
 }  // namespace
 
 std::string SonarModel::Problem() const {
-  if (!Finite({corner_bias, corner_per_m, concave_corner_bias, face_bias, face_per_m,
-               face_per_rad_projection, face_per_rad_subtended}))
-    return "the logistic coefficients must be finite";
+  // Each message starts with the parameter's name, so that a file's reader reports it at its
+  // value.
+  for (const auto& [name, value] :
+       {std::pair{"corner_bias", corner_bias}, std::pair{"corner_per_m", corner_per_m},
+        std::pair{"concave_corner_bias", concave_corner_bias}, std::pair{"face_bias", face_bias},
+        std::pair{"face_per_m", face_per_m},
+        std::pair{"face_per_rad_projection", face_per_rad_projection},
+        std::pair{"face_per_rad_subtended", face_per_rad_subtended}})
+    if (!(std::abs(value) <= kMaxCoefficient))
+      return fmt::format(
+          "{} {} is not a finite logistic coefficient within ±{:g} (beyond it a feature's logit "
+          "could overflow)",
+          name, value, kMaxCoefficient);
   if (!(max_return > 0.0 && max_return < 1.0))
     return fmt::format("max_return {} is not in (0, 1)", max_return);
-  // Each message starts with the parameter's name, so that a file's reader reports it at its
-  // value. A subnormal sigma_min (below 2.2e-308) is refused: the density of a reading at its
+  // A subnormal sigma_min (below 2.2e-308) is refused: the density of a reading at its
   // feature's distance, 1/(sigma sqrt(2 pi)), would overflow to +inf.
   if (!(std::isnormal(sigma_min) && sigma_min > 0.0))
     return fmt::format("sigma_min {} is not a positive number of at least {} m", sigma_min,
@@ -174,7 +221,25 @@ double SonarModel::LogLikelihood(double reading, bool max_reading,
             : (max_reading ? 1.0 : 0.0);
     outlier = multipath_weight * mirrored + (1.0 - multipath_weight) * outlier;
   }
-  return std::log(density + none_closer * outlier);
+  const double likelihood = density + none_closer * outlier;
+  if (!(likelihood < std::numeric_limits<double>::min())) return std::log(likelihood);
+  // Underflow: many features that nearly always echo leave an outlier weight Π (1 − q_f) below
+  // the smallest double, and a reading far from all of them has no echo term left either, so
+  // the sum above is 0 (or subnormal) and its log -inf (or inexact), though every term of the
+  // mixture is positive. The same sum in logarithms, term by term.
+  std::vector<double> terms;
+  terms.reserve(features.size() + 1);
+  double log_none_closer = 0.0;
+  for (const SonarFeature& f : features) {
+    const double q = IndependentReturn(f);
+    if (q > 0.0)
+      terms.push_back(std::log(q) + log_none_closer +
+                      LogTruncatedNormal(reading, max_reading, f.distance,
+                                         Spread(sigma_min, sigma_relative, f.distance), max_range));
+    log_none_closer += std::log1p(-q);
+  }
+  terms.push_back(log_none_closer + std::log(outlier));
+  return LogSumExp(terms);
 }
 
 }  // namespace priormap::prf

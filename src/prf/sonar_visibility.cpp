@@ -108,8 +108,14 @@ bool ConeSweep::Nearer::operator()(std::uint32_t i, std::uint32_t j) const {
   if (i == j) return false;
   const Clipped& ci = sweep->clipped_[i];
   const Clipped& cj = sweep->clipped_[j];
-  const double ti = DistanceAt(ci, sweep->ray_tau_);
-  const double tj = DistanceAt(cj, sweep->ray_tau_);
+  // Compared along the ray in the middle of the span both cover from the current event on:
+  // there they are farthest apart. (The middle of the interval to the next event, which may be
+  // an ulp wide, is no good: two edges leaving a shared vertex are at the same distance along
+  // the ray through it, and the tie-break below would then decide which hides the other for
+  // their whole span, as it did when another vertex lay on the same ray from the apex.)
+  const double ray = 0.5 * (sweep->event_tau_ + std::min(ci.tau_hi, cj.tau_hi));
+  const double ti = DistanceAt(ci, ray);
+  const double tj = DistanceAt(cj, ray);
   if (ti != tj) return ti < tj;
   // By geometry, not by index, so that the input's order cannot matter.
   return std::tuple(ci.world_a.x(), ci.world_a.y(), ci.world_b.x(), ci.world_b.y()) <
@@ -200,11 +206,11 @@ void ConeSweep::Sweep(double tan_half, SonarView* view) {
   for (std::size_t e = 0; e + 1 < taus_.size(); ++e) {
     const double tau = taus_[e];
     // Segments ending here leave first (found by identity: no comparison at a stale slope),
-    // then the order is taken in the middle of the next interval, where every active
-    // segment spans it.
+    // then each starting one is placed by comparisons within the span it shares with each
+    // active segment (Nearer).
     while (next_end < k && clipped_[end_order_[next_end]].tau_hi == tau)
       active_.erase(std::find(active_.begin(), active_.end(), end_order_[next_end++]));
-    ray_tau_ = 0.5 * (tau + taus_[e + 1]);
+    event_tau_ = tau;
     while (next_start < k && clipped_[start_order_[next_start]].tau_lo == tau) {
       const std::uint32_t i = start_order_[next_start++];
       active_.insert(std::lower_bound(active_.begin(), active_.end(), i, Nearer{this}), i);

@@ -119,6 +119,31 @@ TEST(LogOddsCells, EveryCellHasItsOwnPlace) {
   ExpectSameCells(cells, reference);
 }
 
+TEST(LogOddsCells, ColumnsPastTwoToThe25HaveTheirOwnPlaces) {
+  // A column's offset, ix / 8 * 64 + ix % 8, passes INT_MAX from column 2^25 on: computed in
+  // int it overflowed (undefined behaviour, caught by the asan preset's UBSan). Such a raster
+  // is a grid 1,700 km long at 5 cm, or 34,000 km at 1 m (about 0.4 GB here).
+  const int width = (1 << 25) + 24;
+  LogOddsCells cells(width, 1);
+  const CellUpdate hit(5, 127), miss(-3, 127);
+  cells.Apply(width - 1, 0, hit);
+  cells.Apply(width - 9, 0, miss);
+  cells.Apply(0, 0, miss);
+  cells.Apply(1 << 25, 0, hit);
+  cells.Apply(1 << 25, 0, hit);
+  EXPECT_EQ(cells.Get(width - 1, 0), 5);
+  EXPECT_EQ(cells.Get(width - 9, 0), -3);
+  EXPECT_EQ(cells.Get(0, 0), -3);
+  EXPECT_EQ(cells.Get(1 << 25, 0), 10);
+  EXPECT_EQ(cells.Get((1 << 25) - 1, 0), kUnobserved);
+  EXPECT_EQ(cells.Get(width - 2, 0), kUnobserved);
+  // A line along the row from the first column past 2^25.
+  cells.TraceLine((1 << 25) - 4, 0, (1 << 25) + 4, 0, miss, hit);
+  EXPECT_EQ(cells.Get((1 << 25) - 1, 0), -3);
+  EXPECT_EQ(cells.Get(1 << 25, 0), 7);
+  EXPECT_EQ(cells.Get((1 << 25) + 4, 0), 5);
+}
+
 TEST(LogOddsCells, RandomLinesMatchTheTextbookBresenham) {
   std::mt19937 rng(20261124);
   for (int raster = 0; raster < 60; ++raster) {

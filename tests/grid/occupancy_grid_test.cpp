@@ -105,7 +105,8 @@ class ReferenceGrid {
         if (!options_.max_readings_clear) continue;
         range = std::min(options_.max_range, scan.max_range);
         hit = false;
-      } else if (range >= options_.max_range) {
+      } else if (range >= options_.max_range) {  // a max reading, as in the PRF
+        if (!options_.max_readings_clear) continue;
         range = options_.max_range;
         hit = false;
       }
@@ -250,6 +251,29 @@ TEST(OccupancyGrid, AReadingAtTheInsertionRangeIsAMaxReadingAsInThePrf) {
   // The end cells: (5.05, 0.05) cleared, (0.05, 4.05) a hit.
   EXPECT_LT(grid.LogOdds(60, 10), 0.0);
   EXPECT_GT(grid.LogOdds(10, 50), 0.0);
+}
+
+TEST(OccupancyGrid, WithoutClearingAReturnAtTheInsertionRangeIsLeftOutLikeAMaxReading) {
+  // A return at or beyond R is a max reading (as in the PRF): with max_readings_clear off it
+  // clears nothing, as the sensor's own max readings do not.
+  const GridOptions options{.resolution = 0.1, .max_range = 5.0, .max_readings_clear = false};
+  OccupancyGrid grid(Box2(Vec2(-1.0, -1.0), Vec2(8.0, 8.0)), options);
+  Scan scan;
+  scan.pose = Se2(0.05, 0.05, 0.0);
+  scan.angles = {0.0, M_PI / 4, M_PI / 2};
+  scan.ranges = {5.0, 30.0, 4.0};  // a return at R, a max reading, a return within R
+  scan.sigma = {0.01, 0.01, 0.01};
+  scan.max_range = 30.0;
+  scan.ClassifyAll();
+  ASSERT_EQ(scan.status[0], BeamStatus::kValid);
+  EXPECT_EQ(grid.Insert(scan), 1u);
+  // Along x from the sensor's cell (which the hit's beam clears) to R.
+  for (int ix = 11; ix <= 60; ++ix) EXPECT_FALSE(grid.Observed(ix, 10)) << "cell " << ix;
+  EXPECT_GT(grid.LogOdds(10, 50), 0.0);
+  // Its extent holds no beam to R either.
+  Log log;
+  log.scans = {scan};
+  EXPECT_LT(OccupancyGrid::ExtentOf(log, 0, 1, options).max().x(), 5.0);
 }
 
 TEST(OccupancyGrid, ABeamStepInsertsTheBeamsThePrfSelects) {

@@ -249,6 +249,74 @@ TEST(SonarGrid, AConeOfAFullTurnOrMoreIsTheWholeDisc) {
   }
 }
 
+TEST(SonarGrid, AConeOfExactlyAHalfTurnHoldsTheCellsStraightBehindItsApex) {
+  // At a half-angle of pi the cone test dot(axis, d) >= cos(pi) |d| is dot >= -|d|, which
+  // rounding breaks for centres straight behind the apex: apexes on centres, axes through
+  // centres (so that whole rows of centres lie straight behind).
+  const double pi = std::numbers::pi;
+  int cells = 0, unobserved = 0;
+  for (int k = 0; k < 60; ++k) {
+    SonarGrid grid(Box2(Vec2(-2, -2), Vec2(2, 2)), SonarGridOptions{});
+    const Vec2 apex(0.025 + 0.05 * (k % 13), 0.025 - 0.05 * (k % 11));
+    const double axis = std::atan2(k % 7 - 3.0, k % 5 - 2.0);
+    grid.InsertCone(apex, axis, k % 2 == 0 ? pi : 2 * pi, 1.0, k % 3 == 0);
+    for (int iy = 0; iy < grid.height(); ++iy)
+      for (int ix = 0; ix < grid.width(); ++ix) {
+        const double r = (grid.origin() + 0.05 * Vec2(ix + 0.5, iy + 0.5) - apex).norm();
+        if (r > 0.9) continue;  // well before the arc or the cleared range
+        ++cells;
+        if (!grid.Observed(ix, iy) || grid.LogOdds(ix, iy) >= 0.0) {
+          if (++unobserved <= 3)
+            ADD_FAILURE() << "cell (" << ix << ", " << iy << ") at " << r << " m from apex ("
+                          << apex.transpose() << "), axis " << axis << ", is not free";
+        }
+      }
+  }
+  EXPECT_GT(cells, 10000);
+  EXPECT_EQ(unobserved, 0);
+}
+
+TEST(SonarGrid, WithoutClearingAnEchoAtTheInsertionRangeIsLeftOutLikeAMaxReading) {
+  // docs/sonar.md: a max reading, and a reading at or beyond the insertion range (a max reading
+  // for the PRF too), clears its cone unless max_readings_clear is off.
+  SonarGridOptions options;
+  options.max_range = 5.0;
+  options.max_readings_clear = false;
+  SonarGrid grid(Box2(Vec2(-1, -3), Vec2(7, 6)), options);
+  Scan ring;
+  ring.pose = Se2(0.01, 0.01, 0.0);
+  ring.angles = {0.0, std::numbers::pi / 2, std::numbers::pi};
+  ring.ranges = {5.05, 2.0, 5.11};  // an echo beyond R, one within it, a max reading
+  ring.sigma = {0.01, 0.01, 0.01};
+  ring.max_range = 5.11;
+  ring.ClassifyAll();
+  ring.sonar.emplace();
+  ASSERT_EQ(ring.status[0], BeamStatus::kValid);
+  EXPECT_EQ(grid.Insert(ring), 1u);
+  EXPECT_FALSE(ObservedAt(grid, Vec2(2.0, 0.0)));
+  EXPECT_FALSE(ObservedAt(grid, Vec2(4.9, 0.0)));
+  EXPECT_GT(LogOddsAt(grid, Vec2(0.01, 2.0)), 0.0);
+  Log log;
+  log.scans = {ring};  // only the echo within R: its arc, 1 m of margin, no cone along x
+  EXPECT_LT(SonarGrid::ExtentOf(log, 0, 1, options).max().x(), 2.0);
+}
+
+TEST(SonarGrid, RefusesConesWithoutAFiniteApexOrRange) {
+  // An infinite range would clear the cone to the grid's edge and mark no echo anywhere.
+  SonarGrid grid(Box2(Vec2(-2, -2), Vec2(2, 2)), SonarGridOptions{});
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(grid.InsertCone(Vec2(0, 0), 0.0, 0.17, inf, true), std::invalid_argument);
+  EXPECT_THROW(grid.InsertCone(Vec2(0, 0), 0.0, 0.17, inf, false), std::invalid_argument);
+  EXPECT_THROW(grid.InsertCone(Vec2(nan, 0), 0.0, 0.17, 1.0, true), std::invalid_argument);
+  EXPECT_THROW(grid.InsertCone(Vec2(0, inf), 0.0, 0.17, 1.0, false), std::invalid_argument);
+  EXPECT_THROW(grid.InsertCone(Vec2(0, 0), inf, 0.17, 1.0, false), std::invalid_argument);
+  int observed = 0;
+  for (int iy = 0; iy < grid.height(); ++iy)
+    for (int ix = 0; ix < grid.width(); ++ix) observed += grid.Observed(ix, iy);
+  EXPECT_EQ(observed, 0);
+}
+
 TEST(SonarGrid, RefusesConesWithoutAnAngleOrARange) {
   SonarGrid grid(Box2(Vec2(-2, -2), Vec2(2, 2)), SonarGridOptions{});
   const double nan = std::numeric_limits<double>::quiet_NaN();

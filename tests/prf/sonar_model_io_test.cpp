@@ -48,6 +48,8 @@ const std::vector<std::pair<std::string, double SonarModel::*>> kParameters = {
     {"clear_uniform_weight", &SonarModel::clear_uniform_weight},
     {"clear_exponential_weight", &SonarModel::clear_exponential_weight},
     {"clear_max_weight", &SonarModel::clear_max_weight},
+    {"multipath_weight", &SonarModel::multipath_weight},
+    {"multipath_sigma_relative", &SonarModel::multipath_sigma_relative},
 };
 
 void ExpectSameBits(const SonarModel& actual, const SonarModel& expected) {
@@ -97,10 +99,14 @@ SonarModel Unusual() {
   m.clear_uniform_weight = 0.1;
   m.clear_exponential_weight = 0.0;
   m.clear_max_weight = 0.9;
+  m.multipath_weight = 0.1 + 0.3;
+  m.multipath_sigma_relative = 1.0 / 70.0;
   return m;
 }
 
 TEST(SonarModelIo, AWrittenModelReadsBackBitForBit) {
+  // The list above is every parameter: one added to the model must be added here too.
+  ASSERT_EQ(kParameters.size(), kSonarModelParameters.size());
   const SonarModel model = Unusual();
   ASSERT_EQ(model.Problem(), "");
   const SonarModel defaults;

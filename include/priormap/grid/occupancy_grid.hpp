@@ -23,6 +23,8 @@ struct GridOptions {
   /// Beams are inserted up to this range (finite); max-range readings and returns at or beyond
   /// it clear cells up to it.
   double max_range = 20.0;
+  /// Off: max-range readings, and returns at or beyond max_range (max readings for the PRF
+  /// too), are left out instead of clearing cells.
   bool max_readings_clear = true;
   double margin = 1.0;  ///< m around the data, for the grid's extent
   /// Every k-th beam of each scan (the PRF's --beam-step, for comparisons at equal data).

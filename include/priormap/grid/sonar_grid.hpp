@@ -25,6 +25,8 @@ struct SonarGridOptions {
   /// Readings are inserted up to this range; max-range readings (and echoes at or beyond it)
   /// clear their cones up to it, or up to the ring's own max range where that is shorter.
   double max_range = 5.0;
+  /// Off: max readings, and echoes at or beyond max_range (max readings for the PRF too), are
+  /// left out instead of clearing their cones.
   bool max_readings_clear = true;
   double margin = 1.0;  ///< m around the data, for the grid's extent
   /// The grid may have at most this many cells (CellsCovering).
@@ -49,7 +51,8 @@ class SonarGrid {
   /// cells whose centres lie in it are free up to `range` − α/2 and, when `hit`, occupied
   /// within α/2 of `range` (or, when no centre lies there, the cell holding the point at
   /// `range` on the axis). A half-angle of pi or more is the whole disc. Throws
-  /// std::invalid_argument for a NaN axis, a negative or NaN half-angle or range.
+  /// std::invalid_argument for an apex or axis that is not finite, a negative or NaN
+  /// half-angle, or a range that is negative or not finite.
   void InsertCone(const Vec2& origin, double axis, double half_spread, double range, bool hit);
 
   [[nodiscard]] int width() const { return cells_.width(); }

@@ -102,9 +102,10 @@ class ConeSweep {
     Vec2 world_a, world_b;
     int input = 0;  // index into the caller's segments
   };
-  // Orders active segments by their distance along the ray of the current slope (ties, which
-  // only touching segments could make, by their coordinates); segments active together never
-  // cross, so the order holds from one event to the next.
+  // Orders active segments by their distance along a ray both cover beyond the current event
+  // (the middle of their common span; ties, which only overlapping segments could make, by
+  // their coordinates); segments active together never cross, so the order holds from one
+  // event to the next.
   struct Nearer {
     const ConeSweep* sweep;
     bool operator()(std::uint32_t i, std::uint32_t j) const;
@@ -125,7 +126,7 @@ class ConeSweep {
   // The segments spanning the current interval, nearest first: a sorted vector, cheaper than
   // a tree for the handful of edges a cone holds.
   std::vector<std::uint32_t> active_;
-  double ray_tau_ = 0.0;  ///< slope of the current comparison
+  double event_tau_ = 0.0;  ///< slope of the current event (where starting segments are placed)
   SectorTrig trig_;
 };
 
