@@ -23,6 +23,7 @@
 
 #include "gunzip.hpp"
 #include "number_text.hpp"
+#include "scan_time_order.hpp"
 
 namespace priormap {
 namespace {
@@ -172,6 +173,7 @@ class FieldReader {
       *timestamp = 0.0;
       return fields;
     }
+    timestamp_col_ = next_col();
     *timestamp = FiniteNumber("ipc_timestamp");
     host_ = &Take("host");
     fields.host = std::string(host_->text);
@@ -195,6 +197,8 @@ class FieldReader {
 
   // The host field of the timestamps read, if any.
   const Token* host() const { return host_; }
+  // The byte column of the ipc_timestamp read, if any (0 otherwise).
+  int timestamp_col() const { return timestamp_col_; }
 
   int error_col() const { return error_col_; }
   const std::string& error() const { return error_; }
@@ -212,6 +216,7 @@ class FieldReader {
   int line_length_;
   std::size_t next_ = 1;  // token 0 is the record name
   const Token* host_ = nullptr;
+  int timestamp_col_ = 0;
   int error_col_ = 0;
   std::string error_;
 };
@@ -250,7 +255,7 @@ class CarmenParser {
                         "ROBOTLASER1, ODOM, TRUEPOS or PARAM"};
     }
     if (std::vector<Diagnostic> problems = FinishScans(); !problems.empty()) return problems;
-    return std::move(log_);
+    return Result<Log>(std::move(log_), std::move(time_order_).Warnings());
   }
 
  private:
@@ -288,6 +293,14 @@ class CarmenParser {
     log_.order.reserve(scans + odometry + true_poses + params);
   }
 
+  // The column of the line being parsed, in characters as an editor counts them, of its 1-based
+  // byte column `byte_col` (fields are found by bytes; "Zürich" is 6 columns wide, not 7); 0,
+  // unknown, stays 0.
+  int Column(int byte_col) const {
+    if (byte_col <= 0) return 0;
+    return CharacterColumn(line_, static_cast<std::size_t>(byte_col - 1));
+  }
+
   // At least one diagnostic is always allowed: with max_diagnostics <= 0 nothing would be read
   // and a valid log would be reported as having no records.
   bool TooManyErrors() const {
@@ -296,6 +309,7 @@ class CarmenParser {
 
   void ParseLine(std::string_view line, int line_number) {
     line_number_ = line_number;
+    line_ = line;
     Tokenize(line, tokens_);  // one buffer for every line: no allocation per line
     const std::vector<Token>& tokens = tokens_;
     if (tokens.empty()) return;
@@ -325,7 +339,7 @@ class CarmenParser {
       }
       if (const Token* host = fields.host()) NoteIfNotUtf8(host->text, host->col, "a host name");
     } catch (const FieldError&) {
-      diagnostics_.push_back({name_, line_number, fields.error_col(), fields.error()});
+      diagnostics_.push_back({name_, line_number, Column(fields.error_col()), fields.error()});
       if (TooManyErrors()) {
         diagnostics_.push_back({name_, line_number, 0, "too many errors; stopped reading"});
       }
@@ -351,7 +365,7 @@ class CarmenParser {
     for (std::size_t i = 0; i < ranges.size(); ++i) {
       if (IsReturnWithinWorld(ranges[i]) || !std::isfinite(ranges[i])) continue;
       const Token& t = fields.token(first + i);
-      overlong_.push_back({log_.scans.size(), i, line_number_, t.col, t.text});
+      overlong_.push_back({log_.scans.size(), i, line_number_, t.col, t.text, line_});
     }
   }
 
@@ -378,7 +392,7 @@ class CarmenParser {
     scan.pose = fields.Pose("laser pose");
     scan.odom_pose = fields.Pose("odometry pose");
     scan.carmen = LaserFieldsFrom(fields.Timestamps(&scan.timestamp));
-    AddScan(std::move(scan), std::nullopt);
+    AddScan(std::move(scan), std::nullopt, fields);
   }
 
   void ParseRobotLaser(FieldReader& fields) {
@@ -432,7 +446,8 @@ class CarmenParser {
     laser.host = stamps.host;
     laser.logger_timestamp = stamps.logger_timestamp;
     scan.carmen = std::move(laser);
-    AddScan(std::move(scan), max_range > 0.0 ? std::optional<double>(max_range) : std::nullopt);
+    AddScan(std::move(scan), max_range > 0.0 ? std::optional<double>(max_range) : std::nullopt,
+            fields);
   }
 
   void ParseOdometry(FieldReader& fields) {
@@ -474,12 +489,19 @@ class CarmenParser {
     if (stats_.not_utf8) return;
     const std::size_t at = FirstNotUtf8(text);
     if (at == std::string_view::npos) return;
-    stats_.not_utf8 = Diagnostic{name_, line_number_, col + static_cast<int>(at),
+    stats_.not_utf8 = Diagnostic{name_, line_number_, Column(col + static_cast<int>(at)),
                                  fmt::format("expected UTF-8 text in {}, got byte {}", what,
                                              QuoteForMessage(text.substr(at, 1)))};
   }
 
-  void AddScan(Scan scan, std::optional<double> own_max_range) {
+  void AddScan(Scan scan, std::optional<double> own_max_range, const FieldReader& fields) {
+    // Kept as read, with a warning at its ipc_timestamp (scan_time_order.hpp).
+    if (scan.carmen && scan.carmen->has_timestamps) {
+      const std::size_t k = log_.scans.size();
+      if (const auto previous = time_order_.Note(scan.channel, k, scan.timestamp, line_number_))
+        time_order_.Warn({name_, line_number_, Column(fields.timestamp_col()), ""}, scan.channel, k,
+                         scan.timestamp, *previous);
+    }
     scan.sigma.assign(scan.ranges.size(), options_.sigma);
     scan.min_range = options_.min_range;
     own_max_ranges_.push_back(own_max_range);
@@ -544,7 +566,7 @@ class CarmenParser {
       const Scan& scan = log_.scans[r.scan];
       if (!scan.IsValid(r.index)) continue;
       diagnostics.push_back(
-          {name_, r.line, r.col,
+          {name_, r.line, CharacterColumn(r.line_text, static_cast<std::size_t>(r.col - 1)),
            ExpectedReturnWithinWorld("a range reading", QuoteForMessage(r.text), scan.max_range)});
       if (static_cast<int>(diagnostics.size()) >= std::max(options_.max_diagnostics, 1)) {
         diagnostics.push_back({name_, r.line, 0, "too many errors; stopped reading"});
@@ -562,12 +584,15 @@ class CarmenParser {
   std::vector<int> scan_lines_;  // each scan's line, for diagnostics about the whole scan
   struct OverlongReading {
     std::size_t scan, index;
-    int line, col;
-    std::string_view text;  // into the text being parsed
+    int line, col;               // col in bytes, made a column in characters when reported
+    std::string_view text;       // into the text being parsed
+    std::string_view line_text;  // likewise
   };
   std::vector<OverlongReading> overlong_;
   int line_number_ = 0;
+  std::string_view line_;  // the line being parsed
   std::vector<Diagnostic> diagnostics_;
+  detail::ScanTimeOrder time_order_;
   std::vector<Token> tokens_;
   std::string last_type_;
   int* last_type_count_ = nullptr;

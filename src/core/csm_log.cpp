@@ -12,6 +12,7 @@
 #include <priormap/core/file_io.hpp>
 
 #include "json_document.hpp"
+#include "scan_time_order.hpp"
 
 namespace priormap {
 namespace {
@@ -91,6 +92,8 @@ std::size_t SkipValue(std::string_view text, std::size_t pos) {
 struct CsmScan {
   Scan scan;
   std::array<std::optional<Se2>, 3> poses;  // by kPoseKeys
+  bool stamped = false;                     // has a "timestamp"
+  std::size_t start = 0, end = 0;           // the object's bytes in the text
 };
 
 std::string Quoted(const char* key) {
@@ -217,6 +220,7 @@ CsmScan ReadScan(const JsonNode& root, const CsmReadOptions& options) {
     const double seconds = detail::FiniteNumber(detail::Element(*stamp, 0), "the seconds");
     const double micros = detail::FiniteNumber(detail::Element(*stamp, 1), "the microseconds");
     scan.timestamp = seconds + micros / 1e6;
+    result.stamped = std::isfinite(scan.timestamp);
   }
 
   for (std::size_t k = 0; k < kPoseKeys.size(); ++k) result.poses[k] = ReadPose(root, kPoseKeys[k]);
@@ -243,7 +247,7 @@ CsmScan ReadScan(const JsonNode& root, const CsmReadOptions& options) {
 // (a value the locator could not find) is placed at the object.
 std::vector<Diagnostic> InText(std::vector<Diagnostic> diagnostics, std::string_view text,
                                std::size_t start) {
-  const TextPosition base = PositionOfOffset(text, start);
+  const TextPosition base = detail::PositionInText(text, start);
   for (Diagnostic& d : diagnostics) {
     if (d.line <= 0) {
       d.line = base.line;
@@ -256,17 +260,38 @@ std::vector<Diagnostic> InText(std::vector<Diagnostic> diagnostics, std::string_
   return diagnostics;
 }
 
+// The warnings of the scans stamped before the previous one (scan_time_order.hpp), at their
+// "timestamp"; the objects, valid JSON, are searched again for it.
+std::vector<Diagnostic> TimeOrderWarnings(const std::vector<CsmScan>& scans, std::string_view text,
+                                          const std::string& name) {
+  std::vector<detail::StampedScan> stamped;
+  for (std::size_t k = 0; k < scans.size(); ++k)
+    if (scans[k].stamped) stamped.push_back({k, scans[k].scan.channel, scans[k].scan.timestamp});
+  return detail::TimeOrderWarnings(stamped, [&](std::span<const std::size_t> located) {
+    std::vector<std::size_t> offsets;
+    for (const std::size_t k : located) {
+      const std::string_view object = text.substr(scans[k].start, scans[k].end - scans[k].start);
+      const detail::JsonPointer timestamp("/timestamp");
+      offsets.push_back(scans[k].start + detail::LocateJsonPointer(object, timestamp).value_or(0));
+    }
+    std::vector<Diagnostic> diagnostics;
+    for (const TextPosition& at : detail::PositionsInText(text, offsets))
+      diagnostics.push_back({name, at.line, at.col, ""});
+    return diagnostics;
+  });
+}
+
 Result<Log> Parse(std::string_view text, const std::string& name, const CsmReadOptions& options) {
   std::vector<CsmScan> scans;
   std::size_t pos = SkipBlanks(text, 0);
   if (pos == text.size()) {
-    const TextPosition end = PositionOfOffset(text, pos);
+    const TextPosition end = detail::PositionInText(text, pos);
     return Diagnostic{name, end.line, end.col,
                       "no CSM laser_data objects: expected one JSON object per scan"};
   }
   while (pos < text.size()) {
     if (text[pos] != '{') {
-      const TextPosition where = PositionOfOffset(text, pos);
+      const TextPosition where = detail::PositionInText(text, pos);
       const std::size_t line_end = std::min(text.find('\n', pos), text.size());
       return Diagnostic{name, where.line, where.col,
                         fmt::format("expected a CSM laser_data object ('{{') or the end of the "
@@ -282,6 +307,8 @@ Result<Log> Parse(std::string_view text, const std::string& name, const CsmReadO
     } catch (const detail::JsonSchemaError& error) {
       return InText({document.value().Diagnose(error)}, text, pos);
     }
+    scans.back().start = pos;
+    scans.back().end = end;
     pos = SkipBlanks(text, end);
   }
 
@@ -292,6 +319,7 @@ Result<Log> Parse(std::string_view text, const std::string& name, const CsmReadO
                     [&](const CsmScan& s) { return s.poses[k].has_value(); }))
       common = k;
   }
+  std::vector<Diagnostic> warnings = TimeOrderWarnings(scans, text, name);
   Log log;
   log.pose_source = common ? kPoseSources[*common] : PoseSource::kUnknown;
   log.scans.reserve(scans.size());
@@ -299,7 +327,7 @@ Result<Log> Parse(std::string_view text, const std::string& name, const CsmReadO
     if (common) s.scan.pose = *s.poses[*common];  // else the scan's own first, set when read
     log.scans.push_back(std::move(s.scan));
   }
-  return log;
+  return Result<Log>(std::move(log), std::move(warnings));
 }
 
 }  // namespace

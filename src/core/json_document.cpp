@@ -34,6 +34,27 @@ class JsonScanner {
     return pos_;
   }
 
+  // The offsets of the elements `indices` (increasing) of the array at `array`, found in one
+  // pass along it; nullopt for those not found.
+  std::vector<std::optional<std::size_t>> LocateElements(const JsonPointer& array,
+                                                         std::span<const std::size_t> indices) {
+    std::vector<std::optional<std::size_t>> found(indices.size());
+    const std::optional<std::size_t> start = Locate(array);
+    if (!start || !At('[')) return found;
+    ++pos_;
+    std::size_t next = 0;  // of `indices`
+    for (std::size_t i = 0; next < indices.size(); ++i) {
+      SkipSpace();
+      if (pos_ >= text_.size() || At(']')) break;
+      for (; next < indices.size() && indices[next] == i; ++next) found[next] = pos_;
+      SkipValue();
+      SkipSpace();
+      if (!At(',')) break;
+      ++pos_;
+    }
+    return found;
+  }
+
  private:
   bool Descend(const std::string& token) {
     if (At('{')) {
@@ -285,11 +306,38 @@ std::string EscapeUnprintable(std::string_view message) {
 
 }  // namespace
 
+TextPosition PositionInText(std::string_view text, std::size_t offset) {
+  TextPosition where = PositionOfOffset(text, offset);
+  where.col = CharacterColumnInText(text, offset);
+  return where;
+}
+
+std::vector<TextPosition> PositionsInText(std::string_view text,
+                                          std::span<const std::size_t> offsets) {
+  std::vector<std::size_t> order(offsets.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::ranges::sort(order, [&](std::size_t a, std::size_t b) { return offsets[a] < offsets[b]; });
+  std::vector<TextPosition> positions(offsets.size());
+  std::size_t counted = 0;
+  int line = 1;
+  for (const std::size_t k : order) {
+    const std::size_t offset = std::min(offsets[k], text.size());
+    line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(counted),
+                                        text.begin() + static_cast<std::ptrdiff_t>(offset), '\n'));
+    counted = offset;
+    positions[k] = {line, CharacterColumnInText(text, offset)};
+  }
+  return positions;
+}
+
 std::optional<std::size_t> LocateJsonPointer(std::string_view text, const JsonPointer& pointer) {
   return JsonScanner(text).Locate(pointer);
 }
 
 Result<JsonDocument> JsonDocument::Parse(std::string_view text, std::string name) {
+  // A UTF-8 byte order mark (some Windows editors write one) is not part of the document: the
+  // parser would skip it, but the locator of values would not, and columns count from after it.
+  if (text.starts_with(kUtf8ByteOrderMark)) text.remove_prefix(kUtf8ByteOrderMark.size());
   std::size_t offset = 0;
   std::string message;
   try {
@@ -309,14 +357,36 @@ Result<JsonDocument> JsonDocument::Parse(std::string_view text, std::string name
   // is the one to show.
   if (message.find("ill-formed UTF-8") != std::string::npos)
     offset = std::min(FirstNotUtf8(text), offset);
-  const TextPosition where = PositionOfOffset(text, offset);
+  const TextPosition where = PositionInText(text, offset);
   return Diagnostic{name, where.line, where.col,
                     "invalid JSON: " + EscapeUnprintable(NlohmannMessage(message))};
 }
 
+std::vector<std::optional<TextPosition>> JsonDocument::LocateMembersOfElements(
+    const JsonPointer& array, std::span<const std::size_t> indices,
+    const std::string& member) const {
+  const std::vector<std::optional<std::size_t>> elements =
+      JsonScanner(text_).LocateElements(array, indices);
+  // The members' offsets, then their lines counted in one pass, in order of offset.
+  std::vector<std::optional<std::size_t>> offsets(indices.size());
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    if (!elements[k]) continue;
+    if (const auto at = LocateJsonPointer(text_.substr(*elements[k]), JsonPointer() / member))
+      offsets[k] = *elements[k] + *at;
+  }
+  std::vector<std::size_t> found;
+  for (const std::optional<std::size_t>& offset : offsets)
+    if (offset) found.push_back(*offset);
+  const std::vector<TextPosition> found_positions = PositionsInText(text_, found);
+  std::vector<std::optional<TextPosition>> positions(indices.size());
+  for (std::size_t k = 0, f = 0; k < indices.size(); ++k)
+    if (offsets[k]) positions[k] = found_positions[f++];
+  return positions;
+}
+
 Diagnostic JsonDocument::Diagnose(const JsonSchemaError& error) const {
   const std::optional<std::size_t> offset = LocateJsonPointer(text_, error.pointer);
-  const TextPosition where = PositionOfOffset(text_, offset.value_or(0));
+  const TextPosition where = PositionInText(text_, offset.value_or(0));
   std::string message = error.message;
   if (!error.pointer.empty()) message += fmt::format(" (at {})", error.pointer.to_string());
   return {name_, offset ? where.line : 0, offset ? where.col : 0, std::move(message)};

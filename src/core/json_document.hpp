@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/diagnostic.hpp>
+#include <priormap/core/file_io.hpp>
 #include <priormap/core/scan.hpp>
 #include <priormap/core/se2.hpp>
 
@@ -19,6 +20,14 @@ namespace priormap::detail {
 using Json = nlohmann::json;
 using OrderedJson = nlohmann::ordered_json;  // for writing: keys in a readable order
 using JsonPointer = nlohmann::json::json_pointer;
+
+/// Line and column of byte `offset` of `text`, the column counted in characters as an editor
+/// shows it (CharacterColumnInText): a "Zürich" before the offending value takes 6 columns, not 7.
+TextPosition PositionInText(std::string_view text, std::size_t offset);
+
+/// PositionInText of each of `offsets`, counting the lines in one pass along `text`.
+std::vector<TextPosition> PositionsInText(std::string_view text,
+                                          std::span<const std::size_t> offsets);
 
 /// Byte offset of the value at `pointer` in the JSON `text` (which must be valid JSON).
 std::optional<std::size_t> LocateJsonPointer(std::string_view text, const JsonPointer& pointer);
@@ -43,6 +52,13 @@ class JsonDocument {
   [[nodiscard]] JsonNode root() const { return {json_, JsonPointer()}; }
   /// The diagnostic for a schema error, with its line and column.
   [[nodiscard]] Diagnostic Diagnose(const JsonSchemaError& error) const;
+  /// Where `member` of each element `indices[k]` (in increasing order) of the array at `array`
+  /// is (nullopt where it is not), found in one pass along the array: a log's records can be
+  /// many megabytes, which a search per position would read each time.
+  [[nodiscard]] std::vector<std::optional<TextPosition>> LocateMembersOfElements(
+      const JsonPointer& array, std::span<const std::size_t> indices,
+      const std::string& member) const;
+  [[nodiscard]] const std::string& name() const { return name_; }
 
  private:
   JsonDocument(std::string_view text, std::string name, Json json)

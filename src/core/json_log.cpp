@@ -15,6 +15,7 @@
 
 #include "angle_step.hpp"
 #include "json_document.hpp"
+#include "scan_time_order.hpp"
 
 namespace priormap {
 namespace {
@@ -521,6 +522,39 @@ Log ReadLogDocument(const JsonNode& root) {
   return log;
 }
 
+// The warnings of a log's scans stamped before the previous scan of their channel
+// (scan_time_order.hpp), at their "timestamp". A scan is stamped when its record has a finite
+// "timestamp" and is not a CARMEN line without one (has_timestamps false, written as 0).
+std::vector<Diagnostic> TimeOrderWarnings(const detail::JsonDocument& document, const Log& log) {
+  if (log.order.empty()) return {};  // a priormap.scan document: one scan
+  const JsonNode records = detail::Member(document.root(), "records");
+  std::vector<std::size_t> record_of_scan(log.scans.size());
+  std::vector<detail::StampedScan> stamped;
+  for (std::size_t i = 0; i < log.order.size(); ++i) {
+    if (log.order[i].kind != Log::RecordKind::kScan) continue;
+    const std::size_t k = log.order[i].index;
+    record_of_scan[k] = i;
+    const Scan& scan = log.scans[k];
+    if (std::isfinite(scan.timestamp) && !(scan.carmen && !scan.carmen->has_timestamps) &&
+        detail::Element(records, i).value.contains("timestamp"))
+      stamped.push_back({k, scan.channel, scan.timestamp});
+  }
+  return detail::TimeOrderWarnings(stamped, [&](std::span<const std::size_t> scans) {
+    std::vector<std::size_t> indices;  // of records, increasing as the scans' are
+    for (const std::size_t k : scans) indices.push_back(record_of_scan[k]);
+    const std::vector<std::optional<TextPosition>> positions =
+        document.LocateMembersOfElements(records.pointer, indices, "timestamp");
+    std::vector<Diagnostic> located;
+    for (std::size_t j = 0; j < indices.size(); ++j) {
+      const TextPosition at = positions[j].value_or(TextPosition{0, 0});
+      located.push_back(
+          {document.name(), at.line, at.col,
+           fmt::format(" (at {})", (records.pointer / indices[j] / "timestamp").to_string())});
+    }
+    return located;
+  });
+}
+
 // What ReadScan refuses besides positions and returns beyond the world (Scan::FirstBeyondWorld):
 // a heading that is not finite (written as null), an inconsistent scan (Scan::Problems), and ids
 // of the ground truth that it reads as out of range.
@@ -641,7 +675,9 @@ Result<Log> ParseJsonLog(std::string_view text, const std::string& name) {
   Result<detail::JsonDocument> document = detail::JsonDocument::Parse(text, name);
   if (!document) return document.diagnostics();
   try {
-    return ReadLogDocument(document.value().root());
+    Log log = ReadLogDocument(document.value().root());
+    std::vector<Diagnostic> warnings = TimeOrderWarnings(document.value(), log);
+    return Result<Log>(std::move(log), std::move(warnings));
   } catch (const detail::JsonSchemaError& error) {
     return document.value().Diagnose(error);
   }

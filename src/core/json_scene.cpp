@@ -1,4 +1,7 @@
 // priormap.scene JSON documents (docs/formats.md).
+#include <span>
+#include <string_view>
+
 #include <fmt/format.h>
 
 #include <priormap/core/file_io.hpp>
@@ -29,11 +32,25 @@ std::vector<Vec2> ReadPoints(const JsonNode& node, std::string_view what) {
   return points;
 }
 
+// Every key the reader takes, by object: any other is refused rather than ignored, as in the logs
+// (a misspelt "clutter" would make an object a wall for the priors, a misspelt "default_pose"
+// would simulate from the origin).
+constexpr std::string_view kSceneKeys[] = {"format",   "version",      "name",
+                                           "surfaces", "default_pose", "waypoints"};
+constexpr std::string_view kPolylineKeys[] = {"type", "points", "closed", "clutter", "label"};
+constexpr std::string_view kCircleKeys[] = {"type", "center", "radius", "clutter", "label"};
+
 SceneSurface ReadSurface(const JsonNode& node) {
   detail::RequireObject(node, "a surface");
   SceneSurface surface;
   const JsonNode type_node = detail::Member(node, "type");
   const std::string type = detail::String(type_node, "the surface type");
+  if (type == "polyline" || type == "circle") {
+    const std::span<const std::string_view> known =
+        type == "polyline" ? std::span<const std::string_view>(kPolylineKeys)
+                           : std::span<const std::string_view>(kCircleKeys);
+    detail::RefuseUnknownMembers(node, known, fmt::format("a {} surface", type));
+  }
   if (type == "polyline") {
     Polyline polyline;
     const JsonNode points = detail::Member(node, "points");
@@ -67,6 +84,7 @@ SceneSurface ReadSurface(const JsonNode& node) {
 
 Scene ReadScene(const JsonNode& root) {
   detail::RequireFormat(root, "priormap.scene", kVersion);
+  detail::RefuseUnknownMembers(root, kSceneKeys, "a priormap.scene document");
   Scene scene;
   if (const auto name = detail::OptionalMember(root, "name"))
     scene.name = detail::String(*name, "the scene name");

@@ -9,6 +9,7 @@
 #include <priormap/core/angles.hpp>
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/robond_sonar_io.hpp>
+#include <priormap/core/utf8.hpp>
 #include <priormap/core/world_bounds.hpp>
 
 namespace priormap {
@@ -16,7 +17,7 @@ namespace {
 
 struct Token {
   std::string_view text;
-  int col = 0;  // 1-based
+  int col = 0;  // 1-based, in characters as an editor counts them
 };
 
 // One non-blank line of a file, split at spaces and tabs.
@@ -24,6 +25,23 @@ struct Line {
   int number = 0;   // 1-based
   int end_col = 0;  // one past the last character, where a missing field is reported
   std::vector<Token> tokens;
+};
+
+// The column of each byte of a line, in characters, found walking forward along it.
+class ColumnCounter {
+ public:
+  explicit ColumnCounter(std::string_view line) : line_(line) {}
+  // The column of byte `offset`, at or after the previous one asked for.
+  int At(std::size_t offset) {
+    col_ += CharacterColumn(line_.substr(at_), offset - at_) - 1;
+    at_ = offset;
+    return col_;
+  }
+
+ private:
+  std::string_view line_;
+  std::size_t at_ = 0;
+  int col_ = 1;
 };
 
 std::vector<Line> SplitLines(std::string_view text) {
@@ -38,7 +56,8 @@ std::vector<Line> SplitLines(std::string_view text) {
     if (end == std::string_view::npos) end = text.size();
     std::string_view line = text.substr(start, end - start);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    Line parsed{.number = number, .end_col = static_cast<int>(line.size()) + 1, .tokens = {}};
+    Line parsed{.number = number, .end_col = CharacterColumn(line, line.size()), .tokens = {}};
+    ColumnCounter columns(line);
     std::size_t i = 0;
     while (i < line.size()) {
       if (line[i] == ' ' || line[i] == '\t') {
@@ -47,8 +66,7 @@ std::vector<Line> SplitLines(std::string_view text) {
       }
       const std::size_t token_start = i;
       while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
-      parsed.tokens.push_back(
-          {line.substr(token_start, i - token_start), static_cast<int>(token_start) + 1});
+      parsed.tokens.push_back({line.substr(token_start, i - token_start), columns.At(token_start)});
     }
     if (!parsed.tokens.empty()) lines.push_back(std::move(parsed));
     start = end + 1;

@@ -210,13 +210,15 @@ PriorMap ReadPriorMap(const JsonNode& root, double default_std) {
 // (LocateJsonPointer does not decode escapes in keys), so that every diagnostic has a place.
 Diagnostic Diagnose(std::string_view text, const std::string& name,
                     const json::JsonSchemaError& error) {
+  // JsonDocument::Parse skips a byte order mark; the locator must see the same text.
+  if (text.starts_with(kUtf8ByteOrderMark)) text.remove_prefix(kUtf8ByteOrderMark.size());
   json::JsonPointer pointer = error.pointer;
   std::optional<std::size_t> offset = json::LocateJsonPointer(text, pointer);
   while (!offset && !pointer.empty()) {
     pointer = pointer.parent_pointer();
     offset = json::LocateJsonPointer(text, pointer);
   }
-  const TextPosition where = PositionOfOffset(text, offset.value_or(0));
+  const TextPosition where = detail::PositionInText(text, offset.value_or(0));
   std::string message = error.message;
   if (!error.pointer.empty()) message += fmt::format(" (at {})", error.pointer.to_string());
   return {name, where.line, where.col, std::move(message)};

@@ -123,8 +123,9 @@ TEST(JsonMalformed, AByteThatIsNotUtf8IsLocatedAtItselfAndEscaped) {
                                        "string: ill-formed UTF-8 byte; last read: "
                                        "'\"caf\\xe9\"'")));
   // Valid UTF-8 in what nlohmann quotes is kept as it is (it shows a control character itself).
+  // The column counts characters: the 'é' before the control character takes one.
   EXPECT_THAT(LogErrors("{\"format\": \"priormap.log\", \"caf\u00e9\x01\": 1}"),
-              ElementsAre(DiagnosticAt(1, 34,
+              ElementsAre(DiagnosticAt(1, 33,
                                        "invalid JSON: syntax error while parsing object key - "
                                        "invalid string: control character U+0001 (SOH) must be "
                                        "escaped to \\u0001; last read: '\"caf\u00e9<U+0001>'")));
@@ -364,6 +365,24 @@ TEST(JsonMalformed, AnUnknownKeyIsRefusedWithTheNearestKnownOne) {
               ElementsAre(DiagnosticAt(2, 62,
                                        "unknown key \"accell\" in a \"odometry\" record "
                                        "(did you mean \"accel\"?)")));
+}
+
+// The same in scenes: a misspelt "clutter" would make an object a wall for the priors, a
+// misspelt "default_pose" would simulate from the origin.
+TEST(JsonMalformed, AnUnknownKeyOfASceneIsRefusedWithTheNearestKnownOne) {
+  EXPECT_THAT(SceneErrors(R"({"format": "priormap.scene", "version": 1, "surfaces": [
+  {"type": "circle", "center": [0, 0], "radius": 1, "cluter": true}]})"),
+              ElementsAre(DiagnosticAt(2, 63,
+                                       "unknown key \"cluter\" in a circle surface (did you mean "
+                                       "\"clutter\"?) (at /surfaces/0/cluter)")));
+  EXPECT_THAT(SceneErrors(R"({"format": "priormap.scene", "version": 1, "surfaces": [
+  {"type": "polyline", "points": [[0, 0], [1, 0]], "radius": 1}]})"),
+              ElementsAre(DiagnosticAt(2, 62, "unknown key \"radius\" in a polyline surface")));
+  EXPECT_THAT(SceneErrors(R"({"format": "priormap.scene", "version": 1, "surfaces": [],
+  "defualt_pose": [1, 2, 0]})"),
+              ElementsAre(DiagnosticAt(2, 19,
+                                       "unknown key \"defualt_pose\" in a priormap.scene document "
+                                       "(did you mean \"default_pose\"?)")));
 }
 
 TEST(JsonMalformed, AByteOrderMarkIsSkipped) {

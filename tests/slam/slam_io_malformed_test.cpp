@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <priormap/core/file_io.hpp>
 #include <priormap/slam/slam_io.hpp>
 
 #include "testing/diagnostic_matchers.hpp"
@@ -513,6 +514,16 @@ TEST(GeoJsonMalformed, KeysWithEscapesAreLocatedAtTheirValue) {
   // the diagnostic points at its value.
   EXPECT_THAT(MapErrors(Map(R"({"t\u0079pe": "Point", "coordinates": [1, 2]})")),
               ElementsAre(At("map.geojson", 3, 27, "unsupported geometry type \"Point\"")));
+}
+
+TEST(GeoJsonMalformed, ColumnsCountCharactersAndAByteOrderMarkTakesNone) {
+  // "é" is two bytes and one column, as an editor shows it; a byte order mark is no column.
+  const std::string wide = "{\"type\": \"FeatureCollection\", \"features\": [\n" +
+                           std::string(R"({"type": "Feature", "properties": {"name": "é"}, )") +
+                           R"("geometry": 7}]})";
+  EXPECT_THAT(MapErrors(wide), ElementsAre(At("map.geojson", 2, 62, "(at /features/0/geometry)")));
+  EXPECT_THAT(MapErrors(std::string(kUtf8ByteOrderMark) + wide),
+              ElementsAre(At("map.geojson", 2, 62, "(at /features/0/geometry)")));
 }
 
 TEST(GeoJsonMalformed, MissingFileIsADiagnostic) {

@@ -53,7 +53,10 @@ struct CarmenReadStats {
                                         const CarmenReadOptions& options = {},
                                         CarmenReadStats* stats = nullptr);
 
-/// Parses CARMEN text; `name` is used in diagnostics.
+/// Parses CARMEN text; `name` is used in diagnostics, whose columns count characters (UTF-8 code
+/// points, as an editor does), not bytes. A scan stamped (ipc_timestamp) before the previous
+/// stamped scan of its record type is kept in the file's order, with a warning at that field
+/// (Result::warnings); equal timestamps are normal.
 [[nodiscard]] Result<Log> ParseCarmenLog(std::string_view text, const std::string& name,
                                          const CarmenReadOptions& options = {},
                                          CarmenReadStats* stats = nullptr);

@@ -28,7 +28,9 @@ struct CsmReadOptions {
 /// one of them is in every scan, each scan takes the first it has and pose_source is unknown.
 /// "odometry", when known, is also the scan's odom_pose. Readings flagged invalid (valid 0) and
 /// null ones are kInvalid; the others get ClassifyReading's status within the options' range.
-/// Every reading is kept as read. One diagnostic, at the first problem.
+/// Every reading is kept as read. One diagnostic, at the first problem (columns count characters).
+/// A scan whose "timestamp" is before the previous one's is kept in the file's order, with a
+/// warning there (Result::warnings).
 [[nodiscard]] Result<Log> ParseCsmLog(std::string_view text, const std::string& name,
                                       const CsmReadOptions& options = {});
 

@@ -30,11 +30,16 @@ struct Diagnostic {
 /// Joins diagnostics one per line, as the CLI prints them.
 [[nodiscard]] std::string FormatDiagnostics(const std::vector<Diagnostic>& diagnostics);
 
-/// A value, or the diagnostics explaining why there is none.
+/// A value, or the diagnostics explaining why there is none. A value may come with warnings:
+/// problems of the input that did not stop the reading but that its user should know of (a
+/// log's scans stamped out of time order), located like the diagnostics, for the caller to show
+/// (the library never prints).
 template <typename T>
 class Result {
  public:
   Result(T value) : value_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  Result(T value, std::vector<Diagnostic> warnings)
+      : value_(std::move(value)), warnings_(std::move(warnings)) {}
   Result(std::vector<Diagnostic> diagnostics) : diagnostics_(std::move(diagnostics)) {}  // NOLINT
   Result(Diagnostic diagnostic) : diagnostics_{std::move(diagnostic)} {}                 // NOLINT
 
@@ -59,12 +64,15 @@ class Result {
   [[nodiscard]] const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
   /// All diagnostics formatted one per line.
   [[nodiscard]] std::string error() const { return FormatDiagnostics(diagnostics_); }
+  /// The warnings of a value (none when there is no value).
+  [[nodiscard]] const std::vector<Diagnostic>& warnings() const { return warnings_; }
 
  private:
   void Checked() const;
 
   std::optional<T> value_;
   std::vector<Diagnostic> diagnostics_;
+  std::vector<Diagnostic> warnings_;
 };
 
 namespace detail {

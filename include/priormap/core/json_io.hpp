@@ -19,7 +19,9 @@ namespace priormap {
 /// A log document {"format": "priormap.log", ...}.
 [[nodiscard]] std::string FormatJsonLog(const Log& log);
 
-/// Parses a scan or a log document; a scan document gives a log with one scan.
+/// Parses a scan or a log document; a scan document gives a log with one scan. Columns of the
+/// diagnostics count characters. A scan stamped before the previous stamped scan of its channel
+/// is kept in the file's order, with a warning at its "timestamp" (Result::warnings).
 [[nodiscard]] Result<Log> ParseJsonLog(std::string_view text, const std::string& name);
 [[nodiscard]] Result<Log> ReadJsonLog(const std::filesystem::path& path);
 

@@ -27,7 +27,8 @@ enum class LogFormat : std::uint8_t { kCarmen, kJson, kCsm };
 
 /// Reads a log in any supported format (`format` forces one, else SniffLogFormat). CARMEN options
 /// apply to CARMEN only; CSM laser_data is read with the default CsmReadOptions. `read_as`, when
-/// given, receives the format the file was read as.
+/// given, receives the format the file was read as. The reader's warnings (scans stamped out of
+/// time order) come with the log (Result::warnings).
 [[nodiscard]] Result<Log> ReadLog(const std::filesystem::path& path,
                                   std::optional<LogFormat> format = std::nullopt,
                                   const CarmenReadOptions& carmen_options = {},

@@ -1,6 +1,7 @@
 #pragma once
 /// Strict UTF-8 decoding, shared by the writers that must know whether text is UTF-8 (map_server's
-/// YAML) and the figures that replace what is not (Cairo stops drawing at invalid UTF-8).
+/// YAML), the figures that replace what is not (Cairo stops drawing at invalid UTF-8), and the
+/// readers whose diagnostics count columns in characters, as an editor does.
 
 #include <cstddef>
 #include <cstdint>
@@ -55,6 +56,53 @@ struct Utf8Char {
     at += c->length;
   }
   return std::string_view::npos;
+}
+
+/// How many characters an editor shows for `text`: one per UTF-8 character (DecodeUtf8's rule),
+/// and one per byte that does not start one (shown as a replacement character).
+[[nodiscard]] inline std::size_t CountCharacters(std::string_view text) {
+  std::size_t count = 0;
+  for (std::size_t at = 0; at < text.size(); ++count) {
+    if (static_cast<unsigned char>(text[at]) < 0x80) {
+      ++at;
+      continue;
+    }
+    const std::optional<Utf8Char> c = DecodeUtf8(text, at);
+    at += c ? c->length : 1;
+  }
+  return count;
+}
+
+/// The 1-based column of byte `offset` of `line` (the text of one line) counted in characters
+/// (CountCharacters), as an editor shows it and as diagnostics give it: a line "café x" has its
+/// 'x' at column 6, not at byte 7. An offset inside a character is that character's column; one
+/// past the end of `line`, the column after its last character (and so on, a column per byte).
+[[nodiscard]] inline int CharacterColumn(std::string_view line, std::size_t offset) {
+  std::size_t count = 0;
+  std::size_t at = 0;
+  while (at < offset && at < line.size()) {
+    std::size_t length = 1;
+    if (static_cast<unsigned char>(line[at]) >= 0x80) {
+      const std::optional<Utf8Char> c = DecodeUtf8(line, at);
+      length = c ? c->length : 1;
+    }
+    if (at + length > offset) break;  // `offset` is inside this character
+    at += length;
+    ++count;
+  }
+  if (offset > line.size()) count += offset - line.size();
+  return static_cast<int>(count) + 1;
+}
+
+/// CharacterColumn of byte `offset` of `text` within its line: the line starts after the last
+/// '\n' before `offset`. A UTF-8 byte order mark at the start of `text` takes no column, as
+/// editors do not show it.
+[[nodiscard]] inline int CharacterColumnInText(std::string_view text, std::size_t offset) {
+  offset = offset < text.size() ? offset : text.size();
+  std::size_t start = offset == 0 ? std::string_view::npos : text.rfind('\n', offset - 1);
+  start = start == std::string_view::npos ? 0 : start + 1;
+  if (start == 0 && text.starts_with("\xef\xbb\xbf") && offset >= 3) start = 3;
+  return CharacterColumn(text.substr(start), offset - start);
 }
 
 }  // namespace priormap
