@@ -4,7 +4,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
+#include <system_error>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -166,9 +168,25 @@ dsl::PriorLibrary MakePriorLibrary(const std::vector<std::string>& prior_path) {
   return dsl::PriorLibrary::WithEnvironment({prior_path.begin(), prior_path.end()});
 }
 
+void RemoveFinishedCheckpoints(const std::filesystem::path& checkpoints) {
+  std::error_code ec;
+  std::filesystem::remove_all(checkpoints, ec);
+  if (ec)
+    fmt::print(stderr,
+               "priormap: warning: the outputs are written, but {} could not be removed ({}): "
+               "remove it by hand (a --resume would run again from what is left of it)\n",
+               checkpoints.string(), ec.message());
+}
+
+void PrintWarnings(const std::vector<Diagnostic>& warnings) {
+  for (const Diagnostic& d : warnings) {
+    const std::string where = d.Location();
+    fmt::print(stderr, "priormap: warning: {}{}\n", where.empty() ? "" : where + ": ", d.message);
+  }
+}
+
 void PrintPriorWarnings(const dsl::CompiledPrior& prior) {
-  for (const Diagnostic& d : prior.warnings())
-    fmt::print(stderr, "priormap: warning: {}: {}\n", d.Location(), d.message);
+  PrintWarnings(prior.warnings());
 }
 
 dsl::CompiledPrior LoadPrior(const std::vector<std::string>& prior_path, const std::string& name) {
@@ -264,6 +282,8 @@ void RemoveFiles(const std::filesystem::path& directory, std::span<const char* c
 }
 
 void EnsureDirectory(const std::filesystem::path& directory) {
+  if (directory.empty())
+    throw UserError("expected an output directory, got an empty name (. is the current one)");
   std::error_code ec;
   if (std::filesystem::exists(directory, ec) && !std::filesystem::is_directory(directory, ec))
     throw UserError(fmt::format("{} is a file, not a directory", directory.string()));

@@ -42,9 +42,26 @@ class UsageError : public UserError {
 /// "file:line:col: message", one diagnostic per line.
 [[nodiscard]] std::string DescribeDiagnostics(const std::vector<Diagnostic>& diagnostics);
 
-/// The value of a successful result; otherwise throws UserError with every diagnostic.
+/// Removes the checkpoints of a run or case whose outputs are written. One that cannot be removed
+/// is a warning, not an error: the run is complete.
+void RemoveFinishedCheckpoints(const std::filesystem::path& checkpoints);
+
+/// Prints warnings on stderr, one per line: "priormap: warning: file:line:col: message".
+void PrintWarnings(const std::vector<Diagnostic>& warnings);
+
+/// The value of a successful result, its warnings (a log's scans stamped out of time order)
+/// printed (PrintWarnings); otherwise throws UserError with every diagnostic.
 template <typename T>
 T ValueOrThrow(Result<T> result) {
+  if (!result) throw UserError(DescribeDiagnostics(result.diagnostics()));
+  PrintWarnings(result.warnings());
+  return std::move(result).value();
+}
+
+/// As ValueOrThrow, without printing the warnings: for a file read again after a command that
+/// read it has given them.
+template <typename T>
+T ValueOrThrowQuietly(Result<T> result) {
   if (!result) throw UserError(DescribeDiagnostics(result.diagnostics()));
   return std::move(result).value();
 }

@@ -22,6 +22,7 @@
 #include <priormap/core/file_io.hpp>
 #include <priormap/core/log_io.hpp>
 #include <priormap/core/map_server.hpp>
+#include <priormap/prf/chain_checkpoint.hpp>
 #include <priormap/prf/mapping.hpp>
 #include <priormap/prf/moves.hpp>
 #include <priormap/prf/polygon_map.hpp>
@@ -311,16 +312,97 @@ void RemoveEarlierRunOutputs(const std::filesystem::path& dir) {
         "posterior.yaml", "not_white.png", "chains_disagree.png", "map.geojson", "map.svg",
         "map.png", "map.pgm", "map.yaml"})
     outputs.push_back(dir / file);
-  std::filesystem::remove_all(dir / "checkpoints");
-  for (const auto& file : outputs) std::filesystem::remove(file);
+  try {
+    std::filesystem::remove_all(dir / "checkpoints");
+    for (const auto& file : outputs) std::filesystem::remove(file);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw UserError(fmt::format("-o {}: cannot remove the earlier run's {}: {}", dir.string(),
+                                e.path1().string(), e.code().message()));
+  }
 }
+
+// The log and the sonar model file, which run.json names and a resume reads again.
+std::string RunFiles(const MappingCliOptions& o) {
+  return o.sonar_model.empty()
+             ? fmt::format("the log {}", o.log)
+             : fmt::format("the log {} or the sonar model {}", o.log, o.sonar_model);
+}
+
+// How to give up a run's checkpoints for a new run in its directory.
+std::string StartAgain(const std::string& dir) {
+  return fmt::format(
+      "or remove {0}/checkpoints and start a new run there (priormap prf with the "
+      "options in {0}/run.json)",
+      dir);
+}
+
+// A resumed run's data and options as this priormap hashes them against what run.json recorded
+// when the run started: checkpoints that cannot match are refused before any is read, saying
+// why. (Run files written before the record are judged by the checkpoints alone.)
+void RequireTheRunStartedWith(const MappingCliOptions& o, const prf::MappingData& data) {
+  if (!o.started_with) return;
+  if (o.started_with->data != data.data_fingerprint)
+    throw UserError(fmt::format(
+        "--resume {0}: the run's data are not those it started with: {1} changed since, or "
+        "{0}/run.json was edited (or this priormap, another version than the one that started "
+        "the run, reads them otherwise); put them back as they were, {2}",
+        o.out, RunFiles(o), StartAgain(o.out)));
+  if (o.started_with->run != data.fingerprint)
+    throw UserError(fmt::format(
+        "--resume {0}: this priormap makes another run of {0}/run.json than the one that started "
+        "there: the same data, but other options ({0}/run.json was edited, or another version of "
+        "priormap, whose defaults differ, started the run); put run.json back as it was or "
+        "continue the run with the priormap that started it, {1}",
+        o.out, StartAgain(o.out)));
+}
+
+// Why a run cannot resume from a checkpoint, and what to do.
+UserError CannotResume(const BinaryFormatError& e, const MappingCliOptions& o) {
+  const auto* mismatch = dynamic_cast<const prf::CheckpointMismatchError*>(&e);
+  if (mismatch == nullptr)  // damaged
+    return UserError(fmt::format(
+        "cannot resume: {}; remove that file and resume again: its chain (or, for anneal.ckpt, "
+        "the annealing) starts afresh and the run ends as it would have, only the steps the file "
+        "held are lost",
+        e.what()));
+  switch (mismatch->reason()) {
+    case prf::CheckpointMismatchError::Reason::kFormatVersion:
+      return UserError(
+          fmt::format("cannot resume: {}; continue the run with the priormap that started it, {}",
+                      e.what(), StartAgain(o.out)));
+    case prf::CheckpointMismatchError::Reason::kAnotherRun:
+      if (o.started_with)  // the data and options are those run.json recorded
+        return UserError(fmt::format(
+            "cannot resume: {}: it is not the run {}/run.json describes (copied from another "
+            "run's directory?); put back the run's own checkpoints, {}",
+            e.what(), o.out, StartAgain(o.out)));
+      return UserError(fmt::format(
+          "cannot resume: {}: {} or {}/run.json changed since the run started, or another "
+          "version of priormap started it; put them back as they were, {}",
+          e.what(), RunFiles(o), o.out, StartAgain(o.out)));
+    case prf::CheckpointMismatchError::Reason::kAnotherChain:
+      break;
+  }
+  return UserError(fmt::format(
+      "cannot resume: {}; put each chain's checkpoint back under its own name, or remove this "
+      "one: its chain starts afresh and the run ends as it would have",
+      e.what()));
+}
+
+// The run (resumed or not) in -o DIR, whose run.json is written, and its outputs.
+void RunAndWriteOutputs(const MappingCliOptions& o, const SelectedData& data);
 
 void RunMappingCommand(MappingCliOptions o) {
   const bool resuming = !o.resume.empty();
-  if (resuming)
+  // Held to the run's end, and taken before the directory's contents are judged (whether its run
+  // is complete, its checkpoints): a running run's are not a stopped one's.
+  DirectoryLock lock;
+  if (resuming) {
+    lock = LockIfExists(o.resume);
     o = RunFromJson(o.resume, o);
-  else
+  } else {
     ApplyPosteriorOptions(o.posterior, &o.mapping);
+  }
   // Before the data are selected: the data's fingerprint, which a checkpoint must match, holds
   // the options as run.json has them.
   if (o.anneal && o.mapping.anneal_steps == 0) o.mapping.anneal_steps = o.mapping.samples;
@@ -334,17 +416,18 @@ void RunMappingCommand(MappingCliOptions o) {
         "--samples 0: P(black), R-hat and the annealing's start come from the "
         "samples; at least 1");
   if (o.out.empty()) throw UsageError("-o/--out is required");
-  // Held to the run's end, and taken before the directory's contents are judged: a running run's
-  // checkpoints are not a stopped one's.
-  DirectoryLock lock = LockIfExists(o.out);
+  if (!resuming) lock = LockIfExists(o.out);
   // A new run would delete a stopped one's checkpoints, its progress of hours perhaps.
   const std::filesystem::path earlier_checkpoints = std::filesystem::path(o.out) / "checkpoints";
-  if (std::error_code ec; !resuming && std::filesystem::is_directory(earlier_checkpoints, ec) &&
-                          !std::filesystem::is_empty(earlier_checkpoints, ec))
-    throw UserError(fmt::format(
-        "-o {0}: it holds a stopped run ({0}/checkpoints); continue it with priormap prf --resume "
-        "{0}, or remove {0}/checkpoints to start a new run there",
-        o.out));
+  const auto refuse_a_stopped_run = [&] {
+    if (std::error_code ec; !resuming && std::filesystem::is_directory(earlier_checkpoints, ec) &&
+                            !std::filesystem::is_empty(earlier_checkpoints, ec))
+      throw UserError(fmt::format(
+          "-o {0}: it holds a stopped run ({0}/checkpoints); continue it with priormap prf "
+          "--resume {0}, or remove {0}/checkpoints to start a new run there",
+          o.out));
+  };
+  refuse_a_stopped_run();
   const Log log = ValueOrThrow(ReadLog(o.log));
   std::tie(o.selection.first_scan, o.selection.end_scan) =
       SelectedScans(ParseScanRange(o.range), log.scans.size());
@@ -355,19 +438,49 @@ void RunMappingCommand(MappingCliOptions o) {
           prf::RasterSizeProblem(data.mapping.window, o.mapping.raster_resolution);
       !problem.empty())
     throw UserError(fmt::format("--resolution {} m: {}", o.mapping.raster_resolution, problem));
+  if (resuming) RequireTheRunStartedWith(o, data.mapping);
   EnsureDirectory(o.out);
-  if (!lock.held()) lock = DirectoryLock(o.out);
+  if (!lock.held()) {
+    lock = DirectoryLock(o.out);
+    // The directory did not exist when it was judged: another run may have made it, and stopped
+    // there, since.
+    refuse_a_stopped_run();
+  }
   const std::filesystem::path dir(o.out);
   if (!resuming) {
     RemoveEarlierRunOutputs(dir);
+    o.started_with = {.data = data.mapping.data_fingerprint, .run = data.mapping.fingerprint};
     WriteTextFileAtomically(dir / "run.json", RunJson(o).dump(2) + "\n");
   }
+  // Under the lock no other run writes checkpoints here: the temporaries of checkpoint writes
+  // killed mid-way are stale, whatever process their PID names now (RunMapping keeps those of
+  // PIDs that run). Unlocked (a file system without locks), RunMapping's check alone.
+  if (lock.held()) prf::RemoveCheckpointTemporariesOfEndedWriters(dir / "checkpoints");
   fmt::print(stderr, "{} {} from {} sensor positions, R = {} m\n", data.readings,
              data.sonar ? "sonar readings" : "beams", data.sensors.size(), data.max_range);
+  // A write that fails (a full disk, a directory made read-only) loses nothing: the checkpoints
+  // written stay (each replaced whole or not at all), and a complete run's go only once its
+  // outputs are written.
+  const auto resumable = [&](const std::exception& e) {
+    return UserError(
+        fmt::format("{}; the run's checkpoints are kept: once {} can be written, "
+                    "continue it with: priormap prf --resume {}",
+                    e.what(), o.out, o.out));
+  };
+  try {
+    RunAndWriteOutputs(o, data);
+  } catch (const IoError& e) {
+    throw resumable(e);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw resumable(e);
+  }
+}
 
+void RunAndWriteOutputs(const MappingCliOptions& o, const SelectedData& data) {
+  const std::filesystem::path dir(o.out);
   const prf::MappingSession session{.checkpoint_directory = dir / "checkpoints",
                                     .checkpoint_every_s = o.checkpoint_every_s,
-                                    .resume = resuming,
+                                    .resume = !o.resume.empty(),
                                     .stop_after_steps = o.stop_after_steps,
                                     .stop = &StopFlag()};
   MappingStatus status;
@@ -377,6 +490,8 @@ void RunMappingCommand(MappingCliOptions o) {
     try {
       r = prf::RunMapping(data.mapping, o.mapping, std::ref(status), session);
     } catch (const BinaryFormatError& e) {
+      throw CannotResume(e, o);
+    } catch (const prf::CheckpointReadError& e) {
       throw UserError(fmt::format("cannot resume: {}", e.what()));
     }
   }
@@ -516,7 +631,7 @@ void RunMappingCommand(MappingCliOptions o) {
   }
   WriteTextFileAtomically(dir / "summary.json", summary.dump(2) + "\n");
   // The outputs are final; the checkpoints (megabytes per chain) are no longer needed.
-  std::filesystem::remove_all(session.checkpoint_directory);
+  RemoveFinishedCheckpoints(session.checkpoint_directory);
   fmt::print(
       "wrote {} ({}): R-hat {:.3f} (log posterior), {:.3f} (point colours), {:.0f}k "
       "proposals/s\n",

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/utf8.hpp>
 #include <priormap/prf/pooled_rhat.hpp>
 #include <priormap/prf/rhat.hpp>
 
@@ -36,7 +37,9 @@ nlohmann::json ReadJsonFile(const fs::path& path) {
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    const TextPosition at = PositionOfOffset(text, e.byte == 0 ? 0 : e.byte - 1);
+    const std::size_t offset = e.byte == 0 ? 0 : e.byte - 1;
+    TextPosition at = PositionOfOffset(text, offset);
+    at.col = CharacterColumnInText(text, offset);
     throw UserError(fmt::format("{}:{}:{}: expected the JSON a `priormap prf` run writes ({})",
                                 path.string(), at.line, at.col, e.what()));
   } catch (const nlohmann::json::exception& e) {

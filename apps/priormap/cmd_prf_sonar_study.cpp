@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/prf/map_study_io.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/prf/sonar_study.hpp>
 #include <priormap/render/prf_figures.hpp>
@@ -86,7 +87,8 @@ void RunSonarStudyCommand(SonarStudyCliOptions o) {
   std::vector<std::string> folders;
   for (const Scene& scene : o.study.scenes)
     folders.push_back(prf::StudyCaseFolder(scene.name, o.study.sensor.name));
-  const DirectoryLock lock = BeginStudy(dir, folders, o.session.resume);
+  const DirectoryLock lock =
+      BeginStudy(dir, folders, prf::SonarStudyOptionsJson(o.study), o.session.resume);
 
   const std::optional<prf::SonarStudyResult> ended = RunStoppableStudy(
       dir, folders, o.session,
@@ -94,15 +96,16 @@ void RunSonarStudyCommand(SonarStudyCliOptions o) {
   if (!ended) return;
   const prf::SonarStudyResult& result = *ended;
 
-  WriteTextFileAtomically(dir / "summary.json", prf::SonarStudySummaryJson(result, o.study));
   const std::string table = prf::SonarStudyMarkdownTable(result);
-  WriteTextFileAtomically(dir / "table.md", table);
-  for (std::size_t i = 0; i < result.cases.size(); ++i) {
-    const std::filesystem::path case_dir = dir / folders[i];
-    RemoveFiles(case_dir, kCaseFigures);  // an earlier run's, beside this run's numbers
-    if (o.figures) SaveCaseFigures(case_dir, result.cases[i], o.study.sensor.name);
-  }
-  FinishStudy(dir, folders);
+  FinishStudy(dir, folders, [&] {
+    WriteTextFileAtomically(dir / "summary.json", prf::SonarStudySummaryJson(result, o.study));
+    WriteTextFileAtomically(dir / "table.md", table);
+    for (std::size_t i = 0; i < result.cases.size(); ++i) {
+      const std::filesystem::path case_dir = dir / folders[i];
+      RemoveFiles(case_dir, kCaseFigures);  // an earlier run's, beside this run's numbers
+      if (o.figures) SaveCaseFigures(case_dir, result.cases[i], o.study.sensor.name);
+    }
+  });
   fmt::print(
       "{}\nwrote {} (summary.json, table.md{}) in {:.0f} s\n", table, o.out,
       o.figures ? ", <scene>-<sensor>/{truth,grid,posterior,grid-errors,posterior-errors}.png" : "",

@@ -76,7 +76,8 @@ void RunStudyCommand(StudyCliOptions o) {
   for (const Scene& scene : o.study.scenes)
     for (const RangeSensor& sensor : o.study.sensors)
       folders.push_back(prf::StudyCaseFolder(scene.name, sensor.name));
-  const DirectoryLock lock = BeginStudy(dir, folders, o.session.resume);
+  const DirectoryLock lock =
+      BeginStudy(dir, folders, prf::MapStudyOptionsJson(o.study), o.session.resume);
 
   const std::optional<prf::MapStudyResult> ended = RunStoppableStudy(
       dir, folders, o.session,
@@ -84,19 +85,20 @@ void RunStudyCommand(StudyCliOptions o) {
   if (!ended) return;
   const prf::MapStudyResult& result = *ended;
 
-  WriteTextFileAtomically(dir / "summary.json", prf::MapStudySummaryJson(result, o.study));
   const std::string table = prf::MapStudyMarkdownTable(result);
-  WriteTextFileAtomically(dir / "table.md", table);
   bool maps = false;
-  for (std::size_t i = 0; i < result.cases.size(); ++i) {
-    const prf::MapStudyCase& c = result.cases[i];
-    const std::filesystem::path case_dir = dir / folders[i];
-    // An earlier run's figures of this case would stand beside this run's numbers.
-    RemoveFiles(case_dir, kCaseFigures);
-    if (o.figures) SaveCaseFigures(case_dir, c, o.study.scenes[i / o.study.sensors.size()]);
-    maps = maps || c.prf.map.has_value();
-  }
-  FinishStudy(dir, folders);
+  FinishStudy(dir, folders, [&] {
+    WriteTextFileAtomically(dir / "summary.json", prf::MapStudySummaryJson(result, o.study));
+    WriteTextFileAtomically(dir / "table.md", table);
+    for (std::size_t i = 0; i < result.cases.size(); ++i) {
+      const prf::MapStudyCase& c = result.cases[i];
+      const std::filesystem::path case_dir = dir / folders[i];
+      // An earlier run's figures of this case would stand beside this run's numbers.
+      RemoveFiles(case_dir, kCaseFigures);
+      if (o.figures) SaveCaseFigures(case_dir, c, o.study.scenes[i / o.study.sensors.size()]);
+      maps = maps || c.prf.map.has_value();
+    }
+  });
   fmt::print("{}\nwrote {} (summary.json, table.md{}) in {:.0f} s\n", table, o.out,
              !o.figures ? ""
              : maps     ? ", <scene>-<sensor>/{truth,grid,posterior,map}.png"

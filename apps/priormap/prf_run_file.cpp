@@ -1,7 +1,9 @@
 #include "prf_run_file.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <string_view>
+#include <system_error>
 #include <utility>
 
 #include <fmt/format.h>
@@ -15,32 +17,57 @@
 
 namespace priormap::app {
 
+namespace {
+
+constexpr int kRunFileVersion = 2;
+
+std::string FingerprintText(std::uint64_t fingerprint) {
+  return fmt::format("{:016x}", fingerprint);
+}
+
+std::uint64_t FingerprintMember(const nlohmann::json& j, const char* key) {
+  const std::string text = j.at(key).get<std::string>();
+  std::uint64_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value, 16);
+  if (text.size() != 16 || error != std::errc() || end != text.data() + text.size())
+    throw JsonNumberError(fmt::format(
+        "\"fingerprints\": \"{}\" is \"{}\", expected 16 hexadecimal digits", key, text));
+  return value;
+}
+
+}  // namespace
+
 nlohmann::json RunJson(const MappingCliOptions& o) {
   const prf::MappingOptions& m = o.mapping;
-  return {{"format", "priormap prf run"},
-          {"version", 2},
-          {"log", std::filesystem::absolute(o.log).string()},
-          {"sensor", o.sensor},
-          {"sonar_model",
-           o.sonar_model.empty() ? "" : std::filesystem::absolute(o.sonar_model).string()},
-          {"range", o.range},
-          {"beam_step", o.selection.beam_step},
-          {"max_range", o.selection.max_range},
-          {"p", m.sampler.p},
-          {"samples", m.samples},
-          {"burn_in", m.burn_in},
-          {"chains", m.chains},
-          {"seed", m.seed},
-          {"anneal", o.anneal},
-          {"anneal_steps", m.anneal_steps},
-          {"sigma", m.model.sigma},
-          {"cell_size", m.cell_size},
-          {"guided_births", m.sampler.weights[prf::MoveKind::kGuidedTriangle]},
-          {"guide_jitter", m.guide_jitter},
-          {"resolution", m.raster_resolution},
-          {"trace_every", m.trace_every},
-          {"check", m.sampler.check_invariants},
-          {"posterior", PosteriorOptionsJson(m)}};
+  nlohmann::json j = {
+      {"format", "priormap prf run"},
+      {"version", kRunFileVersion},
+      {"log", std::filesystem::absolute(o.log).string()},
+      {"sensor", o.sensor},
+      {"sonar_model",
+       o.sonar_model.empty() ? "" : std::filesystem::absolute(o.sonar_model).string()},
+      {"range", o.range},
+      {"beam_step", o.selection.beam_step},
+      {"max_range", o.selection.max_range},
+      {"p", m.sampler.p},
+      {"samples", m.samples},
+      {"burn_in", m.burn_in},
+      {"chains", m.chains},
+      {"seed", m.seed},
+      {"anneal", o.anneal},
+      {"anneal_steps", m.anneal_steps},
+      {"sigma", m.model.sigma},
+      {"cell_size", m.cell_size},
+      {"guided_births", m.sampler.weights[prf::MoveKind::kGuidedTriangle]},
+      {"guide_jitter", m.guide_jitter},
+      {"resolution", m.raster_resolution},
+      {"trace_every", m.trace_every},
+      {"check", m.sampler.check_invariants},
+      {"posterior", PosteriorOptionsJson(m)}};
+  if (o.started_with)
+    j["fingerprints"] = {{"data", FingerprintText(o.started_with->data)},
+                         {"run", FingerprintText(o.started_with->run)}};
+  return j;
 }
 
 namespace {
@@ -95,8 +122,13 @@ MappingCliOptions ReadRunFile(const std::filesystem::path& path, MappingCliOptio
   MappingCliOptions o = std::move(base);
   try {
     const nlohmann::json j = nlohmann::json::parse(text);
-    if (j.at("format") != "priormap prf run" || j.at("version") != 2)
-      throw UserError(fmt::format("{}: not a run file of this version", path.string()));
+    if (j.at("format") != "priormap prf run")
+      throw UserError(fmt::format("{}: not a priormap prf run file", path.string()));
+    if (j.at("version") != kRunFileVersion)
+      throw UserError(fmt::format(
+          "{}: version {} of the run file, which another version of priormap wrote; this one "
+          "reads version {} (use the priormap that wrote it)",
+          path.string(), j.at("version").dump(), kRunFileVersion));
     o.log = j.at("log").get<std::string>();
     // Runs written before --sensor existed are laser runs.
     o.sensor = j.contains("sensor") ? j.at("sensor").get<std::string>() : "laser";
@@ -121,6 +153,9 @@ MappingCliOptions ReadRunFile(const std::filesystem::path& path, MappingCliOptio
     m.sampler.check_invariants = j.at("check").get<bool>();
     // Runs written before these options existed ran the Arak process with a plain burn-in.
     PosteriorOptionsFromJson(j.value("posterior", nlohmann::json::object()), &m);
+    if (j.contains("fingerprints"))
+      o.started_with = RunFingerprints{.data = FingerprintMember(j.at("fingerprints"), "data"),
+                                       .run = FingerprintMember(j.at("fingerprints"), "run")};
   } catch (const nlohmann::json::exception& e) {
     throw UserError(fmt::format("{}: not a valid run file ({})", path.string(), e.what()));
   } catch (const JsonNumberError& e) {

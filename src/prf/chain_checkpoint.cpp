@@ -1,4 +1,9 @@
 #include <algorithm>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -40,19 +45,59 @@ void PutLaserData(BinaryWriter& out, const LaserData& data) {
 
 std::string ReadWhole(const std::filesystem::path& path) {
   Result<std::string> bytes = ReadFileText(path);
-  if (!bytes.ok()) throw BinaryFormatError(bytes.error());
+  if (!bytes.ok())
+    throw CheckpointReadError(bytes.error() +
+                              "; the checkpoint is kept: make it a file priormap can read and "
+                              "resume again");
   return std::move(bytes).value();
+}
+
+// The version a sealed file's header names (the 32-bit word after its 8-character kind), when
+// the file starts as one of `kind`.
+std::optional<std::uint32_t> SealedVersion(std::string_view bytes, std::string_view kind) {
+  constexpr std::size_t kKindSize = 8;
+  std::string kind_field(kind.substr(0, kKindSize));
+  kind_field.resize(kKindSize, ' ');
+  if (bytes.size() < kKindSize + 4 || bytes.substr(0, kKindSize) != kind_field) return std::nullopt;
+  return BinaryReader(bytes.substr(kKindSize, 4), "header").Get<std::uint32_t>();
+}
+
+// Whether `bytes` are a whole sealed file of `kind` and `version` (size and checksum agree).
+bool IsWholeSealed(std::string_view bytes, std::string_view kind, std::uint32_t version) {
+  try {
+    (void)UnsealBinary(bytes, kind, version, "");
+    return true;
+  } catch (const BinaryFormatError&) {
+    return false;
+  }
 }
 
 // The sealed payload's reader, past the fingerprint (checked).
 BinaryReader OpenPayload(std::string_view bytes, std::string_view kind,
                          const std::filesystem::path& path, std::uint64_t fingerprint) {
   const std::string what = path.string();
-  BinaryReader in(UnsealBinary(bytes, kind, kFormatVersion, what), what);
+  std::string_view payload;
+  try {
+    payload = UnsealBinary(bytes, kind, kFormatVersion, what);
+  } catch (const BinaryFormatError&) {
+    // A whole checkpoint of another version, earlier or later (another priormap wrote it), is
+    // told from a damaged one, which the command would have the user remove.
+    const std::optional<std::uint32_t> version = SealedVersion(bytes, kind);
+    if (!version || *version == kFormatVersion || !IsWholeSealed(bytes, kind, *version))
+      throw;  // damaged, or not a checkpoint
+    throw CheckpointMismatchError(
+        CheckpointMismatchError::Reason::kFormatVersion,
+        fmt::format("{}: a checkpoint of version {} of the format, which {} priormap wrote; this "
+                    "one reads version {}",
+                    what, *version, *version < kFormatVersion ? "an earlier" : "a later",
+                    kFormatVersion));
+  }
+  BinaryReader in(payload, what);
   if (in.Get<std::uint64_t>() != fingerprint)
-    throw BinaryFormatError(fmt::format(
-        "{}: a checkpoint of another run (its log selection or options differ from this one's)",
-        what));
+    throw CheckpointMismatchError(
+        CheckpointMismatchError::Reason::kAnotherRun,
+        fmt::format("{}: a checkpoint of another run (its data or options differ from this one's)",
+                    what));
   return in;
 }
 
@@ -60,9 +105,31 @@ BinaryReader OpenPayload(std::string_view bytes, std::string_view kind,
 // or copied over it, would pass every other check and continue as a duplicate chain.
 void RequireChain(std::uint64_t held, std::size_t expected, const std::filesystem::path& path) {
   if (held != expected)
-    throw BinaryFormatError(fmt::format(
-        "{}: a checkpoint of chain {}, expected chain {} (checkpoints swapped or copied?)",
-        path.string(), held, expected));
+    throw CheckpointMismatchError(
+        CheckpointMismatchError::Reason::kAnotherChain,
+        fmt::format("{}: a checkpoint of chain {}, expected chain {} (checkpoints swapped or "
+                    "copied?)",
+                    path.string(), held, expected));
+}
+
+// Whether `name` is a checkpoint's own: "chain-K.ckpt" (ChainCheckpointPath) or "anneal.ckpt".
+bool IsCheckpointName(std::string_view name) {
+  return IsNumberedName(name, "chain-", ".ckpt", /*allow_leading_zeros=*/false) ||
+         name == "anneal.ckpt";
+}
+
+// Whether `name` is that of a temporary file of WriteFileAtomically (".NAME.tmp-PID-N") for a
+// checkpoint's NAME.
+bool IsCheckpointTemporaryName(std::string_view name) {
+  constexpr std::string_view kMarker = ".tmp-";
+  const std::size_t marker = name.rfind(kMarker);
+  if (!name.starts_with('.') || marker == std::string_view::npos || marker < 2) return false;
+  const std::string_view numbers = name.substr(marker + kMarker.size());
+  const std::size_t dash = numbers.find('-');
+  return dash != std::string_view::npos &&
+         IsNumberedName(numbers.substr(0, dash), "", "", /*allow_leading_zeros=*/false) &&
+         IsNumberedName(numbers.substr(dash + 1), "", "", /*allow_leading_zeros=*/false) &&
+         IsCheckpointName(name.substr(1, marker - 1));
 }
 
 void WriteSealed(const std::filesystem::path& path, std::string_view kind,
@@ -174,13 +241,24 @@ std::filesystem::path AnnealCheckpointPath(const std::filesystem::path& director
 std::size_t RemoveStaleCheckpointTemporaries(const std::filesystem::path& directory) {
   // The names of ChainCheckpointPath and AnnealCheckpointPath only: the directory may hold
   // other files of the caller's.
-  return RemoveStaleTemporaryFiles(directory,
-                                   [](std::string_view name) {
-                                     return IsNumberedName(name, "chain-", ".ckpt",
-                                                           /*allow_leading_zeros=*/false) ||
-                                            name == "anneal.ckpt";
-                                   })
-      .size();
+  return RemoveStaleTemporaryFiles(directory, IsCheckpointName).size();
+}
+
+std::size_t RemoveCheckpointTemporariesOfEndedWriters(const std::filesystem::path& directory) {
+  std::vector<std::filesystem::path> stale;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(directory, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    std::error_code status_error;
+    if (IsCheckpointTemporaryName(it->path().filename().string()) &&
+        it->symlink_status(status_error).type() == std::filesystem::file_type::regular)
+      stale.push_back(it->path());
+  }
+  // Removed after the listing, which removing entries during it might skip or repeat.
+  std::size_t removed = 0;
+  for (const std::filesystem::path& file : stale)
+    if (std::filesystem::remove(file, ec)) ++removed;
+  return removed;
 }
 
 void SaveChainCheckpoint(const std::filesystem::path& path, std::uint64_t fingerprint,

@@ -107,30 +107,34 @@ std::string Cell(const MethodScores* m, const ClassificationScore MapClassificat
 
 }  // namespace
 
-std::string MapStudySummaryJson(const MapStudyResult& study, const MapStudyOptions& options) {
+nlohmann::json MapStudyOptionsJson(const MapStudyOptions& options) {
   const MappingOptions& m = options.mapping;
   std::vector<std::string> scenes, sensors;
   for (const Scene& scene : options.scenes) scenes.push_back(scene.name);
   for (const RangeSensor& sensor : options.sensors) sensors.push_back(sensor.name);
+  return {{"scenes", scenes},
+          {"sensors", sensors},
+          {"poses", options.poses},
+          {"beam_step", options.beam_step},
+          {"max_range", options.max_range},
+          {"resolution", options.resolution},
+          {"band", options.band},
+          {"truth_resolution", options.truth_resolution},
+          {"wall_tolerance", options.walls.tolerance},
+          {"p", m.sampler.p},
+          {"sigma", m.model.sigma},
+          {"samples", m.samples},
+          {"burn_in", m.burn_in},
+          {"chains", m.chains},
+          {"anneal_steps", m.anneal_steps},
+          {"seed", options.seed}};
+}
+
+std::string MapStudySummaryJson(const MapStudyResult& study, const MapStudyOptions& options) {
   nlohmann::json j;
   j["format"] = "priormap.prf_study";
   j["version"] = 1;
-  j["options"] = {{"scenes", scenes},
-                  {"sensors", sensors},
-                  {"poses", options.poses},
-                  {"beam_step", options.beam_step},
-                  {"max_range", options.max_range},
-                  {"resolution", options.resolution},
-                  {"band", options.band},
-                  {"truth_resolution", options.truth_resolution},
-                  {"wall_tolerance", options.walls.tolerance},
-                  {"p", m.sampler.p},
-                  {"sigma", m.model.sigma},
-                  {"samples", m.samples},
-                  {"burn_in", m.burn_in},
-                  {"chains", m.chains},
-                  {"anneal_steps", m.anneal_steps},
-                  {"seed", options.seed}};
+  j["options"] = MapStudyOptionsJson(options);
   j["wall_time_s"] = study.wall_time_s;
   j["cases"] = nlohmann::json::array();
   for (const MapStudyCase& c : study.cases) j["cases"].push_back(CaseJson(c));
@@ -193,30 +197,35 @@ nlohmann::json ContourJson(const ContourWallScore& w) {
 
 }  // namespace
 
-std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStudyOptions& options) {
+nlohmann::json SonarStudyOptionsJson(const SonarStudyOptions& options) {
   const MappingOptions& m = options.mapping;
   std::vector<std::string> scenes;
   for (const Scene& scene : options.scenes) scenes.push_back(scene.name);
+  nlohmann::json j = {{"scenes", scenes},
+                      {"sensor", options.sensor.name},
+                      {"max_range", options.sensor.max_range},
+                      {"speed", options.speed},
+                      {"rate", options.rate},
+                      {"resolution", options.resolution},
+                      {"band", options.band},
+                      {"wall_tolerance", options.walls.tolerance},
+                      {"p", m.sampler.p},
+                      {"samples", m.samples},
+                      {"burn_in", m.burn_in},
+                      {"chains", m.chains},
+                      {"seed", options.seed},
+                      {"start_at_truth", options.start_at_truth},
+                      {"orientation_rad", m.sampler.orientation.angle},
+                      {"sonar_model", nlohmann::json::parse(FormatSonarModel(options.model))}};
+  j.update(SamplingOptionsJson(m));
+  return j;
+}
+
+std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStudyOptions& options) {
   nlohmann::json j;
   j["format"] = "priormap.prf_sonar_study";
   j["version"] = 1;
-  j["options"] = {{"scenes", scenes},
-                  {"sensor", options.sensor.name},
-                  {"max_range", options.sensor.max_range},
-                  {"speed", options.speed},
-                  {"rate", options.rate},
-                  {"resolution", options.resolution},
-                  {"band", options.band},
-                  {"wall_tolerance", options.walls.tolerance},
-                  {"p", m.sampler.p},
-                  {"samples", m.samples},
-                  {"burn_in", m.burn_in},
-                  {"chains", m.chains},
-                  {"seed", options.seed},
-                  {"start_at_truth", options.start_at_truth},
-                  {"orientation_rad", m.sampler.orientation.angle},
-                  {"sonar_model", nlohmann::json::parse(FormatSonarModel(options.model))}};
-  j["options"].update(SamplingOptionsJson(m));
+  j["options"] = SonarStudyOptionsJson(options);
   j["wall_time_s"] = study.wall_time_s;
   j["cases"] = nlohmann::json::array();
   for (const SonarStudyCase& c : study.cases) {

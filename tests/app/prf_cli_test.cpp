@@ -23,6 +23,7 @@
 #include <priormap/prf/rhat.hpp>
 
 #include "cli_fixture.hpp"
+#include "directory_lock.hpp"
 #include "testing/ended_process.hpp"
 #include "testing/temp_dir.hpp"
 
@@ -346,6 +347,182 @@ TEST_F(MappingCli, ResumeRefusesWhatWouldMakeAnotherRun) {
   EXPECT_THAT(r.err, HasSubstr("resumed 3000 steps"));
 }
 
+// A run of two chains, small enough to run again and again; `extra` adds options.
+std::vector<std::string> SmallRun(const std::vector<std::string>& extra) {
+  std::vector<std::string> args = {
+      "prf",       "--log",         "room.log",  "--beam-step", "8",
+      "--samples", "4000",          "--burn-in", "4000",        "--chains",
+      "2",         "--seed",        "5",         "--anneal",    "--anneal-steps",
+      "2000",      "--trace-every", "500"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
+}
+
+// The outputs of two runs, byte for byte, but summary.json's session keys (its timing and what
+// this session did or restored).
+void ExpectTheSameOutputs(const std::filesystem::path& resumed,
+                          const std::filesystem::path& whole) {
+  for (const std::string& file : testing::FilesUnder(whole)) {
+    if (file == "summary.json" || std::filesystem::is_directory(whole / file)) continue;
+    EXPECT_EQ(testing::ReadAll(resumed / file), testing::ReadAll(whole / file)) << file;
+  }
+  EXPECT_EQ(testing::FilesUnder(resumed), testing::FilesUnder(whole));
+  json a = json::parse(testing::ReadAll(resumed / "summary.json"));
+  json b = json::parse(testing::ReadAll(whole / "summary.json"));
+  for (const char* key : {"wall_time_s", "proposals", "proposals_per_second", "resumed_steps"}) {
+    a.erase(key);
+    b.erase(key);
+  }
+  EXPECT_EQ(a, b);
+}
+
+// Checkpoints a resume cannot go on from are refused, each saying why and what to do, and the
+// run's files are left as they were; done as said, the run ends as the uninterrupted one.
+TEST_F(MappingCli, AResumeRefusedSaysWhyAndWhatToDo) {
+  ASSERT_EQ(Run(SmallRun({"-o", "whole"})).status, 0);
+  ASSERT_EQ(Run(SmallRun({"--stop-after-steps", "3000", "-o", "run"})).status, 0);
+  const std::filesystem::path run_file = Work("run") / "run.json";
+  const std::string run_file_text = testing::ReadAll(run_file);
+  const json recorded = json::parse(run_file_text);
+  ASSERT_TRUE(recorded["fingerprints"]["data"].is_string());
+  ASSERT_TRUE(recorded["fingerprints"]["run"].is_string());
+  const std::string log = recorded["log"].get<std::string>();
+  const auto refusal = [&] {
+    const auto r = RunFailing({"prf", "--resume", "run"});
+    EXPECT_EQ(r.status, 1);
+    return r.err;
+  };
+
+  // The log changed since the run started (another simulation of the room).
+  const std::string original_log = testing::ReadAll(Work("room.log"));
+  ASSERT_EQ(Run({"simulate", "--scene", "l-room", "--sensor", "lms200", "--log", "--seed", "3",
+                 "-o", "room.log"})
+                .status,
+            0);
+  EXPECT_THAT(refusal(),
+              HasSubstr("--resume run: the run's data are not those it started with: the log " +
+                        log + " changed since"));
+  // Without the record (a run file written before it), the checkpoints refuse it.
+  json unrecorded = recorded;
+  unrecorded.erase("fingerprints");
+  testing::WriteAll(run_file, unrecorded.dump(2));
+  std::string err = refusal();
+  EXPECT_THAT(err, HasSubstr("cannot resume: run/checkpoints/chain-"));
+  EXPECT_THAT(err, HasSubstr(": a checkpoint of another run (its data or options differ from this "
+                             "one's): the log " +
+                             log + " or run/run.json changed since the run started"));
+  EXPECT_THAT(err, HasSubstr("or remove run/checkpoints and start a new run there"));
+  testing::WriteAll(Work("room.log"), original_log);
+
+  // The same data, hashed with other options: another version of priormap started the run.
+  json other_version = recorded;
+  other_version["fingerprints"]["run"] = "0123456789abcdef";
+  testing::WriteAll(run_file, other_version.dump(2));
+  EXPECT_THAT(refusal(), HasSubstr("--resume run: this priormap makes another run of run/run.json "
+                                   "than the one that started there: the same data, but other "
+                                   "options (run/run.json was edited, or another version"));
+  // An edited option reads the same.
+  other_version = recorded;
+  other_version["p"] = 0.6;
+  testing::WriteAll(run_file, other_version.dump(2));
+  EXPECT_THAT(refusal(), HasSubstr("the same data, but other options (run/run.json was edited"));
+  other_version = recorded;
+  other_version["version"] = 3;
+  testing::WriteAll(run_file, other_version.dump(2));
+  EXPECT_THAT(refusal(), HasSubstr("run/run.json: version 3 of the run file, which another version "
+                                   "of priormap wrote; this one reads version 2"));
+  testing::WriteAll(run_file, run_file_text);
+
+  // A checkpoint of an earlier format version: another priormap wrote it.
+  const std::filesystem::path chain1 = Work("run") / "checkpoints" / "chain-1.ckpt";
+  const std::string checkpoint = testing::ReadAll(chain1);
+  std::string earlier = checkpoint;
+  earlier[8] = static_cast<char>(earlier[8] - 1);  // the format's version (SealBinary's header)
+  testing::WriteAll(chain1, earlier);
+  err = refusal();
+  EXPECT_THAT(err, HasSubstr("chain-1.ckpt: a checkpoint of version "));
+  EXPECT_THAT(err, HasSubstr("which an earlier priormap wrote; this one reads version "));
+  EXPECT_THAT(err, HasSubstr("continue the run with the priormap that started it, or remove "
+                             "run/checkpoints"));
+
+  // Unreadable (a directory in its place): not damage, so it is not to be removed.
+  std::filesystem::remove(chain1);
+  std::filesystem::create_directories(chain1 / "in the way");
+  err = refusal();
+  EXPECT_THAT(err, HasSubstr("run/checkpoints/chain-1.ckpt"));
+  EXPECT_THAT(err, HasSubstr("the checkpoint is kept: make it a file priormap can read and "
+                             "resume again"));
+  EXPECT_THAT(err, Not(HasSubstr("remove that file")));
+  std::filesystem::remove_all(chain1);
+
+  // Damaged: removed as told, its chain starts afresh and the run ends as the uninterrupted one.
+  std::string damaged = checkpoint;
+  damaged[damaged.size() / 2] ^= 0x10;
+  testing::WriteAll(chain1, damaged);
+  EXPECT_THAT(refusal(), HasSubstr("run/checkpoints/chain-1.ckpt: checksum mismatch (the file is "
+                                   "damaged); remove that file and resume again"));
+  std::filesystem::remove(chain1);
+  const auto r = Run({"prf", "--resume", "run"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("resumed 3000 steps"));  // chain 0's alone
+  ExpectTheSameOutputs(Work("run"), Work("whole"));
+}
+
+// A write that fails (here summary.json, where a directory stands) loses nothing: the run keeps
+// its checkpoints and says how to go on, and once the write can be done the resume ends as the
+// uninterrupted run. A new run that cannot remove an earlier run's output says which.
+TEST_F(MappingCli, AFailedWriteKeepsTheCheckpointsAndTheRunResumes) {
+  ASSERT_EQ(Run(SmallRun({"-o", "whole"})).status, 0);
+  ASSERT_EQ(Run(SmallRun({"--stop-after-steps", "3000", "-o", "run"})).status, 0);
+  std::filesystem::create_directories(Work("run") / "summary.json" / "in the way");
+  auto r = Run({"prf", "--resume", "run"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err, HasSubstr("run/summary.json: cannot write: "));
+  EXPECT_THAT(r.err, HasSubstr("; the run's checkpoints are kept: once run can be written, "
+                               "continue it with: priormap prf --resume run\n"));
+  EXPECT_THAT(r.err, Not(HasSubstr("internal error")));
+  EXPECT_TRUE(std::filesystem::exists(Work("run") / "checkpoints" / "chain-0.ckpt"));
+
+  r = Run(SmallRun({"-o", "run"}));  // not a resume: the earlier run's outputs go first
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err, HasSubstr("it holds a stopped run"));
+  std::filesystem::create_directories(Work("blocked") / "summary.json" / "in the way");
+  r = Run(SmallRun({"-o", "blocked"}));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err,
+              HasSubstr("-o blocked: cannot remove the earlier run's blocked/summary.json: "));
+
+  std::filesystem::remove_all(Work("run") / "summary.json");
+  r = Run({"prf", "--resume", "run"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  ExpectTheSameOutputs(Work("run"), Work("whole"));
+}
+
+// The directory's lock is taken before its contents are judged: a run that holds it (here this
+// test, in the middle of completing the run, say) is not taken for a complete one, nor its
+// checkpoints for a stopped run's. A temporary that a checkpoint write killed mid-way left goes
+// with the next session, whatever process its PID names now.
+TEST_F(MappingCli, AResumeJudgesTheDirectoryUnderItsLock) {
+  ASSERT_EQ(Run(SmallRun({"--stop-after-steps", "3000", "-o", "run"})).status, 0);
+  ASSERT_EQ(Run(SmallRun({"-o", "complete"})).status, 0);
+  {
+    const app::DirectoryLock held(Work("complete"));
+    EXPECT_THAT(RunFailing({"prf", "--resume", "complete"}).err,
+                HasSubstr("-o complete: another priormap is running there"));
+    const app::DirectoryLock stopped(Work("run"));
+    EXPECT_THAT(RunFailing({"prf", "--resume", "run"}).err,
+                HasSubstr("-o run: another priormap is running there"));
+    EXPECT_THAT(RunFailing(SmallRun({"-o", "run"})).err,
+                HasSubstr("-o run: another priormap is running there"));
+  }
+  // Process 1 runs (it is init), but holds no lock of this directory: it cannot be writing it.
+  const std::filesystem::path stale = Work("run") / "checkpoints" / ".chain-0.ckpt.tmp-1-0";
+  testing::WriteAll(stale, "half a checkpoint");
+  const auto r = Run({"prf", "--resume", "run", "--stop-after-steps", "100"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(stale));
+}
+
 // The traces a run wrote, as `prf rhat` reads them.
 prf::RunTraces TracesOf(const std::filesystem::path& dir) {
   const auto traces = prf::ParseLogPosteriorTrace(testing::ReadAll(dir / "trace.csv"), "trace");
@@ -484,6 +661,17 @@ TEST_F(MappingCli, RhatPoolsTheChainsOfSeveralRuns) {
   testing::WriteAll(Work("edited") / "summary.json", edited.dump(2));
   EXPECT_THAT(RunFailing({"prf", "rhat", "a", "edited"}).err,
               HasSubstr("edited/summary.json: \"beams\" must be a whole number"));
+  // Not JSON: located in characters ("é" is two bytes, one column).
+  testing::WriteAll(Work("edited") / "summary.json", "{\"name\": \"é\" x}");
+  EXPECT_THAT(RunFailing({"prf", "rhat", "a", "edited"}).err,
+              HasSubstr("edited/summary.json:1:14: expected the JSON a `priormap prf` run writes"));
+}
+
+TEST_F(MappingCli, AnEmptyOutputDirectoryNameIsRefusedAsSuch) {
+  const auto r = RunFailing({"grid", "--log", "room.log", "-o", ""});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err, HasSubstr("expected an output directory, got an empty name (. is the "
+                               "current one)"));
 }
 
 TEST_F(MappingCli, GridWritesTheMapAndASummary) {

@@ -6,8 +6,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 #include <sys/wait.h>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -67,6 +69,25 @@ TEST_F(PrfStudyCli, WritesSummaryTableAndFigures) {
   EXPECT_FALSE(std::filesystem::exists(Work("out") / "square-utm30" / "map.png"));
   EXPECT_TRUE(std::filesystem::exists(Work("out") / "square-utm30" / "posterior.png"));
   EXPECT_THAT(again.out, HasSubstr("{truth,grid,posterior}.png"));
+
+  // A study of one of the cases: the other's figures are the earlier study's, which no summary
+  // lists any more; they go, and their folder with them unless it holds something else.
+  const auto one_case = [&](const std::string& sensor) {
+    return Run({"prf",       "study",   "--scenes",  "square",      "--sensors",
+                sensor,      "--poses", "2",         "--beam-step", "6",
+                "--samples", "3000",    "--burn-in", "3000",        "--anneal-steps",
+                "0",         "--seed",  "3",         "-o",          "out"});
+  };
+  testing::WriteAll(Work("out") / "square-lms200" / "notes.txt", "mine");
+  ASSERT_EQ(one_case("utm30").status, 0);
+  EXPECT_EQ(testing::FilesUnder(Work("out") / "square-lms200"),
+            (std::set<std::string>{"notes.txt"}));
+  EXPECT_TRUE(std::filesystem::exists(Work("out") / "square-utm30" / "posterior.png"));
+  ASSERT_EQ(one_case("lms200").status, 0);
+  EXPECT_FALSE(std::filesystem::exists(Work("out") / "square-utm30"));
+  EXPECT_TRUE(std::filesystem::exists(Work("out") / "square-lms200" / "notes.txt"));
+  EXPECT_TRUE(std::filesystem::exists(Work("out") / "square-lms200" / "posterior.png"));
+  EXPECT_EQ(json::parse(testing::ReadAll(Work("out") / "summary.json"))["cases"].size(), 1u);
 }
 
 TEST_F(PrfStudyCli, RejectsUnknownScenesAndSensors) {
@@ -229,15 +250,31 @@ TEST_F(PrfStudyCli, RefusesToOverwriteAStoppedStudyOrToResumeAnother) {
                         "checkpoints folders to start a new study there"));
   EXPECT_EQ(testing::FilesAndContents(Work("parts")), stopped);
 
-  for (const auto& [options, seed] : std::vector<std::pair<std::vector<std::string>, std::string>>{
-           {{"--resume", "-o", "parts"}, "4"}, {{"--resume", "--p", "2", "-o", "parts"}, "3"}}) {
+  // Other options are named, before any case is simulated.
+  for (const auto& [options, seed, named] :
+       std::vector<std::tuple<std::vector<std::string>, std::string, std::string>>{
+           {{"--resume", "-o", "parts"}, "4", "\"seed\" 3, not 4"},
+           {{"--resume", "--p", "2", "-o", "parts"}, "3", "\"p\" 0.1, not 2.0"}}) {
     refused = RunFailing(SmallStudy(options, seed));
-    EXPECT_EQ(refused.status, 1) << options[1];
-    EXPECT_THAT(refused.err, HasSubstr("priormap: error: cannot resume: ")) << options[1];
-    EXPECT_THAT(refused.err, HasSubstr("; give the options the study was started with"))
-        << options[1];
-    EXPECT_EQ(testing::FilesAndContents(Work("parts")), stopped) << options[1];
+    EXPECT_EQ(refused.status, 1) << named;
+    EXPECT_THAT(refused.err, HasSubstr("priormap: error: --resume: the study stopped in parts was "
+                                       "started with other options: " +
+                                       named + " (give the options it was started with)"));
+    EXPECT_EQ(testing::FilesAndContents(Work("parts")), stopped) << named;
   }
+  // A record without the options (an earlier priormap's): the checkpoints refuse them.
+  const std::filesystem::path record = Work("parts") / "study-in-progress.json";
+  json earlier_record = json::parse(stopped.at("study-in-progress.json"));
+  earlier_record.erase("options");
+  earlier_record["version"] = 1;
+  testing::WriteAll(record, earlier_record.dump(2));
+  refused = RunFailing(SmallStudy({"--resume", "-o", "parts"}, "4"));
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_THAT(refused.err, HasSubstr("priormap: error: cannot resume: "));
+  EXPECT_THAT(refused.err, HasSubstr(": a checkpoint of another run (its data or options differ "
+                                     "from this one's); give the options the study was started "
+                                     "with. If they are, the case's data differ"));
+  testing::WriteAll(record, stopped.at("study-in-progress.json"));
 
   // A resume with fewer cases would run another study and leave the others' checkpoints behind.
   std::vector<std::string> one_sensor = SmallStudy({"--resume", "-o", "parts"});
@@ -267,6 +304,38 @@ TEST_F(PrfStudyCli, RefusesToOverwriteAStoppedStudyOrToResumeAnother) {
   ASSERT_EQ(fresh.status, 0) << fresh.err;
   EXPECT_THAT(fresh.err, Not(HasSubstr("resumed")));
   EXPECT_TRUE(std::filesystem::exists(Work("other") / "summary.json"));
+}
+
+// A write that fails (here the summary's, where a directory stands) loses nothing: the cases keep
+// their checkpoints, the error says how to go on, and once the write can be done the resume ends
+// with the uninterrupted study's summary. A checkpoint temporary that a write killed mid-way left
+// goes with the next session, whatever process its PID names now.
+TEST_F(PrfStudyCli, AFailedWriteKeepsTheCasesCheckpointsAndTheStudyResumes) {
+  const auto whole = Run(SmallStudy({"--no-figures", "-o", "whole"}));
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  ASSERT_EQ(Run(SmallStudy({"--stop-after-steps", "2000", "-o", "parts"})).status, 0);
+  const std::filesystem::path stale =
+      Work("parts") / "square-utm30" / "checkpoints" / ".chain-1.ckpt.tmp-1-0";
+  testing::WriteAll(stale, "half a checkpoint");  // process 1 runs, but holds no lock of parts
+  std::filesystem::create_directories(Work("parts") / "summary.json" / "in the way");
+  auto r = Run(SmallStudy({"--resume", "--no-figures", "-o", "parts"}));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.err, HasSubstr("parts/summary.json: cannot write: "));
+  EXPECT_THAT(r.err, HasSubstr("; the cases' checkpoints are kept: once parts can be written, "
+                               "continue with the same command and --resume\n"));
+  EXPECT_FALSE(std::filesystem::exists(stale));
+  for (const char* folder : {"square-lms200", "square-utm30"})
+    EXPECT_TRUE(std::filesystem::exists(Work("parts") / folder / "checkpoints" / "chain-1.ckpt"))
+        << folder;
+
+  std::filesystem::remove_all(Work("parts") / "summary.json");
+  r = Run(SmallStudy({"--resume", "--no-figures", "-o", "parts"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(
+      testing::WithoutSessionKeys(json::parse(testing::ReadAll(Work("parts") / "summary.json"))),
+      testing::WithoutSessionKeys(json::parse(testing::ReadAll(Work("whole") / "summary.json"))));
+  EXPECT_EQ(testing::FilesUnder(Work("parts")),
+            (std::set<std::string>{"summary.json", "table.md"}));
 }
 
 // SIGTERM once the chains have checkpointed: they stop at their next chunk, checkpointed, with

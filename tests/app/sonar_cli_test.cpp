@@ -193,11 +193,17 @@ TEST_F(SonarCli, ASonarStudyStoppedAfterStepsResumesToTheUninterruptedSummary) {
   EXPECT_THAT(refused.err,
               HasSubstr("-o parts: it holds a stopped study (parts/office-pioneer16/checkpoints); "
                         "continue it with the same command and --resume"));
-  refused = RunFailing(SmallSonarStudy({"--resume", "-o", "parts"}, "3"));
+  refused = RunFailing(SmallSonarStudy({"--resume", "--free-space", "0.5", "-o", "parts"}, "3"));
   EXPECT_EQ(refused.status, 1);
-  EXPECT_THAT(refused.err, HasSubstr("priormap: error: cannot resume: "));
-  EXPECT_THAT(refused.err, HasSubstr("; give the options the study was started with"));
+  EXPECT_THAT(refused.err, HasSubstr("priormap: error: --resume: the study stopped in parts was "
+                                     "started with other options: \"free_space\" 0.0, not 0.5; "
+                                     "\"seed\" 2, not 3 (give the options it was started with)"));
   EXPECT_EQ(testing::FilesAndContents(Work("parts")), stopped);
+  // A sonar model of other parameters is named, not shown.
+  WriteText("m.json", R"({"format": "priormap.sonar_model", "version": 1, "sigma_min": 0.02})");
+  refused = RunFailing(SmallSonarStudy({"--resume", "--sonar-model", "m.json", "-o", "parts"}));
+  EXPECT_THAT(refused.err, HasSubstr("started with other options: \"sonar_model\" (give"));
+  std::filesystem::remove(Work("m.json"));
 
   r = Run(SmallSonarStudy({"--resume", "-o", "parts"}));
   ASSERT_EQ(r.status, 0) << r.err;

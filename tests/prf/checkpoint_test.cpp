@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -275,11 +276,66 @@ TEST(Checkpoint, AChainCheckpointOfAnEarlierVersionIsRefused) {
   try {
     (void)RunMapping(mapping, options, {}, resume);
     ADD_FAILURE() << "an earlier version's checkpoint was accepted";
-  } catch (const BinaryFormatError& e) {
-    EXPECT_THAT(e.what(), HasSubstr(fmt::format("{}: version {} of the PRFCHAIN format, this "
-                                                "build reads {}",
-                                                path.string(), kEarlier, version)));
+  } catch (const CheckpointMismatchError& e) {
+    // Told apart from damage, so that the command can say what to do.
+    EXPECT_EQ(e.reason(), CheckpointMismatchError::Reason::kFormatVersion);
+    EXPECT_THAT(e.what(),
+                HasSubstr(fmt::format("{}: a checkpoint of version {} of the format, "
+                                      "which an earlier priormap wrote; this one reads version {}",
+                                      path.string(), kEarlier, version)));
   }
+  // A later version's, likewise, however much later; damaged, it is damage.
+  const std::string later = SealBinary("PRFCHAIN", version + 100,
+                                       UnsealBinary(bytes, "PRFCHAIN", version, path.string()));
+  testing::WriteAll(path, later);
+  try {
+    (void)RunMapping(mapping, options, {}, resume);
+    ADD_FAILURE() << "a later version's checkpoint was accepted";
+  } catch (const CheckpointMismatchError& e) {
+    EXPECT_EQ(e.reason(), CheckpointMismatchError::Reason::kFormatVersion);
+    EXPECT_THAT(e.what(), HasSubstr("which a later priormap wrote"));
+  }
+  std::string damaged = later;
+  damaged[damaged.size() / 2] ^= 0x10;
+  testing::WriteAll(path, damaged);
+  try {
+    (void)RunMapping(mapping, options, {}, resume);
+    ADD_FAILURE() << "a damaged checkpoint was accepted";
+  } catch (const CheckpointMismatchError& e) {
+    ADD_FAILURE() << "damage taken for a mismatch: " << e.what();
+  } catch (const BinaryFormatError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("version " + std::to_string(version + 100)));
+  }
+}
+
+// A checkpoint of another run (other options: another seed) is refused as such, and so is one of
+// another chain.
+TEST(Checkpoint, ACheckpointOfAnotherRunOrChainSaysWhich) {
+  const auto data = RoomData();
+  const MappingOptions options = ShortRun(1000, 2);
+  testing::TempDir dir;
+  ASSERT_FALSE(
+      RunMapping(LaserMappingData(data, options), options, {}, StoppingSession(dir.path(), 500))
+          .complete);
+  const auto reason = [&](const MappingOptions& run) {
+    MappingSession resume = StoppingSession(dir.path(), 0);
+    resume.resume = true;
+    try {
+      (void)RunMapping(LaserMappingData(data, run), run, {}, resume);
+    } catch (const CheckpointMismatchError& e) {
+      return std::pair{e.reason(), std::string(e.what())};
+    }
+    ADD_FAILURE() << "accepted";
+    return std::pair{CheckpointMismatchError::Reason::kFormatVersion, std::string()};
+  };
+  MappingOptions other_seed = options;
+  other_seed.seed += 1;
+  const auto [another_run, message] = reason(other_seed);
+  EXPECT_EQ(another_run, CheckpointMismatchError::Reason::kAnotherRun);
+  EXPECT_THAT(message, HasSubstr("a checkpoint of another run (its data or options differ"));
+  testing::WriteAll(ChainCheckpointPath(dir.path(), 1),
+                    testing::ReadAll(ChainCheckpointPath(dir.path(), 0)));
+  EXPECT_EQ(reason(options).first, CheckpointMismatchError::Reason::kAnotherChain);
 }
 
 // The annealing continues the chain that ended highest; an annealing checkpoint of another
@@ -355,6 +411,30 @@ TEST(Checkpoint, ASessionRemovesTheTemporariesOfKilledCheckpointWrites) {
   testing::WriteAll(fresh / stale.front(), "half a checkpoint");
   EXPECT_FALSE(RunMapping(mapping, options, {}, StoppingSession(fresh.path(), 500)).complete);
   EXPECT_FALSE(std::filesystem::exists(fresh / stale.front()));
+}
+
+// A caller holding the run's directory locked knows that no checkpoint writer runs there: it
+// removes their temporaries whatever their PID names now (another process that reused it, a
+// zombie), and keeps every other file.
+TEST(Checkpoint, UnderTheLockEveryCheckpointTemporaryIsStale) {
+  testing::TempDir dir;
+  const std::string killed = std::to_string(testing::EndedProcessId());
+  const std::vector<std::string> stale = {
+      ".chain-0.ckpt.tmp-1-0",  // process 1 runs, but holds no lock of this directory
+      ".chain-12.ckpt.tmp-" + killed + "-3", ".anneal.ckpt.tmp-" + killed + "-7",
+      ".chain-1.ckpt.tmp-" + std::to_string(::getpid()) + "-0"};
+  const std::vector<std::string> kept = {"chain-0.ckpt",          "anneal.ckpt",
+                                         ".summary.json.tmp-1-0", ".chain-01.ckpt.tmp-1-0",
+                                         ".chain-0.ckpt.tmp-1",   ".chain-0.ckpt.tmp-1-x",
+                                         "chain-0.ckpt.tmp-1-0",  "notes.txt"};
+  for (const std::string& name : stale) testing::WriteAll(dir / name, "half a checkpoint");
+  for (const std::string& name : kept) testing::WriteAll(dir / name, "kept");
+  std::filesystem::create_directory(dir / ".chain-2.ckpt.tmp-1-0");  // not a file
+  EXPECT_EQ(RemoveCheckpointTemporariesOfEndedWriters(dir.path()), stale.size());
+  for (const std::string& name : stale) EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
+  for (const std::string& name : kept) EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
+  EXPECT_TRUE(std::filesystem::is_directory(dir / ".chain-2.ckpt.tmp-1-0"));
+  EXPECT_EQ(RemoveCheckpointTemporariesOfEndedWriters(dir / "missing"), 0u);
 }
 
 }  // namespace

@@ -9,8 +9,11 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
+#include <priormap/core/binary_io.hpp>
 #include <priormap/prf/estimates.hpp>
 #include <priormap/prf/laser_data.hpp>
 #include <priormap/prf/laser_model.hpp>
@@ -21,6 +24,28 @@ namespace priormap::prf {
 
 struct MappingOptions;
 struct ChainSummary;
+
+/// A checkpoint that is whole (its checksum holds) but cannot continue this run: written in
+/// another version of the format (by another version of priormap), for another run (other data
+/// or options: its fingerprint differs), or for another chain. A command tells the user what to
+/// do by the reason; any other BinaryFormatError of a checkpoint is damage.
+class CheckpointMismatchError : public BinaryFormatError {
+ public:
+  enum class Reason { kFormatVersion, kAnotherRun, kAnotherChain };
+  CheckpointMismatchError(Reason reason, const std::string& message)
+      : BinaryFormatError(message), reason_(reason) {}
+  [[nodiscard]] Reason reason() const { return reason_; }
+
+ private:
+  Reason reason_;
+};
+
+/// A checkpoint that is there but cannot be read (no permission, a directory in its place, an
+/// I/O error). Not damage: what it holds may be whole, so a command must not have it removed.
+class CheckpointReadError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// Hash of everything a chain's course depends on: the beams, the sensors and the options
 /// (not the chunk size nor the checkpoint settings, which do not change the result).
@@ -38,6 +63,14 @@ struct ChainSummary;
 /// leaves one, megabytes, that no later write replaces. Returns how many were removed.
 std::size_t RemoveStaleCheckpointTemporaries(const std::filesystem::path& directory);
 
+/// Removes every temporary file of a chain or annealing checkpoint in `directory`
+/// (".chain-K.ckpt.tmp-PID-N", ".anneal.ckpt.tmp-PID-N"), whatever process its PID names now: for
+/// a caller that holds the run's directory locked (the command's DirectoryLock) and has not begun
+/// the run. Every writer of those checkpoints held that lock, so none is writing: the PID is that
+/// of a writer killed mid-write, which RemoveStaleCheckpointTemporaries keeps while the PID runs
+/// (reused by another process, or a zombie not yet reaped). Returns how many were removed.
+std::size_t RemoveCheckpointTemporariesOfEndedWriters(const std::filesystem::path& directory);
+
 /// Writes a chain's state atomically: its sampler, the hot replicas of its burn-in's ladder
 /// (none outside one; in one file with the rest, so that they cannot fall out of step) and its
 /// summary (traces and swap counts), stamped with the run's `fingerprint` and the `chain`'s
@@ -54,8 +87,9 @@ struct LoadedChain {
 };
 
 /// Restores a chain saved by SaveChainCheckpoint into `estimates` and `summary`, each sampler
-/// with a data term from `make_data`. BinaryFormatError when the file is damaged, of another
-/// run, or of a chain other than `chain` (swapped with, or copied over, another chain's file).
+/// with a data term from `make_data`. CheckpointMismatchError when the file is of another version
+/// of the format, of another run, or of a chain other than `chain` (swapped with, or copied over,
+/// another chain's file); BinaryFormatError when it is damaged.
 [[nodiscard]] LoadedChain LoadChainCheckpoint(
     const std::filesystem::path& path, std::uint64_t fingerprint, std::size_t chain,
     const Window& window, const MappingOptions& options,

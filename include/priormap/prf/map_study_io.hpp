@@ -6,9 +6,20 @@
 
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include <priormap/prf/map_study.hpp>
 
 namespace priormap::prf {
+
+struct SonarStudyOptions;
+
+/// The options of a `prf study` as its summary.json holds them ("options"). A stopped study's
+/// record keeps them too, so that a resume with other options is refused naming them.
+[[nodiscard]] nlohmann::json MapStudyOptionsJson(const MapStudyOptions& options);
+
+/// The same of a `prf sonar-study` (its summary.json's "options", sonar_study.hpp).
+[[nodiscard]] nlohmann::json SonarStudyOptionsJson(const SonarStudyOptions& options);
 
 [[nodiscard]] std::string MapStudySummaryJson(const MapStudyResult& study,
                                               const MapStudyOptions& options);
