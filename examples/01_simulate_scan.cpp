@@ -1,14 +1,17 @@
 // Simulate one laser scan of a built-in room, compare it with its ground truth, and draw it.
-//   example_01_simulate_scan [scene] [out.png]
+//   example_01_simulate_scan [scene] [out.png]   (or .svg, .pdf)
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <optional>
 #include <string>
 
 #include <priormap/core/simulate.hpp>
 #include <priormap/render/scene_drawing.hpp>
 
-int main(int argc, char** argv) {
+// The library throws what it cannot do (here: a figure it cannot write, as to a missing
+// directory or with an extension other than .png, .svg or .pdf); say what, and exit 1.
+int main(int argc, char** argv) try {
   const std::string scene_name = argc > 1 ? argv[1] : "l-room";
   const std::string figure_path = argc > 2 ? argv[2] : "simulated-scan.png";
 
@@ -39,4 +42,7 @@ int main(int argc, char** argv) {
   figure.Save(figure_path);
   std::printf("wrote %s\n", figure_path.c_str());
   return 0;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "error: %s\n", e.what());
+  return 1;
 }

@@ -1,12 +1,15 @@
 // Read a CARMEN log (plain or .gz), report what is in it, and save it as priormap JSON.
 //   example_02_read_carmen_log ../shared/data/laser-corrected/intel-corrected.log.gz intel.json
 #include <cstdio>
+#include <exception>
 #include <string>
 
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/json_io.hpp>
 
-int main(int argc, char** argv) {
+// Bad input comes back as a Result; what cannot be done (writing OUT.json into a directory
+// that does not exist) throws: say what, and exit 1.
+int main(int argc, char** argv) try {
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s LOG [OUT.json]\n", argv[0]);
     return 2;
@@ -35,4 +38,7 @@ int main(int argc, char** argv) {
     std::printf("wrote %s\n", argv[2]);
   }
   return 0;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "error: %s\n", e.what());
+  return 1;
 }

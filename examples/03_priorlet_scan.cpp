@@ -1,9 +1,11 @@
 // Correct one noisy laser scan with an environment prior (priorlets, de la Puente & Censi): the
 // MAP ranges against the truth, the regions and surfaces, the outliers, the degrees of freedom.
-//   example_03_priorlet_scan [prior] [scene] [out.png]
+//   example_03_priorlet_scan [prior] [scene] [out.png]   (prior: a name or a .prior file;
+//   the figure may be .svg or .pdf too)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <optional>
 #include <set>
 #include <string>
@@ -15,7 +17,9 @@
 #include <priormap/priorlets/posterior.hpp>
 #include <priormap/render/map_scan_figure.hpp>
 
-int main(int argc, char** argv) {
+// What the library cannot do throws (a figure it cannot write; std::domain_error when a prior
+// of your own leaves its domain at the estimate): say what, and exit 1.
+int main(int argc, char** argv) try {
   const std::string prior_name = argc > 1 ? argv[1] : "rectangular";
   const std::string scene_name = argc > 2 ? argv[2] : "square";
   const std::string figure_path = argc > 3 ? argv[3] : "priorlet-scan.png";
@@ -30,7 +34,9 @@ int main(int argc, char** argv) {
   }
   const std::optional<priormap::Scene> scene = priormap::BuiltinScene(scene_name);
   if (!scene) {
-    std::fprintf(stderr, "unknown scene %s\n", scene_name.c_str());
+    std::string known;
+    for (const std::string& name : priormap::BuiltinSceneNames()) known += " " + name;
+    std::fprintf(stderr, "unknown scene %s (built-in:%s)\n", scene_name.c_str(), known.c_str());
     return 1;
   }
   // 2 % spurious short readings, so that the engine has outliers to find.
@@ -108,4 +114,7 @@ int main(int argc, char** argv) {
   const bool ok = map.feasible && map_rms < raw_rms && 10 * outliers_found >= 9 * true_outliers;
   if (!ok) std::fprintf(stderr, "unexpected result: see the numbers above\n");
   return ok ? 0 : 1;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "error: %s\n", e.what());
+  return 1;
 }

@@ -1,11 +1,15 @@
 // EKF-SLAM of point landmarks with a noisy, partly wrong prior map of building walls (Parsley &
 // Julier): the same simulated drive filtered with and without the map, scored against the truth.
 //   example_04_prior_map_slam [spurious_fraction] [seed]
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
+#include <exception>
+#include <optional>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <vector>
 
 #include <priormap/slam/prior_map_slam.hpp>
@@ -15,6 +19,16 @@
 namespace slam = priormap::slam;
 
 namespace {
+
+// The whole argument as a number, or nothing: "abc", "0.3x" or a seed of "-1" is refused
+// rather than read as 0 or as a huge number.
+template <typename T>
+std::optional<T> Parse(std::string_view text) {
+  T value{};
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
 
 struct Outcome {
   double rms_position = 0.0;  ///< of the pose, over the frames, m
@@ -50,19 +64,24 @@ Outcome Filter(const slam::UrbanWorld& world, const slam::UrbanRun& run, bool us
 
 }  // namespace
 
-int main(int argc, char** argv) {
+// A filter that diverges (slam::SlamDiverged, e.g. when nearly every wall of the map is
+// invented) throws: say why, and exit 1.
+int main(int argc, char** argv) try {
   slam::UrbanScenarioOptions scenario;  // the paper's city, drive, sensor and 1 m map noise
   // More invented walls than the paper's 11 %: the filter must tell them from real ones.
-  scenario.spurious_fraction = argc > 1 ? std::atof(argv[1]) : 0.25;
-  const std::uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
-  if (std::string why; !scenario.IsValid(&why)) {
-    std::fprintf(stderr, "scenario: %s\n", why.c_str());
+  const std::optional<double> fraction = argc > 1 ? Parse<double>(argv[1]) : 0.25;
+  const std::optional<std::uint64_t> seed = argc > 2 ? Parse<std::uint64_t>(argv[2]) : 1;
+  if (fraction) scenario.spurious_fraction = *fraction;
+  if (std::string why; argc > 3 || !fraction || !seed || !scenario.IsValid(&why)) {
+    std::fprintf(stderr, "usage: %s [spurious_fraction in [0, 0.9]] [seed: a whole number >= 0]\n",
+                 argv[0]);
+    if (!why.empty()) std::fprintf(stderr, "scenario: %s\n", why.c_str());
     return 2;
   }
   // The world (city, true drive, visibility) is fixed by the seed; the run draws the noise of
   // the controls, observations and prior map.
-  const slam::UrbanWorld world = slam::MakeUrbanWorld(scenario, seed);
-  const slam::UrbanRun run = slam::SimulateUrbanRun(world, scenario, seed, /*run=*/0);
+  const slam::UrbanWorld world = slam::MakeUrbanWorld(scenario, *seed);
+  const slam::UrbanRun run = slam::SimulateUrbanRun(world, scenario, *seed, /*run=*/0);
   std::size_t spurious = 0;
   for (const int wall : run.segment_wall) spurious += wall < 0;
   std::printf("%.0f m drive, %zu beacons; prior map: %zu walls, %zu of them invented\n",
@@ -90,4 +109,7 @@ int main(int argc, char** argv) {
                   with.rms_landmark < without.rms_landmark && correct > 10 * wrong;
   if (!ok) std::fprintf(stderr, "unexpected result: see the numbers above\n");
   return ok ? 0 : 1;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "error: %s\n", e.what());
+  return 1;
 }

@@ -1,12 +1,17 @@
 // Map a simulated sonar log with a polygonal random field (Paskin & Thrun) and compare it with
 // the sonar occupancy grid built from the same readings, both scored against the true scene.
-//   example_05_prf_sonar_map [scene] [steps] [out.png]   (steps: burn-in, and as many samples)
+//   example_05_prf_sonar_map [scene] [steps] [out.png]   (steps: burn-in, and as many samples;
+//   the figure may be .svg or .pdf too)
+#include <charconv>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
+#include <exception>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -20,13 +25,48 @@
 
 namespace prf = priormap::prf;
 
-int main(int argc, char** argv) {
+namespace {
+
+// The whole argument as a step count from 1 to 2^40 (the bound of `priormap prf --samples`), or
+// nothing: "abc", "1e4" or "-5" is refused rather than read as 0 or as 2^64 - 5 steps.
+std::optional<std::uint64_t> ParseSteps(std::string_view text) {
+  std::uint64_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  if (value < 1 || value > (std::uint64_t{1} << 40)) return std::nullopt;
+  return value;
+}
+
+// The figure is written after the run: a name it cannot be written to is refused before it
+// (Figure::Save takes .png, .svg or .pdf, into a directory that exists).
+bool CanWriteFigure(const std::filesystem::path& path) {
+  const std::filesystem::path extension = path.extension();
+  const std::filesystem::path directory = path.has_parent_path() ? path.parent_path() : ".";
+  return (extension == ".png" || extension == ".svg" || extension == ".pdf") &&
+         std::filesystem::is_directory(directory);
+}
+
+}  // namespace
+
+// What the library cannot do throws: say what, and exit 1.
+int main(int argc, char** argv) try {
   const std::string scene_name = argc > 1 ? argv[1] : "l-room";
-  const std::uint64_t steps = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 40000;
+  const std::optional<std::uint64_t> steps = argc > 2 ? ParseSteps(argv[2]) : 40000;
   const std::string figure_path = argc > 3 ? argv[3] : "prf-sonar-posterior.png";
   const std::optional<priormap::Scene> scene = priormap::BuiltinScene(scene_name);
-  if (!scene || steps == 0) {
-    std::fprintf(stderr, "usage: %s [scene] [steps > 0] [out.png]\n", argv[0]);
+  if (!scene || !steps || argc > 4 || !CanWriteFigure(figure_path)) {
+    std::fprintf(stderr, "usage: %s [scene] [steps: 1 to 2^40] [out.png|.svg|.pdf]\n", argv[0]);
+    std::string known;
+    for (const std::string& name : priormap::BuiltinSceneNames()) known += " " + name;
+    if (!scene)
+      std::fprintf(stderr, "unknown scene %s (built-in:%s)\n", scene_name.c_str(), known.c_str());
+    if (!steps)
+      std::fprintf(stderr, "steps: expected a whole number from 1 to 2^40, got %s\n", argv[2]);
+    if (!CanWriteFigure(figure_path))
+      std::fprintf(stderr,
+                   "%s: cannot write the figure there (a .png, .svg or .pdf in a directory that "
+                   "exists)\n",
+                   figure_path.c_str());
     return 2;
   }
 
@@ -44,8 +84,8 @@ int main(int argc, char** argv) {
   const auto data = std::make_shared<const prf::SonarData>(std::move(selected).value());
 
   prf::MappingOptions options;
-  options.burn_in = steps;
-  options.samples = steps;
+  options.burn_in = *steps;
+  options.samples = *steps;
   options.seed = 1;
   options.raster_resolution = 0.05;
   // Sec. 4's preferences for free space and for walls along the building's axes: with so few
@@ -94,4 +134,7 @@ int main(int argc, char** argv) {
   const bool ok = prf_score.Accuracy() > grid_score.Accuracy();
   if (!ok) std::fprintf(stderr, "unexpected result: see the numbers above\n");
   return ok ? 0 : 1;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "error: %s\n", e.what());
+  return 1;
 }

@@ -20,6 +20,11 @@
 namespace priormap::python {
 namespace {
 
+// The bounds `priormap prf` puts on --chains, --beam-step, --samples and --burn-in.
+constexpr int kMaxChains = 256;
+constexpr std::size_t kMaxBeamStep = 100000;
+constexpr std::uint64_t kMaxStepCount = std::uint64_t{1} << 40;
+
 py::dict RasterDict(const Eigen::MatrixXd& probability, const Vec2& origin, double resolution) {
   py::dict out;
   out["probability"] = MatrixToNumpy(probability);
@@ -50,13 +55,21 @@ py::dict PrfMap(const Doubles& poses, const Doubles& ranges, const Doubles& angl
                 double max_range, double p, std::uint64_t samples, std::uint64_t burn_in,
                 int chains, std::uint64_t seed, std::size_t beam_step, bool anneal,
                 double resolution, double min_range) {
-  if (chains < 1) throw std::invalid_argument("chains must be at least 1");
-  if (!(p > 0.0)) throw std::invalid_argument("p must be positive");
-  if (beam_step < 1) throw std::invalid_argument("beam_step must be at least 1");
+  if (chains < 1 || chains > kMaxChains)
+    throw std::invalid_argument(
+        fmt::format("chains must be in [1, {}], got {}", kMaxChains, chains));
+  if (!(p > 0.0 && std::isfinite(p)))
+    throw std::invalid_argument(fmt::format("p must be positive and finite, got {}", p));
+  if (beam_step < 1 || beam_step > kMaxBeamStep)
+    throw std::invalid_argument(
+        fmt::format("beam_step must be in [1, {}], got {}", kMaxBeamStep, beam_step));
   if (!(resolution > 0.0 && std::isfinite(resolution)))
     throw std::invalid_argument(fmt::format("resolution must be positive, got {}", resolution));
   // P(black) is a mean over the samples, and the annealing runs for as many steps.
-  if (samples == 0) throw std::invalid_argument("samples must be at least 1");
+  if (samples == 0 || samples > kMaxStepCount)
+    throw std::invalid_argument(fmt::format("samples must be in [1, 2^40], got {}", samples));
+  if (burn_in > kMaxStepCount)
+    throw std::invalid_argument(fmt::format("burn_in must be in [0, 2^40], got {}", burn_in));
   const Log log = LogFromArrays(poses, ranges, angles, max_range, min_range, 0.01);
   prf::LaserSelection selection;
   selection.beam_step = beam_step;
@@ -145,8 +158,10 @@ void BindMapping(py::module_& m) {
          kScansDoc +
          ". Returns 'black_fraction' = P(occupied) per cell (rows from the bottom), "
          "'white_fraction', 'chain_spread' (the largest minus the smallest chain's P(black): "
-         "where the chains disagree), 'origin', 'resolution', R-hats, speed; with anneal=True "
-         "the MAP polygon map as 'map_geojson'. The same seed gives the same result.")
+         "where the chains disagree), 'origin', 'resolution', 'cell_size' (width, height: the "
+         "cells fit the window exactly), 'window', R-hats, 'beams', 'proposals' and their speed, "
+         "each chain's 'log_posterior'; with anneal=True the MAP polygon map as 'map_geojson'. "
+         "chains: 1 to 256; samples: 1 to 2^40. The same seed gives the same result.")
             .c_str());
 }
 

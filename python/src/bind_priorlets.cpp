@@ -125,7 +125,8 @@ py::dict InferScan(const Doubles& ranges, const Doubles& angles,
   std::fill(poses.mutable_data(), poses.mutable_data() + 3, 0.0);
   py::array_t<double> ranges_2d({py::ssize_t{1}, ranges.shape(0)});
   std::copy(ranges.data(), ranges.data() + ranges.shape(0), ranges_2d.mutable_data());
-  const Log log = LogFromArrays(poses, ranges_2d, angles, max_range, min_range, sigma);
+  const Log log =
+      LogFromArrays(poses, ranges_2d, angles, max_range, min_range, sigma, /*one_scan=*/true);
   const dsl::CompiledPrior prior =
       WarnedAbout(ValueOrRaise(Library(prior_path).Load(prior_name.string())));
   priorlets::EngineOptions engine;
@@ -149,12 +150,16 @@ py::dict InferScan(const Doubles& ranges, const Doubles& angles,
 void BindPriorlets(py::module_& m) {
   py::class_<Prior>(m, "Prior",
                     "A compiled environment prior (the prior language, docs/priorlet-language.md)")
-      .def_property_readonly("name", [](const Prior& p) { return p.compiled->name(); })
+      .def_property_readonly(
+          "name", [](const Prior& p) { return p.compiled->name(); },
+          "The prior's name (its 'name:' header)")
       .def_property_readonly(
           "order", [](const Prior& p) { return p.compiled->order(); },
           "k: how many consecutive readings a priorlet relates")
-      .def_property_readonly("max_curvature",
-                             [](const Prior& p) { return p.compiled->max_curvature(); })
+      .def_property_readonly(
+          "max_curvature", [](const Prior& p) { return p.compiled->max_curvature(); },
+          "The largest curvature of any surface, 1/m (0: straight walls only); inf when the "
+          "prior gives none")
       .def_property_readonly("blocks", &Prior::Blocks, "The topology cases the prior constrains")
       .def_property_readonly(
           "warnings",
@@ -183,7 +188,9 @@ void BindPriorlets(py::module_& m) {
             WarnedAbout(ValueOrRaise(Library(prior_path).Load(name_or_file.string()))))};
       },
       py::arg("name_or_file"), py::arg("prior_path") = Paths{},
-      "A prior of the library by name ('rectangular', 'Circular prior', ...) or a .prior file");
+      "A prior of the library by name ('rectangular', 'Circular prior', ...) or a .prior file "
+      "(str or pathlib.Path); prior_path: more directories to search, before "
+      "PRIORMAP_PRIOR_PATH and the built-ins. Errors raise ValueError");
   m.def(
       "compile_prior",
       [](const std::string& text, const Paths& prior_path) {
@@ -191,7 +198,9 @@ void BindPriorlets(py::module_& m) {
             WarnedAbout(ValueOrRaise(Library(prior_path).CompileText(text, "<python>"))))};
       },
       py::arg("text"), py::arg("prior_path") = Paths{},
-      "Compiles prior-language source text; errors raise ValueError with line:col");
+      "Compiles prior-language source text; errors raise ValueError with "
+      "'<python>:line:col: error: ...'. Parents named by 'specializes:' come from prior_path "
+      "and the library, never from the current directory");
   m.def(
       "list_priors",
       [](const Paths& prior_path) {
@@ -206,7 +215,8 @@ void BindPriorlets(py::module_& m) {
         }
         return out;
       },
-      py::arg("prior_path") = Paths{}, "The priors of the library");
+      py::arg("prior_path") = Paths{},
+      "The priors of the library, as dicts of 'name', 'path', 'description' and 'builtin'");
   m.def("infer_scan", &InferScan, py::arg("ranges"), py::arg("angles"),
         py::arg("prior") = "polygonal", py::arg("sigma") = 0.01,
         py::arg("max_range") = std::numeric_limits<double>::infinity(), py::arg("min_range") = 0.0,

@@ -1,6 +1,9 @@
 // priormap.slam_study: the Monte Carlo study of EKF-SLAM with and without a prior map.
 #include <stdexcept>
 
+#include <fmt/format.h>
+
+#include <priormap/slam/prior_map.hpp>
 #include <priormap/slam/study.hpp>
 #include <priormap/slam/study_io.hpp>
 
@@ -13,7 +16,12 @@ void BindSlam(py::module_& m) {
   m.def(
       "slam_study",
       [](int runs, std::uint64_t seed, double prior_std) {
-        if (runs < 1) throw std::invalid_argument("runs must be at least 1");
+        // The bounds of `priormap slam simulate --runs` and `--prior-std`.
+        if (runs < 1 || runs > 100000)
+          throw std::invalid_argument(fmt::format("runs must be in [1, 100000], got {}", runs));
+        if (!slam::IsValidPriorStd(prior_std))
+          throw std::invalid_argument(fmt::format("prior_std must be in (0, {:g}] m, got {}",
+                                                  slam::kMaxPriorStd, prior_std));
         slam::StudyOptions study;
         study.runs = runs;
         study.seed = seed;

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include <priormap/core/world_bounds.hpp>
+
 namespace priormap::python {
 namespace {
 
@@ -138,7 +140,7 @@ py::object JsonToPython(const nlohmann::json& value, std::string_view key) {
 }
 
 Log LogFromArrays(const Doubles& poses, const Doubles& ranges, const Doubles& angles,
-                  double max_range, double min_range, double sigma) {
+                  double max_range, double min_range, double sigma, bool one_scan) {
   if (poses.ndim() != 2 || poses.shape(1) != 3)
     throw std::invalid_argument("poses must have shape (n, 3): x, y, theta per scan");
   if (ranges.ndim() != 2 || ranges.shape(0) != poses.shape(0))
@@ -153,6 +155,26 @@ Log LogFromArrays(const Doubles& poses, const Doubles& ranges, const Doubles& an
   if (!(sigma > 0.0)) throw std::invalid_argument("sigma must be positive");
   const auto p = poses.unchecked<2>();
   const auto r = ranges.unchecked<2>();
+  // What the file readers refuse (docs/formats.md, "What every reader checks"), said with the
+  // arrays' indices: positions beyond the world, headings and angles that are not numbers.
+  for (py::ssize_t k = 0; k < n; ++k) {
+    for (py::ssize_t c = 0; c < 2; ++c)
+      if (!IsWithinWorld(p(k, c)))
+        throw std::invalid_argument(fmt::format(
+            "poses[{}, {}] = {}: x and y are metres in a local frame, finite and at most {:g} in "
+            "magnitude (the bound of world coordinates)",
+            k, c, p(k, c), kMaxWorldCoordinate));
+    if (!std::isfinite(p(k, 2)))
+      throw std::invalid_argument(
+          fmt::format("poses[{}, 2] = {}: theta must be finite", k, p(k, 2)));
+  }
+  for (py::ssize_t k = 0; k < (shared_angles ? 1 : n); ++k)
+    for (py::ssize_t i = 0; i < m; ++i)
+      if (const double a = shared_angles ? angles.at(i) : angles.at(k, i); !std::isfinite(a))
+        throw std::invalid_argument(
+            shared_angles || one_scan
+                ? fmt::format("angles[{}] = {}: angles must be finite", i, a)
+                : fmt::format("angles[{}, {}] = {}: angles must be finite", k, i, a));
   Log log;
   log.pose_source = PoseSource::kUnknown;
   for (py::ssize_t k = 0; k < n; ++k) {
@@ -168,7 +190,18 @@ Log LogFromArrays(const Doubles& poses, const Doubles& ranges, const Doubles& an
     scan.sigma.assign(static_cast<std::size_t>(m), sigma);
     scan.ClassifyAll();
     if (const auto problems = scan.Problems(); !problems.empty())
-      throw std::invalid_argument(fmt::format("scan {}: {}", k, problems.front()));
+      throw std::invalid_argument(one_scan ? problems.front()
+                                           : fmt::format("scan {}: {}", k, problems.front()));
+    // A return (a reading below max_range) is a distance to a surface: at most the bound too; a
+    // no-return reading is kept whatever its value, as the readers keep it.
+    for (py::ssize_t i = 0; i < m; ++i)
+      if (scan.status[static_cast<std::size_t>(i)] == BeamStatus::kValid &&
+          !IsReturnWithinWorld(r(k, i)))
+        throw std::invalid_argument(fmt::format(
+            "ranges[{}] = {}: a return (below max_range {}) is at most {:g} m, the bound of "
+            "world coordinates",
+            one_scan ? fmt::format("{}", i) : fmt::format("{}, {}", k, i), r(k, i), max_range,
+            kMaxWorldCoordinate));
     log.scans.push_back(std::move(scan));
   }
   return log;

@@ -26,9 +26,12 @@ py::object JsonToPython(const nlohmann::json& value, std::string_view key = "");
 
 /// Localized scans from arrays: poses (n, 3) of x, y, theta; ranges (n, m); angles (m,) shared by
 /// every scan or (n, m). NaN readings are invalid, readings at or above max_range are max-range
-/// readings. Throws std::invalid_argument (ValueError in Python) on mismatched shapes.
+/// readings. Throws std::invalid_argument (ValueError in Python) on mismatched shapes and on
+/// what the file readers refuse: x or y beyond 1e9 m, angles that are not finite or do not
+/// increase, returns (readings below max_range) beyond 1e9 m, min_range not below max_range.
+/// `one_scan`: the ranges are the caller's one scan, (m,), and messages index them so.
 Log LogFromArrays(const Doubles& poses, const Doubles& ranges, const Doubles& angles,
-                  double max_range, double min_range, double sigma);
+                  double max_range, double min_range, double sigma, bool one_scan = false);
 
 /// A raster (row 0 at the bottom, as the library keeps them) as a 2-D numpy array.
 py::array_t<double> MatrixToNumpy(const Eigen::MatrixXd& matrix);

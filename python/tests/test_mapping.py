@@ -80,3 +80,44 @@ def test_a_grid_too_large_for_memory_is_a_value_error(room_scans):
     far[-1, 0] = 1e6  # a pose in millimetres among poses in metres
     with pytest.raises(ValueError, match="cells"):
         priormap.occupancy_grid(far, ranges, angles, max_range=8.0)
+
+
+def test_out_of_range_run_options_raise_value_errors_as_the_cli_refuses_them(room_scans):
+    # The bounds of `priormap prf`: --chains 1..256 (100000 chains would not finish), --beam-step
+    # 1..100000, --p positive and finite, --samples 1..2^40, --burn-in 0..2^40.
+    poses, ranges, angles, _ = room_scans
+    args = dict(max_range=8.0, samples=1000, burn_in=1000, chains=1, beam_step=8)
+    for key, bad, match in [("chains", 257, "chains must be in \\[1, 256\\], got 257"),
+                            ("beam_step", 100001, "beam_step must be in \\[1, 100000\\]"),
+                            ("p", float("inf"), "p must be positive and finite"),
+                            ("samples", 2**40 + 1, "samples must be in \\[1, 2\\^40\\]"),
+                            ("burn_in", 2**40 + 1, "burn_in must be in \\[0, 2\\^40\\]")]:
+        with pytest.raises(ValueError, match=match):
+            priormap.prf_map(poses, ranges, angles, **{**args, key: bad})
+
+
+@pytest.mark.parametrize("mapper", ["occupancy_grid", "prf_map"])
+def test_what_the_file_readers_refuse_is_a_value_error_naming_the_element(room_scans, mapper):
+    poses, ranges, angles, _ = room_scans
+    run = getattr(priormap, mapper)
+    args = dict(max_range=8.0)
+    if mapper == "prf_map":
+        args.update(samples=1000, burn_in=0, chains=1, beam_step=8)
+    far = poses.copy()
+    far[2, 1] = 1e300  # beyond the world's 1e9 m: such a pose once made a grid one cell wide
+    with pytest.raises(ValueError, match=r"poses\[2, 1\] = 1e\+300: x and y .* 1e\+09"):
+        run(far, ranges, angles, **args)
+    turned = poses.copy()
+    turned[0, 2] = np.inf
+    with pytest.raises(ValueError, match=r"poses\[0, 2\] = inf: theta must be finite"):
+        run(turned, ranges, angles, **args)
+    holes = angles.copy()
+    holes[7] = np.nan  # was: "angles must increase (beam 6 to 7)"
+    with pytest.raises(ValueError, match=r"angles\[7\] = nan: angles must be finite"):
+        run(poses, ranges, holes, **args)
+    long = ranges.copy()
+    long[1, 3] = 1e300  # a return, as max_range is inf
+    with pytest.raises(ValueError, match=r"ranges\[1, 3\] = 1e\+300: a return"):
+        run(poses, long, angles, **{**args, "max_range": np.inf})
+    # Beyond max_range the same value is a no-return reading, kept whatever its value.
+    run(poses, long, angles, **args)

@@ -90,3 +90,18 @@ def test_builtin_priors_compile_without_warnings():
         warnings.simplefilter("error")
         for listing in priormap.list_priors():
             assert priormap.load_prior(listing["name"]).warnings == []
+
+
+def test_max_curvature_is_in_inverse_metres_and_inf_without_a_bound():
+    assert priormap.load_prior("polygonal").max_curvature == 0.0
+    assert priormap.load_prior("circular").max_curvature == 10.0
+    free = priormap.compile_prior("name: Free\norder: 2\npriorlet same_region:\n"
+                                  "  alpha_2 == alpha_1\n")
+    assert free.max_curvature == float("inf")
+
+
+def test_docstrings_say_what_the_api_does():
+    assert "<python>:line:col" in priormap.compile_prior.__doc__
+    assert "inf when the prior gives none" in priormap.Prior.max_curvature.__doc__
+    for name in ("cell_size", "window", "beams", "log_posterior"):
+        assert name in priormap.prf_map.__doc__

@@ -92,3 +92,18 @@ def test_out_of_range_arguments_raise_value_errors():
         priormap.infer_scan(ranges, angles, eigenvariations=-1)
     with pytest.raises(ValueError, match="empty"):
         priormap.infer_scan(np.zeros(0), np.zeros(0))
+
+
+def test_one_scan_errors_index_the_scan_as_given():
+    angles = np.linspace(-1.0, 1.0, 11)
+    ranges = np.full(11, 2.0)
+    holes = angles.copy()
+    holes[4] = np.nan
+    with pytest.raises(ValueError, match=r"^angles\[4\] = nan: angles must be finite"):
+        priormap.infer_scan(ranges, holes)
+    long = ranges.copy()
+    long[3] = 1e300
+    with pytest.raises(ValueError, match=r"^ranges\[3\] = 1e\+300: a return"):
+        priormap.infer_scan(long, angles)
+    with pytest.raises(ValueError, match=r"^angles must increase \(beam 0 to 1\)"):
+        priormap.infer_scan(ranges, angles[::-1])

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <map>
@@ -81,10 +82,29 @@ double ParseCurvature(const HeaderEntry& entry) {
   double value = 0.0;
   const auto [ptr, ec] =
       std::from_chars(entry.value.data(), entry.value.data() + entry.value.size(), value);
-  if (ec != std::errc() || ptr != entry.value.data() + entry.value.size() || !(value >= 0.0)) {
+  const bool whole = ptr == entry.value.data() + entry.value.size();
+  const bool out_of_range = ec == std::errc::result_out_of_range;
+  // The sign is read from the text: out of range, from_chars leaves `value` at 0, and "-0" is a
+  // sign the author wrote by mistake.
+  const bool negative = entry.value.starts_with('-');
+  if (!whole || (ec != std::errc() && !out_of_range) || !(value >= 0.0) || negative) {
     Fail(entry.value_loc,
          fmt::format("max_curvature must be a non-negative number (1/m) or inf, got {}",
                      QuoteForMessage(entry.value)));
+  }
+  // As for the literals of the expressions (lexer.cpp): from_chars leaves the value unset out of
+  // range, and strtod tells an overflow (HUGE_VAL) from an underflow.
+  if (out_of_range && std::isinf(std::strtod(entry.value.c_str(), nullptr))) {
+    Fail(entry.value_loc,
+         fmt::format("max_curvature {} is above the largest number, {} (it overflows; write inf "
+                     "for no limit)",
+                     QuoteForMessage(entry.value), std::numeric_limits<double>::max()));
+  }
+  if (out_of_range || (value != 0.0 && !std::isnormal(value))) {
+    Fail(entry.value_loc,
+         fmt::format("max_curvature {} is below the smallest normal magnitude, {} (it "
+                     "underflows; write 0 for straight surfaces only)",
+                     QuoteForMessage(entry.value), std::numeric_limits<double>::min()));
   }
   return value;
 }

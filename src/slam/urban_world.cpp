@@ -97,10 +97,13 @@ bool UrbanScenarioOptions::IsValid(std::string* why) const {
         off_wall_min <= off_wall_max)) {
     return fail("need 0 <= off_wall_fraction <= 1 and 0 < off_wall_min <= off_wall_max");
   }
-  if (!(IsValidPriorStd(prior_std) && spurious_fraction >= 0.0 && spurious_fraction < 1.0 &&
+  // Up to 9 spurious segments per wall: nearer 1, their count (f / (1 - f) per wall) grows without
+  // bound.
+  if (!(IsValidPriorStd(prior_std) && spurious_fraction >= 0.0 && spurious_fraction <= 0.9 &&
         spurious_shift_min >= 0.0 && spurious_shift_min <= spurious_shift_max)) {
     return fail(
-        "need 0 < prior_std <= 1e9, 0 <= spurious_fraction < 1, 0 <= spurious_shift_min <= max");
+        "need 0 < prior_std <= 1e9, 0 <= spurious_fraction <= 0.9, 0 <= spurious_shift_min <= "
+        "max");
   }
   if (!(motion_noise.wheelbase > 0.0 && motion_noise.speed_std >= 0.0 &&
         motion_noise.steer_std >= 0.0 && sensor_noise.range_std >= 0.0 &&

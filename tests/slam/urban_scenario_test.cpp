@@ -7,6 +7,7 @@
 #include <string>
 #include <variant>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <priormap/core/angles.hpp>
@@ -92,6 +93,12 @@ TEST(UrbanScenario, DefaultOptionsAreValidAndBadOnesAreNot) {
   bad = {};
   bad.spurious_fraction = 1.0;
   EXPECT_FALSE(bad.IsValid());
+  // Nearer 1 the spurious segments would be billions (0.9999999999: an int overflow).
+  bad.spurious_fraction = 0.9000001;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_THAT(why, ::testing::HasSubstr("0 <= spurious_fraction <= 0.9"));
+  bad.spurious_fraction = 0.9;
+  EXPECT_TRUE(bad.IsValid(&why)) << why;
   bad = {};
   bad.block_size = 20.0;
   EXPECT_FALSE(bad.IsValid());
