@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <priormap/core/file_io.hpp>
+#include <priormap/core/utf8.hpp>
 
 namespace priormap::slam::detail {
 namespace {
@@ -19,10 +20,6 @@ std::size_t SkipBlanks(std::string_view line, std::size_t pos) {
   return pos;
 }
 
-int Col(std::size_t pos) {
-  return static_cast<int>(pos) + 1;
-}
-
 // Splits one line at its commas; throws CsvError on a quoted cell that is not closed or is
 // followed by more than blanks.
 std::vector<CsvCell> SplitCells(std::string_view line, int line_number, const std::string& name) {
@@ -31,7 +28,7 @@ std::vector<CsvCell> SplitCells(std::string_view line, int line_number, const st
   for (;;) {
     pos = SkipBlanks(line, pos);
     CsvCell cell;
-    cell.col = Col(pos);
+    cell.col = CharacterColumn(line, pos);
     if (pos < line.size() && line[pos] == '"') {
       bool closed = false;
       for (++pos; pos < line.size(); ++pos) {
@@ -53,7 +50,7 @@ std::vector<CsvCell> SplitCells(std::string_view line, int line_number, const st
       }
       pos = SkipBlanks(line, pos);
       if (pos < line.size() && line[pos] != ',') {
-        throw CsvError{{name, line_number, Col(pos),
+        throw CsvError{{name, line_number, CharacterColumn(line, pos),
                         fmt::format("expected ',' or the end of the line after a quoted cell, "
                                     "found {}",
                                     QuoteForMessage(line.substr(pos, 1)))}};
@@ -123,7 +120,8 @@ CsvTable CsvTable::Parse(std::string_view text, std::string name) {
     }
     const std::size_t expected = header->cells.size();
     if (row.cells.size() != expected) {
-      const int col = row.cells.size() > expected ? row.cells[expected].col : Col(line.size());
+      const int col = row.cells.size() > expected ? row.cells[expected].col
+                                                  : CharacterColumn(line, line.size());
       throw CsvError{{name, line_number, col,
                       fmt::format("expected {} cells as in the header ({}), found {}", expected,
                                   JoinTexts(header->cells), row.cells.size())}};

@@ -84,6 +84,17 @@ TEST(CsvMalformed, BrokenQuotes) {
                              "found 'x'")));
 }
 
+// Editors count characters, not bytes: the two-byte 'ü' takes one column, and a byte order mark
+// takes none.
+TEST(CsvMalformed, ColumnsCountCharactersAsEditorsShowThem) {
+  EXPECT_THAT(ObservationErrors(Observations("1,2,\"Z\u00fcrich\",0,x")),
+              ElementsAre(At("obs.csv", 3, 16, "found 5")));
+  EXPECT_THAT(ObservationErrors(Observations("1,2,\"\u00fc\"x,0")),
+              ElementsAre(At("obs.csv", 3, 8, "found 'x'")));
+  EXPECT_THAT(ObservationErrors("\xef\xbb\xbf\"\u00e9t\u00e9\",,range,bearing\n"),
+              ElementsAre(At("obs.csv", 1, 7, "empty column name in the header")));
+}
+
 TEST(CsvMalformed, CellsThatAreNotFiniteNumbers) {
   EXPECT_THAT(
       ObservationErrors(Observations("1,2,abc,0")),
