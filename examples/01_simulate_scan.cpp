@@ -9,18 +9,21 @@
 #include <priormap/core/simulate.hpp>
 #include <priormap/render/scene_drawing.hpp>
 
-// The library throws what it cannot do (here: a figure it cannot write, as to a missing
-// directory or with an extension other than .png, .svg or .pdf); say what, and exit 1.
+// Arguments it cannot use get the usage line and exit 2. The library throws what it cannot do
+// (here: a figure it cannot write, as to a missing directory or with an extension other than .png,
+// .svg or .pdf); say what, and exit 1.
 int main(int argc, char** argv) try {
   const std::string scene_name = argc > 1 ? argv[1] : "l-room";
   const std::string figure_path = argc > 2 ? argv[2] : "simulated-scan.png";
 
   const std::optional<priormap::Scene> scene = priormap::BuiltinScene(scene_name);
-  if (!scene) {
+  if (!scene || argc > 3) {
+    std::fprintf(stderr, "usage: %s [scene] [out.png|.svg|.pdf]\n", argv[0]);
     std::string known;
     for (const std::string& name : priormap::BuiltinSceneNames()) known += " " + name;
-    std::fprintf(stderr, "unknown scene %s (built-in:%s)\n", scene_name.c_str(), known.c_str());
-    return 1;
+    if (!scene)
+      std::fprintf(stderr, "unknown scene %s (built-in:%s)\n", scene_name.c_str(), known.c_str());
+    return 2;
   }
   const priormap::RangeSensor sensor = *priormap::RangeSensor::Preset("utm30");
   priormap::Rng rng(/*seed=*/1);

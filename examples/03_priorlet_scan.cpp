@@ -17,8 +17,9 @@
 #include <priormap/priorlets/posterior.hpp>
 #include <priormap/render/map_scan_figure.hpp>
 
-// What the library cannot do throws (a figure it cannot write; std::domain_error when a prior
-// of your own leaves its domain at the estimate): say what, and exit 1.
+// Arguments it cannot use get the usage line and exit 2; a prior that does not load, exit 1. What
+// the library cannot do throws (a figure it cannot write; std::domain_error when a prior of your
+// own leaves its domain at the estimate): say what, and exit 1.
 int main(int argc, char** argv) try {
   const std::string prior_name = argc > 1 ? argv[1] : "rectangular";
   const std::string scene_name = argc > 2 ? argv[2] : "square";
@@ -33,11 +34,13 @@ int main(int argc, char** argv) try {
     return 1;
   }
   const std::optional<priormap::Scene> scene = priormap::BuiltinScene(scene_name);
-  if (!scene) {
+  if (!scene || argc > 4) {
+    std::fprintf(stderr, "usage: %s [prior] [scene] [out.png|.svg|.pdf]\n", argv[0]);
     std::string known;
     for (const std::string& name : priormap::BuiltinSceneNames()) known += " " + name;
-    std::fprintf(stderr, "unknown scene %s (built-in:%s)\n", scene_name.c_str(), known.c_str());
-    return 1;
+    if (!scene)
+      std::fprintf(stderr, "unknown scene %s (built-in:%s)\n", scene_name.c_str(), known.c_str());
+    return 2;
   }
   // 2 % spurious short readings, so that the engine has outliers to find.
   priormap::RangeSensor sensor = *priormap::RangeSensor::Preset("utm30");
