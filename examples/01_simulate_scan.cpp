@@ -19,10 +19,11 @@ int main(int argc, char** argv) try {
   const std::optional<priormap::Scene> scene = priormap::BuiltinScene(scene_name);
   if (!scene || argc > 3) {
     std::fprintf(stderr, "usage: %s [scene] [out.png|.svg|.pdf]\n", argv[0]);
-    std::string known;
-    for (const std::string& name : priormap::BuiltinSceneNames()) known += " " + name;
-    if (!scene)
+    if (!scene) {
+      std::string known;
+      for (const std::string& name : priormap::BuiltinSceneNames()) known += " " + name;
       std::fprintf(stderr, "unknown scene %s (built-in:%s)\n", scene_name.c_str(), known.c_str());
+    }
     return 2;
   }
   const priormap::RangeSensor sensor = *priormap::RangeSensor::Preset("utm30");

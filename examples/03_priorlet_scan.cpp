@@ -36,10 +36,11 @@ int main(int argc, char** argv) try {
   const std::optional<priormap::Scene> scene = priormap::BuiltinScene(scene_name);
   if (!scene || argc > 4) {
     std::fprintf(stderr, "usage: %s [prior] [scene] [out.png|.svg|.pdf]\n", argv[0]);
-    std::string known;
-    for (const std::string& name : priormap::BuiltinSceneNames()) known += " " + name;
-    if (!scene)
+    if (!scene) {
+      std::string known;
+      for (const std::string& name : priormap::BuiltinSceneNames()) known += " " + name;
       std::fprintf(stderr, "unknown scene %s (built-in:%s)\n", scene_name.c_str(), known.c_str());
+    }
     return 2;
   }
   // 2 % spurious short readings, so that the engine has outliers to find.
