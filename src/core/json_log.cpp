@@ -419,6 +419,14 @@ Scan ReadScan(const JsonNode& node) {
     } else {
       truth.outlier.assign(n, 0);
     }
+  } else {
+    // The truth is read as a whole: without its ranges, the other members would be dropped
+    // unread, and a file that meant to carry them would lose them without a word.
+    for (const char* key : {"true_alpha", "true_surface", "true_region", "true_outlier"})
+      if (const auto member = detail::OptionalMember(node, key))
+        detail::Fail(*member, fmt::format("\"{}\" needs \"true_range\": a scan's ground truth is "
+                                          "read only with its true ranges",
+                                          key));
   }
   if (const auto carmen = detail::OptionalMember(node, "carmen"))
     scan.carmen = ReadCarmenLaser(*carmen);

@@ -351,6 +351,16 @@ TEST(JsonMalformed, AnIntegerBeyondSixtyFourSignedBitsIsRefusedNotWrapped) {
               ElementsAre(DiagnosticAt(3, 20, "18446744073709551615, which is too large")));
 }
 
+// Without true_range the other truth members were dropped unread: they are refused at themselves.
+TEST(JsonMalformed, TruthWithoutTrueRangeIsRefusedNotDropped) {
+  EXPECT_THAT(LogErrors(ScanDocument("sigma", "[0.1, 0.1, 0.1], \"true_alpha\": [0, 0, 0]")),
+              ElementsAre(DiagnosticAt(7, 43,
+                                       "\"true_alpha\" needs \"true_range\": a scan's ground "
+                                       "truth is read only with its true ranges")));
+  EXPECT_THAT(LogErrors(ScanDocument("sigma", "[0.1, 0.1, 0.1], \"true_outlier\": [0, 1, 0]")),
+              ElementsAre(DiagnosticAt(7, 45, "\"true_outlier\" needs \"true_range\"")));
+}
+
 // A misspelt key is refused at itself, with the key it was likely meant to be, not read as
 // absent (max_range absent means no reading is a max-range reading).
 TEST(JsonMalformed, AnUnknownKeyIsRefusedWithTheNearestKnownOne) {
