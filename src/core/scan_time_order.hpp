@@ -15,8 +15,6 @@
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include <priormap/core/diagnostic.hpp>
 
 namespace priormap::detail {
@@ -40,17 +38,7 @@ class ScanTimeOrder {
   /// the previous stamped scan of that channel when this one is stamped before it. Scans without a
   /// timestamp are not noted.
   std::optional<Previous> Note(std::string_view channel, std::size_t scan, double timestamp,
-                               int line) {
-    for (auto& [name, last] : last_) {
-      if (name != channel) continue;
-      const Previous previous = last;
-      last = {scan, timestamp, line};
-      if (timestamp < previous.timestamp) return previous;
-      return std::nullopt;
-    }
-    last_.emplace_back(std::string(channel), Previous{scan, timestamp, line});
-    return std::nullopt;
-  }
+                               int line);
 
   /// Whether the next warning is given a location: each listed one, and the first beyond them,
   /// where the summary points. A reader whose locations cost a search (JSON) asks first.
@@ -60,43 +48,10 @@ class ScanTimeOrder {
   /// the caller has filled in where it can), at `where` (file, line and column; a message there,
   /// such as JSON's " (at /records/7/timestamp)", is kept after the warning's).
   void Warn(Diagnostic where, std::string_view channel, std::size_t scan, double timestamp,
-            const Previous& previous) {
-    ++count_;
-    if (count_ > kListed + 1) return;
-    if (count_ == kListed + 1) {
-      first_unlisted_ = std::move(where);
-      first_unlisted_scan_ = scan;
-      return;
-    }
-    const std::string of_channel = channel.empty() ? "" : fmt::format(" {}", channel);
-    const std::string at_line =
-        previous.line > 0 ? fmt::format(" at line {}", previous.line) : std::string();
-    where.message = fmt::format(
-                        "scan {} is stamped {} s, {:.3g} s before the previous{} scan (scan {}{}, "
-                        "stamped {} s); the scans are kept in the file's order",
-                        scan, timestamp, previous.timestamp - timestamp, of_channel, previous.scan,
-                        at_line, previous.timestamp) +
-                    where.message;
-    warnings_.push_back(std::move(where));
-  }
+            const Previous& previous);
 
   /// The warnings, with the summary of those not listed.
-  [[nodiscard]] std::vector<Diagnostic> Warnings() && {
-    if (count_ > kListed) {
-      Diagnostic summary = std::move(first_unlisted_);
-      const std::size_t more = count_ - kListed;
-      summary.message =
-          (more == 1 ? fmt::format("1 more scan is stamped before the previous scan of its "
-                                   "channel, scan {} here",
-                                   first_unlisted_scan_)
-                     : fmt::format("{} more scans are stamped before the previous scan of their "
-                                   "channel, the first of them scan {} here",
-                                   more, first_unlisted_scan_)) +
-          "; the scans are kept in the file's order" + summary.message;
-      warnings_.push_back(std::move(summary));
-    }
-    return std::move(warnings_);
-  }
+  [[nodiscard]] std::vector<Diagnostic> Warnings() &&;
 
  private:
   std::vector<std::pair<std::string, Previous>> last_;  // per channel, in order of appearance
