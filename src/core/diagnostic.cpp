@@ -1,7 +1,11 @@
+#include <cstdint>
+#include <optional>
+
 #include <fmt/format.h>
 
 #include <priormap/core/check.hpp>
 #include <priormap/core/diagnostic.hpp>
+#include <priormap/core/utf8.hpp>
 
 namespace priormap {
 
@@ -18,19 +22,37 @@ std::string Diagnostic::ToString() const {
   return fmt::format("{}: error: {}", where, message);
 }
 
+namespace {
+
+// Whether a character is shown as itself in a message: not a control (C0, DEL, C1), nor a format
+// character that hides text or reorders it on a terminal (a soft hyphen, bidi marks and
+// overrides, zero-width characters, line and paragraph separators, the byte order mark).
+bool ShownAsItself(std::uint32_t code) {
+  if (code < 0x20 || (code >= 0x7f && code < 0xa0)) return false;
+  return code != 0xad && code != 0x61c && !(code >= 0x200b && code <= 0x200f) &&
+         !(code >= 0x2028 && code <= 0x202e) && !(code >= 0x2060 && code <= 0x206f) &&
+         code != 0xfeff;
+}
+
+}  // namespace
+
 std::string QuoteForMessage(std::string_view text, std::size_t max_length) {
   std::string out = "'";
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    if (i == max_length) {
+  std::size_t shown = 0;
+  for (std::size_t at = 0; at < text.size(); ++shown) {
+    if (shown == max_length) {
       out += "...";
       break;
     }
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
+    const std::optional<Utf8Char> c = DecodeUtf8(text, at);
+    const std::size_t length = c ? c->length : 1;
+    if (c && ShownAsItself(c->code)) {
+      out += text.substr(at, length);
     } else {
-      out += fmt::format("\\x{:02x}", c);
+      for (std::size_t k = at; k < at + length; ++k)
+        out += fmt::format("\\x{:02x}", static_cast<unsigned char>(text[k]));
     }
+    at += length;
   }
   return out + "'";
 }

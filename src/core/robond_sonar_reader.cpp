@@ -27,23 +27,6 @@ struct Line {
   std::vector<Token> tokens;
 };
 
-// The column of each byte of a line, in characters, found walking forward along it.
-class ColumnCounter {
- public:
-  explicit ColumnCounter(std::string_view line) : line_(line) {}
-  // The column of byte `offset`, at or after the previous one asked for.
-  int At(std::size_t offset) {
-    col_ += CharacterColumn(line_.substr(at_), offset - at_) - 1;
-    at_ = offset;
-    return col_;
-  }
-
- private:
-  std::string_view line_;
-  std::size_t at_ = 0;
-  int col_ = 1;
-};
-
 std::vector<Line> SplitLines(std::string_view text) {
   std::vector<Line> lines;
   int number = 0;

@@ -2,6 +2,8 @@
 
 #include <charconv>
 #include <cmath>
+#include <string_view>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -24,11 +26,12 @@ std::size_t SkipBlanks(std::string_view line, std::size_t pos) {
 // followed by more than blanks.
 std::vector<CsvCell> SplitCells(std::string_view line, int line_number, const std::string& name) {
   std::vector<CsvCell> cells;
+  ColumnCounter columns(line);
   std::size_t pos = 0;
   for (;;) {
     pos = SkipBlanks(line, pos);
     CsvCell cell;
-    cell.col = CharacterColumn(line, pos);
+    cell.col = columns.At(pos);
     if (pos < line.size() && line[pos] == '"') {
       bool closed = false;
       for (++pos; pos < line.size(); ++pos) {
@@ -50,7 +53,7 @@ std::vector<CsvCell> SplitCells(std::string_view line, int line_number, const st
       }
       pos = SkipBlanks(line, pos);
       if (pos < line.size() && line[pos] != ',') {
-        throw CsvError{{name, line_number, CharacterColumn(line, pos),
+        throw CsvError{{name, line_number, columns.At(pos),
                         fmt::format("expected ',' or the end of the line after a quoted cell, "
                                     "found {}",
                                     QuoteForMessage(line.substr(pos, 1)))}};
@@ -103,16 +106,15 @@ CsvTable CsvTable::Parse(std::string_view text, std::string name) {
 
     CsvRow row{line_number, SplitCells(line, line_number, name)};
     if (!header) {
-      for (std::size_t i = 0; i < row.cells.size(); ++i) {
-        const CsvCell& cell = row.cells[i];
+      // The column of each name so far, by name: a header of many columns is checked in one pass.
+      std::unordered_map<std::string_view, int> named;
+      for (const CsvCell& cell : row.cells) {
         if (cell.text.empty())
           throw CsvError{{name, line_number, cell.col, "empty column name in the header"}};
-        for (std::size_t j = 0; j < i; ++j) {
-          if (row.cells[j].text == cell.text) {
-            throw CsvError{{name, line_number, cell.col,
-                            fmt::format("column {} appears twice in the header (also at column {})",
-                                        QuoteForMessage(cell.text), row.cells[j].col)}};
-          }
+        if (const auto [first, added] = named.emplace(cell.text, cell.col); !added) {
+          throw CsvError{{name, line_number, cell.col,
+                          fmt::format("column {} appears twice in the header (also at column {})",
+                                      QuoteForMessage(cell.text), first->second)}};
         }
       }
       header = std::move(row);
@@ -156,20 +158,24 @@ void CsvTable::Fail(const CsvRow& row, std::size_t column, std::string message) 
 }
 
 std::optional<double> CsvTable::OptionalFiniteNumber(const CsvRow& row, std::size_t column) const {
-  std::string_view text = row.cells[column].text;
-  if (text.empty()) return std::nullopt;
-  const std::string what =
-      fmt::format("expected a finite number for column {}, found {}",
-                  QuoteForMessage(header_.cells[column].text), QuoteForMessage(text));
+  const std::string_view cell = row.cells[column].text;
+  if (cell.empty()) return std::nullopt;
+  // Worded only on failure: a log's every cell passes here.
+  const auto fail = [&](std::string_view why) {
+    Fail(row, column,
+         fmt::format("expected a finite number for column {}, found {}{}",
+                     QuoteForMessage(header_.cells[column].text), QuoteForMessage(cell), why));
+  };
+  std::string_view text = cell;
   // from_chars takes no '+' sign; accept one, but not "+-1".
   if (text.size() > 1 && text[0] == '+' && text[1] != '-' && text[1] != '+') text.remove_prefix(1);
   double value = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec == std::errc::result_out_of_range && end == text.data() + text.size())
-    Fail(row, column, what + " (out of the range of double)");
-  if (ec != std::errc() || end != text.data() + text.size()) Fail(row, column, what);
-  if (std::isnan(value)) Fail(row, column, what + " (NaN is not allowed)");
-  if (std::isinf(value)) Fail(row, column, what + " (infinite values are not allowed)");
+    fail(" (out of the range of double)");
+  if (ec != std::errc() || end != text.data() + text.size()) fail("");
+  if (std::isnan(value)) fail(" (NaN is not allowed)");
+  if (std::isinf(value)) fail(" (infinite values are not allowed)");
   return value;
 }
 

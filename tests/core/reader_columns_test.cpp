@@ -11,6 +11,7 @@
 
 #include <priormap/core/carmen_io.hpp>
 #include <priormap/core/csm_io.hpp>
+#include <priormap/core/diagnostic.hpp>
 #include <priormap/core/json_io.hpp>
 #include <priormap/core/robond_sonar_io.hpp>
 #include <priormap/core/scene.hpp>
@@ -55,6 +56,42 @@ TEST(ReaderColumns, CharacterColumnCountsCharactersNotBytes) {
   EXPECT_EQ(CharacterColumn("", 0), 1);
   EXPECT_EQ(CountCharacters("Z\xc3\xbcrich caf\xc3\xa9"), 11U);
   EXPECT_EQ(CountCharacters("\xff\xfe"), 2U);
+}
+
+TEST(ReaderColumns, QuotedTextShowsUtf8AsItIsAndEscapesTheRest) {
+  EXPECT_EQ(QuoteForMessage("Z\xc3\xbcrich"), "'Z\xc3\xbcrich'");  // as the user wrote it
+  EXPECT_EQ(QuoteForMessage("\xe2\x82\xac \xf0\x9f\x98\x80"), "'\xe2\x82\xac \xf0\x9f\x98\x80'");
+  // Bytes that are not UTF-8 (Latin-1, a cut sequence, a stray continuation byte).
+  EXPECT_EQ(QuoteForMessage("caf\xe9"), "'caf\\xe9'");
+  EXPECT_EQ(QuoteForMessage("\xe2\x82"), "'\\xe2\\x82'");
+  EXPECT_EQ(QuoteForMessage("\x80z"), "'\\x80z'");
+  // Controls (C0, DEL, C1 U+0085) and invisible format characters (U+202E right-to-left
+  // override, U+200B zero-width space, the byte order mark), byte by byte.
+  EXPECT_EQ(QuoteForMessage("a\tb\x7f"), "'a\\x09b\\x7f'");
+  EXPECT_EQ(QuoteForMessage("\xc2\x85"), "'\\xc2\\x85'");
+  EXPECT_EQ(QuoteForMessage("x\xe2\x80\xaey"), "'x\\xe2\\x80\\xaey'");
+  EXPECT_EQ(QuoteForMessage("\xe2\x80\x8b\xef\xbb\xbf"), "'\\xe2\\x80\\x8b\\xef\\xbb\\xbf'");
+  // The limit counts characters: three 'ü' are three, not six.
+  EXPECT_EQ(QuoteForMessage("\xc3\xbc\xc3\xbc\xc3\xbc\xc3\xbc", 3),
+            "'\xc3\xbc\xc3\xbc\xc3\xbc...'");
+  EXPECT_EQ(QuoteForMessage("abcd", 4), "'abcd'");
+  EXPECT_EQ(QuoteForMessage(std::string(100, '7'), 40), "'" + std::string(40, '7') + "...'");
+}
+
+TEST(ReaderColumns, ColumnCounterAgreesWithCharacterColumnWalkingForward) {
+  // ASCII, 2-, 3- and 4-byte characters, a byte that is not UTF-8, and offsets past the end.
+  const std::string_view line = "a\xc3\xa9 \xe2\x82\xac\xf0\x9f\x98\x80\xffz";
+  const std::vector<std::size_t> starts = {0, 1, 3, 4, 7, 11, 12, 13, 15};
+  ColumnCounter walked(line);
+  for (const std::size_t offset : starts)
+    EXPECT_EQ(walked.At(offset), CharacterColumn(line, offset)) << "offset " << offset;
+  // Asked again where it stands, and with steps skipped.
+  ColumnCounter skipping(line);
+  EXPECT_EQ(skipping.At(0), 1);
+  EXPECT_EQ(skipping.At(0), 1);
+  EXPECT_EQ(skipping.At(7), 5);
+  EXPECT_EQ(skipping.At(14), 9);
+  EXPECT_EQ(skipping.At(16), 11);
 }
 
 TEST(ReaderColumns, CharacterColumnInTextCountsFromItsLineAndSkipsAByteOrderMark) {

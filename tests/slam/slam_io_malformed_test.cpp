@@ -95,6 +95,32 @@ TEST(CsvMalformed, ColumnsCountCharactersAsEditorsShowThem) {
               ElementsAre(At("obs.csv", 1, 7, "empty column name in the header")));
 }
 
+// A file with no line breaks is one long line: its cells' columns and the header's names are
+// found in one walk along it (a column counted from the line's start for each cell, or each name
+// compared with every one before it, would take hours here).
+TEST(CsvMalformed, ALongLineIsCheckedInOneWalk) {
+  constexpr int kNames = 400000;
+  std::string header;
+  int col = 1;  // of the next name
+  for (int i = 0; i < kNames; ++i) {
+    const std::string name = "\u00fc" + std::to_string(i);  // 'ü' counts one column, not two
+    header += name + ",";
+    col += 1 + static_cast<int>(std::to_string(i).size()) + 1;
+  }
+  EXPECT_THAT(ObservationErrors(header + "\u00fc7\n"),
+              ElementsAre(At("obs.csv", 1, col,
+                             "column '\u00fc7' appears twice in the header (also at column 22)")));
+
+  std::string row = "\u00fc,2,3,0";
+  for (int i = 0; i < kNames; ++i) row += ",x";
+  EXPECT_THAT(ObservationErrors(Observations(row)),
+              ElementsAre(At("obs.csv", 3, 9, "expected 4 cells as in the header")));
+  std::string quoted = "1,2,3";
+  for (int i = 0; i < kNames; ++i) quoted += ",\"\u00fc\"";
+  EXPECT_THAT(ObservationErrors(Observations(quoted + ",\"\u00fc\"x")),
+              ElementsAre(At("obs.csv", 3, 6 + 4 * kNames + 4, "found 'x'")));
+}
+
 TEST(CsvMalformed, CellsThatAreNotFiniteNumbers) {
   EXPECT_THAT(
       ObservationErrors(Observations("1,2,abc,0")),

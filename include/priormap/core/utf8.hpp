@@ -94,6 +94,27 @@ struct Utf8Char {
   return static_cast<int>(count) + 1;
 }
 
+/// CharacterColumn of a line's bytes asked for in increasing order, each found from the last, so
+/// that a reader which locates every field of a long line walks it once, not once per field.
+class ColumnCounter {
+ public:
+  explicit ColumnCounter(std::string_view line) : line_(line) {}
+
+  /// CharacterColumn(line, offset); `offset` is at or after the offset last asked for, and at a
+  /// character's first byte (or past the line's end) where that was not the line's start.
+  [[nodiscard]] int At(std::size_t offset) {
+    col_ +=
+        CharacterColumn(line_.substr(at_ < line_.size() ? at_ : line_.size()), offset - at_) - 1;
+    at_ = offset;
+    return col_;
+  }
+
+ private:
+  std::string_view line_;
+  std::size_t at_ = 0;
+  int col_ = 1;
+};
+
 /// CharacterColumn of byte `offset` of `text` within its line: the line starts after the last
 /// '\n' before `offset`. A UTF-8 byte order mark at the start of `text` takes no column, as
 /// editors do not show it.
