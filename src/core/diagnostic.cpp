@@ -24,14 +24,12 @@ std::string Diagnostic::ToString() const {
 
 namespace {
 
-// Whether a character is shown as itself in a message: not a control (C0, DEL, C1), nor a format
-// character that hides text or reorders it on a terminal (a soft hyphen, bidi marks and
-// overrides, zero-width characters, line and paragraph separators, the byte order mark).
+// Whether a character is shown as itself in a message: not a control (C0, DEL, C1), nor one that
+// shows as a plain blank or as nothing (a no-break space after a column's name would otherwise
+// read as an ASCII space, a zero-width one not at all), nor a line or paragraph separator.
 bool ShownAsItself(std::uint32_t code) {
   if (code < 0x20 || (code >= 0x7f && code < 0xa0)) return false;
-  return code != 0xad && code != 0x61c && !(code >= 0x200b && code <= 0x200f) &&
-         !(code >= 0x2028 && code <= 0x202e) && !(code >= 0x2060 && code <= 0x206f) &&
-         code != 0xfeff;
+  return !IsNonAsciiSpace(code) && !IsInvisibleCharacter(code) && code != 0x2028 && code != 0x2029;
 }
 
 }  // namespace

@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include <priormap/core/utf8.hpp>
+
 namespace priormap::dsl::detail {
 namespace {
 
@@ -64,16 +66,9 @@ const char* GreekName(char32_t c) {
 // page or a word processor): what each is, for the message, as quoting it would show nothing;
 // nullptr for the others.
 const char* InvisibleCharacter(char32_t c) {
-  if (c == 0x00A0 || c == 0x1680 || (c >= 0x2000 && c <= 0x200A) || c == 0x202F || c == 0x205F ||
-      c == 0x3000) {
-    return "a non-ASCII space: use a plain space or a tab";
-  }
+  if (IsNonAsciiSpace(c)) return "a non-ASCII space: use a plain space or a tab";
   if (c == 0x2028 || c == 0x2029) return "a Unicode line separator: use a line break";
-  // Zero-width spaces and joiners, the byte order mark, and the direction marks and overrides.
-  if ((c >= 0x200B && c <= 0x200F) || (c >= 0x202A && c <= 0x202E) || c == 0x2060 ||
-      (c >= 0x2066 && c <= 0x2069) || c == 0xFEFF) {
-    return "an invisible zero-width character: delete it";
-  }
+  if (IsInvisibleCharacter(c)) return "an invisible zero-width character: delete it";
   return nullptr;
 }
 

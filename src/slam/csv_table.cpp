@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <string_view>
 #include <unordered_map>
 
@@ -53,10 +54,11 @@ std::vector<CsvCell> SplitCells(std::string_view line, int line_number, const st
       }
       pos = SkipBlanks(line, pos);
       if (pos < line.size() && line[pos] != ',') {
+        const std::optional<Utf8Char> found = DecodeUtf8(line, pos);  // the whole character
         throw CsvError{{name, line_number, columns.At(pos),
                         fmt::format("expected ',' or the end of the line after a quoted cell, "
                                     "found {}",
-                                    QuoteForMessage(line.substr(pos, 1)))}};
+                                    QuoteForMessage(line.substr(pos, found ? found->length : 1)))}};
       }
     } else {
       std::size_t end = line.find(',', pos);

@@ -71,10 +71,22 @@ TEST(ReaderColumns, QuotedTextShowsUtf8AsItIsAndEscapesTheRest) {
   EXPECT_EQ(QuoteForMessage("\xc2\x85"), "'\\xc2\\x85'");
   EXPECT_EQ(QuoteForMessage("x\xe2\x80\xaey"), "'x\\xe2\\x80\\xaey'");
   EXPECT_EQ(QuoteForMessage("\xe2\x80\x8b\xef\xbb\xbf"), "'\\xe2\\x80\\x8b\\xef\\xbb\\xbf'");
+  // Spaces other than ASCII's, which would read as a plain blank (U+00A0 no-break space after a
+  // name, U+202F narrow no-break space in a French "1 000"), and more invisible ones (a variation
+  // selector, a tag character, a line separator).
+  EXPECT_EQ(QuoteForMessage("range\xc2\xa0"), "'range\\xc2\\xa0'");
+  EXPECT_EQ(QuoteForMessage("1\xe2\x80\xaf"
+                            "000"),
+            "'1\\xe2\\x80\\xaf000'");
+  EXPECT_EQ(QuoteForMessage("a\xef\xb8\x8f\xf3\xa0\x80\x81\xe2\x80\xa8"),
+            "'a\\xef\\xb8\\x8f\\xf3\\xa0\\x80\\x81\\xe2\\x80\\xa8'");
   // The limit counts characters: three 'ü' are three, not six.
   EXPECT_EQ(QuoteForMessage("\xc3\xbc\xc3\xbc\xc3\xbc\xc3\xbc", 3),
             "'\xc3\xbc\xc3\xbc\xc3\xbc...'");
   EXPECT_EQ(QuoteForMessage("abcd", 4), "'abcd'");
+  EXPECT_EQ(QuoteForMessage("abcd", 0), "'...'");
+  EXPECT_EQ(QuoteForMessage("\xe2\x80\x8bz\xe9y", 2),
+            "'\\xe2\\x80\\x8bz...'");  // escaped, counted once
   EXPECT_EQ(QuoteForMessage(std::string(100, '7'), 40), "'" + std::string(40, '7') + "...'");
 }
 

@@ -91,6 +91,9 @@ TEST(CsvMalformed, ColumnsCountCharactersAsEditorsShowThem) {
               ElementsAre(At("obs.csv", 3, 16, "found 5")));
   EXPECT_THAT(ObservationErrors(Observations("1,2,\"\u00fc\"x,0")),
               ElementsAre(At("obs.csv", 3, 8, "found 'x'")));
+  // What follows the quote is quoted whole, as the user typed it.
+  EXPECT_THAT(ObservationErrors(Observations("1,2,\"a\"\u00fc,0")),
+              ElementsAre(At("obs.csv", 3, 8, "found '\u00fc'")));
   EXPECT_THAT(ObservationErrors("\xef\xbb\xbf\"\u00e9t\u00e9\",,range,bearing\n"),
               ElementsAre(At("obs.csv", 1, 7, "empty column name in the header")));
 }

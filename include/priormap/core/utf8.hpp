@@ -58,6 +58,26 @@ struct Utf8Char {
   return std::string_view::npos;
 }
 
+/// Whether `code` is a space other than ASCII's (a no-break, thin, ideographic, ... space): it
+/// looks like a blank in an editor but is not one to a reader.
+[[nodiscard]] constexpr bool IsNonAsciiSpace(std::uint32_t code) {
+  return code == 0x00A0 || code == 0x1680 || (code >= 0x2000 && code <= 0x200A) || code == 0x202F ||
+         code == 0x205F || code == 0x3000;
+}
+
+/// Whether `code` shows as nothing at all (pasted from a web page or a word processor): zero-width
+/// spaces and joiners, direction marks, embeddings, overrides and isolates, the byte order mark,
+/// the soft hyphen, the combining grapheme joiner, Hangul fillers, variation selectors,
+/// interlinear annotation marks and tag characters.
+[[nodiscard]] constexpr bool IsInvisibleCharacter(std::uint32_t code) {
+  return code == 0x00AD || code == 0x034F || code == 0x061C || code == 0x115F || code == 0x1160 ||
+         code == 0x180E || (code >= 0x200B && code <= 0x200F) ||
+         (code >= 0x202A && code <= 0x202E) || (code >= 0x2060 && code <= 0x206F) ||
+         code == 0x3164 || (code >= 0xFE00 && code <= 0xFE0F) || code == 0xFEFF || code == 0xFFA0 ||
+         (code >= 0xFFF9 && code <= 0xFFFB) || (code >= 0xE0000 && code <= 0xE007F) ||
+         (code >= 0xE0100 && code <= 0xE01EF);
+}
+
 /// How many characters an editor shows for `text`: one per UTF-8 character (DecodeUtf8's rule),
 /// and one per byte that does not start one (shown as a replacement character).
 [[nodiscard]] inline std::size_t CountCharacters(std::string_view text) {
