@@ -15,7 +15,9 @@ export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 export RC_PARAMS=seed=20261121  # the property tests' fixed seed, as in ctest
 for suite in "${suites[@]}"; do
   echo "asan: $suite"
+  started=$SECONDS
   # A bound, so that a hang under the sanitizers names its suite instead of using up CI's time.
   timeout 1200 "build/asan/tests/$suite" --gtest_brief=1 "$@" ||
     { echo "asan: $suite failed or ran over 20 minutes" >&2; exit 1; }
+  echo "asan: $suite took $((SECONDS - started)) s"
 done

@@ -10,9 +10,12 @@ scripts/install-deps.sh --tests
 cmake --preset release -DPRIORMAP_WARNINGS_AS_ERRORS=ON >/dev/null
 cmake --build --preset release
 ctest --preset release "$@"
+echo "test.sh: release build and suite done at ${SECONDS} s"
 # The parsers' libFuzzer harnesses, each for a bounded time on its seed corpus (clang, ASan + UBSan).
 cmake --preset fuzz -DPRIORMAP_WARNINGS_AS_ERRORS=ON >/dev/null
 cmake --build --preset fuzz
 ctest --preset fuzz
+echo "test.sh: fuzzers done at ${SECONDS} s"
 # The readers, geometry, language, grids, PRF and SLAM files under AddressSanitizer + UBSan.
 scripts/asan-tests.sh
+echo "test.sh: ASan subset done at ${SECONDS} s"
