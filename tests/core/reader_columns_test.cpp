@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -80,6 +81,13 @@ TEST(ReaderColumns, QuotedTextShowsUtf8AsItIsAndEscapesTheRest) {
             "'1\\xe2\\x80\\xaf000'");
   EXPECT_EQ(QuoteForMessage("a\xef\xb8\x8f\xf3\xa0\x80\x81\xe2\x80\xa8"),
             "'a\\xef\\xb8\\x8f\\xf3\\xa0\\x80\\x81\\xe2\\x80\\xa8'");
+  // A combining mark (U+0301 acute) shows on the character before it, but is escaped where it
+  // would draw on the opening quote or on an escape.
+  EXPECT_EQ(QuoteForMessage("cafe\xcc\x81"), "'cafe\xcc\x81'");
+  EXPECT_EQ(QuoteForMessage("e\xcc\x81\xcc\x81"), "'e\xcc\x81\xcc\x81'");
+  EXPECT_EQ(QuoteForMessage("\xcc\x81x"), "'\\xcc\\x81x'");
+  EXPECT_EQ(QuoteForMessage("\t\xcc\x81"), "'\\x09\\xcc\\x81'");
+  EXPECT_EQ(QuoteForMessage("\xe9\xcc\x81"), "'\\xe9\\xcc\\x81'");
   // The limit counts characters: three 'ü' are three, not six.
   EXPECT_EQ(QuoteForMessage("\xc3\xbc\xc3\xbc\xc3\xbc\xc3\xbc", 3),
             "'\xc3\xbc\xc3\xbc\xc3\xbc...'");
@@ -87,7 +95,7 @@ TEST(ReaderColumns, QuotedTextShowsUtf8AsItIsAndEscapesTheRest) {
   EXPECT_EQ(QuoteForMessage("abcd", 0), "'...'");
   EXPECT_EQ(QuoteForMessage("\xe2\x80\x8bz\xe9y", 2),
             "'\\xe2\\x80\\x8bz...'");  // escaped, counted once
-  EXPECT_EQ(QuoteForMessage(std::string(100, '7'), 40), "'" + std::string(40, '7') + "...'");
+  EXPECT_EQ(QuoteForMessage(std::string(100, '7'), 40), fmt::format("'{:7<40}...'", ""));
 }
 
 TEST(ReaderColumns, ColumnCounterAgreesWithCharacterColumnWalkingForward) {

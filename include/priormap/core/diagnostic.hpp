@@ -26,7 +26,8 @@ struct Diagnostic {
 /// `text` quoted for an error message: at most `max_length` characters (then "..."). UTF-8
 /// characters are shown as themselves ("Zürich" stays as the user wrote it); the bytes of control
 /// and invisible format characters, and bytes that are not UTF-8, are shown as \xNN, so that a
-/// binary or huge token cannot flood a terminal or hide what it holds.
+/// binary or huge token cannot flood a terminal or hide what it holds. So is a combining mark
+/// with no character shown before it to draw on (it would mark the opening quote).
 [[nodiscard]] std::string QuoteForMessage(std::string_view text, std::size_t max_length = 40);
 
 /// Joins diagnostics one per line, as the CLI prints them.

@@ -78,6 +78,15 @@ struct Utf8Char {
          (code >= 0xE0100 && code <= 0xE01EF);
 }
 
+/// Whether `code` is a combining mark of the Unicode blocks made of them (diacritics, their
+/// extensions and supplements, marks for symbols, half marks): it draws on the character before
+/// it. Script-specific marks elsewhere (vowel signs) are not included.
+[[nodiscard]] constexpr bool IsCombiningMark(std::uint32_t code) {
+  return (code >= 0x0300 && code <= 0x036F) || (code >= 0x1AB0 && code <= 0x1AFF) ||
+         (code >= 0x1DC0 && code <= 0x1DFF) || (code >= 0x20D0 && code <= 0x20FF) ||
+         (code >= 0xFE20 && code <= 0xFE2F);
+}
+
 /// How many characters an editor shows for `text`: one per UTF-8 character (DecodeUtf8's rule),
 /// and one per byte that does not start one (shown as a replacement character).
 [[nodiscard]] inline std::size_t CountCharacters(std::string_view text) {
