@@ -39,7 +39,7 @@ std::string QuoteForMessage(std::string_view text, std::size_t max_length) {
   std::size_t shown = 0;
   // A combining mark draws on the character before it: shown after the opening quote or after
   // an escape, it would read as part of either (an accent on the "'"), so it is escaped there.
-  bool after_shown_character = false;
+  bool previous_as_itself = false;
   for (std::size_t at = 0; at < text.size(); ++shown) {
     if (shown == max_length) {
       out += "...";
@@ -47,9 +47,10 @@ std::string QuoteForMessage(std::string_view text, std::size_t max_length) {
     }
     const std::optional<Utf8Char> c = DecodeUtf8(text, at);
     const std::size_t length = c ? c->length : 1;
-    after_shown_character =
-        c && ShownAsItself(c->code) && (after_shown_character || !IsCombiningMark(c->code));
-    if (after_shown_character) {
+    const bool as_itself =
+        c && ShownAsItself(c->code) && (previous_as_itself || !IsCombiningMark(c->code));
+    previous_as_itself = as_itself;
+    if (as_itself) {
       out += text.substr(at, length);
     } else {
       for (std::size_t k = at; k < at + length; ++k)
