@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <priormap/core/file_io.hpp>
 #include <priormap/core/json_io.hpp>
 #include <priormap/core/sonar_sensor.hpp>
 #include <priormap/core/world_bounds.hpp>
@@ -279,6 +280,17 @@ void RemoveFiles(const std::filesystem::path& directory, std::span<const char* c
   if (!std::filesystem::is_directory(directory, ec)) return;
   for (const char* name : names) std::filesystem::remove(directory / name, ec);
   if (std::filesystem::is_empty(directory, ec)) std::filesystem::remove(directory, ec);
+}
+
+std::vector<std::filesystem::path> NumberedFiles(const std::filesystem::path& directory,
+                                                 std::string_view prefix, std::string_view suffix) {
+  std::vector<std::filesystem::path> files;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(directory, ec)) return files;
+  for (const auto& entry : std::filesystem::directory_iterator(directory))
+    if (IsNumberedName(entry.path().filename().string(), prefix, suffix, false))
+      files.push_back(entry.path());
+  return files;
 }
 
 void EnsureDirectory(const std::filesystem::path& directory) {

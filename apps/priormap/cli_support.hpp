@@ -192,6 +192,11 @@ void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>
 /// this run does not write), by name only; a directory left empty is removed too.
 void RemoveFiles(const std::filesystem::path& directory, std::span<const char* const> names);
 
+/// The files of `directory` named prefix<N>suffix, an earlier run's numbered outputs
+/// (chain0.png, ...), matched by name alone; none when it is not a directory.
+[[nodiscard]] std::vector<std::filesystem::path> NumberedFiles(
+    const std::filesystem::path& directory, std::string_view prefix, std::string_view suffix);
+
 /// Creates `directory` (and parents) when missing; throws UserError when that fails.
 void EnsureDirectory(const std::filesystem::path& directory);
 

@@ -300,13 +300,9 @@ SelectedData SelectData(const Log& log, const MappingCliOptions& o) {
 void RemoveEarlierRunOutputs(const std::filesystem::path& dir) {
   // Listed before anything is removed, and matched by name alone, so that no other entry (a
   // looping link, say) is even looked at.
-  std::vector<std::filesystem::path> outputs;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    const std::string name = entry.path().filename().string();
-    if (IsNumberedName(name, "chain", ".png", false) ||
-        IsNumberedName(name, "chain", "_last.geojson", false))
-      outputs.push_back(entry.path());
-  }
+  std::vector<std::filesystem::path> outputs = NumberedFiles(dir, "chain", ".png");
+  for (auto& state : NumberedFiles(dir, "chain", "_last.geojson"))
+    outputs.push_back(std::move(state));
   for (const char* file :
        {"summary.json", "trace.csv", "point_traces.csv", "posterior.png", "posterior.pgm",
         "posterior.yaml", "not_white.png", "chains_disagree.png", "map.geojson", "map.svg",

@@ -6,12 +6,14 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include <priormap/core/file_io.hpp>
 #include <priormap/prf/map_study_io.hpp>
+#include <priormap/prf/polygon_map.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/prf/sonar_study.hpp>
 #include <priormap/render/prf_figures.hpp>
@@ -70,6 +72,21 @@ void SaveCaseFigures(const std::filesystem::path& dir, const prf::SonarStudyCase
                           fmt::format("{}: where the PRF posterior is wrong", name));
 }
 
+// Each chain's last state (GeoJSON faces), after an earlier study's states are removed (it may
+// have had more chains): where chains end in different modes, or chains started at the truth
+// end above those started empty, the states say structure by structure what differs.
+void SaveChainStates(const std::filesystem::path& dir, const prf::SonarStudyCase& c) {
+  std::error_code ec;  // unremovable: the writes below fail there too, and say so
+  for (const auto& earlier : NumberedFiles(dir, "chain", "_last.geojson"))
+    std::filesystem::remove(earlier, ec);
+  EnsureDirectory(dir);
+  for (std::size_t k = 0; k < c.prf.chains.size(); ++k)
+    if (c.prf.chains[k].last)
+      WriteTextFileAtomically(
+          dir / fmt::format("chain{}_last.geojson", k),
+          prf::FacesToGeoJson(prf::ExtractFaces(*c.prf.chains[k].last), c.prf.window));
+}
+
 void RunSonarStudyCommand(SonarStudyCliOptions o) {
   if (o.out.empty()) throw UsageError("-o/--out is required");
   RefuseRepeatedEntries(o.scenes, "--scenes", "scene");
@@ -104,10 +121,12 @@ void RunSonarStudyCommand(SonarStudyCliOptions o) {
       const std::filesystem::path case_dir = dir / folders[i];
       RemoveFiles(case_dir, kCaseFigures);  // an earlier run's, beside this run's numbers
       if (o.figures) SaveCaseFigures(case_dir, result.cases[i], o.study.sensor.name);
+      SaveChainStates(case_dir, result.cases[i]);
     }
   });
   fmt::print(
-      "{}\nwrote {} (summary.json, table.md{}) in {:.0f} s\n", table, o.out,
+      "{}\nwrote {} (summary.json, table.md, <scene>-<sensor>/chainK_last.geojson{}) in {:.0f} s\n",
+      table, o.out,
       o.figures ? ", <scene>-<sensor>/{truth,grid,posterior,grid-errors,posterior-errors}.png" : "",
       result.wall_time_s);
 }

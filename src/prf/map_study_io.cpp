@@ -232,6 +232,8 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
     nlohmann::json chains = nlohmann::json::array();
     for (const ChainSummary& chain : c.prf.chains)
       chains.push_back({{"log_posterior", chain.log_posterior},
+                        {"log_prior", chain.log_prior},
+                        {"log_likelihood", chain.log_likelihood},
                         {"edges", chain.edges},
                         {"swap_rates", SwapRates(chain.swaps)}});
     nlohmann::json methods = nlohmann::json::object();
@@ -251,6 +253,7 @@ std::string SonarStudySummaryJson(const SonarStudyResult& study, const SonarStud
                           {"rhat_log_posterior", Number(c.prf.rhat_log_posterior)},
                           {"rhat_point_colours", Number(c.prf.rhat_point_colours)},
                           {"truth_log_posterior", Number(c.truth_log_posterior)},
+                          {"truth_log_likelihood", Number(c.truth_log_likelihood)},
                           {"chains", chains},
                           {"wall_time_s", c.wall_time_s}});
   }

@@ -142,6 +142,7 @@ SonarStudyCase RunSonarStudyCase(const Scene& scene, const SonarStudyOptions& op
   if (auto* map = std::get_if<Coloring>(&true_map)) {
     const PrfSampler at_truth(*map, mapping.sampler, 0, mapping_data.make_data_term());
     c.truth_log_posterior = at_truth.LogPosterior();
+    c.truth_log_likelihood = at_truth.LogLikelihood();
     if (options.start_at_truth) mapping_data.start = std::move(*map);
   } else {
     PRIORMAP_CHECK(!options.start_at_truth, "scene " + scene.name + " has no true coloring: " +

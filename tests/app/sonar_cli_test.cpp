@@ -2,6 +2,7 @@
 // real files and on malformed ones, `priormap grid` / `priormap prf` on a simulated sonar log
 // (picked automatically, or refused when the sensor asked for is not in the log), and
 // `priormap prf sonar-study`, stopped (after some steps or by a signal) and resumed.
+#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <filesystem>
@@ -108,6 +109,9 @@ TEST_F(SonarCli, SimulatesSonarRingsAndLogsWithTheirTruth) {
 }
 
 TEST_F(SonarCli, SonarStudyWritesItsSummaryTableAndFigures) {
+  // An earlier study's state of a chain this one does not have.
+  std::filesystem::create_directories(Work("study") / "office-pioneer16");
+  std::ofstream(Work("study") / "office-pioneer16" / "chain3_last.geojson") << "{}";
   const auto r = Run({"prf",
                       "sonar-study",
                       "--scenes",
@@ -148,6 +152,22 @@ TEST_F(SonarCli, SonarStudyWritesItsSummaryTableAndFigures) {
   EXPECT_THAT(testing::ReadAll(Work("study") / "table.md"), HasSubstr("| office |"));
   for (const char* figure : {"truth.png", "grid.png", "posterior.png"})
     EXPECT_TRUE(testing::IsPng(testing::ReadAll(Work("study") / "office-pioneer16" / figure)));
+  // Each chain's log-posterior is its prior plus its likelihood, and the truth's likelihood is
+  // given apart from its log-posterior, to tell where chains and truth differ.
+  const json& chain = c["chains"][0];
+  ASSERT_TRUE(chain.contains("log_prior") && chain.contains("log_likelihood")) << chain.dump();
+  ASSERT_TRUE(c.contains("truth_log_likelihood")) << c.dump();
+  EXPECT_NEAR(chain["log_prior"].get<double>() + chain["log_likelihood"].get<double>(),
+              chain["log_posterior"].get<double>(),
+              1e-6 * std::abs(chain["log_posterior"].get<double>()));
+  EXPECT_NE(chain["log_prior"].get<double>(), 0.0);
+  EXPECT_TRUE(c["truth_log_likelihood"].is_number());
+  EXPECT_NE(c["truth_log_likelihood"].get<double>(), c["truth_log_posterior"].get<double>());
+  // The chain's last state, as `priormap prf` writes it.
+  const json state =
+      json::parse(testing::ReadAll(Work("study") / "office-pioneer16" / "chain0_last.geojson"));
+  EXPECT_EQ(state["type"], "FeatureCollection");
+  EXPECT_FALSE(std::filesystem::exists(Work("study") / "office-pioneer16" / "chain3_last.geojson"));
 
   EXPECT_THAT(RunFailing({"prf", "sonar-study", "--sensor", "utm30", "-o", "bad"}).err,
               HasSubstr("unknown sonar 'utm30'"));

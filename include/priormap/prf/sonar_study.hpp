@@ -76,6 +76,8 @@ struct SonarStudyCase {
   /// closed polylines (NaN otherwise); against the chains', it tells a model that prefers
   /// another map from chains that have not found this one.
   double truth_log_posterior = std::numeric_limits<double>::quiet_NaN();
+  /// Its likelihood part, to set against the chains' (ChainSummary::log_likelihood).
+  double truth_log_likelihood = std::numeric_limits<double>::quiet_NaN();
   std::vector<SonarStudyMethod> methods;
   double wall_time_s = 0.0;
 
