@@ -33,6 +33,7 @@
 #include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/render/prf_figures.hpp>
 
+#include "chain_states.hpp"
 #include "chains_status.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -519,15 +520,12 @@ void RunAndWriteOutputs(const MappingCliOptions& o, const SelectedData& data) {
                                   "PRF: where the chains disagree", data.sensors,
                                   "max - min P(black) over chains");
   const auto chain_figure = [](std::size_t c) { return fmt::format("chain{}.png", c); };
-  const auto chain_last = [](std::size_t c) { return fmt::format("chain{}_last.geojson", c); };
   // Each chain's own map, to see which chain holds what where they disagree, and its last
   // state, to see exactly which structures differ.
   for (std::size_t c = 0; several_chains && c < r.chains.size(); ++c) {
     render::SaveProbabilityFigure(dir / chain_figure(c), on_raster(r.chains[c].black_fraction),
                                   fmt::format("PRF chain {}: P(black)", c), data.sensors);
-    if (r.chains[c].last)
-      WriteTextFileAtomically(dir / chain_last(c),
-                              prf::FacesToGeoJson(prf::ExtractFaces(*r.chains[c].last), r.window));
+    if (r.chains[c].last) SaveChainState(dir, c, *r.chains[c].last, r.window);
   }
   // The traces behind R̂, with each trace point's colour, so that `prf rhat` can pool the
   // chains of several runs as this run pools its own.
@@ -607,7 +605,7 @@ void RunAndWriteOutputs(const MappingCliOptions& o, const SelectedData& data) {
   if (several_chains) {
     outputs += ", chains_disagree.png";
     for (std::size_t c = 0; c < r.chains.size(); ++c)
-      outputs += ", " + chain_figure(c) + (r.chains[c].last ? ", " + chain_last(c) : "");
+      outputs += ", " + chain_figure(c) + (r.chains[c].last ? ", " + ChainStateFile(c) : "");
   }
   if (r.map) {
     const auto faces = prf::ExtractFaces(*r.map);

@@ -13,12 +13,12 @@
 
 #include <priormap/core/file_io.hpp>
 #include <priormap/prf/map_study_io.hpp>
-#include <priormap/prf/polygon_map.hpp>
 #include <priormap/prf/sonar_model_io.hpp>
 #include <priormap/prf/sonar_study.hpp>
 #include <priormap/render/prf_figures.hpp>
 #include <priormap/render/prf_study_figures.hpp>
 
+#include "chain_states.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "prf_posterior_options.hpp"
@@ -72,19 +72,14 @@ void SaveCaseFigures(const std::filesystem::path& dir, const prf::SonarStudyCase
                           fmt::format("{}: where the PRF posterior is wrong", name));
 }
 
-// Each chain's last state (GeoJSON faces), after an earlier study's states are removed (it may
-// have had more chains): where chains end in different modes, or chains started at the truth
-// end above those started empty, the states say structure by structure what differs.
+// Each chain's last state, after an earlier study's are removed (it may have had more chains).
 void SaveChainStates(const std::filesystem::path& dir, const prf::SonarStudyCase& c) {
   std::error_code ec;  // unremovable: the writes below fail there too, and say so
   for (const auto& earlier : NumberedFiles(dir, "chain", "_last.geojson"))
     std::filesystem::remove(earlier, ec);
   EnsureDirectory(dir);
   for (std::size_t k = 0; k < c.prf.chains.size(); ++k)
-    if (c.prf.chains[k].last)
-      WriteTextFileAtomically(
-          dir / fmt::format("chain{}_last.geojson", k),
-          prf::FacesToGeoJson(prf::ExtractFaces(*c.prf.chains[k].last), c.prf.window));
+    if (c.prf.chains[k].last) SaveChainState(dir, k, *c.prf.chains[k].last, c.prf.window);
 }
 
 void RunSonarStudyCommand(SonarStudyCliOptions o) {
