@@ -174,6 +174,14 @@ void AddPosteriorOptions(CLI::App& cmd, prf::MappingOptions& m, PosteriorCliOpti
                  "burn-in), e.g. 16:1000000,4:500000")
       ->delimiter(',')
       ->check(ParsedBy("--thinned-burn-in", ParseStage));
+  cmd.add_option("--thinned-rotation", m.thinned_rotation,
+                 "Every STEPS steps of a thinned stage, go on with the next of its STRIDE "
+                 "disjoint shares of the readings, so that no one share's posterior holds the "
+                 "chain (0: one share per stage)")
+      ->capture_default_str();
+  cmd.add_flag("--thinned-weighed", m.thinned_weighed,
+               "Count each reading of a thinned stage STRIDE times, so that the stage estimates "
+               "the full data's log-likelihood instead of tempering it as T = STRIDE would");
   cmd.add_option("--warm-burn-in", cli.warm_burn_in,
                  "After the thinned stages, STEPS burn-in steps on every reading at temperature "
                  "T (counted in the burn-in; the rest of it is at 1), to let a chain leave a "
@@ -269,6 +277,8 @@ void PosteriorOptionsFromJson(const nlohmann::json& j, prf::MappingOptions* m) {
     for (const nlohmann::json& stage : j.at("thinned_burn_in"))
       m->thinned_burn_in.push_back({WholeNumberMember<int>(stage, "stride"),
                                     WholeNumberMember<std::uint64_t>(stage, "steps")});
+  m->thinned_rotation = WholeNumberMember<std::uint64_t>(j, "thinned_rotation", 0);
+  m->thinned_weighed = j.value("thinned_weighed", false);
   m->warm_burn_in = {};
   if (j.contains("warm_burn_in"))
     m->warm_burn_in = {j.at("warm_burn_in").at("temperature").get<double>(),

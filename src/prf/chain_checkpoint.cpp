@@ -163,6 +163,12 @@ std::uint64_t RunFingerprint(const LaserData& data, const MappingOptions& option
       out.Put<std::int32_t>(stage.stride);
       out.Put(stage.steps);
     }
+    // Only when on, so that checkpoints of runs from before these options still resume.
+    if (options.thinned_rotation != 0) {
+      out.PutString("rotated");
+      out.Put(options.thinned_rotation);
+    }
+    if (options.thinned_weighed) out.PutString("weighed");
   }
   if (options.burn_in_temperature != 1.0) {
     out.PutString("burn-in temperature");

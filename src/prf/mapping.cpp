@@ -18,6 +18,7 @@
 #include <priormap/prf/laser_likelihood.hpp>
 #include <priormap/prf/mapping.hpp>
 #include <priormap/prf/rhat.hpp>
+#include <priormap/prf/weighted_data_term.hpp>
 
 namespace priormap::prf {
 namespace {
@@ -119,18 +120,24 @@ std::uint64_t BurnInTemperatureEnd(const MappingOptions& options, std::uint64_t 
   return end;
 }
 
-bool KeptByThinning(std::size_t i, int stride) {
-  return stride <= 1 || SplitMix64(i) % static_cast<std::uint64_t>(stride) == 0;
+bool KeptByThinning(std::size_t i, int stride, int phase) {
+  return stride <= 1 ||
+         SplitMix64(i) % static_cast<std::uint64_t>(stride) == static_cast<std::uint64_t>(phase);
 }
 
 BurnInStage BurnInStageAt(const MappingOptions& options, std::uint64_t step) {
   std::uint64_t end = 0;
   if (step < options.burn_in)
     for (const ThinnedBurnIn& stage : options.thinned_burn_in) {
+      const std::uint64_t begin = end;
       end += stage.steps;
-      if (step < end && end <= options.burn_in) return {stage.stride, end};
+      if (step >= end || end > options.burn_in) continue;
+      if (options.thinned_rotation == 0 || stage.stride == 1) return {stage.stride, 0, end};
+      const std::uint64_t turn = (step - begin) / options.thinned_rotation;
+      const auto phase = static_cast<int>(turn % static_cast<std::uint64_t>(stage.stride));
+      return {stage.stride, phase, std::min(end, begin + (turn + 1) * options.thinned_rotation)};
     }
-  return {1, std::numeric_limits<std::uint64_t>::max()};
+  return {1, 0, std::numeric_limits<std::uint64_t>::max()};
 }
 
 MappingData LaserMappingData(std::shared_ptr<const LaserData> data, const MappingOptions& options) {
@@ -143,13 +150,13 @@ MappingData LaserMappingData(std::shared_ptr<const LaserData> data, const Mappin
   d.make_data_term = [data, model = options.model, cell_size = options.cell_size] {
     return std::make_unique<LaserLikelihood>(data, model, cell_size);
   };
-  d.make_thinned_data_term = [data, model = options.model,
-                              cell_size = options.cell_size](int stride) {
+  d.make_thinned_data_term = [data, model = options.model, cell_size = options.cell_size](
+                                 int stride, int phase) {
     auto thinned = std::make_shared<LaserData>();
     thinned->sensors = data->sensors;  // every sensor stays in white
     thinned->max_range = data->max_range;
     for (std::size_t i = 0; i < data->beams.size(); ++i)
-      if (KeptByThinning(i, stride)) thinned->beams.push_back(data->beams[i]);
+      if (KeptByThinning(i, stride, phase)) thinned->beams.push_back(data->beams[i]);
     return std::make_unique<LaserLikelihood>(std::move(thinned), model, cell_size);
   };
   return d;
@@ -244,6 +251,12 @@ struct MappingRun {
   void Anneal();
 
   std::unique_ptr<DataTerm> MakeLikelihood() const { return data.make_data_term(); }
+  // The data term of a thinned stage's share, weighed up by its stride when asked to.
+  std::unique_ptr<DataTerm> MakeThinnedLikelihood(const BurnInStage& stage) const {
+    std::unique_ptr<DataTerm> term = data.make_thinned_data_term(stage.stride, stage.phase);
+    if (!options.thinned_weighed) return term;
+    return std::make_unique<WeightedDataTerm>(std::move(term), stage.stride);
+  }
   void ScreenIfAsked(PrfSampler& sampler) const;
   std::uint64_t ChainSeed(std::size_t c) const { return SplitMix64(options.seed + c); }
   // The chain: its ladder's cold replica while it has one (whose sampler changes with swaps).
@@ -291,8 +304,10 @@ struct MappingRun {
   std::optional<AnnealingProgress> annealing_progress;
   std::atomic<std::uint64_t> hot_steps{0};  // of the replicas other than the chains, this session
   std::atomic<bool> stopped{false};
-  // The stride of each chain's data term: samplers are made or restored with every reading.
+  // The stride and phase of each chain's data term: samplers are made or restored with every
+  // reading.
   std::vector<int> strides;
+  std::vector<int> phases;
 };
 
 MappingRun::MappingRun(const MappingData& run_data, const MappingOptions& run_options,
@@ -322,7 +337,8 @@ MappingRun::MappingRun(const MappingData& run_data, const MappingOptions& run_op
       anneal_path(AnnealCheckpointPath(checkpoints)),
       chain_progress(chains),
       chain_counters(chains),
-      strides(chains, 1) {
+      strides(chains, 1),
+      phases(chains, 0) {
   result.window = data.window;
   result.trace_points = data.trace_points;
   PRIORMAP_CHECK(!session.resume || !checkpoints.empty(), "resuming needs a checkpoint directory");
@@ -465,7 +481,7 @@ std::uint64_t MappingRun::BudgetLeft(std::uint64_t first, std::uint64_t now) con
 // acceptance); the screen's state is a function of the coloring, so it is made anew on resume.
 void MappingRun::ScreenIfAsked(PrfSampler& sampler) const {
   if (screen_stride > 1 && !sampler.has_screen())
-    sampler.SetScreen(data.make_thinned_data_term(screen_stride));
+    sampler.SetScreen(data.make_thinned_data_term(screen_stride, 0));
 }
 
 // Past its ladder's end, the chain goes on alone from the cold replica.
@@ -565,16 +581,16 @@ std::uint64_t MappingRun::PrepareChunk(std::size_t c, std::uint64_t s) {
 void MappingRun::UseStageData(std::size_t c, const BurnInStage& stage) {
   std::optional<ReplicaLadder>& ladder = ladders[c];
   PrfSampler& sampler = Chain(c);
-  if (stage.stride != strides[c]) {
+  if (stage.stride != strides[c] || stage.phase != phases[c]) {
     const auto replace = [&](PrfSampler& replica) {
-      replica.ReplaceDataTerm(stage.stride == 1 ? MakeLikelihood()
-                                                : data.make_thinned_data_term(stage.stride));
+      replica.ReplaceDataTerm(stage.stride == 1 ? MakeLikelihood() : MakeThinnedLikelihood(stage));
     };
     if (ladder)
       for (const auto& replica : ladder->replicas()) replace(*replica);
     else
       replace(sampler);
     strides[c] = stage.stride;
+    phases[c] = stage.phase;
   }
   if (stage.stride == 1) {
     if (ladder)
@@ -616,6 +632,7 @@ void MappingRun::FinishChain(std::size_t c) {
   if (strides[c] != 1 && sampler.steps() >= options.burn_in) {
     sampler.ReplaceDataTerm(MakeLikelihood());
     strides[c] = 1;
+    phases[c] = 0;
   }
   if (sampler.steps() >= end && !recording[c]) {  // no samples: recording never began
     sampler.RecordInto(estimates[c].get());

@@ -15,6 +15,8 @@ nlohmann::json SamplingOptionsJson(const MappingOptions& m) {
       {"replica_steps", m.replica_steps},
       {"replica_pick", m.replica_pick_best ? "best" : "cold"},
       {"thinned_burn_in", thinned},
+      {"thinned_rotation", m.thinned_rotation},
+      {"thinned_weighed", m.thinned_weighed},
       {"warm_burn_in",
        {{"temperature", m.warm_burn_in.temperature}, {"steps", m.warm_burn_in.steps}}},
       {"delayed_acceptance", m.sampler.screen_stride},

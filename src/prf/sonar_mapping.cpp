@@ -61,18 +61,18 @@ MappingData SonarMappingData(std::shared_ptr<const SonarData> data, const SonarM
   d.fingerprint = Fnv1a64(std::to_string(d.data_fingerprint) + ":" +
                           std::to_string(RunFingerprint(LaserData{}, options)));
   d.make_data_term = [data, model] { return std::make_unique<SonarLikelihood>(data, model); };
-  d.make_thinned_data_term = [data, model](int stride) {
-    return std::make_unique<SonarLikelihood>(ThinnedSonarData(*data, stride), model);
+  d.make_thinned_data_term = [data, model](int stride, int phase) {
+    return std::make_unique<SonarLikelihood>(ThinnedSonarData(*data, stride, phase), model);
   };
   return d;
 }
 
-std::shared_ptr<const SonarData> ThinnedSonarData(const SonarData& data, int stride) {
+std::shared_ptr<const SonarData> ThinnedSonarData(const SonarData& data, int stride, int phase) {
   auto thinned = std::make_shared<SonarData>();
   thinned->sensors = data.sensors;  // every transducer stays in white
   thinned->max_range = data.max_range;
   for (std::size_t i = 0; i < data.readings.size(); ++i)
-    if (KeptByThinning(i, stride)) thinned->readings.push_back(data.readings[i]);
+    if (KeptByThinning(i, stride, phase)) thinned->readings.push_back(data.readings[i]);
   return thinned;
 }
 

@@ -539,6 +539,9 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
                                         "3",
                                         "--thinned-burn-in",
                                         "4:1000,2:1000",
+                                        "--thinned-rotation",
+                                        "300",
+                                        "--thinned-weighed",
                                         "--warm-burn-in",
                                         "2:500",
                                         "--burn-in-replicas",
@@ -586,6 +589,8 @@ TEST_F(SonarCli, FitsASonarModelAndMapsWithItAndThePriors) {
   const json posterior = Summary("prf")["posterior"];
   EXPECT_EQ(posterior["free_space"], 0.3);
   EXPECT_EQ(posterior["thinned_burn_in"].size(), 2u);
+  EXPECT_EQ(posterior["thinned_rotation"], 300u);
+  EXPECT_EQ(posterior["thinned_weighed"], true);
   EXPECT_EQ(posterior["burn_in_replicas"], 3);
   EXPECT_EQ(posterior["step_scales"], json::array({0.01, 0.05, 0.3}));
   EXPECT_EQ(posterior["warm_burn_in"]["temperature"], 2.0);

@@ -26,6 +26,7 @@
 #include <priormap/core/simulate.hpp>
 #include <priormap/prf/chain_checkpoint.hpp>
 #include <priormap/prf/mapping.hpp>
+#include <priormap/prf/weighted_data_term.hpp>
 
 #include "mapping_testing.hpp"
 #include "testing/temp_dir.hpp"
@@ -145,6 +146,23 @@ TEST(KeptByThinning, KeepsAboutOneInStrideOfEveryTransducer) {
   }
 }
 
+// The phases of a stride split the readings: each reading is in exactly one share.
+TEST(KeptByThinning, ThePhasesOfAStrideSplitTheReadings) {
+  for (const int stride : {2, 3, 16}) {
+    std::vector<int> shares(stride, 0);
+    for (std::size_t i = 0; i < 20000; ++i) {
+      int in = 0;
+      for (int phase = 0; phase < stride; ++phase)
+        if (KeptByThinning(i, stride, phase)) {
+          ++in;
+          ++shares[static_cast<std::size_t>(phase)];
+        }
+      ASSERT_EQ(in, 1) << "reading " << i << ", stride " << stride;
+    }
+    for (const int kept : shares) EXPECT_NEAR(kept, 20000.0 / stride, 0.1 * 20000.0 / stride);
+  }
+}
+
 TEST(BurnInStageAt, GoesThroughTheStagesThenUsesEveryReading) {
   MappingOptions options;
   options.burn_in = 300;
@@ -163,6 +181,32 @@ TEST(BurnInStageAt, GoesThroughTheStagesThenUsesEveryReading) {
 
 // The runs of the resume tests: two chains on RoomData at p = 0.5, traced every 1000 steps,
 // in chunks of 3000.
+// With a rotation, each stage goes through its stride's shares from the first, a share every
+// `thinned_rotation` steps (the last one cut at the stage's end), round again after the last.
+TEST(BurnInStageAt, RotatesThroughTheSharesOfEachStage) {
+  MappingOptions options;
+  options.burn_in = 300;
+  options.thinned_burn_in = {{.stride = 3, .steps = 100}, {.stride = 2, .steps = 50}};
+  options.thinned_rotation = 30;
+  for (const auto& [step, stride, phase, end] : {std::tuple{0u, 3, 0, 30u},
+                                                 {29u, 3, 0, 30u},
+                                                 {30u, 3, 1, 60u},
+                                                 {60u, 3, 2, 90u},
+                                                 {90u, 3, 0, 100u},
+                                                 {99u, 3, 0, 100u},
+                                                 {100u, 2, 0, 130u},
+                                                 {130u, 2, 1, 150u},
+                                                 {149u, 2, 1, 150u}}) {
+    const BurnInStage stage = BurnInStageAt(options, step);
+    EXPECT_EQ(stage.stride, stride) << "step " << step;
+    EXPECT_EQ(stage.phase, phase) << "step " << step;
+    EXPECT_EQ(stage.end, end) << "step " << step;
+  }
+  const BurnInStage after = BurnInStageAt(options, 150);
+  EXPECT_EQ(after.stride, 1);
+  EXPECT_EQ(after.phase, 0);
+}
+
 MappingOptions SmallRun(std::uint64_t seed, std::uint64_t burn_in, std::uint64_t samples) {
   MappingOptions options;
   options.sampler.p = 0.5;
@@ -324,10 +368,38 @@ TEST(ThinnedDataTerm, ScoresAboutOneInStrideOfTheReadings) {
   const auto full = data.make_data_term();
   ASSERT_FALSE(full->Reset(empty).has_value());
   for (const int stride : {2, 4}) {
-    const auto thinned = data.make_thinned_data_term(stride);
+    const auto thinned = data.make_thinned_data_term(stride, 0);
     ASSERT_FALSE(thinned->Reset(empty).has_value());
     const double ratio = FromFixed(thinned->log_likelihood()) / FromFixed(full->log_likelihood());
     EXPECT_NEAR(ratio, 1.0 / stride, 0.25 / stride) << "stride " << stride;
+  }
+}
+
+// The shares of a stride score every reading once between them: their log-likelihoods sum to
+// the full data's, on the empty map and on a map that a short run found.
+TEST(ThinnedDataTerm, TheSharesOfAStrideSumToTheFullLogLikelihood) {
+  const MappingOptions options;
+  const MappingData data = LaserMappingData(RoomData(), options);
+  const Coloring empty(data.window, options.cell_size);
+  MappingOptions short_run = SmallRun(3, 3000, 0);
+  short_run.chains = 1;
+  short_run.anneal_steps = 1000;
+  const MappingResult run = RunMapping(data, short_run, {});
+  ASSERT_TRUE(run.map.has_value());
+  ASSERT_GT(run.map->stats().edges, 0);
+  for (const Coloring* coloring : {&empty, &*run.map}) {
+    const auto full = data.make_data_term();
+    ASSERT_FALSE(full->Reset(*coloring).has_value());
+    for (const int stride : {2, 5}) {
+      FixedLogLik sum = 0;
+      for (int phase = 0; phase < stride; ++phase) {
+        const auto share = data.make_thinned_data_term(stride, phase);
+        ASSERT_FALSE(share->Reset(*coloring).has_value());
+        sum += share->log_likelihood();
+      }
+      // Each reading's term is rounded to the fixed point once, in whichever term holds it.
+      EXPECT_EQ(sum, full->log_likelihood()) << "stride " << stride;
+    }
   }
 }
 
@@ -381,6 +453,32 @@ TEST(ThinnedMapping, StagesWhoseSumWouldWrapAreRefused) {
   wrapping.thinned_burn_in = {{.stride = 4, .steps = std::numeric_limits<std::uint64_t>::max()},
                               {.stride = 2, .steps = 2}};
   EXPECT_THROW((void)RunMapping(data, wrapping, {}), ContractError);
+}
+
+MappingOptions RotatedRun() {
+  MappingOptions options = ThinnedRun();
+  options.thinned_rotation = 2500;  // sessions of 7000 stop inside a share
+  options.thinned_weighed = true;
+  return options;
+}
+
+// Rotated and weighed stages: sessions stop mid-share, and the resumed chains must take up the
+// share (and weight) of the step they are at. The rotation and the weight each change the
+// chains' course, and a checkpoint of the rotated run is not one of the plain thinned run.
+TEST(ThinnedMapping, ARotatedWeighedRunResumesToTheSameResultAndIsItsOwnRun) {
+  const MappingData data = LaserMappingData(RoomData(), RotatedRun());
+  const MappingResult whole = ExpectResumesExactly(data, RotatedRun(), 7000, 6);  // 40000 steps
+
+  MappingOptions unrotated = RotatedRun();
+  unrotated.thinned_rotation = 0;
+  MappingOptions unweighed = RotatedRun();
+  unweighed.thinned_weighed = false;
+  for (const MappingOptions& other : {unrotated, unweighed}) {
+    const MappingResult result = RunMapping(data, other, {});
+    EXPECT_NE(result.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
+  }
+  ExpectResumingAsOtherIsRefused(RotatedRun(), ThinnedRun(), 5000);
+  ExpectResumingAsOtherIsRefused(RotatedRun(), unweighed, 5000);
 }
 
 // Sessions of 7000 steps stop inside each stage (7000, 14000, 21000, ...): the resumed chains
@@ -534,6 +632,26 @@ TEST(MappingStart, ACheckpointOfARunFromAnotherStartIsRefused) {
   const MappingResult whole = RunMapping(data, options, {});
   EXPECT_EQ(resumed.black_fraction, whole.black_fraction);
   EXPECT_EQ(resumed.chains[0].log_posterior_trace, whole.chains[0].log_posterior_trace);
+}
+
+// A weighed term is its inner term's log-likelihood times the weight, recomputed or not, and so
+// is its copy; weights below 1 are refused.
+TEST(WeightedDataTerm, ScalesItsInnerTermsLogLikelihoodByTheWeight) {
+  const MappingOptions options;
+  const MappingData data = LaserMappingData(RoomData(), options);
+  const Coloring empty(data.window, options.cell_size);
+  const auto inner = data.make_thinned_data_term(4, 1);
+  ASSERT_FALSE(inner->Reset(empty).has_value());
+  WeightedDataTerm weighed(data.make_thinned_data_term(4, 1), 4);
+  ASSERT_FALSE(weighed.Reset(empty).has_value());
+  EXPECT_NE(inner->log_likelihood(), 0);
+  EXPECT_EQ(weighed.log_likelihood(), 4 * inner->log_likelihood());
+  EXPECT_EQ(weighed.RecomputeLogLikelihood(empty), 4 * inner->log_likelihood());
+  EXPECT_FALSE(weighed.FindInconsistency(empty).has_value());
+  const auto copy = weighed.Clone();
+  EXPECT_EQ(copy->log_likelihood(), weighed.log_likelihood());
+  EXPECT_THROW(WeightedDataTerm(data.make_thinned_data_term(4, 1), 0), ContractError);
+  EXPECT_THROW(WeightedDataTerm(nullptr, 2), ContractError);
 }
 
 }  // namespace

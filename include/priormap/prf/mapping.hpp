@@ -64,6 +64,16 @@ struct MappingOptions {
   /// The first steps of the burn-in, stage after stage, on thinned data; their steps count
   /// towards burn_in, whose remaining steps use every reading.
   std::vector<ThinnedBurnIn> thinned_burn_in;
+  /// Every this many steps of a thinned stage, the stage goes on with the next of its stride's
+  /// disjoint shares of the readings (KeptByThinning's phases), so that over stride × rotation
+  /// steps every reading has counted once. 0: one share for the whole stage. A fixed share
+  /// draws the chain to its own posterior, whose faces the rest of the data do not all hold
+  /// (docs/benchmarks.md, "2026-12-03 (evening)").
+  std::uint64_t thinned_rotation = 0;
+  /// Whether a thinned stage counts each kept reading's log-likelihood stride times, which makes
+  /// it an unbiased estimate of all the readings' (false: once, which tempers the stage as
+  /// T = stride would).
+  bool thinned_weighed = false;
   /// After the thinned stages; its steps too count towards burn_in. Within it the temperature is
   /// the larger of its own and the tempered burn-in's.
   WarmBurnIn warm_burn_in;
@@ -106,15 +116,17 @@ struct WarmStage {
 };
 [[nodiscard]] WarmStage WarmStageOf(const MappingOptions& options);
 
-/// Whether reading i is among the 1/stride of the readings a thinned stage keeps: a fixed
-/// pseudo-random choice (every stride-th reading would pick the same transducer of every ring,
-/// or the same beam of every scan, when the stride divides their count).
-[[nodiscard]] bool KeptByThinning(std::size_t i, int stride);
+/// Whether reading i is in share `phase` (0 ≤ phase < stride) of the `stride` disjoint shares of
+/// about 1/stride of the readings each that a thinned stage keeps: a fixed pseudo-random choice
+/// (every stride-th reading would pick the same transducer of every ring, or the same beam of
+/// every scan, when the stride divides their count).
+[[nodiscard]] bool KeptByThinning(std::size_t i, int stride, int phase = 0);
 
-/// The stride of the readings used at step s (1 past the thinned stages), and the step where
-/// its stage ends.
+/// The share of the readings used at step s (stride 1 past the thinned stages), and the step
+/// where it ends: at its stage's end or, with thinned_rotation, at the next rotation.
 struct BurnInStage {
   int stride = 1;
+  int phase = 0;  ///< KeptByThinning's
   std::uint64_t end = 0;
 };
 [[nodiscard]] BurnInStage BurnInStageAt(const MappingOptions& options, std::uint64_t step);
@@ -232,9 +244,9 @@ struct MappingData {
   std::uint64_t data_fingerprint = 0;
   /// A fresh data term, one per chain.
   std::function<std::unique_ptr<DataTerm>()> make_data_term;
-  /// A fresh data term of the readings KeptByThinning(i, stride), with every sensor position (for
-  /// the thinned burn-in; may be empty when the data offer none).
-  std::function<std::unique_ptr<DataTerm>(int stride)> make_thinned_data_term;
+  /// A fresh data term of the readings KeptByThinning(i, stride, phase), with every sensor
+  /// position (for the thinned burn-in and the screen; may be empty when the data offer none).
+  std::function<std::unique_ptr<DataTerm>(int stride, int phase)> make_thinned_data_term;
   /// Where every chain starts (a coloring of `window` with the run's cell size, of nonzero
   /// likelihood); the empty all-white coloring when unset.
   std::optional<Coloring> start;

@@ -20,8 +20,9 @@ namespace priormap::prf {
 
 /// Hash of the readings and the sonar model (the options are hashed by the caller).
 [[nodiscard]] std::uint64_t SonarDataFingerprint(const SonarData& data, const SonarModel& model);
-/// The readings a thinned burn-in stage (or a delayed acceptance's screen) of `stride` keeps
-/// (KeptByThinning), with every sensor position.
-[[nodiscard]] std::shared_ptr<const SonarData> ThinnedSonarData(const SonarData& data, int stride);
+/// The readings a thinned burn-in stage (or a delayed acceptance's screen) of `stride` keeps in
+/// its share `phase` (KeptByThinning), with every sensor position.
+[[nodiscard]] std::shared_ptr<const SonarData> ThinnedSonarData(const SonarData& data, int stride,
+                                                                int phase = 0);
 
 }  // namespace priormap::prf
