@@ -179,8 +179,6 @@ TEST(BurnInStageAt, GoesThroughTheStagesThenUsesEveryReading) {
   EXPECT_EQ(BurnInStageAt(options, 0).stride, 1);
 }
 
-// The runs of the resume tests: two chains on RoomData at p = 0.5, traced every 1000 steps,
-// in chunks of 3000.
 // With a rotation, each stage goes through its stride's shares from the first, a share every
 // `thinned_rotation` steps (the last one cut at the stage's end), round again after the last.
 TEST(BurnInStageAt, RotatesThroughTheSharesOfEachStage) {
@@ -207,6 +205,8 @@ TEST(BurnInStageAt, RotatesThroughTheSharesOfEachStage) {
   EXPECT_EQ(after.phase, 0);
 }
 
+// The runs of the resume tests: two chains on RoomData at p = 0.5, traced every 1000 steps,
+// in chunks of 3000.
 MappingOptions SmallRun(std::uint64_t seed, std::uint64_t burn_in, std::uint64_t samples) {
   MappingOptions options;
   options.sampler.p = 0.5;
