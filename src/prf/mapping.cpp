@@ -304,10 +304,13 @@ struct MappingRun {
   std::optional<AnnealingProgress> annealing_progress;
   std::atomic<std::uint64_t> hot_steps{0};  // of the replicas other than the chains, this session
   std::atomic<bool> stopped{false};
-  // The stride and phase of each chain's data term: samplers are made or restored with every
-  // reading.
-  std::vector<int> strides;
-  std::vector<int> phases;
+  // The share of the readings in each chain's data term: samplers are made or restored with
+  // every reading.
+  struct DataShare {
+    int stride = 1;
+    int phase = 0;
+  };
+  std::vector<DataShare> shares;
 };
 
 MappingRun::MappingRun(const MappingData& run_data, const MappingOptions& run_options,
@@ -337,8 +340,7 @@ MappingRun::MappingRun(const MappingData& run_data, const MappingOptions& run_op
       anneal_path(AnnealCheckpointPath(checkpoints)),
       chain_progress(chains),
       chain_counters(chains),
-      strides(chains, 1),
-      phases(chains, 0) {
+      shares(chains) {
   result.window = data.window;
   result.trace_points = data.trace_points;
   PRIORMAP_CHECK(!session.resume || !checkpoints.empty(), "resuming needs a checkpoint directory");
@@ -581,7 +583,7 @@ std::uint64_t MappingRun::PrepareChunk(std::size_t c, std::uint64_t s) {
 void MappingRun::UseStageData(std::size_t c, const BurnInStage& stage) {
   std::optional<ReplicaLadder>& ladder = ladders[c];
   PrfSampler& sampler = Chain(c);
-  if (stage.stride != strides[c] || stage.phase != phases[c]) {
+  if (stage.stride != shares[c].stride || stage.phase != shares[c].phase) {
     const auto replace = [&](PrfSampler& replica) {
       replica.ReplaceDataTerm(stage.stride == 1 ? MakeLikelihood() : MakeThinnedLikelihood(stage));
     };
@@ -589,8 +591,7 @@ void MappingRun::UseStageData(std::size_t c, const BurnInStage& stage) {
       for (const auto& replica : ladder->replicas()) replace(*replica);
     else
       replace(sampler);
-    strides[c] = stage.stride;
-    phases[c] = stage.phase;
+    shares[c] = {stage.stride, stage.phase};
   }
   if (stage.stride == 1) {
     if (ladder)
@@ -616,8 +617,9 @@ void MappingRun::ReportChain(std::size_t c, std::uint64_t steps) {
     // Counted under the lock: a count taken before another chain's report would reach that
     // report with this chain's steps but not its state.
     steps_done += steps;
-    chain_progress[c] = {
-        .reported = true, .log_posterior = Chain(c).LogPosterior(), .data_stride = strides[c]};
+    chain_progress[c] = {.reported = true,
+                         .log_posterior = Chain(c).LogPosterior(),
+                         .data_stride = shares[c].stride};
     chain_counters[c] = Chain(c).counters();
     Report();
   } else {
@@ -629,10 +631,9 @@ void MappingRun::FinishChain(std::size_t c) {
   LeaveLadderIfDone(c);  // a ladder to the run's end (a burn-in without samples)
   PrfSampler& sampler = Chain(c);
   // A burn-in thinned to its end, with no samples after it: back to every reading.
-  if (strides[c] != 1 && sampler.steps() >= options.burn_in) {
+  if (shares[c].stride != 1 && sampler.steps() >= options.burn_in) {
     sampler.ReplaceDataTerm(MakeLikelihood());
-    strides[c] = 1;
-    phases[c] = 0;
+    shares[c] = {};
   }
   if (sampler.steps() >= end && !recording[c]) {  // no samples: recording never began
     sampler.RecordInto(estimates[c].get());
